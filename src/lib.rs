@@ -1,0 +1,23 @@
+//! penumbra: analytic shading and soft shadows from polyhedral area lights.
+//!
+//! The modules follow the pipeline of KT et al. 2021 (paper 000, Alg. 1):
+//!
+//! * [`scene`]: OBJ/MTL and scene files, procedural shapes, the camera.
+//! * [`geometry`]: polyhedra, contour edges and silhouettes, spherical polygons,
+//!   horizon clipping, the planar projection and the set difference.
+//! * [`ltc`]: the GGX BRDF, Linearly Transformed Cosines and the edge integral.
+//! * [`shading`]: one shading point, light by light (Alg. 1), with an optional recorder.
+//! * [`accel`]: rays, triangles and the BVH for camera rays and the ray-cast oracle.
+//! * [`render`]: images, tiles, output files.
+//! * [`reference`]: brute-force ray-cast estimates used as independent oracles.
+//! * [`stress`]: random and adversarial shading configurations.
+
+pub mod accel;
+pub mod geometry;
+pub mod ltc;
+pub mod math;
+pub mod reference;
+pub mod render;
+pub mod scene;
+pub mod shading;
+pub mod stress;
