@@ -1,0 +1,142 @@
+use super::PolygonLoops;
+use glam::DVec3;
+use std::ops::{Deref, DerefMut};
+
+/// Orientation of three directions: the sign of det(a, b, c) = a · (b × c).
+///
+/// For points on the unit sphere it is positive when a → b → c turns counter-clockwise seen
+/// from outside the sphere; for homogeneous points of the plane (w > 0) it is the planar
+/// orientation of (a/w, b/w, c/w) scaled by the positive factor w_a·w_b·w_c.
+#[inline]
+pub fn orient(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    a.dot(b.cross(c))
+}
+
+/// A region of the unit sphere bounded by closed loops of great-circle arcs (each arc shorter
+/// than π), stored in a shading frame whose z axis is the surface normal.
+///
+/// Orientation convention (used by every stage): a loop bounding a filled region is
+/// **positively oriented**, i.e. counter-clockwise seen from outside the sphere, so that
+/// det(a, b, c) > 0 for a small convex triangle a → b → c and the Baum et al. edge integral of the
+/// loop is positive. Holes are negatively oriented. Seen from the shading point (the centre), a
+/// positive loop turns clockwise: the silhouette stage reverses the counter-clockwise winding of
+/// front faces accordingly.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SphericalPolygon(pub PolygonLoops);
+
+impl Deref for SphericalPolygon {
+    type Target = PolygonLoops;
+    fn deref(&self) -> &PolygonLoops {
+        &self.0
+    }
+}
+
+impl DerefMut for SphericalPolygon {
+    fn deref_mut(&mut self) -> &mut PolygonLoops {
+        &mut self.0
+    }
+}
+
+impl SphericalPolygon {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Signed solid angle of the region (steradians), summed loop by loop as fans of spherical
+    /// triangles about the reference direction `c` with the formula of Van Oosterom and
+    /// Strackee (1983): tan(Ω/2) = det(c, a, b) / (1 + c·a + a·b + b·c).
+    ///
+    /// Exact for regions inside the open hemisphere around `c` (every triangle of the fan is
+    /// then smaller than a hemisphere); horizon-clipped polygons satisfy this for c = +z.
+    pub fn signed_solid_angle_about(&self, c: DVec3) -> f64 {
+        let mut total = 0.0;
+        for lp in self.loops() {
+            let n = lp.len();
+            for i in 0..n {
+                let a = lp[i];
+                let b = lp[(i + 1) % n];
+                let det = orient(c, a, b);
+                let den = 1.0 + c.dot(a) + a.dot(b) + b.dot(c);
+                total += 2.0 * det.atan2(den);
+            }
+        }
+        total
+    }
+
+    /// Signed solid angle about the mean direction of the vertices (+z when the mean vanishes);
+    /// see [`SphericalPolygon::signed_solid_angle_about`] for when it is exact.
+    pub fn signed_solid_angle(&self) -> f64 {
+        let sum: DVec3 = self.vertices().iter().copied().sum();
+        let c = sum.try_normalize().unwrap_or(DVec3::Z);
+        self.signed_solid_angle_about(c)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Pcg32;
+
+    /// Winding-number containment by summing signed angles seen from `p`: an independent
+    /// oracle for the region bounded by the loops.
+    fn winding(poly: &SphericalPolygon, p: DVec3) -> f64 {
+        let mut w = 0.0;
+        for lp in poly.loops() {
+            for i in 0..lp.len() {
+                let a = lp[i];
+                let b = lp[(i + 1) % lp.len()];
+                // Angle of the arc a→b as seen around p (tangent-plane projection at p).
+                let ta = a - p * p.dot(a);
+                let tb = b - p * p.dot(b);
+                w += orient(p, ta, tb).atan2(ta.dot(tb));
+            }
+        }
+        w / std::f64::consts::TAU
+    }
+
+    #[test]
+    fn solid_angle_matches_monte_carlo() {
+        let mut rng = Pcg32::new(11, 3);
+        for case in 0..20 {
+            // A random convex-ish star polygon around a random direction, inside a hemisphere.
+            let c = rng.unit_vector();
+            let f = crate::math::Frame::from_z(c);
+            let n = 3 + rng.below(6) as usize;
+            let spread = rng.range(0.05, 1.2);
+            let mut poly = SphericalPolygon::new();
+            // Star-shaped about c (angle gaps below π), hence positively oriented.
+            let angles: Vec<f64> = (0..n)
+                .map(|k| (k as f64 + 0.8 * rng.next_f64()) * std::f64::consts::TAU / n as f64)
+                .collect();
+            poly.push_loop(angles.iter().map(|&a| {
+                let r = spread * rng.range(0.3, 1.0);
+                f.to_world(DVec3::new(r * a.cos(), r * a.sin(), 1.0).normalize())
+            }));
+            let exact = poly.signed_solid_angle();
+            let samples = 200_000;
+            let mut hits = 0u32;
+            for _ in 0..samples {
+                if winding(&poly, rng.unit_vector()) > 0.5 {
+                    hits += 1;
+                }
+            }
+            let p = hits as f64 / samples as f64;
+            let mc = 4.0 * std::f64::consts::PI * p;
+            let sigma = 4.0 * std::f64::consts::PI * (p * (1.0 - p) / samples as f64).sqrt();
+            assert!(
+                (exact - mc).abs() <= 4.5 * sigma + 1e-12,
+                "case {case}: exact {exact} vs MC {mc} ± {sigma}"
+            );
+        }
+    }
+
+    #[test]
+    fn reversing_a_loop_negates_its_solid_angle() {
+        let mut poly = SphericalPolygon::new();
+        poly.push_loop([DVec3::X, DVec3::Y, DVec3::Z]);
+        // One octant: 4π / 8.
+        assert!((poly.signed_solid_angle() - std::f64::consts::FRAC_PI_2).abs() < 1e-14);
+        poly.reverse_loops();
+        assert!((poly.signed_solid_angle() + std::f64::consts::FRAC_PI_2).abs() < 1e-14);
+    }
+}
