@@ -8,3 +8,8 @@ pub mod spherical_polygon;
 pub use polygon_loops::PolygonLoops;
 pub use projection::{PlanarPolygon, ProjectionPlane};
 pub use spherical_polygon::{SphericalPolygon, orient};
+pub mod polyhedron;
+pub mod silhouette;
+
+pub use polyhedron::{Edge, MeshDiagnostics, Plane, Polyhedron};
+pub use silhouette::{Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette};

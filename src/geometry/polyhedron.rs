@@ -1,0 +1,344 @@
+//! Polyhedra with edge adjacency, the data every silhouette computation starts from.
+
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// Marker for the missing second face of a boundary edge.
+pub const NO_FACE: u32 = u32::MAX;
+
+/// A plane `n · p = d` with unit normal `n` (the front side is where `n · p > d`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Plane {
+    pub n: DVec3,
+    pub d: f64,
+}
+
+impl Plane {
+    /// Signed distance of `p` to the plane (positive on the front side).
+    #[inline]
+    pub fn eval(&self, p: DVec3) -> f64 {
+        self.n.dot(p) - self.d
+    }
+}
+
+/// An edge between vertices `v[0]` and `v[1]`. It runs `v[0] → v[1]` in the counter-clockwise
+/// winding of `faces[0]` (and `v[1] → v[0]` in that of `faces[1]`, if the mesh is oriented).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Edge {
+    pub v: [u32; 2],
+    pub faces: [u32; 2],
+}
+
+impl Edge {
+    #[inline]
+    pub fn is_boundary(&self) -> bool {
+        self.faces[1] == NO_FACE
+    }
+}
+
+/// What the mesh is, topologically and geometrically; decides which silhouette path it takes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct MeshDiagnostics {
+    /// Edges used by one face only.
+    pub boundary_edges: u32,
+    /// Edges used by more than two faces, or by two faces with the same direction.
+    pub nonmanifold_edges: u32,
+    /// Faces whose vertices deviate from the face plane by more than the tolerance.
+    pub nonplanar_faces: u32,
+    /// Every edge has exactly two faces, consistently oriented.
+    pub closed_manifold: bool,
+    /// Closed, manifold, planar faces and every vertex on the inner side of every face plane.
+    pub convex: bool,
+    /// All faces lie in one plane with one orientation (a flat light such as a quad).
+    pub planar: bool,
+    /// Vertices welded because they had identical coordinates.
+    pub welded_vertices: u32,
+}
+
+/// A polygon mesh prepared for silhouette extraction: welded vertices, face planes (Newell
+/// normals), the edge list with face adjacency, a bounding sphere and diagnostics.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Polyhedron {
+    pub vertices: Vec<DVec3>,
+    /// Face vertex indices, all faces concatenated; face `f` is `face_indices[face_starts[f]..face_starts[f+1]]`.
+    pub face_indices: Vec<u32>,
+    pub face_starts: Vec<u32>,
+    pub face_planes: Vec<Plane>,
+    pub edges: Vec<Edge>,
+    pub center: DVec3,
+    pub radius: f64,
+    pub diagnostics: MeshDiagnostics,
+}
+
+impl Polyhedron {
+    /// Builds the adjacency of a polygon mesh. Faces with fewer than three distinct vertices or
+    /// zero area are skipped (the scene loader has already reported them).
+    pub fn new(positions: &[DVec3], faces: &[Vec<u32>]) -> Polyhedron {
+        // Weld bit-identical positions so that meshes with split vertices still close up.
+        let mut weld: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
+        let mut remap = Vec::with_capacity(positions.len());
+        let mut vertices = Vec::with_capacity(positions.len());
+        for p in positions {
+            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            let id = *weld.entry(key).or_insert_with(|| {
+                vertices.push(*p);
+                (vertices.len() - 1) as u32
+            });
+            remap.push(id);
+        }
+        let welded_vertices = (positions.len() - vertices.len()) as u32;
+
+        let (lo, hi) = vertices
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+                (lo.min(p), hi.max(p))
+            });
+        let center = if vertices.is_empty() {
+            DVec3::ZERO
+        } else {
+            0.5 * (lo + hi)
+        };
+        let radius = vertices
+            .iter()
+            .map(|p| p.distance(center))
+            .fold(0.0, f64::max);
+        let scale = radius.max(f64::MIN_POSITIVE);
+        let tol = 1e-9 * scale;
+
+        let mut face_indices = Vec::new();
+        let mut face_starts = vec![0u32];
+        let mut face_planes = Vec::new();
+        let mut nonplanar_faces = 0;
+        let mut loop_buf: Vec<u32> = Vec::new();
+        for face in faces {
+            loop_buf.clear();
+            for &i in face {
+                let Some(&v) = remap.get(i as usize) else {
+                    continue;
+                };
+                if loop_buf.last() != Some(&v) {
+                    loop_buf.push(v);
+                }
+            }
+            while loop_buf.len() > 1 && loop_buf.first() == loop_buf.last() {
+                loop_buf.pop();
+            }
+            if loop_buf.len() < 3 {
+                continue;
+            }
+            // Newell's method: robust normal of a possibly non-planar polygon.
+            let mut n = DVec3::ZERO;
+            let mut centroid = DVec3::ZERO;
+            for k in 0..loop_buf.len() {
+                let a = vertices[loop_buf[k] as usize];
+                let b = vertices[loop_buf[(k + 1) % loop_buf.len()] as usize];
+                n += (a - b).cross(a + b) * 0.5;
+                centroid += a;
+            }
+            centroid /= loop_buf.len() as f64;
+            let Some(n) = n.try_normalize() else { continue };
+            if n.length_squared() == 0.0 || !(n.length_squared() > 0.5) {
+                continue;
+            }
+            let plane = Plane {
+                n,
+                d: n.dot(centroid),
+            };
+            if loop_buf
+                .iter()
+                .any(|&v| plane.eval(vertices[v as usize]).abs() > tol)
+            {
+                nonplanar_faces += 1;
+            }
+            face_indices.extend_from_slice(&loop_buf);
+            face_starts.push(face_indices.len() as u32);
+            face_planes.push(plane);
+        }
+
+        // Edge adjacency keyed by the unordered vertex pair.
+        let mut edge_of: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut edges: Vec<Edge> = Vec::new();
+        let mut nonmanifold = 0u32;
+        let face_count = face_planes.len();
+        for f in 0..face_count {
+            let idx = &face_indices[face_starts[f] as usize..face_starts[f + 1] as usize];
+            for k in 0..idx.len() {
+                let (a, b) = (idx[k], idx[(k + 1) % idx.len()]);
+                let key = (a.min(b), a.max(b));
+                match edge_of.get(&key) {
+                    None => {
+                        edge_of.insert(key, edges.len() as u32);
+                        edges.push(Edge {
+                            v: [a, b],
+                            faces: [f as u32, NO_FACE],
+                        });
+                    }
+                    Some(&e) => {
+                        let edge = &mut edges[e as usize];
+                        if edge.faces[1] == NO_FACE && edge.v == [b, a] {
+                            edge.faces[1] = f as u32;
+                        } else {
+                            // A third face, or a second face with the same direction: the mesh is
+                            // not an oriented manifold here. Keep the face as its own boundary edge
+                            // so that per-face methods still see it.
+                            nonmanifold += 1;
+                            edges.push(Edge {
+                                v: [a, b],
+                                faces: [f as u32, NO_FACE],
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        let boundary_edges = edges.iter().filter(|e| e.is_boundary()).count() as u32;
+        let closed_manifold = face_count > 0 && boundary_edges == 0 && nonmanifold == 0;
+        // Only vertices that faces use count for the geometric tests.
+        let mut referenced = vec![false; vertices.len()];
+        face_indices
+            .iter()
+            .for_each(|&i| referenced[i as usize] = true);
+        let used = || {
+            vertices
+                .iter()
+                .zip(&referenced)
+                .filter(|(_, r)| **r)
+                .map(|(v, _)| *v)
+        };
+        let convex = closed_manifold
+            && nonplanar_faces == 0
+            && face_planes
+                .iter()
+                .all(|pl| used().all(|v| pl.eval(v) <= tol));
+        let planar = face_count > 0
+            && face_planes.iter().all(|pl| {
+                pl.n.dot(face_planes[0].n) > 1.0 - 1e-12 && used().all(|v| pl.eval(v).abs() <= tol)
+            });
+        let diagnostics = MeshDiagnostics {
+            boundary_edges,
+            nonmanifold_edges: nonmanifold,
+            nonplanar_faces,
+            closed_manifold,
+            convex,
+            planar,
+            welded_vertices,
+        };
+        Polyhedron {
+            vertices,
+            face_indices,
+            face_starts,
+            face_planes,
+            edges,
+            center,
+            radius,
+            diagnostics,
+        }
+    }
+
+    #[inline]
+    pub fn face_count(&self) -> usize {
+        self.face_planes.len()
+    }
+
+    /// Vertex indices of face `f`, counter-clockwise seen from its front.
+    #[inline]
+    pub fn face(&self, f: usize) -> &[u32] {
+        &self.face_indices[self.face_starts[f] as usize..self.face_starts[f + 1] as usize]
+    }
+
+    /// Whether the silhouette of this mesh from any outside point is the boundary of its
+    /// front-facing faces and bounds their projection exactly once: convex closed meshes and
+    /// flat (single-plane) meshes. Other meshes take the per-face path.
+    pub fn has_simple_silhouette(&self) -> bool {
+        self.diagnostics.convex || self.diagnostics.planar
+    }
+
+    /// Volume enclosed by a closed mesh (positive when faces are counter-clockwise outward).
+    pub fn signed_volume(&self) -> f64 {
+        let mut v = 0.0;
+        for f in 0..self.face_count() {
+            let idx = self.face(f);
+            let a = self.vertices[idx[0] as usize];
+            for k in 1..idx.len() - 1 {
+                let b = self.vertices[idx[k] as usize];
+                let c = self.vertices[idx[k + 1] as usize];
+                v += a.dot(b.cross(c)) / 6.0;
+            }
+        }
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn cube() -> (Vec<DVec3>, Vec<Vec<u32>>) {
+        let p: Vec<DVec3> = (0..8)
+            .map(|i| {
+                DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) * 2.0 - 1.0
+            })
+            .collect();
+        let faces = vec![
+            vec![0, 2, 3, 1], // -z
+            vec![4, 5, 7, 6], // +z
+            vec![0, 1, 5, 4], // -y
+            vec![2, 6, 7, 3], // +y
+            vec![0, 4, 6, 2], // -x
+            vec![1, 3, 7, 5], // +x
+        ];
+        (p, faces)
+    }
+
+    #[test]
+    fn cube_is_convex_closed_and_outward() {
+        let (p, f) = cube();
+        let poly = Polyhedron::new(&p, &f);
+        assert_eq!(poly.edges.len(), 12);
+        assert!(
+            poly.diagnostics.closed_manifold && poly.diagnostics.convex && !poly.diagnostics.planar
+        );
+        assert!((poly.signed_volume() - 8.0).abs() < 1e-12);
+        for (f, pl) in poly.face_planes.iter().enumerate() {
+            assert!(pl.eval(DVec3::ZERO) < 0.0, "face {f} normal points inward");
+        }
+    }
+
+    #[test]
+    fn open_and_flat_meshes_are_diagnosed() {
+        let (p, mut f) = cube();
+        f.pop();
+        let poly = Polyhedron::new(&p, &f);
+        assert_eq!(poly.diagnostics.boundary_edges, 4);
+        assert!(!poly.diagnostics.closed_manifold && !poly.diagnostics.convex);
+        let quad = Polyhedron::new(&p, &[vec![0, 2, 3, 1]]);
+        assert!(quad.diagnostics.planar && quad.has_simple_silhouette());
+    }
+
+    #[test]
+    fn split_vertices_are_welded() {
+        let (p, f) = cube();
+        // Give every face its own copy of its vertices.
+        let mut pos = Vec::new();
+        let mut faces = Vec::new();
+        for face in &f {
+            let start = pos.len() as u32;
+            pos.extend(face.iter().map(|&i| p[i as usize]));
+            faces.push((0..face.len() as u32).map(|k| start + k).collect());
+        }
+        let poly = Polyhedron::new(&pos, &faces);
+        assert!(poly.diagnostics.convex);
+        assert_eq!(poly.diagnostics.welded_vertices, 24 - 8);
+    }
+
+    #[test]
+    fn non_convex_and_inconsistent_meshes_are_not_convex() {
+        let (mut p, f) = cube();
+        p[7] = DVec3::splat(0.2); // dent one corner inward
+        assert!(!Polyhedron::new(&p, &f).diagnostics.convex);
+        let (p, mut f) = cube();
+        f[0].reverse(); // flipped face
+        let poly = Polyhedron::new(&p, &f);
+        assert!(poly.diagnostics.nonmanifold_edges > 0 && !poly.diagnostics.convex);
+    }
+}

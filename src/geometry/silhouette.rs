@@ -1,0 +1,323 @@
+//! Contour edges (001 Eq. 4.2) and the ordered silhouette loop of a convex or flat polyhedron
+//! (001 Sect. 4.2; 000 Alg. 2), as a spherical polygon in the shading frame.
+//!
+//! 000 Alg. 2 orders the silhouette edges by repeatedly searching the nearest endpoint in a
+//! projection (quadratic, and fragile when endpoints nearly coincide). Here the contour edges
+//! are oriented from the adjacency alone (001 Sect. 4.2: an edge runs counter-clockwise around
+//! its front-facing face) and chained through their shared vertex indices: linear time, exact
+//! and independent of any projection.
+
+use super::SphericalPolygon;
+use super::polyhedron::{NO_FACE, Polyhedron};
+use crate::math::Frame;
+use glam::DVec3;
+
+const NONE: u32 = u32::MAX;
+
+/// Reusable buffers for [`silhouette`]; sized lazily to the largest mesh seen.
+#[derive(Clone, Debug, Default)]
+pub struct SilhouetteScratch {
+    front: Vec<bool>,
+    /// Per vertex: first outgoing contour edge (index into `contour`), or NONE.
+    head: Vec<u32>,
+    /// Contour edges as (from, to, next outgoing edge of `from`).
+    contour: Vec<(u32, u32, u32)>,
+    used: Vec<bool>,
+}
+
+/// Is face `f` front-facing from `x`, i.e. does `x` lie strictly on its front side?
+/// (001 Eq. 4.1, with the normal pointing to the front.) Points in the face plane see neither side.
+#[inline]
+pub fn is_front_facing(poly: &Polyhedron, f: usize, x: DVec3) -> bool {
+    poly.face_planes[f].eval(x) > 0.0
+}
+
+/// Contour edges from `x` (001 Eq. 4.2): edges with exactly one front-facing adjacent face
+/// (a boundary edge counts when its only face is front-facing). Each is returned with the
+/// orientation that makes the silhouette positively oriented (see [`SphericalPolygon`]).
+pub fn contour_edges<'a>(poly: &'a Polyhedron, x: DVec3) -> impl Iterator<Item = [u32; 2]> + 'a {
+    poly.edges.iter().filter_map(move |e| {
+        let f0 = is_front_facing(poly, e.faces[0] as usize, x);
+        let f1 = e.faces[1] != NO_FACE && is_front_facing(poly, e.faces[1] as usize, x);
+        match (f0, f1) {
+            (true, false) => Some([e.v[1], e.v[0]]),
+            (false, true) => Some([e.v[0], e.v[1]]),
+            _ => None,
+        }
+    })
+}
+
+/// How the back of a flat mesh is treated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sidedness {
+    /// Lights emit from the front only: a flat light seen from behind has no silhouette.
+    FrontOnly,
+    /// Occluders block from both sides: a flat occluder seen from behind is taken as a whole.
+    TwoSided,
+}
+
+/// `SphPolySilhouette` of 000 Alg. 1/2 for a mesh with [`Polyhedron::has_simple_silhouette`]:
+/// the contour of the mesh seen from `x`, chained into loops, moved to `x` as origin, expressed
+/// in `frame` and projected to the unit sphere. Writes positively oriented loops into `out`
+/// (cleared first). Vertices that coincide with `x` are dropped (they subtend no solid angle).
+pub fn silhouette(
+    poly: &Polyhedron,
+    x: DVec3,
+    frame: &Frame,
+    sidedness: Sidedness,
+    out: &mut SphericalPolygon,
+    scratch: &mut SilhouetteScratch,
+) {
+    out.clear();
+    let nf = poly.face_count();
+    let nv = poly.vertices.len();
+    scratch.front.clear();
+    scratch
+        .front
+        .extend((0..nf).map(|f| is_front_facing(poly, f, x)));
+    if sidedness == Sidedness::TwoSided
+        && poly.diagnostics.planar
+        && !scratch.front.iter().any(|&b| b)
+    {
+        // Seen from behind: the back of a flat occluder blocks just as its front does. Its
+        // outline is the boundary of all faces, wound the other way.
+        let behind = (0..nf).all(|f| poly.face_planes[f].eval(x) < 0.0);
+        if behind {
+            scratch.front.iter_mut().for_each(|b| *b = true);
+            chain_contour(poly, x, frame, true, out, scratch);
+        }
+        return;
+    }
+    if scratch.head.len() < nv {
+        scratch.head.resize(nv, NONE);
+    }
+    chain_contour(poly, x, frame, false, out, scratch);
+}
+
+fn chain_contour(
+    poly: &Polyhedron,
+    x: DVec3,
+    frame: &Frame,
+    reversed: bool,
+    out: &mut SphericalPolygon,
+    scratch: &mut SilhouetteScratch,
+) {
+    let nv = poly.vertices.len();
+    if scratch.head.len() < nv {
+        scratch.head.resize(nv, NONE);
+    }
+    scratch.contour.clear();
+    for e in &poly.edges {
+        let f0 = scratch.front[e.faces[0] as usize];
+        let f1 = e.faces[1] != NO_FACE && scratch.front[e.faces[1] as usize];
+        let (a, b) = match (f0, f1) {
+            (true, false) => (e.v[1], e.v[0]),
+            (false, true) => (e.v[0], e.v[1]),
+            _ => continue,
+        };
+        let (a, b) = if reversed { (b, a) } else { (a, b) };
+        let id = scratch.contour.len() as u32;
+        scratch.contour.push((a, b, scratch.head[a as usize]));
+        scratch.head[a as usize] = id;
+    }
+    scratch.used.clear();
+    scratch.used.resize(scratch.contour.len(), false);
+
+    // Chain: from each unused edge, follow the outgoing edges of its end vertex until the loop
+    // closes. The boundary of a set of faces of an oriented manifold is a 1-cycle (as many edges
+    // leave each vertex as enter it), so the walk always closes.
+    for start in 0..scratch.contour.len() {
+        if scratch.used[start] {
+            continue;
+        }
+        let mut e = start as u32;
+        let first_vertex = scratch.contour[start].0;
+        loop {
+            scratch.used[e as usize] = true;
+            let (a, b, _) = scratch.contour[e as usize];
+            if let Some(d) = frame
+                .to_local(poly.vertices[a as usize] - x)
+                .try_normalize()
+            {
+                out.push_vertex(d);
+            }
+            if b == first_vertex {
+                break;
+            }
+            // Next unused outgoing edge of b.
+            let mut cand = scratch.head[b as usize];
+            while cand != NONE && scratch.used[cand as usize] {
+                cand = scratch.contour[cand as usize].2;
+            }
+            if cand == NONE {
+                break; // open chain (non-manifold input): drop what cannot close
+            }
+            e = cand;
+        }
+        out.close_loop();
+    }
+    for &(a, _, _) in &scratch.contour {
+        scratch.head[a as usize] = NONE;
+    }
+}
+
+/// One face of a mesh as a spherical polygon from `x` (the per-triangle method, 000 Sect. 4.4):
+/// positively oriented; empty when `x` lies in the face plane, or behind a light's face.
+pub fn face_polygon(
+    poly: &Polyhedron,
+    f: usize,
+    x: DVec3,
+    frame: &Frame,
+    sidedness: Sidedness,
+    out: &mut SphericalPolygon,
+) {
+    out.clear();
+    let s = poly.face_planes[f].eval(x);
+    let idx = poly.face(f);
+    let push = |out: &mut SphericalPolygon, i: u32| {
+        if let Some(d) = frame
+            .to_local(poly.vertices[i as usize] - x)
+            .try_normalize()
+        {
+            out.push_vertex(d);
+        }
+    };
+    if s > 0.0 {
+        for &i in idx.iter().rev() {
+            push(out, i);
+        }
+    } else if s < 0.0 && sidedness == Sidedness::TwoSided {
+        for &i in idx {
+            push(out, i);
+        }
+    } else {
+        return;
+    }
+    out.close_loop();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Pcg32;
+
+    fn cube() -> Polyhedron {
+        let p: Vec<DVec3> = (0..8)
+            .map(|i| {
+                DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) * 2.0 - 1.0
+            })
+            .collect();
+        let faces = vec![
+            vec![0, 2, 3, 1],
+            vec![4, 5, 7, 6],
+            vec![0, 1, 5, 4],
+            vec![2, 6, 7, 3],
+            vec![0, 4, 6, 2],
+            vec![1, 3, 7, 5],
+        ];
+        Polyhedron::new(&p, &faces)
+    }
+
+    /// Solid angle of the cube seen from x by brute-force ray casting against its 12 triangles.
+    fn cube_solid_angle_mc(poly: &Polyhedron, x: DVec3, rng: &mut Pcg32, n: usize) -> (f64, f64) {
+        let mut hits = 0usize;
+        for _ in 0..n {
+            let d = rng.unit_vector();
+            // Slab test against [-1, 1]^3.
+            let inv = d.recip();
+            let t0 = (DVec3::splat(-1.0) - x) * inv;
+            let t1 = (DVec3::splat(1.0) - x) * inv;
+            let tmin = t0.min(t1).max_element();
+            let tmax = t0.max(t1).min_element();
+            if tmax >= tmin.max(0.0) {
+                hits += 1;
+            }
+        }
+        let _ = poly;
+        let p = hits as f64 / n as f64;
+        (
+            4.0 * std::f64::consts::PI * p,
+            4.0 * std::f64::consts::PI * (p * (1.0 - p) / n as f64).sqrt(),
+        )
+    }
+
+    #[test]
+    fn cube_silhouette_is_one_positive_loop_with_the_right_solid_angle() {
+        let poly = cube();
+        let mut scratch = SilhouetteScratch::default();
+        let mut out = SphericalPolygon::new();
+        let mut rng = Pcg32::new(3, 9);
+        for _ in 0..50 {
+            let x = rng.unit_vector() * rng.range(1.8, 6.0);
+            let frame = Frame::from_z(rng.unit_vector());
+            silhouette(
+                &poly,
+                x,
+                &frame,
+                Sidedness::FrontOnly,
+                &mut out,
+                &mut scratch,
+            );
+            assert_eq!(out.loop_count(), 1);
+            let n = out.loop_at(0).len();
+            assert!(
+                n == 4 || n == 6,
+                "a cube's silhouette has 4 or 6 edges, got {n}"
+            );
+            // The silhouette of a convex body from outside lies in a hemisphere: exact solid angle.
+            let omega = out.signed_solid_angle();
+            let (mc, sigma) = cube_solid_angle_mc(&poly, x, &mut rng, 100_000);
+            assert!(
+                (omega - mc).abs() < 4.5 * sigma,
+                "{omega} vs {mc} ± {sigma}"
+            );
+            assert_eq!(contour_edges(&poly, x).count(), n);
+        }
+    }
+
+    #[test]
+    fn flat_occluder_seen_from_behind_is_two_sided_but_a_flat_light_is_not() {
+        let p = [
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(-1.0, 1.0, 0.0),
+        ];
+        let quad = Polyhedron::new(&p, &[vec![0, 1, 2, 3]]); // front = +z
+        let mut scratch = SilhouetteScratch::default();
+        let mut out = SphericalPolygon::new();
+        let frame = Frame::from_z(DVec3::Z);
+        for (x, side, expect) in [
+            (DVec3::new(0.2, 0.1, 2.0), Sidedness::FrontOnly, true),
+            (DVec3::new(0.2, 0.1, -2.0), Sidedness::FrontOnly, false),
+            (DVec3::new(0.2, 0.1, -2.0), Sidedness::TwoSided, true),
+            (DVec3::new(3.0, 0.1, 0.0), Sidedness::TwoSided, false),
+        ] {
+            silhouette(&quad, x, &frame, side, &mut out, &mut scratch);
+            assert_eq!(!out.is_empty(), expect, "x = {x}, {side:?}");
+            if expect {
+                assert!(out.signed_solid_angle() > 0.0);
+                let mut face = SphericalPolygon::new();
+                face_polygon(&quad, 0, x, &frame, side, &mut face);
+                assert!((face.signed_solid_angle() - out.signed_solid_angle()).abs() < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn point_on_a_face_plane_sees_no_silhouette_of_a_convex_body_from_inside_its_face() {
+        let poly = cube();
+        let mut scratch = SilhouetteScratch::default();
+        let mut out = SphericalPolygon::new();
+        // A point on the +z face: no face is strictly front-facing.
+        silhouette(
+            &poly,
+            DVec3::new(0.3, -0.2, 1.0),
+            &Frame::from_z(DVec3::Z),
+            Sidedness::TwoSided,
+            &mut out,
+            &mut scratch,
+        );
+        assert!(out.is_empty());
+    }
+}
