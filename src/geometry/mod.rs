@@ -8,8 +8,12 @@ pub mod spherical_polygon;
 pub use polygon_loops::PolygonLoops;
 pub use projection::{PlanarPolygon, ProjectionPlane};
 pub use spherical_polygon::{SphericalPolygon, orient};
+pub mod horizon;
 pub mod polyhedron;
 pub mod silhouette;
+#[cfg(test)]
+pub(crate) mod test_util;
 
+pub use horizon::{HorizonScratch, clip_to_horizon};
 pub use polyhedron::{Edge, MeshDiagnostics, Plane, Polyhedron};
 pub use silhouette::{Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette};

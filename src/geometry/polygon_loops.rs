@@ -108,6 +108,13 @@ impl PolygonLoops {
         self.vertices.truncate(start);
     }
 
+    /// Drops the last vertex of the open loop (`n` = current vertex count, for the caller's check).
+    #[inline]
+    pub(crate) fn discard_last_vertex(&mut self, n: usize) {
+        debug_assert_eq!(n, self.vertices.len());
+        self.vertices.pop();
+    }
+
     /// Appends a whole loop.
     pub fn push_loop(&mut self, vertices: impl IntoIterator<Item = DVec3>) -> bool {
         for v in vertices {

@@ -75,24 +75,8 @@ impl SphericalPolygon {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::test_util::contains;
     use crate::math::Pcg32;
-
-    /// Winding-number containment by summing signed angles seen from `p`: an independent
-    /// oracle for the region bounded by the loops.
-    fn winding(poly: &SphericalPolygon, p: DVec3) -> f64 {
-        let mut w = 0.0;
-        for lp in poly.loops() {
-            for i in 0..lp.len() {
-                let a = lp[i];
-                let b = lp[(i + 1) % lp.len()];
-                // Angle of the arc a→b as seen around p (tangent-plane projection at p).
-                let ta = a - p * p.dot(a);
-                let tb = b - p * p.dot(b);
-                w += orient(p, ta, tb).atan2(ta.dot(tb));
-            }
-        }
-        w / std::f64::consts::TAU
-    }
 
     #[test]
     fn solid_angle_matches_monte_carlo() {
@@ -116,7 +100,7 @@ mod tests {
             let samples = 200_000;
             let mut hits = 0u32;
             for _ in 0..samples {
-                if winding(&poly, rng.unit_vector()) > 0.5 {
+                if contains(&poly, rng.unit_vector(), -c) {
                     hits += 1;
                 }
             }
