@@ -299,7 +299,7 @@ mod tests {
             let a = out.signed_solid_angle_about(DVec3::Z);
             assert!(a.is_finite() && a > 0.0);
             if let Some(prev) = last {
-                assert!((a - prev as f64).abs() < 2e-3, "z = {z}: {a} vs {prev}");
+                assert!((a - prev).abs() < 2e-3, "z = {z}: {a} vs {prev}");
             }
             last = Some(a);
         }

@@ -136,10 +136,8 @@ impl Polyhedron {
                 centroid += a;
             }
             centroid /= loop_buf.len() as f64;
+            // Zero-area (degenerate) faces have no normal and are skipped.
             let Some(n) = n.try_normalize() else { continue };
-            if n.length_squared() == 0.0 || !(n.length_squared() > 0.5) {
-                continue;
-            }
             let plane = Plane {
                 n,
                 d: n.dot(centroid),
