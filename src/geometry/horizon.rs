@@ -287,7 +287,7 @@ mod tests {
     fn near_horizon_vertices_give_continuous_results() {
         let mut out = SphericalPolygon::new();
         let mut scratch = HorizonScratch::default();
-        let mut last = None;
+        let mut last: Option<f64> = None;
         for z in [1e-3, 1e-9, 1e-15, 1e-300, 0.0, -1e-300, -1e-15, -1e-9] {
             let mut poly = SphericalPolygon::new();
             poly.push_loop([
