@@ -1,3 +1,285 @@
-fn main() {
-    println!("penumbra");
+//! The `penumbra` command line: `render`, `reference`, `stress`, `fit-ltc`.
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Parser, Subcommand};
+use glam::DVec3;
+use penumbra::render::{Image, RenderContext, RenderSettings, image_io};
+use penumbra::scene::{Camera, Scene, scene_file};
+use penumbra::shading::Method;
+use std::path::{Path, PathBuf};
+
+#[derive(Parser)]
+#[command(name = "penumbra", version, about = "Analytic soft shadows from polyhedral area lights")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene with an analytic method; writes .pfm, .exr and .png.
+    Render(RenderArgs),
+    /// Render a converged brute-force Monte Carlo reference (ray-cast shadow rays) and its
+    /// per-pixel standard error.
+    Reference {
+        #[command(flatten)]
+        render: RenderArgs,
+        /// Area samples per light per sub-pixel position.
+        #[arg(long, default_value_t = 1024)]
+        samples: u32,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Compare two linear images (PFM); with --stderr, in units of the reference's noise.
+    Compare {
+        image: PathBuf,
+        reference: PathBuf,
+        /// Per-pixel standard error of the reference (PFM).
+        #[arg(long)]
+        stderr: Option<PathBuf>,
+    },
+    /// Random and adversarial shading configurations against a ray-cast oracle.
+    Stress {
+        #[arg(long, default_value_t = 100_000)]
+        cases: u64,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Oracle rays per case.
+        #[arg(long, default_value_t = 256)]
+        rays: u32,
+        /// Write the report as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Fit the 64×64 GGX LTC table (Nelder–Mead) and write it.
+    FitLtc {
+        #[arg(long, default_value = "assets/ltc/ggx_ltc.bin")]
+        out: PathBuf,
+        #[arg(long, default_value_t = 64)]
+        size: usize,
+    },
+    /// List the embedded scenes.
+    Scenes,
+}
+
+#[derive(Args, Clone)]
+struct RenderArgs {
+    /// A scene file (.toml or .obj) or the name of an embedded scene (see `penumbra scenes`).
+    scene: String,
+    #[arg(long, value_parser = parse_vec3)]
+    eye: Option<DVec3>,
+    #[arg(long, value_parser = parse_vec3)]
+    target: Option<DVec3>,
+    #[arg(long, value_parser = parse_vec3)]
+    up: Option<DVec3>,
+    /// Vertical field of view in degrees.
+    #[arg(long)]
+    fov: Option<f64>,
+    /// Image size WxH.
+    #[arg(long, default_value = "512x512", value_parser = parse_size)]
+    size: (u32, u32),
+    /// N×N stratified sub-pixel positions per pixel.
+    #[arg(long, default_value_t = 1)]
+    aa: u32,
+    #[arg(long, value_enum, default_value_t = Method::Analytic)]
+    method: Method,
+    /// Output path; the extension is replaced by .pfm, .exr and .png.
+    #[arg(long, default_value = "out/render.png")]
+    out: PathBuf,
+    /// Exposure in stops for the tone-mapped PNG.
+    #[arg(long, default_value_t = 0.0)]
+    exposure: f64,
+}
+
+fn parse_vec3(s: &str) -> Result<DVec3, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().map_err(|e| format!("'{t}': {e}")))
+        .collect::<Result<_, _>>()?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(DVec3::new(x, y, z)),
+        _ => Err(format!("expected three finite numbers X,Y,Z, got '{s}'")),
+    }
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got '{s}'"))?;
+    let w: u32 = w.trim().parse().map_err(|e| format!("width '{w}': {e}"))?;
+    let h: u32 = h.trim().parse().map_err(|e| format!("height '{h}': {e}"))?;
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(format!("size {w}x{h} is out of range (1..=16384)"));
+    }
+    Ok((w, h))
+}
+
+fn load_scene(name: &str) -> Result<Scene> {
+    let path = Path::new(name);
+    let scene = if path.exists() {
+        scene_file::load_scene(path)?
+    } else if scene_file::embedded_scene_names().contains(&name) {
+        scene_file::load_embedded(name)?
+    } else {
+        bail!(
+            "{name}: no such file, and not an embedded scene (embedded: {})",
+            scene_file::embedded_scene_names().join(", ")
+        );
+    };
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(scene)
+}
+
+fn camera(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
+    let base = scene.camera;
+    let pick = |v: Option<DVec3>, f: fn(&Camera) -> DVec3, what: &str| -> Result<DVec3> {
+        v.or(base.as_ref().map(f)).with_context(|| format!("the scene has no camera: pass --{what}"))
+    };
+    let cam = Camera {
+        eye: pick(args.eye, |c| c.eye, "eye")?,
+        target: pick(args.target, |c| c.target, "target")?,
+        up: pick(args.up, |c| c.up, "up")?,
+        fov_deg: args.fov.or(base.map(|c| c.fov_deg)).context("the scene has no camera: pass --fov")?,
+    };
+    cam.basis().map_err(anyhow::Error::msg)?;
+    Ok(cam)
+}
+
+fn write_outputs(img: &Image, out: &Path, exposure: f64) -> Result<Vec<PathBuf>> {
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create directory", dir.display()))?;
+    }
+    let rgb = img.to_rgb32();
+    let pfm = out.with_extension("pfm");
+    let exr = out.with_extension("exr");
+    let png = out.with_extension("png");
+    image_io::write_pfm(&pfm, img.width, img.height, &rgb).with_context(|| format!("{}", pfm.display()))?;
+    image_io::write_exr(&exr, img.width, img.height, &rgb)?;
+    image_io::write_png(&png, img.width, img.height, &rgb, exposure)?;
+    Ok(vec![pfm, exr, png])
+}
+
+fn render(args: &RenderArgs) -> Result<()> {
+    let scene = load_scene(&args.scene)?;
+    let cam = camera(args, &scene)?;
+    let ctx = RenderContext::new(&scene);
+    for n in &ctx.prepared.notes {
+        eprintln!("note: {n}");
+    }
+    let settings = RenderSettings { width: args.size.0, height: args.size.1, aa: args.aa, method: args.method };
+    let (img, stats) = ctx.render(&cam, &settings, None).map_err(anyhow::Error::msg)?;
+    let (nan, inf, neg) = img.invalid_counts();
+    let files = write_outputs(&img, &args.out, args.exposure)?;
+    println!(
+        "{} {}x{} aa {} method {}: {:.3} s, {:.0} pixels/s ({} threads)",
+        args.scene,
+        settings.width,
+        settings.height,
+        settings.aa,
+        settings.method.name(),
+        stats.seconds,
+        stats.pixels_per_second,
+        rayon::current_num_threads()
+    );
+    if nan + inf + neg > 0 {
+        eprintln!("warning: {nan} NaN, {inf} infinite and {neg} negative pixel values");
+    }
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
+    let scene = load_scene(&args.scene)?;
+    let cam = camera(args, &scene)?;
+    let ctx = RenderContext::new(&scene);
+    let settings = RenderSettings { width: args.size.0, height: args.size.1, aa: args.aa, method: args.method };
+    let start = std::time::Instant::now();
+    let (img, err) =
+        penumbra::reference::render_reference(&ctx, &cam, &settings, samples, seed).map_err(anyhow::Error::msg)?;
+    println!("reference {}: {samples} samples per light, {:.3} s", args.scene, start.elapsed().as_secs_f64());
+    for f in write_outputs(&img, &args.out, args.exposure)? {
+        println!("wrote {}", f.display());
+    }
+    let stderr_path = args.out.with_file_name(format!(
+        "{}_stderr.pfm",
+        args.out.file_stem().map(|s| s.to_string_lossy()).unwrap_or_default()
+    ));
+    image_io::write_pfm(&stderr_path, err.width, err.height, &err.to_rgb32())?;
+    println!("wrote {}", stderr_path.display());
+    Ok(())
+}
+
+fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> {
+    let read = |p: &Path| image_io::read_pfm(p).with_context(|| format!("{}", p.display()));
+    let (w, h, a) = read(image)?;
+    let (w2, h2, b) = read(reference)?;
+    if (w, h) != (w2, h2) {
+        bail!("{} is {w}x{h} but {} is {w2}x{h2}", image.display(), reference.display());
+    }
+    let s = stderr.map(read).transpose()?;
+    let stats = penumbra::render::compare::compare(&a, &b, s.as_ref().map(|s| &s.2[..]));
+    println!("{}", serde_json::to_string_pretty(&stats)?);
+    Ok(())
+}
+
+fn main() -> Result<()> {
+    let cli = Cli::parse();
+    match cli.command {
+        None => {
+            // The main job on the embedded default scene.
+            let args = RenderArgs {
+                scene: "default".into(),
+                eye: None,
+                target: None,
+                up: None,
+                fov: None,
+                size: (800, 600),
+                aa: 2,
+                method: Method::Analytic,
+                out: PathBuf::from("out/default.png"),
+                exposure: 0.0,
+            };
+            render(&args)
+        }
+        Some(Command::Render(args)) => render(&args),
+        Some(Command::Reference { render, samples, seed }) => reference(&render, samples, seed),
+        Some(Command::Compare { image, reference, stderr }) => compare(&image, &reference, stderr.as_deref()),
+        Some(Command::Stress { cases, seed, rays, json }) => {
+            let last = std::sync::atomic::AtomicU64::new(0);
+            let rep = penumbra::stress::run(cases, seed, rays, |done| {
+                let step = (cases / 20).max(1);
+                let prev = last.fetch_max(done / step, std::sync::atomic::Ordering::Relaxed);
+                if done / step > prev {
+                    eprintln!("  {done}/{cases}");
+                }
+            });
+            println!("{}", serde_json::to_string_pretty(&rep)?);
+            if let Some(path) = json {
+                std::fs::write(&path, serde_json::to_string_pretty(&rep)?).with_context(|| format!("{}", path.display()))?;
+            }
+            if rep.nan + rep.inf + rep.negative + rep.panics > 0 {
+                bail!("stress found invalid results");
+            }
+            Ok(())
+        }
+        Some(Command::FitLtc { out, size }) => {
+            let start = std::time::Instant::now();
+            let table = penumbra::ltc::fit::fit_table(size, |done, total| {
+                if done % size == 0 {
+                    eprintln!("  {done}/{total}");
+                }
+            });
+            table.save(&out).with_context(|| format!("{}", out.display()))?;
+            println!("wrote {} in {:.1} s", out.display(), start.elapsed().as_secs_f64());
+            Ok(())
+        }
+        Some(Command::Scenes) => {
+            for name in scene_file::embedded_scene_names() {
+                println!("{name}");
+            }
+            Ok(())
+        }
+    }
 }

@@ -1,1 +1,374 @@
-//! TODO
+//! `penumbra stress`: random and adversarial shading configurations, each shaded by the
+//! analytic pipeline and compared with a ray-cast estimate.
+//!
+//! Every case is a convex light (unit radiance, Lambertian receiver with albedo 1) and up to
+//! three occluders around a shading point. The pipeline's diffuse value is the visible form
+//! factor E = (1/π)∫cos V; the oracle casts cosine-distributed rays (stratified) and counts
+//! those whose first hit is the front of a light face, an unbiased estimate of E. Errors are
+//! reported absolutely and in binomial standard deviations. The specular lobe is evaluated too
+//! (random roughness) and checked for NaN, Inf and negative values.
+
+use crate::accel::{Bvh, Ray};
+use crate::math::{Frame, Pcg32};
+use crate::scene::shapes::{cuboid, cylinder, icosahedron, quad};
+use crate::scene::{Material, Mesh, ObjectFlags, Scene, SceneObject};
+use crate::shading::{Lobe, Method, PreparedScene, Recorder, ShadingPoint, ShadingScratch, shade};
+use glam::{DAffine3, DMat3, DVec3};
+use rayon::prelude::*;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+/// The families of configurations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum CaseKind {
+    Random,
+    /// The shading point lies in the plane of a light face.
+    CoplanarWithLightFace,
+    /// Light vertices exactly on the horizon of the shading point.
+    LightVerticesOnHorizon,
+    /// Occluder vertices exactly on the horizon.
+    OccluderVerticesOnHorizon,
+    /// An occluder sharing a face (and so edges and vertices) with the light.
+    OccluderSharesEdgesWithLight,
+    /// Occluders with vertices coincident with the light's and with each other's.
+    CoincidentVertices,
+    /// An occluder hiding the whole light, or lying inside its silhouette.
+    CoveringOrInside,
+}
+
+const KINDS: [CaseKind; 7] = [
+    CaseKind::Random,
+    CaseKind::CoplanarWithLightFace,
+    CaseKind::LightVerticesOnHorizon,
+    CaseKind::OccluderVerticesOnHorizon,
+    CaseKind::OccluderSharesEdgesWithLight,
+    CaseKind::CoincidentVertices,
+    CaseKind::CoveringOrInside,
+];
+
+/// One generated configuration.
+pub struct Case {
+    pub kind: CaseKind,
+    pub scale: f64,
+    pub scene: Scene,
+    pub point: ShadingPoint,
+    pub alpha: f64,
+}
+
+/// The worst case found, for the report.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct WorstCase {
+    pub index: u64,
+    pub kind: Option<CaseKind>,
+    pub scale: f64,
+    pub analytic: f64,
+    pub estimate: f64,
+    pub abs_error: f64,
+    pub sigmas: f64,
+}
+
+/// Counts and extremes over all cases.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct StressReport {
+    pub cases: u64,
+    pub rays_per_case: u32,
+    pub nan: u64,
+    pub inf: u64,
+    pub negative: u64,
+    pub panics: u64,
+    /// Cases whose error exceeds 6 standard deviations of the estimate plus 1/rays.
+    pub beyond_6_sigma: u64,
+    pub worst_abs: WorstCase,
+    pub worst_sigma: WorstCase,
+    pub seconds: f64,
+}
+
+fn rotation(rng: &mut Pcg32) -> DMat3 {
+    let f = Frame::from_z(rng.unit_vector());
+    let a = rng.range(0.0, std::f64::consts::TAU);
+    let (s, c) = a.sin_cos();
+    DMat3::from_cols(f.x * c + f.y * s, -f.x * s + f.y * c, f.z)
+}
+
+fn random_convex(rng: &mut Pcg32, center: DVec3, size: f64) -> Mesh {
+    let rot = rotation(rng);
+    let m = match rng.below(4) {
+        0 => cuboid(DVec3::ZERO, DVec3::new(rng.range(0.2, 1.0), rng.range(0.2, 1.0), rng.range(0.2, 1.0)) * size),
+        1 => cylinder(DVec3::ZERO, size * rng.range(0.3, 1.0), size * rng.range(0.3, 1.5), 3 + rng.below(14)),
+        2 => icosahedron(DVec3::ZERO, size),
+        _ => quad(DVec3::ZERO, DVec3::X * size, DVec3::Y * size * rng.range(0.2, 1.0)),
+    };
+    m.transformed(&DAffine3::from_mat3_translation(rot, center))
+}
+
+fn object(name: &str, mesh: Mesh, light: bool) -> SceneObject {
+    SceneObject {
+        name: name.into(),
+        mesh,
+        material: Material { ke: if light { DVec3::ONE } else { DVec3::ZERO }, ..Material::default() },
+        flags: ObjectFlags { light, occluder: true, receiver: true },
+    }
+}
+
+fn bounding_sphere(m: &Mesh) -> (DVec3, f64) {
+    let (lo, hi) = m.positions.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+    let c = 0.5 * (lo + hi);
+    (c, m.positions.iter().map(|p| p.distance(c)).fold(0.0, f64::max))
+}
+
+fn spheres_overlap(a: &Mesh, b: &Mesh) -> bool {
+    let (ca, ra) = bounding_sphere(a);
+    let (cb, rb) = bounding_sphere(b);
+    ca.distance(cb) < ra + rb
+}
+
+fn inside_any(objects: &[SceneObject], x: DVec3) -> bool {
+    objects.iter().any(|o| {
+        let (lo, hi) = o.mesh.positions.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+        x.cmpge(lo).all() && x.cmple(hi).all()
+    })
+}
+
+/// Generates case `index` of the run with `seed` (deterministic).
+pub fn generate(seed: u64, index: u64) -> Case {
+    let mut rng = Pcg32::new(seed, index);
+    let kind = KINDS[(index % KINDS.len() as u64) as usize];
+    let scale = 10f64.powf(rng.range(-4.0, 4.0));
+    let mut objects = Vec::new();
+    let mut x = DVec3::ZERO;
+    let mut n = DVec3::Z;
+    match kind {
+        CaseKind::Random => {
+            n = rng.unit_vector();
+            let up = Frame::from_z(n);
+            let lc = up.to_world(DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-0.5, 3.0)));
+            objects.push(object("light", random_convex(&mut rng, lc, rng.range(0.2, 1.0)), true));
+            for k in 0..rng.below(4) {
+                let t = rng.range(0.2, 0.8);
+                let c = lc * t + rng.unit_vector() * rng.range(0.0, 0.6);
+                let mesh = random_convex(&mut rng, c, rng.range(0.05, 0.4) * t);
+                // Occluders may overlap each other but not pass through the light (000 assumes
+                // occluders between the point and the light; see docs/analytic-pipeline.md).
+                if !spheres_overlap(&objects[0].mesh, &mesh) {
+                    objects.push(object(&format!("occluder{k}"), mesh, false));
+                }
+            }
+            // Keep the shading point outside every object.
+            if inside_any(&objects, x) {
+                let lift = objects.iter().map(|o| bounding_sphere(&o.mesh).1).fold(0.0, f64::max) * 3.0;
+                objects.iter_mut().for_each(|o| o.mesh.positions.iter_mut().for_each(|p| *p += n * lift));
+            }
+        }
+        CaseKind::CoplanarWithLightFace => {
+            // Light box above; x in the plane of one of its side faces.
+            let h = DVec3::new(rng.range(0.2, 1.0), rng.range(0.2, 1.0), rng.range(0.2, 1.0));
+            let c = DVec3::new(rng.range(-1.0, 1.0), h.y + rng.range(0.0, 1.0), h.z + rng.range(0.1, 1.0));
+            objects.push(object("light", cuboid(c, h), true));
+            x = DVec3::new(rng.range(-2.0, 2.0), c.y - h.y, 0.0); // in the plane y = c.y − h.y
+            n = DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), 1.0).normalize();
+            if rng.below(2) == 0 {
+                objects.push(object("occluder", cuboid(c * 0.5, h * 0.3), false));
+            }
+        }
+        CaseKind::LightVerticesOnHorizon => {
+            // Light box resting on the tangent plane z = 0 of x: its bottom vertices are on the
+            // horizon exactly.
+            let h = DVec3::new(rng.range(0.1, 1.0), rng.range(0.1, 1.0), rng.range(0.1, 1.0));
+            let c = DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), h.z);
+            objects.push(object("light", cuboid(c, h), true));
+            if rng.below(2) == 0 {
+                let oc = c * rng.range(0.3, 0.7) + DVec3::Z * rng.range(0.0, 0.3);
+                objects.push(object("occluder", random_convex(&mut rng, oc, rng.range(0.05, 0.3)), false));
+            }
+        }
+        CaseKind::OccluderVerticesOnHorizon => {
+            let lc = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(1.0, 3.0));
+            objects.push(object("light", random_convex(&mut rng, lc, rng.range(0.2, 0.8)), true));
+            let h = DVec3::new(rng.range(0.05, 0.5), rng.range(0.05, 0.5), rng.range(0.05, 0.5));
+            let d = DVec3::new(lc.x, lc.y, 0.0) * rng.range(0.2, 0.8);
+            objects.push(object("occluder", cuboid(DVec3::new(d.x, d.y, h.z), h), false));
+        }
+        CaseKind::OccluderSharesEdgesWithLight => {
+            // Two boxes sharing a face (and so four edges and vertices), seen from below.
+            let h = DVec3::new(rng.range(0.2, 1.0), rng.range(0.2, 1.0), rng.range(0.1, 0.5));
+            let c = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(1.0, 2.0));
+            objects.push(object("light", cuboid(c, h), true));
+            let shift = match rng.below(3) {
+                0 => DVec3::new(2.0 * h.x, 0.0, 0.0),
+                1 => DVec3::new(0.0, 2.0 * h.y, 0.0),
+                _ => DVec3::new(0.0, 0.0, -2.0 * h.z),
+            };
+            objects.push(object("occluder", cuboid(c + shift, h), false));
+            n = DVec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), 1.0).normalize();
+        }
+        CaseKind::CoincidentVertices => {
+            // A quad light and boxes whose corners coincide with the light's corners.
+            let c = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(1.0, 2.0));
+            let (u, v) = (DVec3::X * rng.range(0.2, 1.0), DVec3::Y * rng.range(0.2, 1.0));
+            objects.push(object("light", quad(c, u, -v), true)); // front faces −z, toward x
+            let corner = c + u + v;
+            let h = DVec3::splat(rng.range(0.05, 0.3));
+            // Its top face lies in the light's plane and its corner is the light's corner.
+            objects.push(object("occluder0", cuboid(corner - h, h), false));
+            let corner2 = c - u - v;
+            objects.push(object("occluder1", cuboid(corner2 + h * DVec3::new(1.0, 1.0, -1.0), h), false));
+            n = DVec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), 1.0).normalize();
+        }
+        CaseKind::CoveringOrInside => {
+            let lc = DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), rng.range(1.5, 3.0));
+            let size = rng.range(0.2, 0.6);
+            objects.push(object("light", random_convex(&mut rng, lc, size), true));
+            let t = rng.range(0.3, 0.7);
+            // Large enough to cover the light, or small enough to fall inside its silhouette.
+            let occ_size = if rng.below(2) == 0 { size * t * 3.0 } else { size * t * 0.2 };
+            objects.push(object("occluder", random_convex(&mut rng, lc * t, occ_size), false));
+            n = DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), 1.0).normalize();
+        }
+    }
+    // Scale the whole configuration.
+    for o in &mut objects {
+        o.mesh.positions.iter_mut().for_each(|p| *p *= scale);
+    }
+    x *= scale;
+    let view = (n + rng.unit_vector() * 0.9).try_normalize().filter(|v| v.dot(n) > 0.0).unwrap_or(n);
+    Case {
+        kind,
+        scale,
+        scene: Scene { objects, camera: None, warnings: Vec::new() },
+        point: ShadingPoint { position: x, normal: n, view, object: None, face: None },
+        alpha: rng.range(0.01, 1.0),
+    }
+}
+
+/// Captures the raw (unclamped) lobe integrals.
+#[derive(Default)]
+struct RawIntegrals {
+    min: f64,
+    nan: bool,
+}
+
+impl Recorder for RawIntegrals {
+    const ENABLED: bool = true;
+    fn lobe(&mut self, _lobe: Lobe, _t: &crate::geometry::SphericalPolygon, _c: &crate::geometry::SphericalPolygon, integral: f64) {
+        self.min = self.min.min(integral);
+        self.nan |= !integral.is_finite();
+    }
+}
+
+/// Result of one case.
+struct Outcome {
+    analytic: f64,
+    estimate: f64,
+    sigma: f64,
+    nan: bool,
+    inf: bool,
+    negative: bool,
+}
+
+fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratch) -> Outcome {
+    let prepared = PreparedScene::new(&case.scene);
+    let diffuse = Material { kd: DVec3::ONE, ks: DVec3::ZERO, ..Material::default() };
+    let specular = Material { kd: DVec3::ZERO, ks: DVec3::ONE, alpha: case.alpha, ..Material::default() };
+    let mut raw = RawIntegrals::default();
+    let e = shade(&prepared, &case.point, &diffuse, Method::Analytic, scratch, &mut raw).x;
+    let s = shade(&prepared, &case.point, &specular, Method::Analytic, scratch, &mut raw).x;
+    let values = [e, s];
+    let nan = values.iter().any(|v| v.is_nan()) || raw.nan;
+    let inf = values.iter().any(|v| v.is_infinite());
+    // Rounding of an empty region's edge sum is allowed a few ulps below zero.
+    let negative = values.iter().any(|&v| v < 0.0) || raw.min < -1e-14;
+
+    // Ray-cast oracle: stratified cosine-weighted directions.
+    let bvh = Bvh::build(&case.scene);
+    let frame = Frame::from_z(case.point.normal);
+    let k = (rays as f64).sqrt().ceil() as u32;
+    let mut hits = 0u32;
+    let mut total = 0u32;
+    for i in 0..k {
+        for j in 0..k {
+            let u1 = (i as f64 + rng.next_f64()) / k as f64;
+            let u2 = (j as f64 + rng.next_f64()) / k as f64;
+            let r = u1.sqrt();
+            let phi = std::f64::consts::TAU * u2;
+            let d = frame.to_world(DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt()));
+            total += 1;
+            if let Some(hit) = bvh.intersect(&Ray { origin: case.point.position, dir: d }, 0.0, f64::INFINITY) {
+                if hit.object == 0 && hit.geometric_normal.dot(d) < 0.0 {
+                    hits += 1;
+                }
+            }
+        }
+    }
+    let estimate = hits as f64 / total as f64;
+    let p = e.clamp(0.0, 1.0);
+    // Stratification only lowers the variance: the binomial σ is a conservative bound.
+    let sigma = (p * (1.0 - p) / total as f64).sqrt();
+    Outcome { analytic: e, estimate, sigma, nan, inf, negative }
+}
+
+/// Runs `cases` cases (parallel, deterministic for a given seed).
+pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> StressReport {
+    let start = std::time::Instant::now();
+    let prev_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    const CHUNK: u64 = 4096;
+    let chunks = cases.div_ceil(CHUNK);
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let partial: Vec<StressReport> = (0..chunks)
+        .into_par_iter()
+        .map_init(ShadingScratch::default, |scratch, c| {
+            let mut rep = StressReport::default();
+            let mut rng = Pcg32::new(seed ^ 0x5eed, c);
+            for index in c * CHUNK..((c + 1) * CHUNK).min(cases) {
+                rep.cases += 1;
+                let result = catch_unwind(AssertUnwindSafe(|| {
+                    let case = generate(seed, index);
+                    (case.kind, case.scale, run_case(&case, rays, &mut rng, scratch))
+                }));
+                let Ok((kind, scale, o)) = result else {
+                    rep.panics += 1;
+                    *scratch = ShadingScratch::default();
+                    continue;
+                };
+                rep.nan += o.nan as u64;
+                rep.inf += o.inf as u64;
+                rep.negative += o.negative as u64;
+                if !o.analytic.is_finite() {
+                    continue;
+                }
+                let err = (o.analytic - o.estimate).abs();
+                let sigmas = err / (o.sigma + 1.0 / rays as f64);
+                if sigmas > 6.0 {
+                    rep.beyond_6_sigma += 1;
+                }
+                let w = WorstCase { index, kind: Some(kind), scale, analytic: o.analytic, estimate: o.estimate, abs_error: err, sigmas };
+                if err > rep.worst_abs.abs_error {
+                    rep.worst_abs = w.clone();
+                }
+                if sigmas > rep.worst_sigma.sigmas {
+                    rep.worst_sigma = w;
+                }
+            }
+            let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            progress((d * CHUNK).min(cases));
+            rep
+        })
+        .collect();
+    std::panic::set_hook(prev_hook);
+    let mut total = StressReport { rays_per_case: rays, ..Default::default() };
+    for r in partial {
+        total.cases += r.cases;
+        total.nan += r.nan;
+        total.inf += r.inf;
+        total.negative += r.negative;
+        total.panics += r.panics;
+        total.beyond_6_sigma += r.beyond_6_sigma;
+        if r.worst_abs.abs_error > total.worst_abs.abs_error {
+            total.worst_abs = r.worst_abs;
+        }
+        if r.worst_sigma.sigmas > total.worst_sigma.sigmas {
+            total.worst_sigma = r.worst_sigma;
+        }
+    }
+    total.seconds = start.elapsed().as_secs_f64();
+    total
+}

@@ -3,6 +3,7 @@
 
 mod polygon_loops;
 pub mod projection;
+pub mod separation;
 pub mod spherical_polygon;
 
 pub use polygon_loops::PolygonLoops;
@@ -17,3 +18,4 @@ pub(crate) mod test_util;
 pub use horizon::{HorizonScratch, clip_to_horizon};
 pub use polyhedron::{Edge, MeshDiagnostics, Plane, Polyhedron};
 pub use silhouette::{Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette};
+pub use separation::separating_plane;

@@ -8,7 +8,7 @@
 //! and independent of any projection.
 
 use super::SphericalPolygon;
-use super::polyhedron::{NO_FACE, Polyhedron};
+use super::polyhedron::{NO_FACE, Plane, Polyhedron};
 use crate::math::Frame;
 use glam::DVec3;
 
@@ -163,35 +163,61 @@ fn chain_contour(
 
 /// One face of a mesh as a spherical polygon from `x` (the per-triangle method, 000 Sect. 4.4):
 /// positively oriented; empty when `x` lies in the face plane, or behind a light's face.
+///
+/// With `keep_front_of = Some(plane)` the face is first cut to the part strictly on the positive
+/// side of `plane` (Sutherland–Hodgman in 3D). The pipeline passes the plane of a light face so
+/// that only the part of an occluder face in front of that light face (seen from `x`, which lies
+/// on the plane's positive side) is subtracted: exact depth order for planar light pieces.
+#[allow(clippy::too_many_arguments)]
 pub fn face_polygon(
     poly: &Polyhedron,
     f: usize,
     x: DVec3,
     frame: &Frame,
     sidedness: Sidedness,
+    keep_front_of: Option<&Plane>,
     out: &mut SphericalPolygon,
+    buf: &mut Vec<DVec3>,
 ) {
     out.clear();
     let s = poly.face_planes[f].eval(x);
+    let forward = if s > 0.0 {
+        false
+    } else if s < 0.0 && sidedness == Sidedness::TwoSided {
+        true
+    } else {
+        return;
+    };
+    buf.clear();
     let idx = poly.face(f);
-    let push = |out: &mut SphericalPolygon, i: u32| {
-        if let Some(d) = frame
-            .to_local(poly.vertices[i as usize] - x)
-            .try_normalize()
-        {
+    match keep_front_of {
+        None => buf.extend(idx.iter().map(|&i| poly.vertices[i as usize])),
+        Some(pl) => {
+            let n = idx.len();
+            for k in 0..n {
+                let a = poly.vertices[idx[k] as usize];
+                let b = poly.vertices[idx[(k + 1) % n] as usize];
+                let (da, db) = (pl.eval(a), pl.eval(b));
+                if da > 0.0 {
+                    buf.push(a);
+                }
+                if (da > 0.0) != (db > 0.0) {
+                    // Convex combination with non-negative weights: stays on the segment.
+                    let t = da / (da - db);
+                    buf.push(a + (b - a) * t);
+                }
+            }
+        }
+    }
+    let mut push = |p: DVec3| {
+        if let Some(d) = frame.to_local(p - x).try_normalize() {
             out.push_vertex(d);
         }
     };
-    if s > 0.0 {
-        for &i in idx.iter().rev() {
-            push(out, i);
-        }
-    } else if s < 0.0 && sidedness == Sidedness::TwoSided {
-        for &i in idx {
-            push(out, i);
-        }
+    if forward {
+        buf.iter().for_each(|&p| push(p));
     } else {
-        return;
+        buf.iter().rev().for_each(|&p| push(p));
     }
     out.close_loop();
 }
@@ -298,7 +324,7 @@ mod tests {
             if expect {
                 assert!(out.signed_solid_angle() > 0.0);
                 let mut face = SphericalPolygon::new();
-                face_polygon(&quad, 0, x, &frame, side, &mut face);
+                face_polygon(&quad, 0, x, &frame, side, None, &mut face, &mut Vec::new());
                 assert!((face.signed_solid_angle() - out.signed_solid_angle()).abs() < 1e-14);
             }
         }

@@ -1,1 +1,48 @@
-//! TODO
+//! Shading one point: 000 Alg. 1 for every light, with the scene prepared once.
+
+pub mod analytic;
+pub mod get_between;
+pub mod prepared;
+pub mod recorder;
+
+pub use analytic::{ShadingScratch, ShadingStats, shade};
+pub use prepared::{PreparedObject, PreparedScene};
+pub use recorder::{Lobe, NoRecorder, Recorder, Stage, StageRecording};
+
+use glam::DVec3;
+
+/// How visibility is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// 000 Alg. 1 with silhouettes of convex and flat meshes, per face for the others.
+    Analytic,
+    /// 000 Sect. 4.4: every light and occluder face on its own (a baseline).
+    PerTriangle,
+    /// LTC shading without occluders (a baseline; 003's U).
+    Unshadowed,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Analytic => "analytic",
+            Method::PerTriangle => "per-triangle",
+            Method::Unshadowed => "unshadowed",
+        }
+    }
+}
+
+/// A point to shade, in world space.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ShadingPoint {
+    pub position: DVec3,
+    /// Unit geometric normal, already turned toward the viewer (two-sided shading).
+    pub normal: DVec3,
+    /// Unit direction toward the viewer.
+    pub view: DVec3,
+    /// The scene object and face the point lies on, if any: excluded from its own shadowing
+    /// where it cannot shadow itself.
+    pub object: Option<u32>,
+    pub face: Option<u32>,
+}

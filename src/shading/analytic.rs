@@ -1,0 +1,294 @@
+//! 000 Alg. 1: the radiance at a shading point, light by light.
+//!
+//! ```text
+//! for each light l:                                   shade
+//!     l' = SphPolySilhouette(l, x, n)                 silhouette / face_polygon
+//!     l'_clip = ClipToHorizon(l')                     clip_to_horizon
+//!     l'_xy = project(l'_clip, p)                     ProjectionPlane::project
+//!     B_bw = GetBetween(x, l, B)                      get_between
+//!     for b in B_bw:                                  subtract_occluder
+//!         b' = SphPolySilhouette(b, x, n), clip, project
+//!         l'_xy = SetDifference(l'_xy, b'_xy)          SetDifference::subtract
+//!     l' = reproject(l'_xy, p)                        ProjectionPlane::reproject
+//!     l_ltc = ApplyLTC(l', ρ); ClipToHorizon(l_ltc)   integrate_lobes
+//!     I += AnalyticIntegrate(l_ltc, ρ)                form_factor
+//! ```
+//!
+//! Convex and flat meshes take the silhouette path; other meshes (and every mesh under
+//! [`Method::PerTriangle`]) go face by face, where an occluder face is first cut to the part in
+//! front of the light face's plane, so that faces of one mesh hiding each other are exact.
+
+use super::get_between::get_between;
+use super::recorder::{Lobe, Recorder, Stage};
+use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
+use crate::geometry::{
+    HorizonScratch, PlanarPolygon, Plane, ProjectionPlane, SetDifference, Sidedness, SilhouetteScratch,
+    SphericalPolygon, clip_to_horizon, face_polygon, silhouette,
+};
+use crate::ltc::{LtcEntry, form_factor};
+use crate::math::Frame;
+use crate::scene::Material;
+use glam::DVec3;
+
+/// Counters of the work done at the last shading point (for AOVs and benchmarks).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct ShadingStats {
+    /// Occluders kept by `GetBetween`, summed over lights.
+    pub occluders_kept: u32,
+    /// Edges of the light polygons after horizon clipping, summed over lights.
+    pub light_edges: u32,
+    /// Set differences performed.
+    pub set_differences: u32,
+}
+
+/// Per-thread buffers of the pipeline, reused from one shading point to the next so that the
+/// hot loop allocates nothing once they have grown.
+#[derive(Default)]
+pub struct ShadingScratch {
+    silhouette: SilhouetteScratch,
+    horizon: HorizonScratch,
+    difference: SetDifference,
+    light_sph: SphericalPolygon,
+    light_clip: SphericalPolygon,
+    occ_sph: SphericalPolygon,
+    occ_clip: SphericalPolygon,
+    occ_plane: PlanarPolygon,
+    visible: PlanarPolygon,
+    visible_next: PlanarPolygon,
+    visible_sph: SphericalPolygon,
+    lobe_poly: SphericalPolygon,
+    lobe_clip: SphericalPolygon,
+    kept: Vec<u32>,
+    face_buf: Vec<DVec3>,
+    pub stats: ShadingStats,
+}
+
+/// Relative distance below which a face is taken to contain the shading point (its spherical
+/// polygon is a sliver of zero area on the horizon).
+const COPLANAR: f64 = 1e-9;
+
+/// The BRDF lobes of a material at one shading point.
+struct Lobes {
+    kd: DVec3,
+    specular: Option<(LtcEntry, DVec3)>,
+}
+
+/// Outgoing radiance at `sp` toward the viewer, by 000 Alg. 1 (diffuse + specular). `rec`
+/// receives every intermediate polygon; pass [`super::NoRecorder`] to record nothing.
+pub fn shade<R: Recorder>(
+    scene: &PreparedScene,
+    sp: &ShadingPoint,
+    material: &Material,
+    method: Method,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> DVec3 {
+    scratch.stats = ShadingStats::default();
+    let frame = Frame::from_normal_and_view(sp.normal, sp.view);
+    let lobes = Lobes {
+        kd: material.kd,
+        specular: material.has_specular().then(|| {
+            let entry = scene.ltc.lookup(sp.normal.dot(sp.view).clamp(0.0, 1.0), material.alpha);
+            // Schlick's Fresnel per channel: F0 (norm − fresnel) + fresnel (see docs/ltc.md).
+            let scale = material.ks.map(|f0| entry.specular_scale(f0));
+            (entry, scale)
+        }),
+    };
+    let mut total = DVec3::ZERO;
+    for l in 0..scene.lights.len() {
+        let (light_id, radiance) = scene.lights[l];
+        let light = &scene.objects[light_id as usize];
+        let on_light = sp.object == Some(light.object);
+        if light.simple && method != Method::PerTriangle {
+            // A convex or flat light does not light points on itself.
+            if on_light {
+                continue;
+            }
+            rec.begin_light(l, None);
+            silhouette(&light.poly, sp.position, &frame, Sidedness::FrontOnly, &mut scratch.light_sph, &mut scratch.silhouette);
+            total += shade_light_piece(scene, l, None, sp, &frame, &lobes, radiance, method, scratch, rec);
+        } else {
+            for f in 0..light.poly.face_count() {
+                if on_light && skip_own_face(light, f, sp) {
+                    continue;
+                }
+                let plane = light.poly.face_planes[f];
+                if plane.eval(sp.position) <= 0.0 {
+                    continue; // lights emit from the front only
+                }
+                rec.begin_light(l, Some(f));
+                face_polygon(
+                    &light.poly,
+                    f,
+                    sp.position,
+                    &frame,
+                    Sidedness::FrontOnly,
+                    None,
+                    &mut scratch.light_sph,
+                    &mut scratch.face_buf,
+                );
+                total += shade_light_piece(scene, l, Some(&plane), sp, &frame, &lobes, radiance, method, scratch, rec);
+            }
+        }
+    }
+    total
+}
+
+/// Is face `f` of `obj` the face the shading point lies on, or coplanar with it?
+#[inline]
+fn skip_own_face(obj: &PreparedObject, f: usize, sp: &ShadingPoint) -> bool {
+    sp.face == Some(f as u32) || obj.poly.face_planes[f].eval(sp.position).abs() <= COPLANAR * obj.poly.radius
+}
+
+/// Lines 5–16 of Alg. 1 for one light polygon (a whole light's silhouette, or one light face
+/// whose plane is `piece_plane`), already in `scratch.light_sph`.
+#[allow(clippy::too_many_arguments)]
+fn shade_light_piece<R: Recorder>(
+    scene: &PreparedScene,
+    l: usize,
+    piece_plane: Option<&Plane>,
+    sp: &ShadingPoint,
+    frame: &Frame,
+    lobes: &Lobes,
+    radiance: DVec3,
+    method: Method,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> DVec3 {
+    rec.light_polygon(Stage::Silhouette, &scratch.light_sph);
+    clip_to_horizon(&scratch.light_sph, &mut scratch.light_clip, &mut scratch.horizon);
+    rec.light_polygon(Stage::HorizonClipped, &scratch.light_clip);
+    if scratch.light_clip.is_empty() {
+        rec.end_light(DVec3::ZERO, DVec3::ZERO);
+        return DVec3::ZERO;
+    }
+    scratch.stats.light_edges += scratch.light_clip.vertex_count() as u32;
+    let plane = ProjectionPlane::NORMAL;
+    plane.project(&scratch.light_clip, &mut scratch.visible);
+
+    // A light handled face by face hides parts of itself.
+    let self_occluding = piece_plane.is_some();
+    match method {
+        Method::Unshadowed => {
+            // No occluders, but a non-convex light still hides its own faces.
+            if let Some(pp) = piece_plane {
+                let light_id = scene.lights[l].0;
+                if let Some(oi) = scene.occluders.iter().position(|&o| o == light_id) {
+                    subtract_occluder(scene, oi, Some(pp), sp, frame, method, scratch, rec);
+                }
+            }
+        }
+        Method::Analytic | Method::PerTriangle => {
+            get_between(scene, l, sp, self_occluding, &mut scratch.kept);
+            if R::ENABLED {
+                let kept: Vec<usize> = scratch.kept.iter().map(|&k| k as usize).collect();
+                rec.culled_occluders(&kept);
+            }
+            scratch.stats.occluders_kept += scratch.kept.len() as u32;
+            for k in 0..scratch.kept.len() {
+                if scratch.visible.is_empty() {
+                    break;
+                }
+                let oi = scratch.kept[k] as usize;
+                subtract_occluder(scene, oi, piece_plane, sp, frame, method, scratch, rec);
+            }
+        }
+    }
+
+    plane.reproject(&scratch.visible, &mut scratch.visible_sph);
+    rec.light_polygon(Stage::Visible, &scratch.visible_sph);
+    let (diffuse, specular) = integrate_lobes(lobes, radiance, scratch, rec);
+    rec.end_light(diffuse, specular);
+    diffuse + specular
+}
+
+/// Lines 9–12 of Alg. 1 for occluder `oi` (index into `scene.occluders`).
+#[allow(clippy::too_many_arguments)]
+fn subtract_occluder<R: Recorder>(
+    scene: &PreparedScene,
+    oi: usize,
+    piece_plane: Option<&Plane>,
+    sp: &ShadingPoint,
+    frame: &Frame,
+    method: Method,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) {
+    let occ = &scene.objects[scene.occluders[oi] as usize];
+    // Depth against a planar light piece: keep only what lies in front of its plane.
+    let mut cut = piece_plane;
+    if let Some(pp) = piece_plane {
+        let mut front = 0usize;
+        let mut total = 0usize;
+        for &i in &occ.poly.face_indices {
+            total += 1;
+            if pp.eval(occ.poly.vertices[i as usize]) > 0.0 {
+                front += 1;
+            }
+        }
+        if front == 0 {
+            return; // entirely behind the light face
+        }
+        if front == total {
+            cut = None; // entirely in front: no cut needed
+        }
+    }
+    let on_this = sp.object == Some(occ.object);
+    if occ.simple && method != Method::PerTriangle && cut.is_none() {
+        silhouette(&occ.poly, sp.position, frame, Sidedness::TwoSided, &mut scratch.occ_sph, &mut scratch.silhouette);
+        subtract_polygon(oi, None, scratch, rec);
+    } else {
+        for g in 0..occ.poly.face_count() {
+            if scratch.visible.is_empty() {
+                break;
+            }
+            if on_this && skip_own_face(occ, g, sp) {
+                continue;
+            }
+            face_polygon(&occ.poly, g, sp.position, frame, Sidedness::TwoSided, cut, &mut scratch.occ_sph, &mut scratch.face_buf);
+            if !scratch.occ_sph.is_empty() {
+                subtract_polygon(oi, Some(g), scratch, rec);
+            }
+        }
+    }
+}
+
+/// Clips the occluder polygon in `scratch.occ_sph`, projects it and subtracts it from the
+/// visible polygon.
+fn subtract_polygon<R: Recorder>(oi: usize, piece: Option<usize>, scratch: &mut ShadingScratch, rec: &mut R) {
+    rec.occluder_polygon(oi, piece, Stage::Silhouette, &scratch.occ_sph);
+    clip_to_horizon(&scratch.occ_sph, &mut scratch.occ_clip, &mut scratch.horizon);
+    rec.occluder_polygon(oi, piece, Stage::HorizonClipped, &scratch.occ_clip);
+    if scratch.occ_clip.is_empty() {
+        return;
+    }
+    ProjectionPlane::NORMAL.project(&scratch.occ_clip, &mut scratch.occ_plane);
+    scratch.difference.subtract(&scratch.visible, &scratch.occ_plane, &mut scratch.visible_next, rec.gh_steps());
+    scratch.stats.set_differences += 1;
+    rec.set_difference(oi, &scratch.visible, &scratch.occ_plane, &scratch.visible_next);
+    std::mem::swap(&mut scratch.visible, &mut scratch.visible_next);
+}
+
+/// Lines 14–16 of Alg. 1: the diffuse lobe integrates the clamped cosine over the visible
+/// polygon directly (the identity LTC, exact); the specular lobe transforms it by M⁻¹, clips it
+/// to the horizon again and integrates. Returns (diffuse, specular) radiance.
+fn integrate_lobes<R: Recorder>(lobes: &Lobes, radiance: DVec3, scratch: &mut ShadingScratch, rec: &mut R) -> (DVec3, DVec3) {
+    // Rounding can leave a value a few ulps below zero for an empty visible region.
+    let e_diffuse = form_factor(scratch.visible_sph.loops()).max(0.0);
+    rec.lobe(Lobe::Diffuse, &scratch.visible_sph, &scratch.visible_sph, e_diffuse);
+    let diffuse = lobes.kd * radiance * e_diffuse;
+    let mut specular = DVec3::ZERO;
+    if let Some((entry, scale)) = &lobes.specular {
+        scratch.lobe_poly.copy_from(&scratch.visible_sph);
+        scratch.lobe_poly.map_vertices(|w| entry.transform(w));
+        // A linear map with negative determinant mirrors the sphere and flips orientation.
+        if entry.m_inv.determinant() < 0.0 {
+            scratch.lobe_poly.reverse_loops();
+        }
+        clip_to_horizon(&scratch.lobe_poly, &mut scratch.lobe_clip, &mut scratch.horizon);
+        let e_spec = form_factor(scratch.lobe_clip.loops()).max(0.0);
+        rec.lobe(Lobe::Specular, &scratch.lobe_poly, &scratch.lobe_clip, e_spec);
+        specular = *scale * radiance * e_spec;
+    }
+    (diffuse, specular)
+}

@@ -1,0 +1,149 @@
+//! What the debugger sees: a recording of the stages the renderer computed at one shading
+//! point (rerun's split: this is the data; the workbench draws it).
+//!
+//! Every stage function takes `&mut impl Recorder`. The renderer passes [`NoRecorder`], whose
+//! methods are empty and inline away, so recording is free when off; the workbench passes a
+//! [`StageRecording`] and receives copies of every intermediate polygon of the *same* call.
+
+use crate::geometry::{GreinerHormannSteps, PlanarPolygon, SphericalPolygon};
+use glam::DVec3;
+
+/// The stages of 000 Alg. 1 that produce a polygon.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Stage {
+    /// Line 4/9: `SphPolySilhouette`, the silhouette as a spherical polygon.
+    Silhouette,
+    /// Line 5/10: `ClipToHorizon`.
+    HorizonClipped,
+    /// Line 13: the visible polygon after the set differences, reprojected to the sphere.
+    Visible,
+    /// Line 14: after `ApplyLTC` (specular lobe; the diffuse lobe uses the identity).
+    LtcTransformed,
+    /// Line 15: the transformed polygon clipped to the horizon again.
+    LtcClipped,
+}
+
+/// Receives the intermediate results of one shading point. All methods default to no-ops.
+pub trait Recorder {
+    /// False for recorders that discard everything; lets stages skip work done only for them.
+    const ENABLED: bool;
+
+    fn begin_light(&mut self, _light: usize, _piece: Option<usize>) {}
+    fn light_polygon(&mut self, _stage: Stage, _poly: &SphericalPolygon) {}
+    fn occluder_polygon(&mut self, _occluder: usize, _piece: Option<usize>, _stage: Stage, _poly: &SphericalPolygon) {}
+    fn culled_occluders(&mut self, _kept: &[usize]) {}
+    /// One `SetDifference` of Alg. 1 line 12 (its Greiner–Hormann phases, if recorded, were
+    /// written into [`Recorder::gh_steps`] by the call itself).
+    fn set_difference(&mut self, _occluder: usize, _before: &PlanarPolygon, _clip: &PlanarPolygon, _after: &PlanarPolygon) {}
+    fn lobe(&mut self, _lobe: Lobe, _transformed: &SphericalPolygon, _clipped: &SphericalPolygon, _integral: f64) {}
+    fn end_light(&mut self, _diffuse: DVec3, _specular: DVec3) {}
+    /// Storage for the Greiner–Hormann phases of the next set difference, if recorded.
+    fn gh_steps(&mut self) -> Option<&mut GreinerHormannSteps> {
+        None
+    }
+}
+
+/// The recorder of the renderer: records nothing, costs nothing.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoRecorder;
+
+impl Recorder for NoRecorder {
+    const ENABLED: bool = false;
+}
+
+/// Which BRDF lobe an integral belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Lobe {
+    Diffuse,
+    Specular,
+}
+
+/// One recorded set difference.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct SetDifferenceRecord {
+    pub occluder: usize,
+    pub before: PlanarPolygon,
+    pub clip: PlanarPolygon,
+    pub after: PlanarPolygon,
+    pub steps: Option<GreinerHormannSteps>,
+}
+
+/// Everything recorded for one light (or one face of a light on the per-triangle path).
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct LightRecord {
+    pub light: usize,
+    pub piece: Option<usize>,
+    pub polygons: Vec<(Stage, SphericalPolygon)>,
+    pub occluders_kept: Vec<usize>,
+    pub occluder_polygons: Vec<(usize, Option<usize>, Stage, SphericalPolygon)>,
+    pub set_differences: Vec<SetDifferenceRecord>,
+    pub lobes: Vec<(Lobe, SphericalPolygon, SphericalPolygon, f64)>,
+    pub diffuse: DVec3,
+    pub specular: DVec3,
+}
+
+/// A full recording of one shading point: serialisable as the workbench's debug dump.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct StageRecording {
+    pub lights: Vec<LightRecord>,
+    /// Record the Greiner–Hormann phases too (larger dumps).
+    pub record_gh_steps: bool,
+    #[serde(skip)]
+    steps: GreinerHormannSteps,
+}
+
+impl StageRecording {
+    pub fn new(record_gh_steps: bool) -> Self {
+        StageRecording { record_gh_steps, ..Default::default() }
+    }
+
+    fn current(&mut self) -> &mut LightRecord {
+        if self.lights.is_empty() {
+            self.lights.push(LightRecord::default());
+        }
+        self.lights.last_mut().expect("just ensured")
+    }
+}
+
+impl Recorder for StageRecording {
+    const ENABLED: bool = true;
+
+    fn begin_light(&mut self, light: usize, piece: Option<usize>) {
+        self.lights.push(LightRecord { light, piece, ..Default::default() });
+    }
+    fn light_polygon(&mut self, stage: Stage, poly: &SphericalPolygon) {
+        self.current().polygons.push((stage, poly.clone()));
+    }
+    fn occluder_polygon(&mut self, occluder: usize, piece: Option<usize>, stage: Stage, poly: &SphericalPolygon) {
+        self.current().occluder_polygons.push((occluder, piece, stage, poly.clone()));
+    }
+    fn culled_occluders(&mut self, kept: &[usize]) {
+        self.current().occluders_kept = kept.to_vec();
+    }
+    fn set_difference(&mut self, occluder: usize, before: &PlanarPolygon, clip: &PlanarPolygon, after: &PlanarPolygon) {
+        let steps = self.record_gh_steps.then(|| std::mem::take(&mut self.steps));
+        self.current().set_differences.push(SetDifferenceRecord {
+            occluder,
+            before: before.clone(),
+            clip: clip.clone(),
+            after: after.clone(),
+            steps,
+        });
+    }
+    fn lobe(&mut self, lobe: Lobe, transformed: &SphericalPolygon, clipped: &SphericalPolygon, integral: f64) {
+        self.current().lobes.push((lobe, transformed.clone(), clipped.clone(), integral));
+    }
+    fn end_light(&mut self, diffuse: DVec3, specular: DVec3) {
+        let cur = self.current();
+        cur.diffuse = diffuse;
+        cur.specular = specular;
+    }
+    fn gh_steps(&mut self) -> Option<&mut GreinerHormannSteps> {
+        if self.record_gh_steps {
+            self.steps = GreinerHormannSteps::default();
+            Some(&mut self.steps)
+        } else {
+            None
+        }
+    }
+}
