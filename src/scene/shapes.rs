@@ -192,6 +192,66 @@ impl Mesh {
     }
 }
 
+impl Mesh {
+    /// Irradiance at `x` (surface normal `n`) per unit radiance of this mesh seen as a light,
+    /// without any occlusion (not even self-occlusion of a non-convex mesh): Lambert's formula
+    /// summed over the faces whose front faces `x`, each clipped to the hemisphere of `n`.
+    /// For a single unit-radiance polygon this is pi times its form factor. Used to calibrate
+    /// the embedded scenes and as a test oracle.
+    pub fn irradiance_factor(&self, x: DVec3, n: DVec3) -> f64 {
+        let Some(n) = n.try_normalize() else {
+            return 0.0;
+        };
+        let mut sum = 0.0;
+        for (fi, f) in self.faces.iter().enumerate() {
+            let area = self.face_area_vector(fi);
+            let Some(&p0) = f.first().and_then(|&i| self.positions.get(i as usize)) else {
+                continue;
+            };
+            if area.dot(x - p0) <= 0.0 {
+                continue; // back side or edge-on: emits nothing towards x
+            }
+            let rel: Vec<DVec3> = f
+                .iter()
+                .filter_map(|&i| self.positions.get(i as usize))
+                .map(|&p| p - x)
+                .collect();
+            let clipped = clip_to_halfspace(&rel, n);
+            let m = clipped.len();
+            for k in 0..m {
+                let (Some(a), Some(b)) = (
+                    clipped[k].try_normalize(),
+                    clipped[(k + 1) % m].try_normalize(),
+                ) else {
+                    continue;
+                };
+                let Some(c) = a.cross(b).try_normalize() else {
+                    continue;
+                };
+                sum += a.dot(b).clamp(-1.0, 1.0).acos() * n.dot(c);
+            }
+        }
+        // A polygon wound CCW seen from x gives edge normals pointing away from it.
+        -0.5 * sum
+    }
+}
+
+/// Sutherland-Hodgman clip of a polygon to the half-space `n . p >= 0`.
+fn clip_to_halfspace(poly: &[DVec3], n: DVec3) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for k in 0..poly.len() {
+        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+        let (da, db) = (n.dot(a), n.dot(b));
+        if da >= 0.0 {
+            out.push(a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    out
+}
+
 /// Newell's area vector of a polygon (direction = CCW front normal, length = area).
 pub fn polygon_area_vector(pts: &[DVec3]) -> DVec3 {
     if pts.len() < 3 {
@@ -705,6 +765,28 @@ mod tests {
         assert!((r.signed_volume() - 8.0).abs() < 1e-12);
         let t = m.translated(DVec3::new(5.0, 0.0, 0.0));
         assert!((t.bounds().unwrap().0.x - 4.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn irradiance_factor_matches_known_cases() {
+        // Small square (side 0.02) facing down, 1 above: E/L ~ A / d^2.
+        let q = quad(DVec3::Y, DVec3::X * 0.01, DVec3::Z * 0.01);
+        let e = q.irradiance_factor(DVec3::ZERO, DVec3::Y);
+        assert!((e / 4e-4 - 1.0).abs() < 1e-3, "{e}");
+        // Seen from behind: nothing.
+        assert_eq!(q.irradiance_factor(DVec3::Y * 2.0, -DVec3::Y), 0.0);
+        // Huge quad: the whole hemisphere, E/L -> pi.
+        let big = quad(DVec3::Y, DVec3::X * 1e6, DVec3::Z * 1e6);
+        let e = big.irradiance_factor(DVec3::ZERO, DVec3::Y);
+        assert!((e - std::f64::consts::PI).abs() < 1e-5, "{e}");
+        // Half of it below the horizon of a tilted receiver: clipped, pi/2 for n = +x.
+        let e = big.irradiance_factor(DVec3::ZERO, DVec3::X);
+        assert!((e - std::f64::consts::FRAC_PI_2).abs() < 1e-5, "{e}");
+        // Closed convex light seen from outside: same as its silhouette. A far cube
+        // (side 0.02, centre 10 along +y) gives ~ bottom area / 9.99^2.
+        let c = cuboid(DVec3::Y * 10.0, DVec3::splat(0.01));
+        let e = c.irradiance_factor(DVec3::ZERO, DVec3::Y);
+        assert!((e / (4e-4 / (9.99f64 * 9.99)) - 1.0).abs() < 1e-5, "{e}");
     }
 
     #[test]
