@@ -1,1 +1,910 @@
-//! TODO (in progress)
+//! Wavefront OBJ/MTL loading (docs/scenes.md, "OBJ and MTL").
+//!
+//! The text goes through two passes:
+//!
+//! 1. A validating pre-scan of our own, which knows line numbers (tobj does not report them):
+//!    it parses every vertex in f64, rejects malformed or non-finite numbers and out-of-range
+//!    face indices with `file:line` errors, drops faces with fewer than 3 vertices, and writes a
+//!    sanitized copy of the file that contains only what tobj needs (`v`, `f` with position
+//!    indices, `o`, `g`, `usemtl`, `mtllib`). MTL files get the same treatment.
+//! 2. tobj (no triangulation, single index) parses the sanitized copy and splits it into
+//!    objects: one model per `o`/`g` statement and per material change within it.
+//!
+//! The models are then rebuilt from the pre-scan's f64 data (tobj is compiled with f32
+//! numbers): the k-th face tobj reports is the k-th face of the pre-scan, the k-th material
+//! the k-th material definition met through the `mtllib` statements. Faces are repaired (see
+//! [`repair_face`]) and each object keeps only the vertices it uses.
+
+use super::{Material, Mesh, ObjectFlags, Scene, SceneError, SceneObject};
+use glam::DVec3;
+use std::collections::HashSet;
+use std::path::Path;
+
+/// At most this many warnings are kept per loaded file; the rest are counted.
+const MAX_WARNINGS: usize = 40;
+
+/// Smallest and largest GGX alpha (docs/scenes.md).
+pub const ALPHA_MIN: f64 = 1e-4;
+pub const ALPHA_MAX: f64 = 1.0;
+
+/// Loads an OBJ file (and the MTL files its `mtllib` statements name, relative to the OBJ's
+/// directory) with the default flags: light = (Ke > 0), occluder = true, receiver = true.
+pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
+    let label = path.display().to_string();
+    let text = read_text(path, &label)?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    load_obj_with(&text, &label, &|name: &str| {
+        let p = dir.join(name);
+        let label = p.display().to_string();
+        match std::fs::read(&p) {
+            Ok(bytes) => MtlSource::Found {
+                label,
+                text: String::from_utf8_lossy(&bytes).into_owned(),
+            },
+            Err(e) => MtlSource::Missing {
+                label,
+                reason: e.to_string(),
+            },
+        }
+    })
+}
+
+/// Loads OBJ text from memory. `mtl`, if given, is used for every `mtllib` statement (and also
+/// when the OBJ has none); without it materials fall back to the default with a warning.
+/// `name_for_errors` names the OBJ in errors and warnings.
+pub fn load_obj_str(
+    obj: &str,
+    mtl: Option<&str>,
+    name_for_errors: &str,
+) -> Result<Scene, SceneError> {
+    let dir = Path::new(name_for_errors)
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
+    let resolve = |name: &str| {
+        let label = dir.join(name).display().to_string();
+        match mtl {
+            Some(text) => MtlSource::Found {
+                label,
+                text: text.to_owned(),
+            },
+            None => MtlSource::Missing {
+                label,
+                reason: "no MTL text was supplied".into(),
+            },
+        }
+    };
+    let inline = mtl.is_some().then(|| {
+        let stem = Path::new(name_for_errors)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "inline".into());
+        format!("{stem}.mtl")
+    });
+    load_obj_impl(obj, name_for_errors, &resolve, inline.as_deref())
+}
+
+/// Reads a whole file as text (invalid UTF-8 is replaced, not rejected).
+pub(crate) fn read_text(path: &Path, label: &str) -> Result<String, SceneError> {
+    match std::fs::read(path) {
+        Ok(bytes) => Ok(String::from_utf8_lossy(&bytes).into_owned()),
+        Err(e) => Err(SceneError::File {
+            file: label.to_owned(),
+            message: format!("cannot read file: {e}"),
+        }),
+    }
+}
+
+/// Result of looking up the file named by an `mtllib` statement.
+pub(crate) enum MtlSource {
+    Found { label: String, text: String },
+    Missing { label: String, reason: String },
+}
+
+/// Loads OBJ text whose `mtllib` files are provided by `resolve` (file system, embedded table).
+pub(crate) fn load_obj_with(
+    obj: &str,
+    label: &str,
+    resolve: &dyn Fn(&str) -> MtlSource,
+) -> Result<Scene, SceneError> {
+    load_obj_impl(obj, label, resolve, None)
+}
+
+/// The GGX alpha for an MTL material (docs/scenes.md): `Pr`^2 if `Pr` is given, else
+/// sqrt(2 / (Ns + 2)) if `Ns` is given (the Blinn-Phong / Beckmann correspondence, Ns < 0
+/// taken as 0), else 1; always clamped to [1e-4, 1].
+pub fn alpha_from_mtl(pr: Option<f64>, ns: Option<f64>) -> f64 {
+    let a = match (pr, ns) {
+        (Some(pr), _) => pr * pr,
+        (None, Some(ns)) => (2.0 / (ns.max(0.0) + 2.0)).sqrt(),
+        (None, None) => 1.0,
+    };
+    if a.is_finite() {
+        a.clamp(ALPHA_MIN, ALPHA_MAX)
+    } else {
+        ALPHA_MAX
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Warnings
+// ---------------------------------------------------------------------------------------------
+
+#[derive(Default)]
+struct Warnings {
+    list: Vec<String>,
+    suppressed: usize,
+}
+
+impl Warnings {
+    fn at(&mut self, file: &str, line: usize, msg: impl std::fmt::Display) {
+        self.push(format!("{file}:{line}: {msg}"));
+    }
+    fn push(&mut self, w: String) {
+        if self.list.len() < MAX_WARNINGS {
+            self.list.push(w);
+        } else {
+            self.suppressed += 1;
+        }
+    }
+    fn finish(mut self, file: &str) -> Vec<String> {
+        if self.suppressed > 0 {
+            self.list.push(format!(
+                "{file}: {} more warnings not shown",
+                self.suppressed
+            ));
+        }
+        self.list
+    }
+}
+
+fn line_err(file: &str, line: usize, message: impl Into<String>) -> SceneError {
+    SceneError::Line {
+        file: file.to_owned(),
+        line,
+        message: message.into(),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pre-scan of the OBJ text
+// ---------------------------------------------------------------------------------------------
+
+/// Logical lines of an OBJ/MTL file: comments (`#` to end of line) removed, `\` continuations
+/// joined; each with the 1-based number of its first physical line.
+fn logical_lines(text: &str) -> Vec<(usize, String)> {
+    let mut out = Vec::new();
+    let mut pending: Option<(usize, String)> = None;
+    for (i, raw) in text.lines().enumerate() {
+        let content = raw.split('#').next().unwrap_or("");
+        let (start, mut acc) = pending.take().unwrap_or((i + 1, String::new()));
+        let trimmed = content.trim_end();
+        if let Some(body) = trimmed.strip_suffix('\\') {
+            acc.push_str(body);
+            acc.push(' ');
+            pending = Some((start, acc));
+        } else {
+            acc.push_str(content);
+            out.push((start, acc));
+        }
+    }
+    if let Some(p) = pending {
+        out.push(p);
+    }
+    out
+}
+
+/// The statement keyword and the rest of the line after it (trimmed).
+fn split_statement(content: &str) -> Option<(&str, &str)> {
+    let t = content.trim();
+    let kw = t.split_whitespace().next()?;
+    Some((kw, t[kw.len()..].trim()))
+}
+
+fn parse_number(tok: &str) -> Option<f64> {
+    tok.parse::<f64>().ok()
+}
+
+struct ObjScan {
+    /// Sanitized OBJ text for tobj.
+    sanitized: String,
+    positions: Vec<DVec3>,
+    /// (line, 0-based vertex indices) of every face with at least 3 vertices, in file order.
+    faces: Vec<(usize, Vec<u32>)>,
+    /// (line, file name) of every `mtllib` statement, in file order.
+    mtllibs: Vec<(usize, String)>,
+    /// (line, material name) of every `usemtl` statement.
+    usemtls: Vec<(usize, String)>,
+}
+
+fn scan_obj(text: &str, file: &str, warn: &mut Warnings) -> Result<ObjScan, SceneError> {
+    let mut scan = ObjScan {
+        sanitized: String::with_capacity(text.len()),
+        positions: Vec::new(),
+        faces: Vec::new(),
+        mtllibs: Vec::new(),
+        usemtls: Vec::new(),
+    };
+    let mut ignored_elements = 0usize;
+    let mut first_ignored_element = 0usize;
+    let mut free_form = 0usize;
+    for (line, content) in logical_lines(text) {
+        let Some((kw, rest)) = split_statement(&content) else {
+            continue;
+        };
+        let toks: Vec<&str> = rest.split_whitespace().collect();
+        match kw {
+            "v" => {
+                let p = parse_vertex(&toks).map_err(|m| line_err(file, line, m))?;
+                if scan.positions.len() >= u32::MAX as usize {
+                    return Err(line_err(file, line, "too many vertices"));
+                }
+                scan.positions.push(p);
+                scan.sanitized += &format!("v {} {} {}\n", p.x, p.y, p.z);
+            }
+            "vt" | "vn" | "vp" => {
+                // Texture coordinates and normals are not used (normals come from the
+                // geometry), but their numbers must still be numbers.
+                if toks.is_empty() {
+                    return Err(line_err(file, line, format!("'{kw}' without values")));
+                }
+                for t in &toks {
+                    if parse_number(t).is_none() {
+                        return Err(line_err(file, line, format!("malformed number '{t}'")));
+                    }
+                }
+            }
+            "f" | "fo" => {
+                let n = scan.positions.len();
+                let mut face = Vec::with_capacity(toks.len());
+                for t in &toks {
+                    face.push(parse_face_index(t, n).map_err(|m| line_err(file, line, m))?);
+                }
+                if face.len() < 3 {
+                    warn.at(
+                        file,
+                        line,
+                        format!(
+                            "face with {} vertices dropped (a face needs at least 3)",
+                            face.len()
+                        ),
+                    );
+                    continue;
+                }
+                scan.sanitized.push('f');
+                for &i in &face {
+                    scan.sanitized += &format!(" {}", i + 1);
+                }
+                scan.sanitized.push('\n');
+                scan.faces.push((line, face));
+            }
+            "l" | "p" => {
+                if ignored_elements == 0 {
+                    first_ignored_element = line;
+                }
+                ignored_elements += 1;
+            }
+            "o" | "g" => {
+                scan.sanitized += &format!("{kw} {rest}\n");
+            }
+            "usemtl" => {
+                if rest.is_empty() {
+                    warn.at(file, line, "'usemtl' without a material name ignored");
+                } else {
+                    scan.usemtls.push((line, rest.to_owned()));
+                    scan.sanitized += &format!("usemtl {rest}\n");
+                }
+            }
+            "mtllib" => {
+                if rest.is_empty() {
+                    warn.at(file, line, "'mtllib' without a file name ignored");
+                } else {
+                    scan.mtllibs.push((line, rest.to_owned()));
+                    scan.sanitized += &format!("mtllib {rest}\n");
+                }
+            }
+            // Smoothing, merging groups, level of detail, display attributes: irrelevant.
+            "s" | "mg" | "lod" | "bevel" | "c_interp" | "d_interp" | "shadow_obj" | "trace_obj"
+            | "usemap" | "maplib" | "ctech" | "stech" => {}
+            "cstype" | "deg" | "bmat" | "step" | "curv" | "curv2" | "surf" | "parm" | "trim"
+            | "hole" | "scrv" | "sp" | "end" | "con" => free_form += 1,
+            other => {
+                let shown: String = other.chars().take(24).collect();
+                warn.at(file, line, format!("unknown statement '{shown}' ignored"));
+            }
+        }
+    }
+    if ignored_elements > 0 {
+        warn.at(
+            file,
+            first_ignored_element,
+            format!("{ignored_elements} line/point elements ('l', 'p') ignored"),
+        );
+    }
+    if free_form > 0 {
+        warn.push(format!(
+            "{file}: {free_form} free-form geometry statements ignored"
+        ));
+    }
+    Ok(scan)
+}
+
+/// `v x y z [w]` or `v x y z r g b`; the coordinates must be finite, w finite and nonzero.
+fn parse_vertex(toks: &[&str]) -> Result<DVec3, String> {
+    if toks.len() < 3 {
+        return Err(format!("vertex needs 3 coordinates, found {}", toks.len()));
+    }
+    let mut vals = Vec::with_capacity(toks.len());
+    for t in toks {
+        vals.push(parse_number(t).ok_or_else(|| format!("malformed number '{t}'"))?);
+    }
+    for (t, v) in toks.iter().zip(&vals).take(3) {
+        if !v.is_finite() {
+            return Err(format!("non-finite vertex coordinate '{t}'"));
+        }
+    }
+    let mut p = DVec3::new(vals[0], vals[1], vals[2]);
+    match vals.len() {
+        3 | 6 => {}
+        4 => {
+            let w = vals[3];
+            if !w.is_finite() || w == 0.0 {
+                return Err(format!("invalid homogeneous weight w = '{}'", toks[3]));
+            }
+            p /= w;
+            if !p.is_finite() {
+                return Err("vertex coordinate overflows after division by w".into());
+            }
+        }
+        n => {
+            return Err(format!(
+                "vertex has {n} values; expected 3 (x y z), 4 (x y z w) or 6 (x y z r g b)"
+            ));
+        }
+    }
+    Ok(p)
+}
+
+/// One `v`, `v/vt`, `v//vn` or `v/vt/vn` token of a face; returns the 0-based vertex index.
+/// Negative indices are relative to the `defined` vertices seen so far.
+fn parse_face_index(tok: &str, defined: usize) -> Result<u32, String> {
+    let v = tok.split('/').next().unwrap_or("");
+    let idx: i64 = v
+        .parse()
+        .map_err(|_| format!("malformed face vertex index '{tok}'"))?;
+    let abs = if idx > 0 {
+        idx - 1
+    } else if idx < 0 {
+        (defined as i64).saturating_add(idx)
+    } else {
+        return Err("face vertex index 0 is invalid (OBJ indices start at 1)".into());
+    };
+    if abs < 0 || abs >= defined as i64 {
+        return Err(format!(
+            "face vertex index {idx} is out of range: {defined} vertices are defined before this line"
+        ));
+    }
+    Ok(abs as u32)
+}
+
+// ---------------------------------------------------------------------------------------------
+// MTL
+// ---------------------------------------------------------------------------------------------
+
+/// One `newmtl` block with the values penumbra uses, parsed in f64.
+#[derive(Clone, Debug)]
+struct MtlEntry {
+    name: String,
+    kd: Option<DVec3>,
+    ks: Option<DVec3>,
+    ke: Option<DVec3>,
+    ns: Option<f64>,
+    pr: Option<f64>,
+}
+
+impl MtlEntry {
+    fn material(&self) -> Material {
+        Material {
+            name: self.name.clone(),
+            kd: self.kd.unwrap_or(Material::default().kd),
+            ks: self.ks.unwrap_or(DVec3::ZERO),
+            alpha: alpha_from_mtl(self.pr, self.ns),
+            ke: self.ke.unwrap_or(DVec3::ZERO),
+        }
+    }
+}
+
+/// Validates an MTL file; returns its sanitized text (for tobj) and its entries in order.
+fn scan_mtl(
+    text: &str,
+    file: &str,
+    warn: &mut Warnings,
+) -> Result<(String, Vec<MtlEntry>), SceneError> {
+    let mut sanitized = String::new();
+    let mut entries: Vec<MtlEntry> = Vec::new();
+    let mut outside_warned = false;
+    for (line, content) in logical_lines(text) {
+        let Some((kw, rest)) = split_statement(&content) else {
+            continue;
+        };
+        if kw == "newmtl" {
+            if rest.is_empty() {
+                return Err(line_err(file, line, "'newmtl' without a material name"));
+            }
+            entries.push(MtlEntry {
+                name: rest.to_owned(),
+                kd: None,
+                ks: None,
+                ke: None,
+                ns: None,
+                pr: None,
+            });
+            sanitized += &format!("newmtl {rest}\n");
+            continue;
+        }
+        let toks: Vec<&str> = rest.split_whitespace().collect();
+        let used = matches!(kw, "Kd" | "Ks" | "Ke" | "Ns" | "Pr");
+        let Some(cur) = entries.last_mut() else {
+            if used && !outside_warned {
+                warn.at(file, line, format!("'{kw}' before any 'newmtl' ignored"));
+                outside_warned = true;
+            }
+            continue;
+        };
+        match kw {
+            "Kd" | "Ks" | "Ke" => {
+                let c = parse_color(kw, &toks).map_err(|m| line_err(file, line, m))?;
+                let clamped = c.max(DVec3::ZERO);
+                if clamped != c {
+                    warn.at(file, line, format!("negative {kw} clamped to 0"));
+                }
+                if kw == "Kd" && clamped.max_element() > 1.0 {
+                    warn.at(
+                        file,
+                        line,
+                        "Kd above 1 reflects more light than it receives",
+                    );
+                }
+                if kw == "Ks" && clamped.max_element() > 1.0 {
+                    warn.at(file, line, "Ks (F0) above 1 is not physical");
+                }
+                sanitized += &format!("{kw} {} {} {}\n", clamped.x, clamped.y, clamped.z);
+                match kw {
+                    "Kd" => cur.kd = Some(clamped),
+                    "Ks" => cur.ks = Some(clamped),
+                    _ => cur.ke = Some(clamped),
+                }
+            }
+            "Ns" | "Pr" => {
+                let [t] = toks[..] else {
+                    return Err(line_err(
+                        file,
+                        line,
+                        format!("'{kw}' needs exactly one number, found {}", toks.len()),
+                    ));
+                };
+                let v = parse_number(t)
+                    .ok_or_else(|| line_err(file, line, format!("malformed number '{t}'")))?;
+                if !v.is_finite() {
+                    return Err(line_err(file, line, format!("non-finite {kw} '{t}'")));
+                }
+                let v = if v < 0.0 {
+                    warn.at(file, line, format!("negative {kw} clamped to 0"));
+                    0.0
+                } else {
+                    v
+                };
+                sanitized += &format!("{kw} {v}\n");
+                if kw == "Ns" {
+                    cur.ns = Some(v);
+                } else {
+                    cur.pr = Some(v);
+                }
+            }
+            // Known but unused by penumbra (ambient, transparency, refraction, textures,
+            // PBR extensions other than Pr, ...).
+            "Ka" | "Tf" | "Ni" | "d" | "Tr" | "illum" | "sharpness" | "Pm" | "Ps" | "Pc"
+            | "Pcr" | "aniso" | "anisor" | "bump" | "disp" | "decal" | "refl" | "norm" => {}
+            other if other.starts_with("map_") => {}
+            other => {
+                let shown: String = other.chars().take(24).collect();
+                warn.at(
+                    file,
+                    line,
+                    format!("unknown MTL statement '{shown}' ignored"),
+                );
+            }
+        }
+    }
+    Ok((sanitized, entries))
+}
+
+/// `Kd r [g b]`: one number means grey; three numbers r g b; all finite.
+fn parse_color(kw: &str, toks: &[&str]) -> Result<DVec3, String> {
+    if let Some(&first) = toks.first()
+        && (first == "spectral" || first == "xyz")
+    {
+        return Err(format!("'{kw} {first}' is not supported; give r g b"));
+    }
+    let mut vals = Vec::with_capacity(3);
+    for t in toks {
+        let v = parse_number(t).ok_or_else(|| format!("malformed number '{t}'"))?;
+        if !v.is_finite() {
+            return Err(format!("non-finite {kw} value '{t}'"));
+        }
+        vals.push(v);
+    }
+    match vals[..] {
+        [g] => Ok(DVec3::splat(g)),
+        [r, g, b] => Ok(DVec3::new(r, g, b)),
+        _ => Err(format!("'{kw}' needs 1 or 3 numbers, found {}", vals.len())),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Face repair
+// ---------------------------------------------------------------------------------------------
+
+/// Outcome of [`repair_face`].
+#[derive(Debug, PartialEq)]
+pub enum FaceRepair {
+    /// The face is fine as it is.
+    Kept(Vec<u32>),
+    /// Repeated consecutive vertices were removed; the rest is a valid face.
+    Repaired(Vec<u32>, String),
+    /// The face is dropped, for the given reason.
+    Dropped(String),
+}
+
+/// Repairs one face (docs/scenes.md, "Repairs"):
+/// * consecutive repeats (same index, or a different index at the identical position,
+///   including the last vertex repeating the first) are removed;
+/// * a face left with fewer than 3 vertices, a face that revisits a vertex non-consecutively
+///   (self-touching), or a face of (numerically) zero area is dropped.
+///
+/// Zero area means |area| <= 1e-12 * (longest edge)^2, i.e. all vertices collinear to
+/// ~1e-12 relative precision.
+pub fn repair_face(face: &[u32], positions: &[DVec3]) -> FaceRepair {
+    let pos = |i: u32| positions.get(i as usize).copied();
+    if face.iter().any(|&i| pos(i).is_none()) {
+        return FaceRepair::Dropped("vertex index out of range".into());
+    }
+    let same = |a: u32, b: u32| a == b || pos(a) == pos(b);
+    let mut out: Vec<u32> = Vec::with_capacity(face.len());
+    for &v in face {
+        if out.last().is_none_or(|&l| !same(l, v)) {
+            out.push(v);
+        }
+    }
+    while out.len() > 1 && same(out[0], out[out.len() - 1]) {
+        out.pop();
+    }
+    let removed = face.len() - out.len();
+    if out.len() < 3 {
+        return FaceRepair::Dropped(format!(
+            "degenerate face dropped: fewer than 3 distinct vertices ({} of {})",
+            out.len(),
+            face.len()
+        ));
+    }
+    for a in 0..out.len() {
+        for b in a + 1..out.len() {
+            if same(out[a], out[b]) {
+                return FaceRepair::Dropped(
+                    "degenerate face dropped: it visits a vertex twice (self-touching polygon)"
+                        .into(),
+                );
+            }
+        }
+    }
+    let pts: Vec<DVec3> = out.iter().filter_map(|&i| pos(i)).collect();
+    let area = super::shapes::polygon_area_vector(&pts).length();
+    let longest = (0..pts.len())
+        .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
+        .fold(0.0, f64::max);
+    if area.is_nan() || area <= 1e-12 * longest * longest {
+        return FaceRepair::Dropped("degenerate face dropped: zero area".into());
+    }
+    if removed > 0 {
+        FaceRepair::Repaired(
+            out,
+            format!(
+                "repeated vertex removed from face ({removed} of {})",
+                face.len()
+            ),
+        )
+    } else {
+        FaceRepair::Kept(out)
+    }
+}
+
+/// Notes on a valid face that is kept: non-planar or non-convex polygons (the fan in
+/// `Mesh::triangles` and silhouette tests assume planar convex faces).
+fn face_shape_notes(pts: &[DVec3]) -> Option<String> {
+    let n = super::shapes::polygon_area_vector(pts).try_normalize()?;
+    if pts.len() == 3 {
+        return None;
+    }
+    let c = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
+    let longest = (0..pts.len())
+        .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
+        .fold(0.0, f64::max);
+    let off = pts.iter().map(|p| n.dot(*p - c).abs()).fold(0.0, f64::max);
+    if off > 1e-6 * longest {
+        return Some(format!(
+            "non-planar face (a vertex is {off:.3e} off its plane); kept as is"
+        ));
+    }
+    let m = pts.len();
+    let convex = (0..m).all(|k| {
+        let (a, b, c) = (pts[k], pts[(k + 1) % m], pts[(k + 2) % m]);
+        (b - a).cross(c - b).dot(n) >= -1e-12 * longest * longest
+    });
+    (!convex).then(|| "non-convex face; kept as is (fan triangulation will be wrong)".into())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Assembly
+// ---------------------------------------------------------------------------------------------
+
+fn load_obj_impl(
+    obj: &str,
+    file: &str,
+    resolve: &dyn Fn(&str) -> MtlSource,
+    inline_mtl: Option<&str>,
+) -> Result<Scene, SceneError> {
+    let mut warn = Warnings::default();
+    let mut scan = scan_obj(obj, file, &mut warn)?;
+
+    // Material libraries, in the order tobj will request them.
+    let mut requests: Vec<(usize, String)> = Vec::new();
+    if let Some(name) = inline_mtl
+        && scan.mtllibs.is_empty()
+    {
+        requests.push((0, name.to_owned()));
+        scan.sanitized = format!("mtllib {name}\n{}", scan.sanitized);
+    }
+    requests.extend(scan.mtllibs.iter().cloned());
+    let mut libs: Vec<(String, String, Vec<MtlEntry>)> = Vec::new(); // (request, text, entries)
+    let mut all_entries: Vec<MtlEntry> = Vec::new();
+    for (line, name) in &requests {
+        let (text, entries) = match resolve(name) {
+            MtlSource::Found { label, text } => {
+                let mut mw = Warnings::default();
+                let r = scan_mtl(&text, &label, &mut mw)?;
+                for w in mw.finish(&label) {
+                    warn.push(w);
+                }
+                r
+            }
+            MtlSource::Missing { label, reason } => {
+                let msg = format!(
+                    "material library '{label}' not loaded ({reason}); its materials fall back to the default"
+                );
+                if *line > 0 {
+                    warn.at(file, *line, msg);
+                } else {
+                    warn.push(format!("{file}: {msg}"));
+                }
+                (String::new(), Vec::new())
+            }
+        };
+        all_entries.extend(entries.iter().cloned());
+        libs.push((name.clone(), text, entries));
+    }
+    let known: HashSet<&str> = all_entries.iter().map(|e| e.name.as_str()).collect();
+    let mut reported = HashSet::new();
+    for (line, name) in &scan.usemtls {
+        if !known.contains(name.as_str()) && reported.insert(name.clone()) {
+            warn.at(
+                file,
+                *line,
+                format!("material '{name}' is not defined; using the default material"),
+            );
+        }
+    }
+
+    // Object splitting by tobj. (`..Default::default()` covers tobj's optional-feature fields.)
+    #[allow(clippy::needless_update)]
+    let opts = tobj::LoadOptions {
+        single_index: true,
+        triangulate: false,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    let internal = |what: &str| SceneError::File {
+        file: file.to_owned(),
+        message: format!("internal error while splitting objects: {what}"),
+    };
+    let (models, materials) =
+        tobj::load_obj_buf(&mut scan.sanitized.as_bytes(), &opts, |p: &Path| {
+            let key = p.to_string_lossy();
+            match libs.iter().find(|(name, _, _)| *name == key) {
+                Some((_, text, _)) => tobj::load_mtl_buf(&mut text.as_bytes()),
+                None => Ok(Default::default()),
+            }
+        })
+        .map_err(|e| internal(&e.to_string()))?;
+    let materials = materials.unwrap_or_default();
+    if materials.len() != all_entries.len()
+        || materials
+            .iter()
+            .zip(&all_entries)
+            .any(|(m, e)| m.name != e.name)
+    {
+        return Err(internal("material lists disagree"));
+    }
+
+    let mut scene = Scene::default();
+    let mut next_face = 0usize;
+    for model in &models {
+        let m = &model.mesh;
+        let arities: Vec<u32> = if m.face_arities.is_empty() {
+            vec![3; m.indices.len() / 3]
+        } else {
+            m.face_arities.clone()
+        };
+        let total: usize = arities.iter().map(|&a| a as usize).sum();
+        let end = next_face + arities.len();
+        if total != m.indices.len() || end > scan.faces.len() {
+            return Err(internal("face counts disagree"));
+        }
+        let faces = &scan.faces[next_face..end];
+        next_face = end;
+        if faces
+            .iter()
+            .zip(&arities)
+            .any(|((_, f), &a)| f.len() != a as usize)
+        {
+            return Err(internal("face sizes disagree"));
+        }
+        if faces.is_empty() {
+            continue;
+        }
+        let material = match m.material_id.and_then(|i| all_entries.get(i)) {
+            Some(e) => e.material(),
+            None => Material::default(),
+        };
+        if let Some(obj) = build_object(
+            &model.name,
+            faces,
+            &scan.positions,
+            material,
+            file,
+            &mut warn,
+        ) {
+            scene.objects.push(obj);
+        }
+    }
+    if next_face != scan.faces.len() {
+        return Err(internal("faces left over"));
+    }
+    if scene.objects.is_empty() {
+        warn.push(format!("{file}: no faces found; the scene is empty"));
+    }
+    scene.warnings = warn.finish(file);
+    Ok(scene)
+}
+
+/// Repairs the faces of one object and keeps only the vertices it uses.
+fn build_object(
+    name: &str,
+    faces: &[(usize, Vec<u32>)],
+    positions: &[DVec3],
+    material: Material,
+    file: &str,
+    warn: &mut Warnings,
+) -> Option<SceneObject> {
+    let mut mesh = Mesh::default();
+    let mut local = std::collections::HashMap::<u32, u32>::new();
+    for (line, face) in faces {
+        let kept = match repair_face(face, positions) {
+            FaceRepair::Kept(f) => f,
+            FaceRepair::Repaired(f, note) => {
+                warn.at(file, *line, note);
+                f
+            }
+            FaceRepair::Dropped(reason) => {
+                warn.at(file, *line, reason);
+                continue;
+            }
+        };
+        let pts: Vec<DVec3> = kept.iter().map(|&i| positions[i as usize]).collect();
+        if let Some(note) = face_shape_notes(&pts) {
+            warn.at(file, *line, note);
+        }
+        let f = kept
+            .iter()
+            .map(|&g| {
+                *local.entry(g).or_insert_with(|| {
+                    mesh.positions.push(positions[g as usize]);
+                    mesh.positions.len() as u32 - 1
+                })
+            })
+            .collect();
+        mesh.faces.push(f);
+    }
+    if mesh.faces.is_empty() {
+        let line = faces.first().map_or(0, |f| f.0);
+        warn.at(
+            file,
+            line,
+            format!("object '{name}' has no valid faces and is skipped"),
+        );
+        return None;
+    }
+    let flags = ObjectFlags {
+        light: material.is_emissive(),
+        occluder: true,
+        receiver: true,
+    };
+    Some(SceneObject {
+        name: name.to_owned(),
+        mesh,
+        material,
+        flags,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn alpha_fallbacks() {
+        assert_eq!(alpha_from_mtl(Some(0.5), Some(10.0)), 0.25);
+        assert!((alpha_from_mtl(None, Some(98.0)) - (0.02f64).sqrt()).abs() < 1e-15);
+        assert_eq!(alpha_from_mtl(None, Some(0.0)), 1.0);
+        assert_eq!(alpha_from_mtl(None, None), 1.0);
+        assert_eq!(alpha_from_mtl(Some(0.0), None), ALPHA_MIN);
+        assert_eq!(alpha_from_mtl(Some(3.0), None), 1.0);
+        assert_eq!(alpha_from_mtl(None, Some(1e30)), ALPHA_MIN);
+        assert_eq!(alpha_from_mtl(Some(f64::NAN), None), 1.0);
+    }
+
+    #[test]
+    fn logical_lines_strip_comments_and_join_continuations() {
+        let l = logical_lines("v 1 2 3 # c\nf 1 \\\n 2 3\n# only\n\\");
+        assert_eq!(l[0], (1, "v 1 2 3 ".to_owned()));
+        assert_eq!(l[1].0, 2);
+        assert_eq!(
+            l[1].1.split_whitespace().collect::<Vec<_>>(),
+            ["f", "1", "2", "3"]
+        );
+        assert_eq!(l[2], (4, String::new()));
+        assert_eq!(l.len(), 4);
+    }
+
+    #[test]
+    fn face_repairs() {
+        let p = [
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Y,
+            DVec3::X, // same position as 1
+            DVec3::new(2.0, 0.0, 0.0),
+        ];
+        assert_eq!(repair_face(&[0, 1, 2], &p), FaceRepair::Kept(vec![0, 1, 2]));
+        assert!(
+            matches!(repair_face(&[0, 1, 1, 2, 0], &p), FaceRepair::Repaired(f, _) if f == [0, 1, 2])
+        );
+        assert!(
+            matches!(repair_face(&[0, 1, 3, 2], &p), FaceRepair::Repaired(f, _) if f == [0, 1, 2])
+        );
+        assert!(matches!(
+            repair_face(&[0, 1, 0], &p),
+            FaceRepair::Dropped(_)
+        ));
+        assert!(
+            matches!(repair_face(&[0, 1, 4], &p), FaceRepair::Dropped(r) if r.contains("zero area"))
+        );
+        assert!(
+            matches!(repair_face(&[0, 1, 2, 3], &p), FaceRepair::Dropped(r) if r.contains("twice"))
+        );
+        assert!(matches!(
+            repair_face(&[0, 9, 2], &p),
+            FaceRepair::Dropped(_)
+        ));
+    }
+}

@@ -1,0 +1,444 @@
+//! Writes the embedded scenes (OBJ + MTL + TOML) into assets/scenes/ from `scene::shapes`.
+//!
+//!     cargo run --example make_assets [-- OUTPUT_DIR]
+//!
+//! Units are metres, +y is up, the floor is the plane y = 0. Light radiances are calibrated so
+//! that the unshadowed irradiance at the calibration point on the floor is about 1 (each light
+//! gets a share of it), then rounded to 3 significant digits. The output is deterministic;
+//! after changing this file, regenerate and commit the assets (the library embeds them).
+
+use glam::{DAffine3, DVec3};
+use penumbra::scene::scene_file::load_scene;
+use penumbra::scene::shapes::{
+    capped_icosahedron, cuboid, cylinder, icosphere, l_shape, quad, truncated_cone, u_shape,
+    uv_ellipsoid,
+};
+use penumbra::scene::{Camera, Mesh};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// One MTL material.
+#[derive(Clone)]
+struct Mat {
+    name: &'static str,
+    kd: DVec3,
+    ks: Option<DVec3>,
+    pr: Option<f64>,
+    /// Ke = `radiance * tint`, `radiance` from calibration.
+    light: Option<Light>,
+}
+
+#[derive(Clone, Copy)]
+struct Light {
+    tint: DVec3,
+    /// Share of the target irradiance at the calibration point.
+    share: f64,
+}
+
+fn diffuse(name: &'static str, kd: [f64; 3]) -> Mat {
+    Mat {
+        name,
+        kd: DVec3::from_array(kd),
+        ks: None,
+        pr: None,
+        light: None,
+    }
+}
+
+fn glossy(name: &'static str, kd: [f64; 3], ks: f64, pr: f64) -> Mat {
+    Mat {
+        ks: Some(DVec3::splat(ks)),
+        pr: Some(pr),
+        ..diffuse(name, kd)
+    }
+}
+
+fn emitter(name: &'static str, tint: [f64; 3], share: f64) -> Mat {
+    Mat {
+        light: Some(Light {
+            tint: DVec3::from_array(tint),
+            share,
+        }),
+        ..diffuse(name, [0.0; 3])
+    }
+}
+
+struct Object {
+    name: &'static str,
+    mesh: Mesh,
+    mat: Mat,
+    /// Extra TOML lines for this object (flag overrides).
+    toml: &'static str,
+}
+
+fn object(name: &'static str, mesh: Mesh, mat: &Mat) -> Object {
+    Object {
+        name,
+        mesh,
+        mat: mat.clone(),
+        toml: "",
+    }
+}
+
+struct SceneDef {
+    name: &'static str,
+    description: &'static str,
+    camera: Camera,
+    /// Floor point where the unshadowed irradiance is calibrated to `target`.
+    calibration_point: DVec3,
+    target: f64,
+    objects: Vec<Object>,
+}
+
+fn camera(eye: [f64; 3], target: [f64; 3], fov_deg: f64) -> Camera {
+    Camera {
+        eye: DVec3::from_array(eye),
+        target: DVec3::from_array(target),
+        up: DVec3::Y,
+        fov_deg,
+    }
+}
+
+/// 20 m x 20 m floor at y = 0, front up (u x v = z x x = +y); receiver only.
+fn floor(mat: &Mat) -> Object {
+    Object {
+        toml: "occluder = false\n",
+        ..object(
+            "floor",
+            quad(DVec3::ZERO, DVec3::Z * 10.0, DVec3::X * 10.0),
+            mat,
+        )
+    }
+}
+
+/// A chair of six convex boxes (4 legs, seat, back), seat 0.46 m wide, 0.47 m high, back
+/// towards -z. Parts are separated by 1 mm gaps so that no two boxes share a face.
+fn chair(origin: DVec3, mat: &Mat) -> Vec<Object> {
+    let b = |name, c: [f64; 3], h: [f64; 3]| {
+        object(
+            name,
+            cuboid(origin + DVec3::from_array(c), DVec3::from_array(h)),
+            mat,
+        )
+    };
+    let leg = [0.025, 0.2095, 0.025];
+    vec![
+        b("leg_front_left", [-0.2, 0.2095, 0.2], leg),
+        b("leg_front_right", [0.2, 0.2095, 0.2], leg),
+        b("leg_back_left", [-0.2, 0.2095, -0.2], leg),
+        b("leg_back_right", [0.2, 0.2095, -0.2], leg),
+        b("seat", [0.0, 0.445, 0.0], [0.23, 0.025, 0.23]),
+        b("back", [0.0, 0.721, -0.21], [0.23, 0.25, 0.02]),
+    ]
+}
+
+fn default_scene() -> SceneDef {
+    let floor_mat = glossy("floor", [0.6, 0.6, 0.6], 0.04, 0.6);
+    let wood = diffuse("wood", [0.55, 0.36, 0.22]);
+    let blue = glossy("glossy_blue", [0.08, 0.15, 0.45], 0.5, 0.3);
+    let panel = emitter("panel_light", [1.0, 0.95, 0.88], 0.75);
+    let tube = emitter("tube_light", [0.8, 0.9, 1.0], 0.25);
+    let tilt = 30f64.to_radians();
+    let mut objects = vec![floor(&floor_mat)];
+    objects.extend(chair(DVec3::new(-0.35, 0.0, -0.1), &wood));
+    objects.push(object(
+        "sphere",
+        icosphere(DVec3::new(0.55, 0.302, 0.35), 0.3, 2),
+        &blue,
+    ));
+    // 0.6 m x 0.4 m panel to the right, tilted 30 degrees towards the chair (-x).
+    objects.push(object(
+        "panel_light",
+        quad(
+            DVec3::new(0.9, 1.3, -0.3),
+            DVec3::Z * 0.3,
+            DVec3::new(-tilt.cos(), tilt.sin(), 0.0) * 0.2,
+        ),
+        &panel,
+    ));
+    // A 0.8 m tube (radius 5 cm, 16 sides) along x, behind to the left.
+    objects.push(object(
+        "tube_light",
+        cylinder(DVec3::ZERO, 0.05, 0.8, 16).transformed(
+            &(DAffine3::from_translation(DVec3::new(-1.0, 1.2, -0.9))
+                * DAffine3::from_rotation_z(90f64.to_radians())),
+        ),
+        &tube,
+    ));
+    SceneDef {
+        name: "default",
+        description: "Default scene: a wooden chair of six convex boxes and a glossy sphere on a \
+                      slightly glossy floor, lit by a tilted rectangular panel and a tube light.",
+        camera: camera([1.5, 1.4, 2.7], [-0.3, 0.3, 0.0], 40.0),
+        calibration_point: DVec3::ZERO,
+        target: 1.0,
+        objects,
+    }
+}
+
+fn fig4_scene() -> SceneDef {
+    let grey = diffuse("floor", [0.7, 0.7, 0.7]);
+    let objects = vec![
+        floor(&grey),
+        object(
+            "light_plane",
+            quad(DVec3::new(-1.3, 3.0, -0.2), DVec3::X * 0.4, DVec3::Z * 0.4),
+            &emitter("light_plane", [1.0, 1.0, 1.0], 1.0 / 3.0),
+        ),
+        object(
+            "light_cylinder",
+            cylinder(DVec3::new(0.0, 3.1, -0.5), 0.15, 0.6, 10),
+            &emitter("light_cylinder", [1.0, 0.85, 0.7], 1.0 / 3.0),
+        ),
+        object(
+            "light_cone",
+            truncated_cone(DVec3::new(1.3, 2.9, -0.2), 0.3, 0.12, 0.4, 10),
+            &emitter("light_cone", [0.75, 0.85, 1.0], 1.0 / 3.0),
+        ),
+        object(
+            "cube",
+            cuboid(DVec3::new(-1.2, 0.8, 0.3), DVec3::splat(0.3)),
+            &diffuse("red", [0.7, 0.3, 0.25]),
+        ),
+        object(
+            "icosphere",
+            capped_icosahedron(DVec3::new(0.0, 0.9, 0.2), 0.35),
+            &diffuse("green", [0.3, 0.6, 0.3]),
+        ),
+        object(
+            "ellipsoid",
+            uv_ellipsoid(
+                DVec3::new(1.25, 0.75, 0.3),
+                DVec3::new(0.45, 0.25, 0.3),
+                19,
+                9,
+            ),
+            &diffuse("blue", [0.3, 0.4, 0.75]),
+        ),
+    ];
+    SceneDef {
+        name: "fig4",
+        description: "Paper 000, Fig. 4 (bottom right): lights = plane (4 vertices), cylinder \
+                      (20), truncated cone (20); occluders = cube (8), icosphere (16: an \
+                      icosahedron with 4 faces capped, see shapes::capped_icosahedron), \
+                      ellipsoid (154: 19 slices x 9 stacks); Lambertian only.",
+        camera: camera([0.0, 2.2, 6.0], [0.0, 1.0, 0.0], 45.0),
+        calibration_point: DVec3::new(0.0, 0.0, 0.3),
+        target: 1.0,
+        objects,
+    }
+}
+
+fn chair_scene() -> SceneDef {
+    let mut objects = vec![floor(&diffuse("floor", [0.7, 0.7, 0.7]))];
+    objects.extend(chair(DVec3::ZERO, &diffuse("chair", [0.6, 0.5, 0.4])));
+    objects.push(object(
+        "light",
+        quad(DVec3::new(-0.4, 1.5, 0.5), DVec3::X * 0.25, DVec3::Z * 0.25),
+        &emitter("light", [1.0, 1.0, 1.0], 1.0),
+    ));
+    SceneDef {
+        name: "chair",
+        description: "Like paper 000, Fig. 8: a chair of six convex boxes under one quad \
+                      light (4 vertices); Lambertian.",
+        camera: camera([1.5, 1.4, 2.4], [0.0, 0.35, 0.0], 40.0),
+        calibration_point: DVec3::ZERO,
+        target: 1.0,
+        objects,
+    }
+}
+
+fn nonconvex_scene() -> SceneDef {
+    let objects = vec![
+        floor(&diffuse("floor", [0.7, 0.7, 0.7])),
+        // Upright L (0.8 m foot, 1 m tall, 0.25 m thick, 0.35 m deep), floating 0.1 m up.
+        object(
+            "l_occluder",
+            l_shape(DVec3::new(0.0, 0.6, 0.0), 0.8, 1.0, 0.25, 0.35),
+            &diffuse("orange", [0.7, 0.45, 0.3]),
+        ),
+        // A U (1 m x 0.8 m, 0.22 m walls, 8 cm thick) lying flat behind and above the L,
+        // opening towards -z.
+        object(
+            "u_light",
+            u_shape(DVec3::ZERO, 1.0, 0.8, 0.22, 0.08).transformed(
+                &(DAffine3::from_translation(DVec3::new(0.2, 2.0, -1.0))
+                    * DAffine3::from_rotation_x(-90f64.to_radians())),
+            ),
+            &emitter("u_light", [1.0, 1.0, 1.0], 1.0),
+        ),
+    ];
+    SceneDef {
+        name: "nonconvex",
+        description: "Non-convex occluder (L-shaped prism) under a non-convex light (flat \
+                      U-shaped prism), for the per-triangle method of paper 000, Sect. 4.4; \
+                      Lambertian.",
+        camera: camera([2.0, 2.0, 2.8], [0.0, 0.5, 0.0], 50.0),
+        calibration_point: DVec3::ZERO,
+        target: 1.0,
+        objects,
+    }
+}
+
+/// Snaps values within 1e-12 of a multiple of 1e-9 onto it (0.47000000000000003 -> 0.47,
+/// 6e-17 -> 0), so the files are readable; the shapes move by less than 1e-12.
+fn clean(v: f64) -> f64 {
+    let r = (v * 1e9).round() / 1e9;
+    if (r - v).abs() < 1e-12 { r + 0.0 } else { v }
+}
+
+fn fmt3(v: DVec3) -> String {
+    format!("{} {} {}", clean(v.x), clean(v.y), clean(v.z))
+}
+
+fn sig3(x: f64) -> f64 {
+    if x == 0.0 {
+        return 0.0;
+    }
+    let e = 10f64.powi(2 - x.abs().log10().floor() as i32);
+    (x * e).round() / e
+}
+
+fn array(v: DVec3) -> String {
+    format!("[{}, {}, {}]", clean(v.x), clean(v.y), clean(v.z))
+}
+
+fn write_scene(dir: &Path, def: &SceneDef) -> std::io::Result<()> {
+    let name = def.name;
+    // Calibrate the radiances: Ke = radiance * tint, the tint scaled to a channel mean of 1.
+    let mut kes = Vec::new();
+    for o in &def.objects {
+        let ke = o.mat.light.map(|l| {
+            let factor = o
+                .mesh
+                .irradiance_factor(def.calibration_point, DVec3::Y)
+                .max(1e-6);
+            let radiance = def.target * l.share / factor;
+            let t = l.tint / (l.tint.element_sum() / 3.0);
+            DVec3::new(
+                sig3(radiance * t.x),
+                sig3(radiance * t.y),
+                sig3(radiance * t.z),
+            )
+        });
+        kes.push(ke);
+    }
+
+    let header = format!(
+        "# penumbra scene '{name}', generated by `cargo run --example make_assets`; do not edit.\n# {}\n",
+        def.description
+    );
+
+    let mut mtl = header.clone();
+    let mut written: Vec<&str> = Vec::new();
+    for (o, ke) in def.objects.iter().zip(&kes) {
+        if written.contains(&o.mat.name) {
+            continue;
+        }
+        written.push(o.mat.name);
+        let m = &o.mat;
+        writeln!(mtl, "\nnewmtl {}", m.name).unwrap();
+        writeln!(mtl, "Kd {}", fmt3(m.kd)).unwrap();
+        writeln!(mtl, "Ks {}", fmt3(m.ks.unwrap_or(DVec3::ZERO))).unwrap();
+        if let Some(pr) = m.pr {
+            writeln!(mtl, "Pr {pr}").unwrap();
+        }
+        if let Some(ke) = ke {
+            writeln!(mtl, "Ke {}", fmt3(*ke)).unwrap();
+        }
+    }
+
+    let mut obj = header.clone();
+    writeln!(obj, "mtllib {name}.mtl").unwrap();
+    let mut base = 1usize;
+    for o in &def.objects {
+        writeln!(
+            obj,
+            "\no {}\nusemtl {}\n# vertices: {}, faces: {}",
+            o.name,
+            o.mat.name,
+            o.mesh.positions.len(),
+            o.mesh.faces.len()
+        )
+        .unwrap();
+        for p in &o.mesh.positions {
+            writeln!(obj, "v {}", fmt3(*p)).unwrap();
+        }
+        for f in &o.mesh.faces {
+            let idx: Vec<String> = f.iter().map(|&i| (i as usize + base).to_string()).collect();
+            writeln!(obj, "f {}", idx.join(" ")).unwrap();
+        }
+        base += o.mesh.positions.len();
+    }
+
+    let c = &def.camera;
+    let mut toml = header;
+    write!(
+        toml,
+        "\n[camera]\neye = {}\ntarget = {}\nup = {}\nfov = {}\n",
+        array(c.eye),
+        array(c.target),
+        array(c.up),
+        c.fov_deg
+    )
+    .unwrap();
+    for o in &def.objects {
+        write!(
+            toml,
+            "\n[[object]]\nobj = \"{name}.obj\"\nname = \"{}\"\n{}",
+            o.name, o.toml
+        )
+        .unwrap();
+    }
+
+    std::fs::write(dir.join(format!("{name}.mtl")), mtl)?;
+    std::fs::write(dir.join(format!("{name}.obj")), obj)?;
+    std::fs::write(dir.join(format!("{name}.toml")), toml)?;
+    Ok(())
+}
+
+fn main() -> anyhow::Result<()> {
+    let dir = std::env::args()
+        .nth(1)
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes"));
+    std::fs::create_dir_all(&dir)?;
+    for def in [
+        default_scene(),
+        fig4_scene(),
+        chair_scene(),
+        nonconvex_scene(),
+    ] {
+        write_scene(&dir, &def)?;
+        // Read the files back through the loader and report.
+        let path = dir.join(format!("{}.toml", def.name));
+        let scene = load_scene(&path).map_err(|e| anyhow::anyhow!("{e}"))?;
+        anyhow::ensure!(
+            scene.warnings.is_empty(),
+            "{}: warnings {:?}",
+            def.name,
+            scene.warnings
+        );
+        let e = scene.unshadowed_irradiance(def.calibration_point, DVec3::Y);
+        println!(
+            "{}: {} objects, unshadowed irradiance at {} = {}",
+            path.display(),
+            scene.objects.len(),
+            array(def.calibration_point),
+            fmt3(e)
+        );
+        for o in &scene.objects {
+            println!(
+                "  {:<18} {:>4} vertices {:>4} faces  light={} occluder={} receiver={}  Ke={}",
+                o.name,
+                o.mesh.positions.len(),
+                o.mesh.faces.len(),
+                o.flags.light,
+                o.flags.occluder,
+                o.flags.receiver,
+                fmt3(o.material.ke)
+            );
+        }
+    }
+    Ok(())
+}
