@@ -249,7 +249,7 @@ fn compare(scene: &Scene, bvh: &Bvh, rays: &[(Ray, f64, f64)], scale: f64) -> us
             }
             (g, w) => panic!("ray {i} {ray:?} [{t_min}, {t_max}]: bvh {g:?}, brute force {w:?}"),
         }
-        let accept = |o: u32, f: u32| (o + f + i as u32) % 3 != 0;
+        let accept = |o: u32, f: u32| !(o + f + i as u32).is_multiple_of(3);
         assert_eq!(
             bvh.occluded(ray, *t_min, *t_max, accept),
             brute_occluded(scene, ray, *t_min, *t_max, accept),

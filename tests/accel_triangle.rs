@@ -201,7 +201,7 @@ fn no_nan_for_finite_input() {
         1e300,
         f64::MAX,
     ];
-    let mut pick = |rng: &mut Pcg32| -> DVec3 {
+    let pick = |rng: &mut Pcg32| -> DVec3 {
         let mut v = DVec3::ZERO;
         for k in 0..3 {
             let m = mags[rng.below(mags.len() as u32) as usize];
