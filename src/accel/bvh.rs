@@ -368,7 +368,7 @@ fn flatten(node: BuildNode, slot: usize, nodes: &mut Vec<Node>) {
             children,
         } => {
             let first = nodes.len();
-            debug_assert!(first % 2 == 0);
+            debug_assert!(first.is_multiple_of(2));
             nodes[slot] = Node::new(bmin, bmax, first as u32, 0);
             let placeholder = nodes[slot];
             nodes.push(placeholder);
