@@ -1,14 +1,15 @@
 //! A bounding volume hierarchy over every triangle of a [`Scene`] (docs/accel.md).
 //!
 //! * Build: binned SAH (Wald 2007) on triangle-box centroids, 16 bins per axis, all three
-//!   axes binned in one pass; subtrees of at least [`PAR_GRAIN`] triangles are built in
-//!   parallel with `rayon::join`. Below depth [`DEPTH_CAP`] splits are SAH; past it (and when
+//!   axes binned in one pass; subtrees of at least `PAR_GRAIN` triangles are built in
+//!   parallel with `rayon::join`. Below depth `DEPTH_CAP` splits are SAH; past it (and when
 //!   all centroids coincide) they are object medians, which bounds the depth by
 //!   `DEPTH_CAP + log2(n) < STACK_SIZE`.
 //! * Layout: nodes in one array, 32 bytes each (box rounded outwards to f32, two `u32`),
-//!   the two children of an inner node adjacent in one 64-byte cache line; triangles copied in leaf order with their three vertices (the
-//!   watertight test needs the vertices themselves, not an edge form) and their
-//!   (object, face). Face normals (Newell) are kept per face, not per triangle.
+//!   the two children of an inner node adjacent in one 64-byte cache line; triangles
+//!   copied in leaf order with their three f64 vertices (the watertight test needs the
+//!   vertices themselves, not an edge form) and their (object, face). Face normals
+//!   (Newell) are kept per face, not per triangle.
 //! * Traversal: fixed-size stack on the program stack, both children's boxes tested, the
 //!   nearer visited first and the farther pushed with its entry distance so that it is
 //!   skipped if a closer hit has been found by the time it is popped. No allocation.
