@@ -397,7 +397,7 @@ impl TraversalRay {
             return None;
         }
         // `+ 0.0` turns -0 into +0, so zero components give +inf reciprocals (never -inf):
-        // the NaN cases of the slab test are then exactly the ones `box_entry` ignores.
+        // the NaN cases of the slab test are then exactly the ones `box_entries` ignores.
         let inv = DVec3::ONE / (ray.dir + DVec3::ZERO);
         let m = max_abs + ray.origin.abs().max_element();
         let eta = DVec3::splat(BOX_SLACK * m + f64::MIN_POSITIVE);
@@ -553,7 +553,8 @@ impl Bvh {
             .map(|n| (n.bmin.as_dvec3(), n.bmax.as_dvec3()))
     }
 
-    /// Unit Newell normal of a face (zero if it has no area).
+    /// Unit Newell normal of a face (zero if it has no area). Panics if `object` or `face`
+    /// is out of range for the scene the BVH was built from.
     pub fn face_normal(&self, object: u32, face: u32) -> DVec3 {
         self.face_normals[self.face_base[object as usize] + face as usize]
     }
