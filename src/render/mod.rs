@@ -1,3 +1,2 @@
 //! TODO
-
 pub mod image_io;
