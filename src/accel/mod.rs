@@ -1,2 +1,17 @@
 //! Rays, ray–triangle intersection and a BVH over all scene triangles (camera rays, shadow
-//! rays of the ray-cast oracle).
+//! rays of the ray-cast oracle). See docs/accel.md.
+//!
+//! * [`Ray`]: origin and direction; `t` is always in units of the direction.
+//! * [`intersect_triangle`], [`PreparedRay`]: the watertight test of Woop et al. 2013 in f64.
+//! * [`Bvh`]: binned-SAH BVH with closest-hit [`Bvh::intersect`] and any-hit
+//!   [`Bvh::occluded`] queries.
+//!
+//! No query uses an epsilon in world units: callers choose `t_min` (and `t_max`).
+
+pub mod bvh;
+pub mod ray;
+pub mod triangle;
+
+pub use bvh::{Bvh, Hit, newell_normal};
+pub use ray::Ray;
+pub use triangle::{PreparedRay, TriangleHit, intersect_triangle, is_degenerate};
