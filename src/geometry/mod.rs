@@ -3,8 +3,10 @@
 
 mod polygon_loops;
 pub mod projection;
+pub mod set_difference;
 pub mod spherical_polygon;
 
 pub use polygon_loops::PolygonLoops;
 pub use projection::{PlanarPolygon, ProjectionPlane};
+pub use set_difference::{GreinerHormannSteps, SetDifference};
 pub use spherical_polygon::{SphericalPolygon, orient};
