@@ -17,12 +17,17 @@
 //! makes the two edges meeting at a vertex agree on it, and a pair of edges with a contact never
 //! also reports a crossing, so every meeting point is found exactly once.
 
-use super::predicates::{arc_coordinates, arc_parameter, coincident, on_line, opposite};
+use super::predicates::{
+    arc_coordinates, arc_parameter, coincident, on_line, opposite, unit_normal,
+};
 use super::{
-    EPS_POINT, GreinerHormannSteps, IntersectionKind, IntersectionRecord, NONE, Node,
+    EPS_ON_EDGE, GreinerHormannSteps, IntersectionKind, IntersectionRecord, NONE, Node,
     SetDifference, Status,
 };
 use glam::DVec3;
+
+/// At most this many vertices are looked at for a detour.
+const MAX_DETOUR: usize = 8;
 
 /// `contact_sc` bit: subject vertex i coincides with clip vertex j.
 const VERTEX: u8 = 1;
@@ -79,77 +84,123 @@ impl SetDifference {
         // of the line of clip edge j, which starts at j: a cheap filter.
         for i in 0..ns {
             for j in 0..nc {
-                if self.side_sc[i * nc + j].abs() <= EPS_POINT
-                    && coincident(self.nodes[i].dir, self.nodes[ns + j].dir)
+                if self.side_sc[i * nc + j].abs() <= self.tol.point
+                    && coincident(self.nodes[i].dir, self.nodes[ns + j].dir, self.tol.point)
                 {
                     self.contact_sc[i * nc + j] |= VERTEX;
                     self.union(i as u32, (ns + j) as u32);
-                    if let Some(s) = steps.as_deref_mut() {
-                        s.intersections.push(IntersectionRecord {
-                            position: self.nodes[i].pos,
-                            kind: IntersectionKind::VertexOnVertex,
-                            subject: self.edge_point(i as u32, 0.0),
-                            clip: self.edge_point((ns + j) as u32, 0.0),
-                        });
-                    }
+                    self.record_vertex_on_vertex(steps.as_deref_mut(), i, ns + j);
                 }
             }
         }
 
-        // 2. Subject vertex i inside clip edge j.
+        // 2. Vertices inside edges of the other operand (flags only, insertions below).
         for i in 0..ns {
             for j in 0..nc {
-                if !on_line(self.side_sc[i * nc + j]) {
+                let c = ns + j;
+                let d = self.nodes[c].orig_next as usize;
+                if on_line(self.side_sc[i * nc + j], self.tol.line)
+                    && (self.contact_sc[i * nc + j] | self.contact_sc[i * nc + d - ns]) & VERTEX
+                        == 0
+                    && self.strictly_inside_arc(c, d, i)
+                {
+                    self.contact_sc[i * nc + j] |= ON_EDGE;
+                }
+            }
+        }
+        for j in 0..nc {
+            let c = ns + j;
+            for i in 0..ns {
+                let b = self.nodes[i].orig_next as usize;
+                if on_line(self.side_cs[j * ns + i], self.tol.line)
+                    && (self.contact_sc[i * nc + j] | self.contact_sc[b * nc + j]) & VERTEX == 0
+                    && self.strictly_inside_arc(i, b, c)
+                {
+                    self.contact_cs[j * ns + i] |= ON_EDGE;
+                }
+            }
+        }
+
+        // 2'. A vertex within the line tolerance of two consecutive edges of the other operand,
+        // inside both, lies at their common vertex (farther than EPS_POINT from it only because
+        // the corner is nearly straight or the point sits in the tolerance band): a V contact.
+        // Two T contacts would put two nodes of the other operand into one cluster with the
+        // corner vertex in between.
+        for i in 0..ns {
+            for k in 0..nc {
+                let j = self.orig_prev(ns + k) - ns;
+                if self.contact_sc[i * nc + j] & self.contact_sc[i * nc + k] & ON_EDGE != 0 {
+                    self.contact_sc[i * nc + j] &= !ON_EDGE;
+                    self.contact_sc[i * nc + k] &= !ON_EDGE;
+                    self.contact_sc[i * nc + k] |= VERTEX;
+                    self.union(i as u32, (ns + k) as u32);
+                    self.record_vertex_on_vertex(steps.as_deref_mut(), i, ns + k);
+                }
+            }
+        }
+        for j in 0..nc {
+            for b in 0..ns {
+                let a = self.orig_prev(b);
+                if self.contact_cs[j * ns + a] & self.contact_cs[j * ns + b] & ON_EDGE != 0 {
+                    self.contact_cs[j * ns + a] &= !ON_EDGE;
+                    self.contact_cs[j * ns + b] &= !ON_EDGE;
+                    self.contact_sc[b * nc + j] |= VERTEX;
+                    self.union(b as u32, (ns + j) as u32);
+                    self.record_vertex_on_vertex(steps.as_deref_mut(), b, ns + j);
+                }
+            }
+        }
+
+        // 2''. Insert the T contacts: a copy of the vertex goes into the edge.
+        for i in 0..ns {
+            for j in 0..nc {
+                if self.contact_sc[i * nc + j] & ON_EDGE == 0 {
                     continue;
                 }
                 let c = ns + j;
                 let d = self.nodes[c].orig_next as usize;
-                if (self.contact_sc[i * nc + j] | self.contact_sc[i * nc + d - ns]) & VERTEX != 0 {
-                    continue;
-                }
-                let (cn, p) = (&self.nodes[c], self.nodes[i].dir);
-                let (u, v) = arc_coordinates(cn.dir, self.nodes[d].dir, cn.n_out, p);
-                if u > 0.0 && v > 0.0 {
-                    let t = u / (u + v);
-                    self.contact_sc[i * nc + j] |= ON_EDGE;
-                    self.push_insertion(c as u32, t, p, i as u32, false);
-                    if let Some(s) = steps.as_deref_mut() {
-                        s.intersections.push(IntersectionRecord {
-                            position: self.nodes[i].pos,
-                            kind: IntersectionKind::SubjectVertexOnClipEdge,
-                            subject: self.edge_point(i as u32, 0.0),
-                            clip: self.edge_point(c as u32, t),
-                        });
-                    }
+                let p = self.nodes[i].dir;
+                let t = arc_parameter(
+                    self.nodes[c].dir,
+                    self.nodes[d].dir,
+                    self.nodes[c].n_out,
+                    p,
+                    0.5,
+                );
+                self.push_insertion(c as u32, t, p, i as u32, false);
+                if let Some(s) = steps.as_deref_mut() {
+                    s.intersections.push(IntersectionRecord {
+                        position: self.nodes[i].pos,
+                        kind: IntersectionKind::SubjectVertexOnClipEdge,
+                        subject: self.edge_point(i as u32, 0.0),
+                        clip: self.edge_point(c as u32, t),
+                    });
                 }
             }
         }
-
-        // 2'. Clip vertex j inside subject edge i.
         for j in 0..nc {
             let c = ns + j;
             for i in 0..ns {
-                if !on_line(self.side_cs[j * ns + i]) {
+                if self.contact_cs[j * ns + i] & ON_EDGE == 0 {
                     continue;
                 }
                 let b = self.nodes[i].orig_next as usize;
-                if (self.contact_sc[i * nc + j] | self.contact_sc[b * nc + j]) & VERTEX != 0 {
-                    continue;
-                }
-                let (an, p) = (&self.nodes[i], self.nodes[c].dir);
-                let (u, v) = arc_coordinates(an.dir, self.nodes[b].dir, an.n_out, p);
-                if u > 0.0 && v > 0.0 {
-                    let t = u / (u + v);
-                    self.contact_cs[j * ns + i] |= ON_EDGE;
-                    self.push_insertion(i as u32, t, p, c as u32, false);
-                    if let Some(s) = steps.as_deref_mut() {
-                        s.intersections.push(IntersectionRecord {
-                            position: self.nodes[c].pos,
-                            kind: IntersectionKind::ClipVertexOnSubjectEdge,
-                            subject: self.edge_point(i as u32, t),
-                            clip: self.edge_point(c as u32, 0.0),
-                        });
-                    }
+                let p = self.nodes[c].dir;
+                let t = arc_parameter(
+                    self.nodes[i].dir,
+                    self.nodes[b].dir,
+                    self.nodes[i].n_out,
+                    p,
+                    0.5,
+                );
+                self.push_insertion(i as u32, t, p, c as u32, false);
+                if let Some(s) = steps.as_deref_mut() {
+                    s.intersections.push(IntersectionRecord {
+                        position: self.nodes[c].pos,
+                        kind: IntersectionKind::ClipVertexOnSubjectEdge,
+                        subject: self.edge_point(i as u32, t),
+                        clip: self.edge_point(c as u32, 0.0),
+                    });
                 }
             }
         }
@@ -212,6 +263,108 @@ impl SetDifference {
         self.finish_clusters();
     }
 
+    /// The node of cluster `c` (at x) that ends a short detour starting after node n (see
+    /// `finish_clusters`), if any. Nodes of the detour may belong to other clusters.
+    fn detour_end(&self, n: usize, c: u32, x: DVec3) -> Option<usize> {
+        let mut m = self.nodes[n].next as usize;
+        for _ in 0..MAX_DETOUR {
+            if m == n {
+                return None;
+            }
+            let node = &self.nodes[m];
+            if node.cluster != NONE && self.root(node.cluster) == c {
+                return Some(m);
+            }
+            if node.dir.dot(x) <= 0.0
+                || node.dir.cross(x).length_squared() > self.tol.collapse * self.tol.collapse
+            {
+                return None;
+            }
+            m = node.next as usize;
+        }
+        None
+    }
+
+    /// Union–find root without path compression (for read-only queries).
+    fn root(&self, mut x: u32) -> u32 {
+        while self.nodes[x as usize].cluster != x {
+            x = self.nodes[x as usize].cluster;
+        }
+        x
+    }
+
+    /// Replaces the nodes after n up to m (all of cluster `c` or close to it) by n, which then
+    /// leaves along m's edge. Clusters of removed nodes are merged into `c`; returns whether
+    /// that happened.
+    fn collapse_detour(&mut self, n: usize, m: usize, c: u32) -> bool {
+        let absorbed = self.nodes[m];
+        let mut merged = false;
+        let mut k = self.nodes[n].next as usize;
+        loop {
+            self.nodes[k].removed = true;
+            let slot = self.nodes[k].loop_slot as usize;
+            if self.loops[slot].first == k as u32 {
+                self.loops[slot].first = n as u32;
+            }
+            let other = self.nodes[k].cluster;
+            if other != NONE && self.find(other) != self.find(c) {
+                self.union(other, c);
+                merged = true;
+            }
+            if k == m {
+                break;
+            }
+            k = self.nodes[k].next as usize;
+        }
+        let node = &mut self.nodes[n];
+        node.next = absorbed.next;
+        node.n_out = absorbed.n_out;
+        node.vertex = absorbed.vertex;
+        // The in- and out-fragments now lie on different input edges: a corner, not a
+        // pass-through vertex.
+        node.inserted = false;
+        self.nodes[absorbed.next as usize].prev = n as u32;
+        if absorbed.next as usize == n {
+            // The whole loop shrank to a point.
+            self.nodes[n].removed = true;
+        }
+        merged
+    }
+
+    /// Whether the direction of node p projects strictly inside the arc between nodes a and b
+    /// (and coincides with neither end, which the V test has excluded).
+    fn strictly_inside_arc(&self, a: usize, b: usize, p: usize) -> bool {
+        let an = &self.nodes[a];
+        let (u, v) = arc_coordinates(an.dir, self.nodes[b].dir, an.n_out, self.nodes[p].dir);
+        u > 0.0 && v > 0.0
+    }
+
+    /// Predecessor of an original node in its input loop.
+    fn orig_prev(&self, n: usize) -> usize {
+        let lp = self.loops[self.nodes[n].loop_slot as usize];
+        if n == lp.first as usize {
+            (lp.first + lp.len - 1) as usize
+        } else {
+            n - 1
+        }
+    }
+
+    fn record_vertex_on_vertex(
+        &self,
+        steps: Option<&mut GreinerHormannSteps>,
+        subject: usize,
+        clip: usize,
+    ) {
+        if let Some(s) = steps {
+            s.intersections.push(IntersectionRecord {
+                position: self.nodes[subject].pos,
+                kind: IntersectionKind::VertexOnVertex,
+                subject: self.edge_point(subject as u32, 0.0),
+                clip: self.edge_point(clip as u32, 0.0),
+            });
+        }
+    }
+
     fn push_insertion(
         &mut self,
         edge: u32,
@@ -231,9 +384,11 @@ impl SetDifference {
         });
     }
 
-    /// Links the inserted points into the vertex lists, sorted along each edge. A point within
-    /// `EPS_POINT` of the edge's endpoints or of the previous inserted point is merged with it
-    /// (it joins that node's cluster) so that no fragment is shorter than the tolerance.
+    /// Links the inserted points into the vertex lists, sorted along each edge. A point equal
+    /// to an endpoint or to the previous inserted point (copies of one vertex, e.g. where the
+    /// other operand touches itself) becomes that node. Points that are merely close are kept
+    /// apart: proximity is decided once, by the V and T tests; merging two crossings 3e-12
+    /// apart would put both clip edges of a corner into one cluster without the corner.
     fn insert_nodes(&mut self) {
         let count = self.insertions.len();
         if count == 0 {
@@ -254,11 +409,11 @@ impl SetDifference {
             let mut last = a;
             while k < count && self.insertions[k].edge == a {
                 let rec = self.insertions[k];
-                let target = if coincident(rec.pos, self.nodes[a as usize].dir) {
+                let target = if rec.pos == self.nodes[a as usize].dir {
                     a
-                } else if coincident(rec.pos, self.nodes[b as usize].dir) {
+                } else if rec.pos == self.nodes[b as usize].dir {
                     b
-                } else if last != a && coincident(rec.pos, self.nodes[last as usize].dir) {
+                } else if last != a && rec.pos == self.nodes[last as usize].dir {
                     last
                 } else {
                     let n = self.nodes.len() as u32;
@@ -279,6 +434,7 @@ impl SetDifference {
                         inserted: true,
                         status: Status::Unknown,
                         visited: false,
+                        removed: false,
                     });
                     self.nodes[last as usize].next = n;
                     last = n;
@@ -305,26 +461,94 @@ impl SetDifference {
         }
     }
 
-    /// Flattens the union–find forest, gives every node of a cluster the representative's
-    /// position (the smallest node index: a subject input vertex if there is one) and threads
-    /// the clusters into rings.
+    /// Flattens the union–find forest, collapses detours of one operand through a cluster,
+    /// gives every node of a cluster the representative's position (the smallest node index: a
+    /// subject input vertex if there is one) and threads the clusters into rings.
+    ///
+    /// Clusters are transitive, and tolerance decisions near features at the tolerance scale
+    /// can put two nodes of one operand into a cluster that the operand joins by a detour of a
+    /// few 1e-12 rad: consecutive nodes (a fragment of zero length and meaningless direction),
+    /// or nodes separated by vertices that all lie within [`COLLAPSE_RADIUS`](super::COLLAPSE_RADIUS) of the cluster
+    /// (a clip vertex on two edges near a subject corner, three clip vertices around one
+    /// subject vertex). The detour is removed: one node arrives along the first node's edge
+    /// and leaves along the last one's, a corner. Detours reaching farther are genuine loops
+    /// through a point where the operand touches itself, and are kept.
     fn finish_clusters(&mut self) {
-        for n in 0..self.nodes.len() as u32 {
-            if self.nodes[n as usize].cluster != NONE {
-                let r = self.find(n);
-                self.nodes[n as usize].cluster = r;
-                self.nodes[n as usize].ring = n;
+        loop {
+            for n in 0..self.nodes.len() as u32 {
+                if self.nodes[n as usize].cluster != NONE {
+                    let r = self.find(n);
+                    self.nodes[n as usize].cluster = r;
+                }
+            }
+            let mut merged = false;
+            for n in 0..self.nodes.len() {
+                let c = self.nodes[n].cluster;
+                if c == NONE || self.nodes[n].removed {
+                    continue;
+                }
+                let x = self.nodes[c as usize].dir;
+                while let Some(m) = self.detour_end(n, c, x) {
+                    merged |= self.collapse_detour(n, m, c);
+                    if self.nodes[n].removed {
+                        break;
+                    }
+                }
+            }
+            // A detour through another cluster merged it into this one: its other nodes may now
+            // form detours of their own.
+            if !merged {
+                break;
             }
         }
+        // Rings, positions, and the first live node as the cluster's id (the representative
+        // may have been absorbed; its position is still the cluster's).
+        self.cluster_rep.clear();
+        self.cluster_rep.resize(self.nodes.len(), NONE);
         for n in 0..self.nodes.len() {
-            let r = self.nodes[n].cluster;
-            if r != NONE && r as usize != n {
-                let root = self.nodes[r as usize];
-                self.nodes[n].ring = root.ring;
-                self.nodes[r as usize].ring = n as u32;
-                self.nodes[n].pos = root.pos;
-                self.nodes[n].dir = root.dir;
+            let c = self.nodes[n].cluster;
+            if c == NONE || self.nodes[n].removed {
+                continue;
             }
+            let rep = self.cluster_rep[c as usize];
+            if rep == NONE {
+                self.cluster_rep[c as usize] = n as u32;
+                self.nodes[n].ring = n as u32;
+            } else {
+                self.nodes[n].ring = self.nodes[rep as usize].ring;
+                self.nodes[rep as usize].ring = n as u32;
+            }
+            let root = self.nodes[c as usize];
+            let node = &mut self.nodes[n];
+            node.pos = root.pos;
+            node.dir = root.dir;
+            node.cluster = self.cluster_rep[c as usize];
+        }
+        self.snap_fragment_normals();
+    }
+
+    /// After snapping, the boundary is the polyline through the cluster positions. A fragment
+    /// whose end points left the line of its input edge (a vertex moved onto another operand's
+    /// vertex, or copied onto its edge) is the chord between them, and every direction test of
+    /// phase 2 and 3 must see that chord, not the original edge: two edges leaving a snapped
+    /// vertex 1e-12 apart would otherwise be ordered by geometry that no longer exists. Fragments
+    /// still on their edge keep its normal, which is more accurate than a short chord's.
+    fn snap_fragment_normals(&mut self) {
+        for n in 0..self.nodes.len() {
+            let node = self.nodes[n];
+            if node.removed {
+                continue;
+            }
+            let next = node.next as usize;
+            let (a, b) = (node.dir, self.nodes[next].dir);
+            let normal =
+                if node.n_out.dot(a).abs() > EPS_ON_EDGE || node.n_out.dot(b).abs() > EPS_ON_EDGE {
+                    unit_normal(a, b)
+                } else {
+                    node.n_out
+                };
+            self.nodes[n].n_out = normal;
+            self.nodes[next].n_in = normal;
         }
     }
 }

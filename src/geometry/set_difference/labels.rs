@@ -27,7 +27,7 @@ impl SetDifference {
     /// Phase 2a: the side of every fragment leaving an intersection vertex.
     pub(super) fn label_intersections(&mut self) {
         for n in 0..self.nodes.len() {
-            if self.nodes[n].cluster == NONE {
+            if self.nodes[n].cluster == NONE || self.nodes[n].removed {
                 continue;
             }
             let status = self
@@ -69,8 +69,14 @@ impl SetDifference {
     /// operand passes through the point more than once).
     fn sector_status(&self, n: usize) -> Status {
         let node = &self.nodes[n];
+        self.side_of_tangent(n, tangent(node.n_out, node.dir))
+    }
+
+    /// Inside or outside for a tangent `d` at the intersection point of node n, relative to the
+    /// other operand's nodes in n's cluster.
+    fn side_of_tangent(&self, n: usize, d: DVec3) -> Status {
+        let node = &self.nodes[n];
         let x = node.dir;
-        let d = tangent(node.n_out, x);
         let mut k = node.ring as usize;
         while k != n {
             let other = &self.nodes[k];
@@ -92,6 +98,9 @@ impl SetDifference {
     pub(super) fn mark_entry_exit(&mut self, mut steps: Option<&mut GreinerHormannSteps>) {
         for slot in 0..self.loops.len() {
             let first = self.loops[slot].first;
+            if self.nodes[first as usize].removed {
+                continue;
+            }
             let mut start = NONE;
             let mut n = first;
             loop {
@@ -138,8 +147,32 @@ impl SetDifference {
                 }
             }
         }
+        self.check_both_ends();
         if let Some(s) = steps {
             self.record_labels(s);
+        }
+    }
+
+    /// The side of a fragment was decided at its start; the test at its end (the backward
+    /// tangent against the other operand's sector there) must agree, as must the two operands
+    /// at a crossing. They always do in exact arithmetic; a disagreement means that two
+    /// decisions near features at the tolerance scale contradict each other, and
+    /// [`SetDifference::subtract`] tries again with larger tolerances.
+    fn check_both_ends(&mut self) {
+        for n in 0..self.nodes.len() {
+            let node = &self.nodes[n];
+            if node.cluster == NONE || node.removed {
+                continue;
+            }
+            let before = self.nodes[node.prev as usize].status;
+            if before.is_overlap() {
+                continue;
+            }
+            let back = -tangent(node.n_in, node.dir);
+            if self.side_of_tangent(n, back) != before {
+                self.consistent = false;
+                return;
+            }
         }
     }
 
@@ -162,7 +195,7 @@ impl SetDifference {
     /// loops), for p not on its boundary. Points on or within `EPS_LINE` of the horizon are
     /// outside every region of the closed upper hemisphere that does not pass through them.
     fn contains(&self, p: DVec3, operand: Operand) -> bool {
-        let Some(m) = ray_normal(p) else {
+        let Some(m) = ray_normal(p, self.tol.line) else {
             return false;
         };
         let mut winding = 0;
@@ -181,6 +214,9 @@ impl SetDifference {
     fn record_labels(&self, steps: &mut GreinerHormannSteps) {
         for slot in 0..self.loops.len() {
             let lp = self.loops[slot];
+            if self.nodes[lp.first as usize].removed {
+                continue;
+            }
             let operand = self.nodes[lp.first as usize].operand;
             let begin = steps.labels.len();
             let mut n = lp.first;

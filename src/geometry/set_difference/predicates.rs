@@ -9,7 +9,6 @@
 //! determinant p̂ · n̂ is the sine of p's angular distance to the line, which is what every
 //! tolerance below is compared with.
 
-use super::{EPS_LINE, EPS_POINT};
 use crate::geometry::orient;
 use glam::DVec3;
 
@@ -24,17 +23,18 @@ pub(super) fn unit_normal(a: DVec3, b: DVec3) -> DVec3 {
     a.cross(b - a).normalize_or_zero()
 }
 
-/// Whether two unit directions are the same point: sin(angle) < [`EPS_POINT`] on the same side.
+/// Whether two unit directions are the same point: sin(angle) < `eps` (the point tolerance,
+/// [`EPS_POINT`](super::EPS_POINT) times the tolerance scale) on the same side.
 #[inline]
-pub(super) fn coincident(p: DVec3, q: DVec3) -> bool {
-    p.dot(q) > 0.0 && p.cross(q).length_squared() < EPS_POINT * EPS_POINT
+pub(super) fn coincident(p: DVec3, q: DVec3, eps: f64) -> bool {
+    p.dot(q) > 0.0 && p.cross(q).length_squared() < eps * eps
 }
 
-/// Whether the unit direction `p` lies on the line with unit normal `n` (sin of the angular
-/// distance below [`EPS_LINE`]).
+/// Whether a unit direction whose signed distance (sine) to a line is `side` lies on it: below
+/// `eps`, the line tolerance ([`EPS_LINE`](super::EPS_LINE) times the tolerance scale).
 #[inline]
-pub(super) fn on_line(side: f64) -> bool {
-    side.abs() < EPS_LINE
+pub(super) fn on_line(side: f64, eps: f64) -> bool {
+    side.abs() < eps
 }
 
 /// Arc coordinates of p relative to the arc a → b with unit normal n: (u, v) with
@@ -114,6 +114,14 @@ pub(super) fn clockwise_before(x: DVec3, b: DVec3, u1: DVec3, u2: DVec3) -> bool
     }
 }
 
+/// `orient(a, b, p)` evaluated as a · ((b − a) × (p − a)): the same determinant, but when the
+/// three points are close (a short edge and a point near it) the differences are exact and the
+/// result keeps its relative precision, where a · (b × p) would cancel down to noise of 1e-16.
+#[inline]
+pub(super) fn orient_near(a: DVec3, b: DVec3, p: DVec3) -> f64 {
+    a.dot((b - a).cross(p - a))
+}
+
 /// Contribution of the edge a → b to the winding number about p, counted along the arc that
 /// leaves p radially towards the horizon point r (the gnomonic ray from p away from the
 /// origin, closed at infinity) and continues below the horizon, where no edge lies. `m` is
@@ -126,7 +134,7 @@ pub(super) fn winding_contribution(p: DVec3, m: DVec3, a: DVec3, b: DVec3) -> i3
     if above_a == above_b {
         return 0;
     }
-    let o = orient(a, b, p);
+    let o = orient_near(a, b, p);
     if !above_a && o > 0.0 {
         1
     } else if above_a && o < 0.0 {
@@ -137,11 +145,11 @@ pub(super) fn winding_contribution(p: DVec3, m: DVec3, a: DVec3, b: DVec3) -> i3
 }
 
 /// The ray normal m = p × r of [`winding_contribution`] for the unit direction p, or `None`
-/// when p is within [`EPS_LINE`] of the horizon (such a point is inside no region of the closed
-/// upper hemisphere unless it lies on its boundary, which callers have excluded).
+/// when p is within `eps` (the line tolerance) of the horizon: such a point is inside no region
+/// of the closed upper hemisphere unless it lies on its boundary, which callers have excluded.
 #[inline]
-pub(super) fn ray_normal(p: DVec3) -> Option<DVec3> {
-    if p.z <= EPS_LINE {
+pub(super) fn ray_normal(p: DVec3, eps: f64) -> Option<DVec3> {
+    if p.z <= eps {
         return None;
     }
     let r = if p.x == 0.0 && p.y == 0.0 {
@@ -194,7 +202,7 @@ mod tests {
         // The quadrant x, y > 0 of the plane: zenith, +x at infinity, +y at infinity.
         let lp = [DVec3::Z, DVec3::X, DVec3::Y];
         let wind = |p: DVec3| {
-            let m = ray_normal(p).unwrap();
+            let m = ray_normal(p, 1e-12).unwrap();
             (0..3)
                 .map(|i| winding_contribution(p, m, lp[i], lp[(i + 1) % 3]))
                 .sum::<i32>()

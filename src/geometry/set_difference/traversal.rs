@@ -102,7 +102,8 @@ impl SetDifference {
             node.visited = false;
         }
         for f0 in 0..self.nodes.len() as u32 {
-            if self.nodes[f0 as usize].visited || !self.kept(f0) {
+            let node = &self.nodes[f0 as usize];
+            if node.visited || node.removed || !self.kept(f0) {
                 continue;
             }
             let mut record = steps.as_ref().map(|_| TraversedLoop::default());
