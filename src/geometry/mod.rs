@@ -1,21 +1,22 @@
 //! The geometry of one shading point: polyhedra, contours and silhouettes, spherical polygons,
 //! horizon clipping, the planar projection and the set difference (000 Alg. 1–3, 001 Sect. 4).
 
+pub mod horizon;
 mod polygon_loops;
+pub mod polyhedron;
 pub mod projection;
 pub mod separation;
-pub mod spherical_polygon;
-
-pub use polygon_loops::PolygonLoops;
-pub use projection::{PlanarPolygon, ProjectionPlane};
-pub use spherical_polygon::{SphericalPolygon, orient};
-pub mod horizon;
-pub mod polyhedron;
+pub mod set_difference;
 pub mod silhouette;
+pub mod spherical_polygon;
 #[cfg(test)]
 pub(crate) mod test_util;
 
 pub use horizon::{HorizonScratch, clip_to_horizon};
+pub use polygon_loops::PolygonLoops;
 pub use polyhedron::{Edge, MeshDiagnostics, Plane, Polyhedron};
-pub use silhouette::{Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette};
+pub use projection::{PlanarPolygon, ProjectionPlane};
 pub use separation::separating_plane;
+pub use set_difference::{GreinerHormannSteps, SetDifference};
+pub use silhouette::{Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette};
+pub use spherical_polygon::{SphericalPolygon, orient};

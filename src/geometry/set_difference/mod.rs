@@ -1,0 +1,394 @@
+//! Set difference of planar polygons in homogeneous coordinates: `subject − clip`, the visible
+//! part of a light after removing one occluder (000 Sect. 3.6, Alg. 1 line 12, Appendix).
+//!
+//! Greiner–Hormann clipping (1998) extended to degenerate intersections after Foster, Hormann
+//! and Popa (2019), in three phases that are kept apart so that a debugger can show them one by
+//! one ([`GreinerHormannSteps`]):
+//!
+//! 1. [`find_intersections`](SetDifference::find_intersections) (`intersections.rs`): every
+//!    point where the boundaries meet becomes an intersection vertex in both vertex lists —
+//!    proper crossings, vertices on edges (T), vertices on vertices (V); collinear overlaps are
+//!    the runs between such vertices.
+//! 2. [`label_intersections`](SetDifference::label_intersections) and
+//!    [`mark_entry_exit`](SetDifference::mark_entry_exit) (`labels.rs`): the side of every
+//!    boundary fragment relative to the other polygon — inside, outside, or overlapping in the
+//!    same or the opposite direction — from which the crossing / bouncing / delayed labels and
+//!    the entry / exit flags follow; loops without intersections are classified by a
+//!    winding-number test.
+//! 3. [`traverse`](SetDifference::traverse) (`traversal.rs`): the result's loops, walking the
+//!    subject forwards outside the clip and the clip backwards inside the subject, switching
+//!    at crossings.
+//!
+//! The algorithm, its predicates, the degenerate cases and the tolerances are described in
+//! `docs/set-difference.md`. All scratch storage lives in [`SetDifference`] and is reused:
+//! once its vectors have grown, [`SetDifference::subtract`] does not allocate (unless steps are
+//! recorded).
+
+mod intersections;
+mod labels;
+mod predicates;
+mod steps;
+mod traversal;
+
+pub use steps::{
+    ChainKind, EdgePoint, FragmentSide, GreinerHormannSteps, IntersectionKind, IntersectionRecord,
+    LabelRecord, Operand, OverlapChain, Transition, TraversalStep, TraversedLoop, UntouchedLoop,
+    VertexLabel,
+};
+
+use super::PlanarPolygon;
+use glam::DVec3;
+use intersections::Insertion;
+use predicates::{coincident, unit_normal};
+
+/// A point lies on a line (great circle) when the sine of its angular distance to it is below
+/// this: 1e-12 rad, some ten thousand times the rounding error of a determinant of unit vectors
+/// (≈ 1e-16), so that vertices snapped onto an edge, or computed twice from the same 3D data
+/// in different orders, are recognised, and far below any feature the renderer can resolve.
+pub const EPS_LINE: f64 = 1e-12;
+
+/// Two points coincide when the sine of the angle between them is below this: 5e-13 rad.
+/// Merging them moves a vertex, and the edges at it, by up to this much; keeping it at half of
+/// [`EPS_LINE`] means that a vertex close enough to a moved edge to change sides was already
+/// within the line tolerance of the original edge, i.e. a T-junction.
+pub const EPS_POINT: f64 = 5e-13;
+
+/// Detours of one operand through an intersection point whose vertices all lie within this
+/// distance (sine) of the point are removed (`finish_clusters`): four times [`EPS_LINE`], the
+/// size of features that the tolerances can fold onto one point.
+pub const COLLAPSE_RADIUS: f64 = 4e-12;
+
+/// Tolerance scales tried in turn: when the labels are found inconsistent (the two ends of a
+/// fragment disagree on its side, or the traversal reaches a dead end: two features closer than
+/// a few tolerances, decided differently by different tests), every phase is run again with
+/// all tolerances multiplied by the next scale, which turns the near-degeneracy into an exact
+/// one. The result then differs from the exact difference by at
+/// most the scaled tolerances times the perimeters.
+pub const TOLERANCE_SCALES: [f64; 3] = [1.0, 16.0, 256.0];
+
+/// The tolerances of one attempt.
+#[derive(Clone, Copy, Debug)]
+struct Tolerances {
+    line: f64,
+    point: f64,
+    collapse: f64,
+}
+
+impl Tolerances {
+    fn scaled(scale: f64) -> Self {
+        Tolerances {
+            line: EPS_LINE * scale,
+            point: EPS_POINT * scale,
+            collapse: COLLAPSE_RADIUS * scale,
+        }
+    }
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Tolerances::scaled(1.0)
+    }
+}
+
+/// A fragment whose end points lie farther than this (sine of angle) from the line of its input
+/// edge after snapping takes the normal of its own chord (see `finish_clusters`).
+const EPS_ON_EDGE: f64 = 1e-15;
+
+/// "No node".
+const NONE: u32 = u32::MAX;
+
+/// Side of the fragment leaving a node (see [`FragmentSide`]); `Unknown` before phase 2.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Status {
+    Unknown,
+    Inside,
+    Outside,
+    OverlapSame,
+    OverlapOpposite,
+}
+
+impl Status {
+    fn public(self) -> FragmentSide {
+        match self {
+            Status::Inside | Status::Unknown => FragmentSide::Inside,
+            Status::Outside => FragmentSide::Outside,
+            Status::OverlapSame => FragmentSide::OverlapSame,
+            Status::OverlapOpposite => FragmentSide::OverlapOpposite,
+        }
+    }
+
+    fn is_overlap(self) -> bool {
+        matches!(self, Status::OverlapSame | Status::OverlapOpposite)
+    }
+}
+
+/// A vertex of either operand's doubly linked list (original vertices first, then the
+/// intersection vertices inserted by phase 1). The fragment "of" a node is the piece of
+/// boundary from the node to its successor.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    /// Homogeneous coordinates written to the output (the input vertex, bit for bit, for
+    /// original vertices; the shared position for every node of an intersection cluster).
+    pos: DVec3,
+    /// `pos` normalised: the point of the unit hemisphere every predicate uses.
+    dir: DVec3,
+    /// Unit normal of the input edge containing the fragment arriving at the node.
+    n_in: DVec3,
+    /// Unit normal of the input edge containing the node's fragment.
+    n_out: DVec3,
+    next: u32,
+    prev: u32,
+    /// Successor in the input loop (original nodes only; phase 1 works on input edges).
+    orig_next: u32,
+    /// Union–find parent during phase 1, then the cluster's representative (its smallest node
+    /// index); `NONE` for vertices that are not intersections.
+    cluster: u32,
+    /// Next node of the same cluster (a circular list).
+    ring: u32,
+    /// Index into `SetDifference::loops`.
+    loop_slot: u32,
+    /// Index (within its input loop) of the vertex starting the input edge of the fragment.
+    vertex: u32,
+    operand: Operand,
+    /// Created by phase 1 inside an input edge.
+    inserted: bool,
+    status: Status,
+    visited: bool,
+    /// Absorbed into its predecessor by phase 1 (see `finish_clusters`): no longer in the list.
+    removed: bool,
+}
+
+/// A loop of one operand: original nodes `first..first + len`.
+#[derive(Clone, Copy, Debug)]
+struct LoopInfo {
+    first: u32,
+    len: u32,
+    /// Index of the loop in the input polygon.
+    input_loop: u32,
+}
+
+/// Workspace of the set difference. Create it once per thread and call
+/// [`SetDifference::subtract`] for every shading point and occluder: its buffers are reused.
+#[derive(Clone, Debug, Default)]
+pub struct SetDifference {
+    nodes: Vec<Node>,
+    loops: Vec<LoopInfo>,
+    /// Subject nodes are `0..subject_nodes`, clip nodes `subject_nodes..subject_nodes +
+    /// clip_nodes` (before phase 1 appends inserted nodes).
+    subject_nodes: usize,
+    clip_nodes: usize,
+    /// Subject loops are `loops[..subject_loops]`.
+    subject_loops: usize,
+    /// `side_sc[i * nc + j]`: signed distance (sine) of subject vertex i to the line of clip
+    /// edge j; `side_cs[j * ns + i]` the converse.
+    side_sc: Vec<f64>,
+    side_cs: Vec<f64>,
+    /// Contact flags of subject vertex i with clip vertex / edge j, and of clip vertex j with
+    /// subject edge i (see `intersections.rs`).
+    contact_sc: Vec<u8>,
+    contact_cs: Vec<u8>,
+    insertions: Vec<Insertion>,
+    insertion_nodes: Vec<u32>,
+    /// First live node of each cluster, indexed by the union–find representative.
+    cluster_rep: Vec<u32>,
+    loop_scratch: Vec<DVec3>,
+    tol: Tolerances,
+    tolerance_scale: f64,
+    consistent: bool,
+}
+
+impl SetDifference {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// `out = subject − clip`.
+    ///
+    /// Both inputs are sets of closed loops of homogeneous points with w ≥ 0 (filled loops
+    /// counter-clockwise, holes clockwise, loops not crossing each other, every edge a
+    /// great-circle arc shorter than π); points on the horizon (w = 0) and edges along it are
+    /// ordinary input. Consecutive vertices closer than [`EPS_POINT`] are merged. The output
+    /// follows the same conventions; loops may touch each other at isolated vertices but never
+    /// cross. When `steps` is `Some`, the three phases are recorded into it (this allocates);
+    /// otherwise nothing extra is computed.
+    pub fn subtract(
+        &mut self,
+        subject: &PlanarPolygon,
+        clip: &PlanarPolygon,
+        out: &mut PlanarPolygon,
+        mut steps: Option<&mut GreinerHormannSteps>,
+    ) {
+        for (attempt, scale) in TOLERANCE_SCALES.into_iter().enumerate() {
+            let last = attempt + 1 == TOLERANCE_SCALES.len();
+            if let Some(s) = steps.as_deref_mut() {
+                s.clear();
+                s.tolerance_scale = scale;
+            }
+            out.clear();
+            self.consistent = true;
+            self.tolerance_scale = scale;
+            self.tol = Tolerances::scaled(scale);
+            self.load(subject, clip);
+            if self.subject_nodes == 0 {
+                return;
+            }
+            self.find_intersections(steps.as_deref_mut());
+            self.label_intersections();
+            self.mark_entry_exit(steps.as_deref_mut());
+            if !self.consistent && !last {
+                continue;
+            }
+            self.traverse(out, steps.as_deref_mut());
+            if self.consistent {
+                return;
+            }
+        }
+    }
+
+    /// False when even the last attempt of [`SetDifference::subtract`] found the labelling
+    /// inconsistent and dropped a loop (see [`TOLERANCE_SCALES`]). Not observed for inputs that
+    /// satisfy the preconditions (the tests check it); possible for self-intersecting input.
+    pub fn last_traversal_consistent(&self) -> bool {
+        self.consistent
+    }
+
+    /// The tolerance scale (an entry of [`TOLERANCE_SCALES`]) of the last
+    /// [`SetDifference::subtract`]: 1 unless near-degeneracies forced a retry.
+    pub fn last_tolerance_scale(&self) -> f64 {
+        self.tolerance_scale
+    }
+
+    /// Total capacity of the scratch buffers, in elements (for allocation tests and tuning).
+    pub fn scratch_capacity(&self) -> usize {
+        self.nodes.capacity()
+            + self.loops.capacity()
+            + self.side_sc.capacity()
+            + self.side_cs.capacity()
+            + self.contact_sc.capacity()
+            + self.contact_cs.capacity()
+            + self.insertions.capacity()
+            + self.insertion_nodes.capacity()
+            + self.cluster_rep.capacity()
+            + self.loop_scratch.capacity()
+    }
+
+    /// Builds the vertex lists of both operands.
+    fn load(&mut self, subject: &PlanarPolygon, clip: &PlanarPolygon) {
+        self.nodes.clear();
+        self.loops.clear();
+        self.push_operand(subject, Operand::Subject);
+        self.subject_nodes = self.nodes.len();
+        self.subject_loops = self.loops.len();
+        self.push_operand(clip, Operand::Clip);
+        self.clip_nodes = self.nodes.len() - self.subject_nodes;
+    }
+
+    fn push_operand(&mut self, poly: &PlanarPolygon, operand: Operand) {
+        for (input_loop, lp) in poly.loops().enumerate() {
+            let first = self.nodes.len();
+            let slot = self.loops.len() as u32;
+            for (k, &v) in lp.iter().enumerate() {
+                let dir = v.normalize_or_zero();
+                if !dir.is_finite() || dir == DVec3::ZERO {
+                    continue;
+                }
+                if self.nodes.len() > first
+                    && coincident(self.nodes[self.nodes.len() - 1].dir, dir, self.tol.point)
+                {
+                    continue;
+                }
+                self.nodes.push(Node {
+                    pos: v,
+                    dir,
+                    n_in: DVec3::ZERO,
+                    n_out: DVec3::ZERO,
+                    next: NONE,
+                    prev: NONE,
+                    orig_next: NONE,
+                    cluster: NONE,
+                    ring: NONE,
+                    loop_slot: slot,
+                    vertex: k as u32,
+                    operand,
+                    inserted: false,
+                    status: Status::Unknown,
+                    visited: false,
+                    removed: false,
+                });
+            }
+            while self.nodes.len() > first + 1
+                && coincident(
+                    self.nodes[self.nodes.len() - 1].dir,
+                    self.nodes[first].dir,
+                    self.tol.point,
+                )
+            {
+                self.nodes.pop();
+            }
+            let len = self.nodes.len() - first;
+            if len < 3 {
+                self.nodes.truncate(first);
+                continue;
+            }
+            for k in 0..len {
+                let i = first + k;
+                let j = first + (k + 1) % len;
+                let n = unit_normal(self.nodes[i].dir, self.nodes[j].dir);
+                self.nodes[i].n_out = n;
+                self.nodes[i].next = j as u32;
+                self.nodes[i].orig_next = j as u32;
+                self.nodes[j].n_in = n;
+                self.nodes[j].prev = i as u32;
+            }
+            self.loops.push(LoopInfo {
+                first: first as u32,
+                len: len as u32,
+                input_loop: input_loop as u32,
+            });
+        }
+    }
+
+    /// Loops of one operand, as a range of `self.loops`.
+    fn loop_range(&self, operand: Operand) -> std::ops::Range<usize> {
+        match operand {
+            Operand::Subject => 0..self.subject_loops,
+            Operand::Clip => self.subject_loops..self.loops.len(),
+        }
+    }
+
+    /// Union–find root of a node, making the node a cluster of its own on first use.
+    fn find(&mut self, mut x: u32) -> u32 {
+        if self.nodes[x as usize].cluster == NONE {
+            self.nodes[x as usize].cluster = x;
+            return x;
+        }
+        while self.nodes[x as usize].cluster != x {
+            let p = self.nodes[x as usize].cluster;
+            let gp = self.nodes[p as usize].cluster;
+            self.nodes[x as usize].cluster = gp;
+            x = gp;
+        }
+        x
+    }
+
+    /// Puts two nodes into the same intersection cluster; the smallest index represents it.
+    fn union(&mut self, a: u32, b: u32) {
+        let ra = self.find(a);
+        let rb = self.find(b);
+        if ra < rb {
+            self.nodes[rb as usize].cluster = ra;
+        } else if rb < ra {
+            self.nodes[ra as usize].cluster = rb;
+        }
+    }
+
+    /// The loop and edge of a node, as reported in [`GreinerHormannSteps`].
+    fn edge_point(&self, node: u32, t: f64) -> EdgePoint {
+        let n = &self.nodes[node as usize];
+        EdgePoint {
+            loop_index: self.loops[n.loop_slot as usize].input_loop,
+            edge: n.vertex,
+            t,
+        }
+    }
+}

@@ -1,0 +1,216 @@
+//! The geometric predicates of the set difference, all on homogeneous points.
+//!
+//! A homogeneous point h = (x, y, w), w ≥ 0, is used through its direction ĥ = h/|h| (a point of
+//! the closed upper unit hemisphere; never divided by w). A segment of the projection plane is
+//! the great-circle arc between its endpoints, and the oriented line through a and b is the
+//! plane with normal n = a × b: `orient(a, b, p) = p · (a × b)` is positive when p lies to the
+//! left of a → b, with the same sign as the planar orientation when every w > 0 and its exact
+//! limit when a point lies on the horizon (w = 0). With unit vectors the normalised
+//! determinant p̂ · n̂ is the sine of p's angular distance to the line, which is what every
+//! tolerance below is compared with.
+
+use crate::geometry::orient;
+use glam::DVec3;
+
+/// Unit normal of the line (great circle) through a and b, oriented so that `p · n > 0` when p
+/// lies to the left of a → b. Zero for coincident or antipodal points.
+///
+/// Computed as a × (b − a) (= a × b): for a short edge b − a is exact (Sterbenz) and the cross
+/// product keeps full relative precision, while a × b directly would lose it to cancellation —
+/// for an edge of 1e-9 rad its normal would be off by ~1e-7 rad, far above the tolerances.
+#[inline]
+pub(super) fn unit_normal(a: DVec3, b: DVec3) -> DVec3 {
+    a.cross(b - a).normalize_or_zero()
+}
+
+/// Whether two unit directions are the same point: sin(angle) < `eps` (the point tolerance,
+/// [`EPS_POINT`](super::EPS_POINT) times the tolerance scale) on the same side.
+#[inline]
+pub(super) fn coincident(p: DVec3, q: DVec3, eps: f64) -> bool {
+    p.dot(q) > 0.0 && p.cross(q).length_squared() < eps * eps
+}
+
+/// Whether a unit direction whose signed distance (sine) to a line is `side` lies on it: below
+/// `eps`, the line tolerance ([`EPS_LINE`](super::EPS_LINE) times the tolerance scale).
+#[inline]
+pub(super) fn on_line(side: f64, eps: f64) -> bool {
+    side.abs() < eps
+}
+
+/// Arc coordinates of p relative to the arc a → b with unit normal n: (u, v) with
+/// u = (a × p) · n and v = (p × b) · n, the sines of the angles a–p and p–b for p on the arc.
+/// Both are positive exactly when p projects strictly inside the arc, and u / (u + v) is the
+/// homogeneous parameter t of p = (1 − t)·a + t·b, monotone along the arc.
+#[inline]
+pub(super) fn arc_coordinates(a: DVec3, b: DVec3, n: DVec3, p: DVec3) -> (f64, f64) {
+    (a.cross(p).dot(n), p.cross(b).dot(n))
+}
+
+/// The parameter t of [`arc_coordinates`], falling back to `fallback` when undefined.
+#[inline]
+pub(super) fn arc_parameter(a: DVec3, b: DVec3, n: DVec3, p: DVec3, fallback: f64) -> f64 {
+    let (u, v) = arc_coordinates(a, b, n, p);
+    if u + v > 0.0 { u / (u + v) } else { fallback }
+}
+
+/// Whether signed distances have strictly opposite signs (zero is neither).
+#[inline]
+pub(super) fn opposite(s: f64, t: f64) -> bool {
+    (s < 0.0 && t > 0.0) || (s > 0.0 && t < 0.0)
+}
+
+/// Tangent at x of an arc leaving x along the great circle with normal n (walked so that the
+/// circle's left side is n's side): n × x. Only the component orthogonal to x matters to
+/// `orient(x, ·, ·)`, so tangents can be compared with [`orient`] directly; they are computed
+/// from the edge normal, not from a second point, so they stay accurate when the next vertex is
+/// very close to x.
+#[inline]
+pub(super) fn tangent(n: DVec3, x: DVec3) -> DVec3 {
+    n.cross(x)
+}
+
+/// Whether the tangent `d` at x lies strictly inside the sector swept counter-clockwise from
+/// `from` to `to` (the interior of a polygon at a vertex x whose boundary leaves along `from`
+/// and arrives from `to`: the interior is to the left).
+#[inline]
+pub(super) fn in_sector(x: DVec3, from: DVec3, to: DVec3, d: DVec3) -> bool {
+    let lo = orient(x, from, d) > 0.0;
+    let hi = orient(x, d, to) > 0.0;
+    if orient(x, from, to) > 0.0 {
+        lo && hi
+    } else {
+        // Reflex or straight angle: everything but the complementary convex sector.
+        lo || hi
+    }
+}
+
+/// Class of the clockwise angle from `b` to `u` about x: 0 for (0, π), 1 for π, 2 for (π, 2π),
+/// 3 for 0 (the same direction, a spike, tried last).
+#[inline]
+fn clockwise_class(x: DVec3, b: DVec3, u: DVec3) -> u8 {
+    let o = orient(x, b, u);
+    if o < 0.0 {
+        0
+    } else if o > 0.0 {
+        2
+    } else if b.dot(u) < 0.0 {
+        1
+    } else {
+        3
+    }
+}
+
+/// Whether `u1` is met before `u2` when turning clockwise about x from the tangent `b`.
+#[inline]
+pub(super) fn clockwise_before(x: DVec3, b: DVec3, u1: DVec3, u2: DVec3) -> bool {
+    let c1 = clockwise_class(x, b, u1);
+    let c2 = clockwise_class(x, b, u2);
+    if c1 != c2 {
+        c1 < c2
+    } else if c1 == 0 || c1 == 2 {
+        orient(x, u1, u2) < 0.0
+    } else {
+        false
+    }
+}
+
+/// `orient(a, b, p)` evaluated as a · ((b − a) × (p − a)): the same determinant, but when the
+/// three points are close (a short edge and a point near it) the differences are exact and the
+/// result keeps its relative precision, where a · (b × p) would cancel down to noise of 1e-16.
+#[inline]
+pub(super) fn orient_near(a: DVec3, b: DVec3, p: DVec3) -> f64 {
+    a.dot((b - a).cross(p - a))
+}
+
+/// Contribution of the edge a → b to the winding number about p, counted along the arc that
+/// leaves p radially towards the horizon point r (the gnomonic ray from p away from the
+/// origin, closed at infinity) and continues below the horizon, where no edge lies. `m` is
+/// p × r and a vertex v counts as "above" the ray's line when v · m > 0 (the half-open rule,
+/// which makes vertices and edges lying on the ray's line count consistently).
+#[inline]
+pub(super) fn winding_contribution(p: DVec3, m: DVec3, a: DVec3, b: DVec3) -> i32 {
+    let above_a = a.dot(m) > 0.0;
+    let above_b = b.dot(m) > 0.0;
+    if above_a == above_b {
+        return 0;
+    }
+    let o = orient_near(a, b, p);
+    if !above_a && o > 0.0 {
+        1
+    } else if above_a && o < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// The ray normal m = p × r of [`winding_contribution`] for the unit direction p, or `None`
+/// when p is within `eps` (the line tolerance) of the horizon: such a point is inside no region
+/// of the closed upper hemisphere unless it lies on its boundary, which callers have excluded.
+#[inline]
+pub(super) fn ray_normal(p: DVec3, eps: f64) -> Option<DVec3> {
+    if p.z <= eps {
+        return None;
+    }
+    let r = if p.x == 0.0 && p.y == 0.0 {
+        DVec3::X
+    } else {
+        DVec3::new(p.x, p.y, 0.0)
+    };
+    Some(p.cross(r))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn h(x: f64, y: f64, w: f64) -> DVec3 {
+        DVec3::new(x, y, w).normalize()
+    }
+
+    #[test]
+    fn sector_of_a_convex_and_a_reflex_corner() {
+        // Corner at the origin of the plane, boundary arriving from the north and leaving east:
+        // the interior, left of the boundary, is the north-east quadrant (counter-clockwise
+        // from east to north).
+        let x = h(0.0, 0.0, 1.0);
+        let east = tangent(unit_normal(x, h(1.0, 0.0, 1.0)), x);
+        let north = tangent(unit_normal(x, h(0.0, 1.0, 1.0)), x);
+        let ne = tangent(unit_normal(x, h(1.0, 1.0, 1.0)), x);
+        let sw = tangent(unit_normal(x, h(-1.0, -1.0, 1.0)), x);
+        assert!(in_sector(x, east, north, ne));
+        assert!(!in_sector(x, east, north, sw));
+        // Reflex: leaving north, arriving from the east.
+        assert!(!in_sector(x, north, east, ne));
+        assert!(in_sector(x, north, east, sw));
+    }
+
+    #[test]
+    fn clockwise_order_about_a_point() {
+        let x = h(0.0, 0.0, 1.0);
+        let dir = |dx: f64, dy: f64| tangent(unit_normal(x, h(dx, dy, 1.0)), x);
+        let west = dir(-1.0, 0.0);
+        // Clockwise from west: north-west, north, east, south.
+        assert!(clockwise_before(x, west, dir(-1.0, 1.0), dir(0.0, 1.0)));
+        assert!(clockwise_before(x, west, dir(0.0, 1.0), dir(1.0, 0.0)));
+        assert!(clockwise_before(x, west, dir(1.0, 0.0), dir(0.0, -1.0)));
+        assert!(!clockwise_before(x, west, dir(0.0, -1.0), dir(-1.0, 1.0)));
+    }
+
+    #[test]
+    fn winding_counts_horizon_edges() {
+        // The quadrant x, y > 0 of the plane: zenith, +x at infinity, +y at infinity.
+        let lp = [DVec3::Z, DVec3::X, DVec3::Y];
+        let wind = |p: DVec3| {
+            let m = ray_normal(p, 1e-12).unwrap();
+            (0..3)
+                .map(|i| winding_contribution(p, m, lp[i], lp[(i + 1) % 3]))
+                .sum::<i32>()
+        };
+        assert_eq!(wind(h(0.5, 0.5, 1.0)), 1);
+        assert_eq!(wind(h(5.0, 0.1, 1.0)), 1);
+        assert_eq!(wind(h(-0.5, 0.5, 1.0)), 0);
+        assert_eq!(wind(h(0.5, -0.5, 1.0)), 0);
+        assert_eq!(wind(h(-1.0, -1.0, 1.0)), 0);
+    }
+}
