@@ -1,0 +1,339 @@
+//! Fitting the LTC table (Heitz, Dupuy, Hill, Neubelt 2016, Sect. 4 and their fitting code
+//! as described in 001 Sect. 3.4), written from the equations:
+//!
+//! * per cell `(θv, α)`: the moments `norm = ∫ brdf_cos dω`, `fresnel = ∫ brdf_cos (1 − v·h)⁵
+//!   dω` and the average direction `∫ brdf_cos l dω` by a midpoint rule on the VNDF sample
+//!   square ([`lobe_moments`]);
+//! * the LTC `M = B · K`, `B = [X Y Z]` the rotation taking `z` to the lobe's average
+//!   direction `Z` (in the xz-plane), `K = [[m11, 0, m13], [0, m22, 0], [m31, 0, 1]]` — the
+//!   general y-symmetric matrix up to scale (4 degrees of freedom, the form
+//!   `[[a, 0, b], [0, c, 0], [d, 0, 1]]` of the LTC paper, expressed around the lobe axis so
+//!   that the initial guess `K = diag(α, α, 1)` is already close);
+//! * parameters `q = [ln m11, ln m22, m13/m11, m31]` (scale-free in α, positive-definite
+//!   diagonal by construction), minimised with [`super::nelder_mead`] for the L3 error
+//!   `∫ |brdf_cos/norm − D̂_M|³ dω`, estimated with both distributions as importance samplers
+//!   and the balance heuristic (see [`L3Error`]);
+//! * warm start: the normal-incidence column (a one-parameter fit `K = diag(m, m, 1)`, exact
+//!   by symmetry) from rough to smooth, then every row (fixed α) independently and in parallel
+//!   from normal to grazing incidence, each cell starting from its fitted neighbour.
+
+use super::ggx::{self, brdf_cos_and_pdf};
+use super::nelder_mead::{self, Options};
+use super::table::{ALPHA_MIN, COS_THETA_MIN, LtcEntry, LtcTable};
+use glam::{DMat3, DVec3};
+use rayon::prelude::*;
+use std::f64::consts::{PI, TAU};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Samples per axis of each of the two stratified sample sets of the error estimate
+/// (`FIT_SAMPLES²` from the BRDF and as many from the LTC).
+pub const FIT_SAMPLES: usize = 64;
+/// Samples per axis of the midpoint rule for `norm`, `fresnel` and the average direction.
+pub const MOMENT_SAMPLES: usize = 512;
+
+/// Moments of the cosine-weighted GGX lobe (`F = 1`).
+#[derive(Clone, Copy, Debug)]
+pub struct LobeMoments {
+    /// `∫ brdf_cos dω`.
+    pub norm: f64,
+    /// `∫ brdf_cos (1 − v·h)⁵ dω`.
+    pub fresnel: f64,
+    /// `normalize(∫ brdf_cos l dω)`.
+    pub avg_dir: DVec3,
+}
+
+/// The view direction `(sinθv, 0, cosθv)` of the local frame.
+#[inline]
+pub fn view_dir(cos_theta_v: f64) -> DVec3 {
+    let c = cos_theta_v.clamp(0.0, 1.0);
+    DVec3::new(((1.0 - c) * (1.0 + c)).sqrt(), 0.0, c)
+}
+
+/// `norm`, `fresnel` and the average direction by the midpoint rule with `k × k` points on
+/// the VNDF sample square: `∫ brdf_cos g dω = ∫∫ (G2/G1)(v, l(u)) g(l(u)) du`, where the
+/// weight `G2/G1 ∈ [0, 1]` is smooth except where `l` crosses the horizon.
+pub fn lobe_moments(v: DVec3, alpha: f64, k: usize) -> LobeMoments {
+    let mut norm = 0.0;
+    let mut fresnel = 0.0;
+    let mut avg = DVec3::ZERO;
+    let inv = 1.0 / k as f64;
+    for a in 0..k {
+        let u1 = (a as f64 + 0.5) * inv;
+        let (mut row_n, mut row_f, mut row_a) = (0.0, 0.0, DVec3::ZERO);
+        for b in 0..k {
+            let u2 = (b as f64 + 0.5) * inv;
+            let h = ggx::sample_vndf(v, alpha, u1, u2);
+            let l = ggx::reflect(v, h);
+            let w = ggx::vndf_weight(v, l, alpha);
+            if w > 0.0 {
+                row_n += w;
+                row_f += w * ggx::schlick_weight(v.dot(h));
+                row_a += w * l;
+            }
+        }
+        norm += row_n;
+        fresnel += row_f;
+        avg += row_a;
+    }
+    let s = inv * inv;
+    LobeMoments {
+        norm: norm * s,
+        fresnel: fresnel * s,
+        avg_dir: avg.normalize(),
+    }
+}
+
+/// The L3 fit error of an LTC against the normalised lobe `f = brdf_cos/norm`:
+/// `∫ |f − D̂|³ dω ≈ (1/N) Σ_{l ~ f-sampler} |f − D̂|³/(p + D̂) + (1/N) Σ_{l ~ D̂} |f − D̂|³/(p + D̂)`
+/// with `p = pdf_vndf_reflect` (balance heuristic; `D̂` is its own pdf). Both sample sets
+/// are fixed midpoint grids, so the objective is deterministic in `M`.
+pub struct L3Error {
+    v: DVec3,
+    alpha: f64,
+    inv_norm: f64,
+    /// VNDF-reflected directions with `f` and the VNDF pdf, independent of `M`.
+    brdf_samples: Vec<(DVec3, f64, f64)>,
+    /// Cosine-distributed directions (to be mapped by `M`).
+    cos_samples: Vec<DVec3>,
+}
+
+/// `k × k` midpoint grid of cosine-distributed directions.
+fn cosine_grid(k: usize) -> Vec<DVec3> {
+    let inv = 1.0 / k as f64;
+    let mut out = Vec::with_capacity(k * k);
+    for a in 0..k {
+        for b in 0..k {
+            let u1 = (a as f64 + 0.5) * inv;
+            let u2 = (b as f64 + 0.5) * inv;
+            let r = u1.sqrt();
+            let (s, c) = (TAU * u2).sin_cos();
+            out.push(DVec3::new(r * c, r * s, (1.0 - u1).sqrt()));
+        }
+    }
+    out
+}
+
+impl L3Error {
+    pub fn new(v: DVec3, alpha: f64, norm: f64, k: usize) -> Self {
+        let inv_norm = 1.0 / norm;
+        let inv = 1.0 / k as f64;
+        let mut brdf_samples = Vec::with_capacity(k * k);
+        for a in 0..k {
+            for b in 0..k {
+                let u1 = (a as f64 + 0.5) * inv;
+                let u2 = (b as f64 + 0.5) * inv;
+                let l = ggx::reflect(v, ggx::sample_vndf(v, alpha, u1, u2));
+                let (f, p) = brdf_cos_and_pdf(v, l, alpha);
+                if p > 0.0 {
+                    brdf_samples.push((l, f * inv_norm, p));
+                }
+            }
+        }
+        L3Error {
+            v,
+            alpha,
+            inv_norm,
+            brdf_samples,
+            cos_samples: cosine_grid(k),
+        }
+    }
+
+    /// The error estimate for the LTC with matrix `m` (`+∞` if `m` is not orientation
+    /// preserving).
+    pub fn eval(&self, m: &DMat3) -> f64 {
+        let m_inv = m.inverse();
+        let det_inv = m_inv.determinant();
+        if !(det_inv > 0.0 && det_inv.is_finite()) {
+            return f64::INFINITY;
+        }
+        let k = det_inv / PI;
+        let mut e_brdf = 0.0;
+        for &(l, f, p) in &self.brdf_samples {
+            let x = m_inv * l;
+            let len2 = x.length_squared();
+            let g = if x.z > 0.0 { x.z * k / (len2 * len2) } else { 0.0 };
+            let d = (f - g).abs();
+            e_brdf += d * d * d / (p + g);
+        }
+        let mut e_ltc = 0.0;
+        for &wo in &self.cos_samples {
+            let y = *m * wo;
+            let len = y.length();
+            let l = y * (1.0 / len);
+            let g = wo.z * k * len * len * len;
+            let (f, p) = brdf_cos_and_pdf(self.v, l, self.alpha);
+            let d = (f * self.inv_norm - g).abs();
+            e_ltc += d * d * d / (p + g);
+        }
+        (e_brdf + e_ltc) / self.cos_samples.len() as f64
+    }
+}
+
+/// `B = [X Y Z]` with `Z` the lobe's average direction, `Y = y`, `X = Y × Z`.
+fn lobe_basis(avg: DVec3) -> DMat3 {
+    let z = DVec3::new(avg.x, 0.0, avg.z).normalize();
+    DMat3::from_cols(DVec3::new(z.z, 0.0, -z.x), DVec3::Y, z)
+}
+
+/// `K(q)`; `None` when `det K <= 0`.
+fn k_matrix(q: &[f64; 4]) -> Option<DMat3> {
+    let m11 = q[0].exp();
+    let m22 = q[1].exp();
+    let m13 = q[2] * m11;
+    let m31 = q[3];
+    if !(1.0 - q[2] * q[3] > 0.0 && m11.is_finite() && m22.is_finite() && m11 > 0.0) {
+        return None;
+    }
+    Some(DMat3::from_cols(
+        DVec3::new(m11, 0.0, m31),
+        DVec3::new(0.0, m22, 0.0),
+        DVec3::new(m13, 0.0, 1.0),
+    ))
+}
+
+/// A fitted cell.
+#[derive(Clone, Copy, Debug)]
+pub struct CellFit {
+    pub entry: LtcEntry,
+    /// Fit parameters `[ln m11, ln m22, m13/m11, m31]` in the lobe basis (warm start).
+    pub params: [f64; 4],
+    /// The minimised L3 error estimate, and the same for the lobe itself against the
+    /// zero function (`∫ f³ dω`), so that `(error / lobe_l3)^(1/3)` is a relative L3 error.
+    pub l3_error: f64,
+    pub lobe_l3: f64,
+    pub evals: usize,
+}
+
+fn nm_options() -> Options {
+    Options {
+        max_evals: 4000,
+        f_rel: 1e-7,
+        f_abs: 0.0,
+        x_tol: 1e-5,
+        restarts: 3,
+    }
+}
+
+/// Fit one cell from the starting parameters `start` (see [`CellFit::params`]). At normal
+/// incidence (`cosθv == 1`) the lobe is rotationally symmetric and the fit is the
+/// one-parameter `K = diag(m, m, 1)`.
+pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4]) -> CellFit {
+    let v = view_dir(cos_theta_v);
+    let mom = lobe_moments(v, alpha, MOMENT_SAMPLES);
+    let err = L3Error::new(v, alpha, mom.norm, FIT_SAMPLES);
+    let opts = nm_options();
+    let (params, basis, l3, evals) = if v.x == 0.0 {
+        let r = nelder_mead::minimize(
+            |p: &[f64; 1]| match k_matrix(&[p[0], p[0], 0.0, 0.0]) {
+                Some(k) => err.eval(&k),
+                None => f64::INFINITY,
+            },
+            [start[0]],
+            [0.1],
+            &opts,
+        );
+        ([r.x[0], r.x[0], 0.0, 0.0], DMat3::IDENTITY, r.f, r.evals)
+    } else {
+        let basis = lobe_basis(mom.avg_dir);
+        let r = nelder_mead::minimize(
+            |q: &[f64; 4]| match k_matrix(q) {
+                Some(k) => err.eval(&(basis * k)),
+                None => f64::INFINITY,
+            },
+            start,
+            [0.1, 0.1, 0.05, 0.05],
+            &opts,
+        );
+        (r.x, basis, r.f, r.evals)
+    };
+    let m = basis * k_matrix(&params).expect("the minimum is feasible");
+    let m_inv = m.inverse();
+    let lobe_l3 = lobe_l3(&err);
+    CellFit {
+        entry: LtcEntry {
+            m_inv: m_inv * (1.0 / m_inv.y_axis.y),
+            norm: mom.norm,
+            fresnel: mom.fresnel,
+        },
+        params,
+        l3_error: l3,
+        lobe_l3,
+        evals,
+    }
+}
+
+/// `∫ f³ dω` estimated with the BRDF samples of `err`.
+fn lobe_l3(err: &L3Error) -> f64 {
+    err.brdf_samples
+        .iter()
+        .map(|&(_, f, p)| f * f * f / p)
+        .sum::<f64>()
+        / err.cos_samples.len() as f64
+}
+
+/// Fit the `n × n` table (docs/ltc.md for the grid). `progress(done, total)` is called after
+/// every cell, from the worker threads. The committed table is `fit_table(64, ..)`.
+pub fn fit_table(n: usize, progress: impl Fn(usize, usize) + Sync) -> LtcTable {
+    fit_table_cells(n, progress).0
+}
+
+/// [`fit_table`] that also returns every [`CellFit`] (`cells[i * n + j]`).
+pub fn fit_table_cells(
+    n: usize,
+    progress: impl Fn(usize, usize) + Sync,
+) -> (LtcTable, Vec<CellFit>) {
+    assert!(n >= 2);
+    let probe = LtcTable::from_entries(
+        n,
+        ALPHA_MIN,
+        COS_THETA_MIN,
+        &vec![
+            LtcEntry {
+                m_inv: DMat3::IDENTITY,
+                norm: 0.0,
+                fresnel: 0.0
+            };
+            n * n
+        ],
+    );
+    let total = n * n;
+    let done = AtomicUsize::new(0);
+    let tick = || progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+
+    // Normal incidence, from rough to smooth; the LTC width scales like α for small α.
+    let mut col0: Vec<Option<CellFit>> = vec![None; n];
+    let mut ln_m = 0.0;
+    for i in (0..n).rev() {
+        if i + 1 < n {
+            ln_m += (probe.alpha_at(i) / probe.alpha_at(i + 1)).ln();
+        }
+        let fit = fit_cell(1.0, probe.alpha_at(i), [ln_m, ln_m, 0.0, 0.0]);
+        ln_m = fit.params[0];
+        col0[i] = Some(fit);
+        tick();
+    }
+
+    // Rows (fixed α) are independent: sweep from normal to grazing incidence.
+    let rows: Vec<Vec<CellFit>> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let first = col0[i].expect("fitted above");
+            let mut row = Vec::with_capacity(n);
+            row.push(first);
+            let mut q = first.params;
+            for j in 1..n {
+                let fit = fit_cell(probe.cos_theta_at(j), probe.alpha_at(i), q);
+                q = fit.params;
+                row.push(fit);
+                tick();
+            }
+            row
+        })
+        .collect();
+    let cells: Vec<CellFit> = rows.into_iter().flatten().collect();
+    let entries: Vec<LtcEntry> = cells.iter().map(|c| c.entry).collect();
+    (
+        LtcTable::from_entries(n, ALPHA_MIN, COS_THETA_MIN, &entries),
+        cells,
+    )
+}

@@ -1,0 +1,360 @@
+//! The LTC lookup table: per (roughness, view angle) the inverse LTC matrix `M⁻¹` of the
+//! isotropic GGX lobe, its directional albedo `norm` and the Schlick Fresnel moment
+//! `fresnel`. Layout and interpolation are specified in docs/ltc.md.
+//!
+//! Grid: row `i` (0..n) has `√α = i/(n−1)` (α = `Pr²`), column `j` has
+//! `√(1 − cosθv) = j/(n−1)` (Heitz et al. 2016). The nodes are clamped to
+//! `α >= ALPHA_MIN` and `cosθv >= COS_THETA_MIN`: row 0 is fitted at `α = ALPHA_MIN` and
+//! column `n−1` at `cosθv = COS_THETA_MIN`.
+//!
+//! `M⁻¹` is stored normalised so that its `(y, y)` entry is 1:
+//! `M⁻¹ = [[m00, 0, m02], [0, 1, 0], [m20, 0, m22]]`.
+
+use glam::{DMat3, DVec3};
+use std::io;
+use std::path::Path;
+use std::sync::OnceLock;
+
+/// Side of the committed table.
+pub const LTC_TABLE_SIZE: usize = 64;
+/// Smallest roughness represented; lookups with smaller α use this one (see docs/ltc.md).
+pub const ALPHA_MIN: f64 = 1e-4;
+/// Smallest `cosθv` represented (θv ≈ 89.94°); the last column is fitted here.
+pub const COS_THETA_MIN: f64 = 1e-3;
+
+/// File magic of the binary table format (docs/ltc.md).
+pub const MAGIC: [u8; 8] = *b"PNBRLTC\x01";
+const VERSION: u32 = 1;
+const HEADER_LEN: usize = 32;
+const RECORD_LEN: usize = 6 * 8;
+
+/// One fitted LTC.
+#[derive(Clone, Copy, Debug)]
+pub struct LtcEntry {
+    /// Inverse LTC matrix (any positive multiple is equivalent; the table's is normalised
+    /// to `m_inv.y_axis.y == 1`).
+    pub m_inv: DMat3,
+    /// Directional albedo of the GGX lobe with `F = 1`: `∫ brdf_cos dω`.
+    pub norm: f64,
+    /// `∫ brdf_cos · (1 − v·h)⁵ dω`.
+    pub fresnel: f64,
+}
+
+impl LtcEntry {
+    /// `normalize(M⁻¹ w)`: a light direction mapped into the clamped-cosine space. The
+    /// caller clips the transformed polygon to the horizon before [`super::form_factor`].
+    /// `M⁻¹` has a positive determinant, so loop orientation is preserved.
+    #[inline]
+    pub fn transform(&self, w: DVec3) -> DVec3 {
+        let x = self.m_inv * w;
+        x * (1.0 / x.length())
+    }
+
+    /// Scale of the specular integral for Schlick reflectance `f0`:
+    /// `∫_P ρ F cosθl dω ≈ E(M⁻¹P) · (f0 (norm − fresnel) + fresnel)`.
+    #[inline]
+    pub fn specular_scale(&self, f0: f64) -> f64 {
+        f0 * (self.norm - self.fresnel) + self.fresnel
+    }
+
+    /// `[m00, m02, m20, m22, norm, fresnel]` of `M⁻¹ / M⁻¹[y][y]` (`mRC` = row R, column C).
+    pub fn to_record(&self) -> [f64; 6] {
+        let m = self.m_inv * (1.0 / self.m_inv.y_axis.y);
+        [
+            m.x_axis.x, m.z_axis.x, m.x_axis.z, m.z_axis.z, self.norm, self.fresnel,
+        ]
+    }
+
+    /// Inverse of [`LtcEntry::to_record`].
+    #[inline]
+    pub fn from_record(r: &[f64; 6]) -> Self {
+        LtcEntry {
+            m_inv: DMat3::from_cols(
+                DVec3::new(r[0], 0.0, r[2]),
+                DVec3::Y,
+                DVec3::new(r[1], 0.0, r[3]),
+            ),
+            norm: r[4],
+            fresnel: r[5],
+        }
+    }
+}
+
+/// The `n × n` table (`n = LTC_TABLE_SIZE` for the committed one).
+#[derive(Clone, Debug)]
+pub struct LtcTable {
+    n: usize,
+    alpha_min: f64,
+    cos_theta_min: f64,
+    /// Node abscissae: `alphas[i] = max((i/(n−1))², alpha_min)`,
+    /// `cosines[j] = max(1 − (j/(n−1))², cos_theta_min)`.
+    alphas: Vec<f64>,
+    cosines: Vec<f64>,
+    /// `records[i * n + j]`, see [`LtcEntry::to_record`].
+    records: Vec<[f64; 6]>,
+}
+
+/// Error of [`LtcTable::from_bytes`].
+#[derive(Debug, thiserror::Error)]
+pub enum TableFormatError {
+    #[error("not an LTC table (bad magic)")]
+    Magic,
+    #[error("unsupported LTC table version {0}")]
+    Version(u32),
+    #[error("bad LTC table header: {0}")]
+    Header(&'static str),
+    #[error("LTC table has {got} bytes, expected {expected}")]
+    Length { got: usize, expected: usize },
+    #[error("LTC table checksum mismatch")]
+    Checksum,
+    #[error("LTC table record {0} is invalid (non-finite or m_inv[y][y] != 1)")]
+    Record(usize),
+}
+
+/// FNV-1a, 64 bit.
+fn fnv1a64(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+fn f64_at(bytes: &[u8], off: usize) -> f64 {
+    f64::from_le_bytes(bytes[off..off + 8].try_into().unwrap())
+}
+
+fn u32_at(bytes: &[u8], off: usize) -> u32 {
+    u32::from_le_bytes(bytes[off..off + 4].try_into().unwrap())
+}
+
+/// Grid abscissa `k/(n−1)` and node values.
+fn nodes(n: usize, alpha_min: f64, cos_theta_min: f64) -> (Vec<f64>, Vec<f64>) {
+    let step = 1.0 / (n - 1) as f64;
+    let alphas = (0..n)
+        .map(|i| {
+            let r = i as f64 * step;
+            (r * r).max(alpha_min)
+        })
+        .collect();
+    let cosines = (0..n)
+        .map(|j| {
+            let x = j as f64 * step;
+            (1.0 - x * x).max(cos_theta_min)
+        })
+        .collect();
+    (alphas, cosines)
+}
+
+/// Bracketing node `k0` (`k0 + 1 <= n − 1`) and weight `t ∈ [0, 1]` of the upper node,
+/// linear in the node values `vals` (monotone), with the index guessed from the uniform
+/// abscissa `u ∈ [0, 1]`. Exact (t = 0 or 1) when `value` is a node value.
+#[inline]
+fn bracket(vals: &[f64], u: f64, value: f64) -> (usize, f64) {
+    let n1 = vals.len() - 1;
+    let k0 = ((u * n1 as f64) as usize).min(n1 - 1);
+    let (v0, v1) = (vals[k0], vals[k0 + 1]);
+    let den = v1 - v0;
+    let t = if den != 0.0 {
+        ((value - v0) / den).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (k0, t)
+}
+
+impl LtcTable {
+    /// Assemble a table from `n × n` entries, `entries[i * n + j]` for row `i` (roughness)
+    /// and column `j` (view angle); `m_inv` is renormalised to `m_inv[y][y] = 1`.
+    pub fn from_entries(
+        n: usize,
+        alpha_min: f64,
+        cos_theta_min: f64,
+        entries: &[LtcEntry],
+    ) -> Self {
+        assert!(n >= 2 && entries.len() == n * n);
+        let (alphas, cosines) = nodes(n, alpha_min, cos_theta_min);
+        LtcTable {
+            n,
+            alpha_min,
+            cos_theta_min,
+            alphas,
+            cosines,
+            records: entries.iter().map(LtcEntry::to_record).collect(),
+        }
+    }
+
+    /// The committed 64 × 64 table (assets/ltc/ggx_ltc_64.bin), parsed once.
+    pub fn embedded() -> &'static LtcTable {
+        static BYTES: &[u8] = include_bytes!("../../assets/ltc/ggx_ltc_64.bin");
+        static TABLE: OnceLock<LtcTable> = OnceLock::new();
+        TABLE.get_or_init(|| {
+            LtcTable::from_bytes(BYTES).expect("the embedded LTC table is a valid table file")
+        })
+    }
+
+    /// Grid side `n`.
+    pub fn size(&self) -> usize {
+        self.n
+    }
+
+    pub fn alpha_min(&self) -> f64 {
+        self.alpha_min
+    }
+
+    pub fn cos_theta_min(&self) -> f64 {
+        self.cos_theta_min
+    }
+
+    /// Roughness of row `i`: `max((i/(n−1))², alpha_min)`.
+    pub fn alpha_at(&self, i: usize) -> f64 {
+        self.alphas[i]
+    }
+
+    /// `cosθv` of column `j`: `max(1 − (j/(n−1))², cos_theta_min)`.
+    pub fn cos_theta_at(&self, j: usize) -> f64 {
+        self.cosines[j]
+    }
+
+    /// The stored entry of row `i`, column `j`.
+    pub fn entry(&self, i: usize, j: usize) -> LtcEntry {
+        LtcEntry::from_record(&self.records[i * self.n + j])
+    }
+
+    /// Bilinear interpolation of the stored records, linear in `α` and in `cosθv` between
+    /// the bracketing nodes (the nodes themselves are uniform in `√α` and `√(1 − cosθv)`).
+    /// Inputs are clamped to `[alpha_min, 1]` and `[cos_theta_min, 1]` (NaN → the minimum).
+    /// Returns the stored entry bit for bit at the nodes. Allocation-free.
+    #[inline]
+    pub fn lookup(&self, cos_theta_v: f64, alpha: f64) -> LtcEntry {
+        let a = if alpha > self.alpha_min {
+            alpha.min(1.0)
+        } else {
+            self.alpha_min
+        };
+        let c = if cos_theta_v > self.cos_theta_min {
+            cos_theta_v.min(1.0)
+        } else {
+            self.cos_theta_min
+        };
+        let (i0, ta) = bracket(&self.alphas, a.sqrt(), a);
+        // The column nodes decrease in cosθ; bracket in −cosθ.
+        let (j0, tc) = bracket_desc(&self.cosines, (1.0 - c).sqrt(), c);
+        let n = self.n;
+        let r00 = &self.records[i0 * n + j0];
+        let r01 = &self.records[i0 * n + j0 + 1];
+        let r10 = &self.records[(i0 + 1) * n + j0];
+        let r11 = &self.records[(i0 + 1) * n + j0 + 1];
+        let (w00, w01, w10, w11) = (
+            (1.0 - ta) * (1.0 - tc),
+            (1.0 - ta) * tc,
+            ta * (1.0 - tc),
+            ta * tc,
+        );
+        let mut r = [0.0; 6];
+        for k in 0..6 {
+            r[k] = w00 * r00[k] + w01 * r01[k] + w10 * r10[k] + w11 * r11[k];
+        }
+        LtcEntry::from_record(&r)
+    }
+
+    /// Serialise (little-endian binary, docs/ltc.md).
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(HEADER_LEN + self.records.len() * RECORD_LEN + 8);
+        out.extend_from_slice(&MAGIC);
+        out.extend_from_slice(&VERSION.to_le_bytes());
+        out.extend_from_slice(&(self.n as u32).to_le_bytes());
+        out.extend_from_slice(&self.alpha_min.to_le_bytes());
+        out.extend_from_slice(&self.cos_theta_min.to_le_bytes());
+        for rec in &self.records {
+            for x in rec {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        let sum = fnv1a64(&out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        out
+    }
+
+    /// Parse and validate the binary format.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, TableFormatError> {
+        if bytes.len() < HEADER_LEN + 8 {
+            return Err(TableFormatError::Header("truncated"));
+        }
+        if bytes[..8] != MAGIC {
+            return Err(TableFormatError::Magic);
+        }
+        let version = u32_at(bytes, 8);
+        if version != VERSION {
+            return Err(TableFormatError::Version(version));
+        }
+        let n = u32_at(bytes, 12) as usize;
+        if !(2..=4096).contains(&n) {
+            return Err(TableFormatError::Header("size out of range"));
+        }
+        let expected = HEADER_LEN + n * n * RECORD_LEN + 8;
+        if bytes.len() != expected {
+            return Err(TableFormatError::Length {
+                got: bytes.len(),
+                expected,
+            });
+        }
+        let body = &bytes[..expected - 8];
+        if fnv1a64(body) != u64::from_le_bytes(bytes[expected - 8..].try_into().unwrap()) {
+            return Err(TableFormatError::Checksum);
+        }
+        let alpha_min = f64_at(bytes, 16);
+        let cos_theta_min = f64_at(bytes, 24);
+        if !(alpha_min > 0.0 && alpha_min < 1.0 && cos_theta_min > 0.0 && cos_theta_min < 1.0) {
+            return Err(TableFormatError::Header("alpha_min / cos_theta_min out of (0, 1)"));
+        }
+        let mut records = Vec::with_capacity(n * n);
+        for k in 0..n * n {
+            let off = HEADER_LEN + k * RECORD_LEN;
+            let mut r = [0.0; 6];
+            for (q, x) in r.iter_mut().enumerate() {
+                *x = f64_at(bytes, off + 8 * q);
+            }
+            if !r.iter().all(|x| x.is_finite()) {
+                return Err(TableFormatError::Record(k));
+            }
+            records.push(r);
+        }
+        let (alphas, cosines) = nodes(n, alpha_min, cos_theta_min);
+        Ok(LtcTable {
+            n,
+            alpha_min,
+            cos_theta_min,
+            alphas,
+            cosines,
+            records,
+        })
+    }
+
+    /// Write the table to `path` (binary, docs/ltc.md).
+    pub fn save(&self, path: impl AsRef<Path>) -> io::Result<()> {
+        std::fs::write(path, self.to_bytes())
+    }
+
+    /// Read a table written by [`LtcTable::save`]; format errors are `InvalidData`.
+    pub fn load(path: impl AsRef<Path>) -> io::Result<Self> {
+        let bytes = std::fs::read(path)?;
+        Self::from_bytes(&bytes).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))
+    }
+}
+
+/// [`bracket`] for decreasing node values.
+#[inline]
+fn bracket_desc(vals: &[f64], u: f64, value: f64) -> (usize, f64) {
+    let n1 = vals.len() - 1;
+    let k0 = ((u * n1 as f64) as usize).min(n1 - 1);
+    let (v0, v1) = (vals[k0], vals[k0 + 1]);
+    let den = v0 - v1;
+    let t = if den != 0.0 {
+        ((v0 - value) / den).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (k0, t)
+}
