@@ -141,11 +141,11 @@ pub fn generate(seed: u64, index: u64) -> Case {
             n = rng.unit_vector();
             let up = Frame::from_z(n);
             let lc = up.to_world(DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-0.5, 3.0)));
-            objects.push(object("light", random_convex(&mut rng, lc, rng.range(0.2, 1.0)), true));
+            objects.push(object("light", { let size = rng.range(0.2, 1.0); random_convex(&mut rng, lc, size) }, true));
             for k in 0..rng.below(4) {
                 let t = rng.range(0.2, 0.8);
                 let c = lc * t + rng.unit_vector() * rng.range(0.0, 0.6);
-                let mesh = random_convex(&mut rng, c, rng.range(0.05, 0.4) * t);
+                let mesh = { let size = rng.range(0.05, 0.4) * t; random_convex(&mut rng, c, size) };
                 // Occluders may overlap each other but not pass through the light (000 assumes
                 // occluders between the point and the light; see docs/analytic-pipeline.md).
                 if !spheres_overlap(&objects[0].mesh, &mesh) {
@@ -177,12 +177,12 @@ pub fn generate(seed: u64, index: u64) -> Case {
             objects.push(object("light", cuboid(c, h), true));
             if rng.below(2) == 0 {
                 let oc = c * rng.range(0.3, 0.7) + DVec3::Z * rng.range(0.0, 0.3);
-                objects.push(object("occluder", random_convex(&mut rng, oc, rng.range(0.05, 0.3)), false));
+                objects.push(object("occluder", { let size = rng.range(0.05, 0.3); random_convex(&mut rng, oc, size) }, false));
             }
         }
         CaseKind::OccluderVerticesOnHorizon => {
             let lc = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(1.0, 3.0));
-            objects.push(object("light", random_convex(&mut rng, lc, rng.range(0.2, 0.8)), true));
+            objects.push(object("light", { let size = rng.range(0.2, 0.8); random_convex(&mut rng, lc, size) }, true));
             let h = DVec3::new(rng.range(0.05, 0.5), rng.range(0.05, 0.5), rng.range(0.05, 0.5));
             let d = DVec3::new(lc.x, lc.y, 0.0) * rng.range(0.2, 0.8);
             objects.push(object("occluder", cuboid(DVec3::new(d.x, d.y, h.z), h), false));
