@@ -106,7 +106,8 @@ pub fn shade<R: Recorder>(
             }
             rec.begin_light(l, None);
             silhouette(&light.poly, sp.position, &frame, Sidedness::FrontOnly, &mut scratch.light_sph, &mut scratch.silhouette);
-            total += shade_light_piece(scene, l, None, sp, &frame, &lobes, radiance, method, scratch, rec);
+            let piece = LightPiece { light: l, face: None };
+            total += shade_light_piece(scene, &piece, sp, &frame, &lobes, radiance, method, scratch, rec);
         } else {
             for f in 0..light.poly.face_count() {
                 if on_light && skip_own_face(light, f, sp) {
@@ -116,6 +117,9 @@ pub fn shade<R: Recorder>(
                 if plane.eval(sp.position) <= 0.0 {
                     continue; // lights emit from the front only
                 }
+                // What lies within rounding of the light face's plane is not in front of it.
+                let tol = COPLANAR * light.poly.radius;
+                let piece = LightPiece { light: l, face: Some((f, Plane { n: plane.n, d: plane.d + tol })) };
                 rec.begin_light(l, Some(f));
                 face_polygon(
                     &light.poly,
@@ -127,7 +131,7 @@ pub fn shade<R: Recorder>(
                     &mut scratch.light_sph,
                     &mut scratch.face_buf,
                 );
-                total += shade_light_piece(scene, l, Some(&plane), sp, &frame, &lobes, radiance, method, scratch, rec);
+                total += shade_light_piece(scene, &piece, sp, &frame, &lobes, radiance, method, scratch, rec);
             }
         }
     }
@@ -140,13 +144,18 @@ fn skip_own_face(obj: &PreparedObject, f: usize, sp: &ShadingPoint) -> bool {
     sp.face == Some(f as u32) || obj.poly.face_planes[f].eval(sp.position).abs() <= COPLANAR * obj.poly.radius
 }
 
-/// Lines 5–16 of Alg. 1 for one light polygon (a whole light's silhouette, or one light face
-/// whose plane is `piece_plane`), already in `scratch.light_sph`.
+/// What one pass of lines 5–16 integrates: a whole light (its silhouette), or one face of it
+/// with the face's plane offset by the coplanarity tolerance toward the shading point.
+struct LightPiece {
+    light: usize,
+    face: Option<(usize, Plane)>,
+}
+
+/// Lines 5–16 of Alg. 1 for one light piece, whose spherical polygon is in `scratch.light_sph`.
 #[allow(clippy::too_many_arguments)]
 fn shade_light_piece<R: Recorder>(
     scene: &PreparedScene,
-    l: usize,
-    piece_plane: Option<&Plane>,
+    piece: &LightPiece,
     sp: &ShadingPoint,
     frame: &Frame,
     lobes: &Lobes,
@@ -167,19 +176,19 @@ fn shade_light_piece<R: Recorder>(
     plane.project(&scratch.light_clip, &mut scratch.visible);
 
     // A light handled face by face hides parts of itself.
-    let self_occluding = piece_plane.is_some();
+    let self_occluding = piece.face.is_some();
     match method {
         Method::Unshadowed => {
             // No occluders, but a non-convex light still hides its own faces.
-            if let Some(pp) = piece_plane {
-                let light_id = scene.lights[l].0;
+            if self_occluding {
+                let light_id = scene.lights[piece.light].0;
                 if let Some(oi) = scene.occluders.iter().position(|&o| o == light_id) {
-                    subtract_occluder(scene, oi, Some(pp), sp, frame, method, scratch, rec);
+                    subtract_occluder(scene, oi, piece, sp, frame, method, scratch, rec);
                 }
             }
         }
         Method::Analytic | Method::PerTriangle => {
-            get_between(scene, l, sp, self_occluding, &mut scratch.kept);
+            get_between(scene, piece.light, sp, self_occluding, &mut scratch.kept);
             if R::ENABLED {
                 let kept: Vec<usize> = scratch.kept.iter().map(|&k| k as usize).collect();
                 rec.culled_occluders(&kept);
@@ -190,7 +199,7 @@ fn shade_light_piece<R: Recorder>(
                     break;
                 }
                 let oi = scratch.kept[k] as usize;
-                subtract_occluder(scene, oi, piece_plane, sp, frame, method, scratch, rec);
+                subtract_occluder(scene, oi, piece, sp, frame, method, scratch, rec);
             }
         }
     }
@@ -207,17 +216,24 @@ fn shade_light_piece<R: Recorder>(
 fn subtract_occluder<R: Recorder>(
     scene: &PreparedScene,
     oi: usize,
-    piece_plane: Option<&Plane>,
+    piece: &LightPiece,
     sp: &ShadingPoint,
     frame: &Frame,
     method: Method,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) {
-    let occ = &scene.objects[scene.occluders[oi] as usize];
-    // Depth against a planar light piece: keep only what lies in front of its plane.
-    let mut cut = piece_plane;
-    if let Some(pp) = piece_plane {
+    let occ_id = scene.occluders[oi];
+    let occ = &scene.objects[occ_id as usize];
+    let own_mesh = occ_id == scene.lights[piece.light].0;
+    // Depth against a light face: an occluder separated from the whole light by a plane is in
+    // front of it wherever they overlap (get_between checked the side of x); otherwise, and for
+    // the light's own mesh, keep only what lies in front of the light face's plane.
+    let mut cut = match piece.face {
+        Some((_, plane)) if own_mesh || scene.separation(piece.light, oi).is_none() => Some(plane),
+        _ => None,
+    };
+    if let Some(pp) = cut {
         let mut front = 0usize;
         let mut total = 0usize;
         for &i in &occ.poly.face_indices {
@@ -233,6 +249,8 @@ fn subtract_occluder<R: Recorder>(
             cut = None; // entirely in front: no cut needed
         }
     }
+    let cut = cut.as_ref();
+    let skip_face = if own_mesh { piece.face.map(|(f, _)| f) } else { None };
     let on_this = sp.object == Some(occ.object);
     if occ.simple && method != Method::PerTriangle && cut.is_none() {
         silhouette(&occ.poly, sp.position, frame, Sidedness::TwoSided, &mut scratch.occ_sph, &mut scratch.silhouette);
@@ -242,7 +260,7 @@ fn subtract_occluder<R: Recorder>(
             if scratch.visible.is_empty() {
                 break;
             }
-            if on_this && skip_own_face(occ, g, sp) {
+            if (on_this && skip_own_face(occ, g, sp)) || skip_face == Some(g) {
                 continue;
             }
             face_polygon(&occ.poly, g, sp.position, frame, Sidedness::TwoSided, cut, &mut scratch.occ_sph, &mut scratch.face_buf);
