@@ -416,13 +416,22 @@ fn random_convex_pairs_match_monte_carlo() {
         if s.iter().chain(&c).any(|v| v.z == 0.0) {
             horizon_cases += 1;
         }
-        let (sp, cp) = (planar(&[s.clone()]), planar(&[c.clone()]));
+        let (sp, cp) = (
+            planar(std::slice::from_ref(&s)),
+            planar(std::slice::from_ref(&c)),
+        );
         sd.subtract(&sp, &cp, &mut out, None);
         let ctx = format!("case {case}");
         assert!(sd.last_traversal_consistent(), "{ctx}");
         assert_eq!(sd.last_tolerance_scale(), 1.0, "{ctx}");
         assert_valid(&out, &ctx);
-        let mc = monte_carlo(&mut rng, &[s.clone()], &[vec![c.clone()]], &out, samples);
+        let mc = monte_carlo(
+            &mut rng,
+            std::slice::from_ref(&s),
+            &[vec![c.clone()]],
+            &out,
+            samples,
+        );
         assert_eq!(
             mc.mismatches, 0,
             "{ctx}: pointwise mismatches\n{s:?}\n{c:?}"
@@ -455,12 +464,17 @@ fn random_convex_pairs_match_convex_decomposition() {
     let mut worst = 0.0f64;
     for case in 0..20_000 {
         let (s, c) = random_pair(&mut rng);
-        sd.subtract(&planar(&[s.clone()]), &planar(&[c.clone()]), &mut out, None);
+        sd.subtract(
+            &planar(std::slice::from_ref(&s)),
+            &planar(std::slice::from_ref(&c)),
+            &mut out,
+            None,
+        );
         let ctx = format!("case {case}");
         assert!(sd.last_traversal_consistent(), "{ctx}");
         assert_eq!(sd.last_tolerance_scale(), 1.0, "{ctx}");
         assert_valid(&out, &ctx);
-        let expected = area_by_convex_decomposition(&[s.clone()], &c);
+        let expected = area_by_convex_decomposition(std::slice::from_ref(&s), &c);
         let err = (area(&out) - expected).abs();
         worst = worst.max(err);
         assert!(
@@ -599,10 +613,11 @@ fn perturbed_snapped_pair(rng: &mut Pcg32, delta: f64) -> (Vec<DVec3>, Vec<DVec3
                 };
             }
         }
-        if let Some(c) = convex_hull(&pts) {
-            if c.iter().all(|v| v.z >= 0.0) && loop_area(&c) > 1e-8 {
-                return (s, c);
-            }
+        if let Some(c) = convex_hull(&pts)
+            && c.iter().all(|v| v.z >= 0.0)
+            && loop_area(&c) > 1e-8
+        {
+            return (s, c);
         }
     }
 }
@@ -618,7 +633,10 @@ fn randomized_snapped_degeneracies() {
     let mut overlaps = 0;
     for case in 0..10_000 {
         let (s, c) = snapped_pair(&mut rng);
-        let (sp, cp) = (planar(&[s.clone()]), planar(&[c.clone()]));
+        let (sp, cp) = (
+            planar(std::slice::from_ref(&s)),
+            planar(std::slice::from_ref(&c)),
+        );
         sd.subtract(&sp, &cp, &mut out, Some(&mut steps));
         let ctx = format!("case {case}\n{s:?}\n{c:?}");
         assert!(steps.consistent, "{ctx}");
@@ -629,12 +647,18 @@ fn randomized_snapped_degeneracies() {
             kinds[i.kind as usize] += 1;
         }
         overlaps += steps.labels.iter().filter(|l| l.after.is_overlap()).count();
-        let expected = area_by_convex_decomposition(&[s.clone()], &c);
+        let expected = area_by_convex_decomposition(std::slice::from_ref(&s), &c);
         let err = (area(&out) - expected).abs();
         worst = worst.max(err);
         assert!(err < 1e-12, "{ctx}: area {} vs {expected}", area(&out));
         if case % 10 == 0 {
-            let mc = monte_carlo(&mut rng, &[s.clone()], &[vec![c.clone()]], &out, 8000);
+            let mc = monte_carlo(
+                &mut rng,
+                std::slice::from_ref(&s),
+                &[vec![c.clone()]],
+                &out,
+                8000,
+            );
             assert_eq!(mc.mismatches, 0, "{ctx}");
             assert!(mc.within_bound, "{ctx}: MC z = {}", mc.z);
             worst_z = worst_z.max(mc.z.abs());
@@ -660,7 +684,7 @@ fn successive_subtractions() {
         if s.len() < 3 {
             continue;
         }
-        let mut current = planar(&[s.clone()]);
+        let mut current = planar(std::slice::from_ref(&s));
         let mut next = PlanarPolygon::new();
         let mut clips = Vec::new();
         for k in 0..5 {
@@ -680,7 +704,7 @@ fn successive_subtractions() {
             if c.len() < 3 {
                 continue;
             }
-            sd.subtract(&current, &planar(&[c.clone()]), &mut next, None);
+            sd.subtract(&current, &planar(std::slice::from_ref(&c)), &mut next, None);
             let ctx = format!("case {case} step {k}");
             assert!(sd.last_traversal_consistent(), "{ctx}");
             assert_eq!(sd.last_tolerance_scale(), 1.0, "{ctx}");
@@ -693,7 +717,13 @@ fn successive_subtractions() {
             std::mem::swap(&mut current, &mut next);
         }
         let clip_loops: Vec<Vec<Vec<DVec3>>> = clips.iter().map(|c| vec![c.clone()]).collect();
-        let mc = monte_carlo(&mut rng, &[s.clone()], &clip_loops, &current, 20_000);
+        let mc = monte_carlo(
+            &mut rng,
+            std::slice::from_ref(&s),
+            &clip_loops,
+            &current,
+            20_000,
+        );
         assert_eq!(mc.mismatches, 0, "case {case}");
         assert!(mc.within_bound, "case {case}: MC z = {}", mc.z);
         worst_z = worst_z.max(mc.z.abs());
@@ -759,22 +789,31 @@ fn assert_unchanged(subject: &[DVec3], out: &PlanarPolygon) {
 fn shared_vertex() {
     let s = unit_square();
     // Occluder outside, sharing the corner (1, 1): nothing changes.
-    let out = check_against_decomposition(&[s.clone()], &[h(1.0, 1.0), h(2.0, 1.0), h(1.0, 2.0)]);
+    let out = check_against_decomposition(
+        std::slice::from_ref(&s),
+        &[h(1.0, 1.0), h(2.0, 1.0), h(1.0, 2.0)],
+    );
     assert_unchanged(&s, &out);
     // Occluder inside, sharing the corner (0, 0): a notch; the result touches itself there.
     let c = vec![h(0.0, 0.0), h(0.5, 0.2), h(0.2, 0.5)];
-    let out = check_against_decomposition(&[s.clone()], &c);
+    let out = check_against_decomposition(std::slice::from_ref(&s), &c);
     assert!((area(&out) - (loop_area(&s) - loop_area(&c))).abs() < 1e-15);
     // Occluder crossing the subject through the shared corner (0, 0).
-    check_against_decomposition(&[s.clone()], &[h(0.0, 0.0), h(2.0, 0.5), h(0.5, 2.0)]);
-    let out = check_against_decomposition(&[s.clone()], &[h(0.5, -1.0), h(0.0, 0.0), h(-1.0, 0.5)]);
+    check_against_decomposition(
+        std::slice::from_ref(&s),
+        &[h(0.0, 0.0), h(2.0, 0.5), h(0.5, 2.0)],
+    );
+    let out = check_against_decomposition(
+        std::slice::from_ref(&s),
+        &[h(0.5, -1.0), h(0.0, 0.0), h(-1.0, 0.5)],
+    );
     assert_unchanged(&s, &out);
 }
 
 #[test]
 fn shared_edge_clip_outside() {
     let s = unit_square();
-    let out = check_against_decomposition(&[s.clone()], &square(1.0, 0.0, 2.0, 1.0));
+    let out = check_against_decomposition(std::slice::from_ref(&s), &square(1.0, 0.0, 2.0, 1.0));
     assert_unchanged(&s, &out);
     // Shorter, longer and shifted shared stretches.
     for c in [
@@ -782,7 +821,7 @@ fn shared_edge_clip_outside() {
         square(1.0, -1.0, 2.0, 2.0),
         square(1.0, 0.5, 2.0, 3.0),
     ] {
-        let out = check_against_decomposition(&[s.clone()], &c);
+        let out = check_against_decomposition(std::slice::from_ref(&s), &c);
         assert_unchanged(&s, &out);
     }
 }
@@ -791,19 +830,19 @@ fn shared_edge_clip_outside() {
 fn overlapping_collinear_edges() {
     let s = square(0.0, 0.0, 2.0, 1.0);
     // Bottom edges overlap in the same direction over [1, 2]: result [0, 1] × [0, 1].
-    let out = check_against_decomposition(&[s.clone()], &square(1.0, 0.0, 3.0, 2.0));
+    let out = check_against_decomposition(std::slice::from_ref(&s), &square(1.0, 0.0, 3.0, 2.0));
     assert!((area(&out) - loop_area(&square(0.0, 0.0, 1.0, 1.0))).abs() < 1e-15);
     assert_eq!(out.loop_at(0).len(), 4);
     // A notch along the bottom edge: overlap strictly inside a subject edge.
-    let out = check_against_decomposition(&[s.clone()], &square(0.5, 0.0, 1.5, 0.5));
+    let out = check_against_decomposition(std::slice::from_ref(&s), &square(0.5, 0.0, 1.5, 0.5));
     assert_eq!(out.loop_count(), 1);
     assert_eq!(out.loop_at(0).len(), 8);
     // Both ends of the subject edge inside the occluder's edge.
-    check_against_decomposition(&[s.clone()], &square(-1.0, 0.0, 3.0, 0.5));
+    check_against_decomposition(std::slice::from_ref(&s), &square(-1.0, 0.0, 3.0, 0.5));
     // Occluder edge sharing one endpoint with the subject edge.
-    check_against_decomposition(&[s.clone()], &square(0.0, 0.0, 0.5, 0.5));
+    check_against_decomposition(std::slice::from_ref(&s), &square(0.0, 0.0, 0.5, 0.5));
     // Touching from below along a stretch of the bottom edge: unchanged, no extra vertices.
-    let out = check_against_decomposition(&[s.clone()], &square(0.5, -1.0, 1.5, 0.0));
+    let out = check_against_decomposition(std::slice::from_ref(&s), &square(0.5, -1.0, 1.5, 0.0));
     assert_unchanged(&s, &out);
 }
 
@@ -812,19 +851,30 @@ fn vertex_on_edge() {
     let s = unit_square();
     // Occluder vertex on the bottom edge, occluder inside: the notch touches the edge.
     let c = vec![h(0.5, 0.0), h(0.8, 0.5), h(0.2, 0.5)];
-    let out = check_against_decomposition(&[s.clone()], &c);
+    let out = check_against_decomposition(std::slice::from_ref(&s), &c);
     assert!((area(&out) - (loop_area(&s) - loop_area(&c))).abs() < 1e-15);
     // From outside: unchanged, and the touching point is not kept as a vertex.
-    let out = check_against_decomposition(&[s.clone()], &[h(0.5, 0.0), h(0.2, -0.5), h(0.8, -0.5)]);
+    let out = check_against_decomposition(
+        std::slice::from_ref(&s),
+        &[h(0.5, 0.0), h(0.2, -0.5), h(0.8, -0.5)],
+    );
     assert_unchanged(&s, &out);
     // Subject vertex on an occluder edge, occluder crossing the subject.
-    check_against_decomposition(&[s.clone()], &[h(0.5, -0.5), h(1.5, 0.5), h(0.5, 0.5)]);
+    check_against_decomposition(
+        std::slice::from_ref(&s),
+        &[h(0.5, -0.5), h(1.5, 0.5), h(0.5, 0.5)],
+    );
     // Subject vertex (1, 0) on the occluder edge (0.5, -0.5) → (2, 1), occluder outside.
-    let out = check_against_decomposition(&[s.clone()], &[h(0.5, -0.5), h(2.0, -0.5), h(2.0, 1.0)]);
+    let out = check_against_decomposition(
+        std::slice::from_ref(&s),
+        &[h(0.5, -0.5), h(2.0, -0.5), h(2.0, 1.0)],
+    );
     assert_unchanged(&s, &out);
     // Occluder edge through two opposite subject vertices: half the square remains.
-    let out =
-        check_against_decomposition(&[s.clone()], &[h(-0.5, -0.5), h(1.5, -0.5), h(1.5, 1.5)]);
+    let out = check_against_decomposition(
+        std::slice::from_ref(&s),
+        &[h(-0.5, -0.5), h(1.5, -0.5), h(1.5, 1.5)],
+    );
     assert_eq!(out.loop_at(0).len(), 3);
 }
 
@@ -832,7 +882,7 @@ fn vertex_on_edge() {
 fn occluder_inside_light_makes_a_hole() {
     let s = unit_square();
     let c = square(0.25, 0.25, 0.75, 0.5);
-    let out = check_against_decomposition(&[s.clone()], &c);
+    let out = check_against_decomposition(std::slice::from_ref(&s), &c);
     assert_eq!(out.loop_count(), 2);
     assert!((loop_area(out.loop_at(0)) - loop_area(&s)).abs() < 1e-15);
     assert!((loop_area(out.loop_at(1)) + loop_area(&c)).abs() < 1e-15);
@@ -853,7 +903,7 @@ fn occluder_covers_light_gives_empty() {
         square(0.0, 0.0, 2.0, 2.0),
         vec![h(0.0, 0.0), h(2.0, 0.0), h(0.0, 2.0)],
     ] {
-        let out = subtract(&planar(&[s.clone()]), &planar(&[c]));
+        let out = subtract(&planar(std::slice::from_ref(&s)), &planar(&[c]));
         assert!(out.is_empty(), "{out:?}");
     }
 }
@@ -861,7 +911,13 @@ fn occluder_covers_light_gives_empty() {
 #[test]
 fn identical_polygons_give_empty() {
     let s = unit_square();
-    assert!(subtract(&planar(&[s.clone()]), &planar(&[s.clone()])).is_empty());
+    assert!(
+        subtract(
+            &planar(std::slice::from_ref(&s)),
+            &planar(std::slice::from_ref(&s))
+        )
+        .is_empty()
+    );
     // Different starting vertex, extra collinear vertices on the occluder.
     let c = vec![
         h(1.0, 0.0),
@@ -871,10 +927,10 @@ fn identical_polygons_give_empty() {
         h(0.0, 0.0),
         h(0.5, 0.0),
     ];
-    assert!(subtract(&planar(&[s.clone()]), &planar(&[c])).is_empty());
+    assert!(subtract(&planar(std::slice::from_ref(&s)), &planar(&[c])).is_empty());
     // Horizon-clipped polygons.
     let l = vec![hz(10.0), hz(80.0), sph(80.0, 40.0), sph(10.0, 40.0)];
-    assert!(subtract(&planar(&[l.clone()]), &planar(&[l])).is_empty());
+    assert!(subtract(&planar(std::slice::from_ref(&l)), &planar(&[l])).is_empty());
     // A subject with a hole minus the same polygon.
     let holed = vec![
         unit_square(),
@@ -895,7 +951,7 @@ fn touching_at_a_vertex_from_outside() {
         vec![h(1.0, 0.0), h(2.0, -1.0), h(2.0, 0.5)],
         vec![h(0.0, 0.0), h(-1.0, -0.2), h(-0.2, -1.0)],
     ] {
-        let out = check_against_decomposition(&[s.clone()], &c);
+        let out = check_against_decomposition(std::slice::from_ref(&s), &c);
         assert_unchanged(&s, &out);
     }
 }
@@ -905,7 +961,7 @@ fn horizon_edges_overlap() {
     // Light and occluder both cut by the horizon, sharing its stretch 30°–60°.
     let l = vec![hz(0.0), hz(60.0), sph(60.0, 30.0), sph(0.0, 30.0)];
     let c = vec![hz(30.0), hz(90.0), sph(90.0, 40.0), sph(30.0, 40.0)];
-    let out = check_against_decomposition(&[l.clone()], &c);
+    let out = check_against_decomposition(std::slice::from_ref(&l), &c);
     assert_eq!(out.loop_count(), 1);
     // The horizon stretch 0°–30° survives with exact w = 0, the shared one does not.
     let on_horizon: Vec<DVec3> = out
@@ -918,19 +974,25 @@ fn horizon_edges_overlap() {
     assert!(on_horizon.contains(&hz(0.0)) && on_horizon.contains(&hz(30.0)));
     // Identical horizon stretch, occluder lower: a band remains above it.
     let c = vec![hz(0.0), hz(60.0), sph(60.0, 10.0), sph(0.0, 10.0)];
-    let out = check_against_decomposition(&[l.clone()], &c);
+    let out = check_against_decomposition(std::slice::from_ref(&l), &c);
     assert!(out.vertices().iter().all(|v| v.z > 0.0));
     // Occluder's horizon stretch inside the light's, opposite shapes.
-    check_against_decomposition(&[l.clone()], &[hz(20.0), hz(40.0), sph(30.0, 50.0)]);
+    check_against_decomposition(
+        std::slice::from_ref(&l),
+        &[hz(20.0), hz(40.0), sph(30.0, 50.0)],
+    );
     // Occluder's horizon stretch covering the light's.
     let out = check_against_decomposition(
-        &[l.clone()],
+        std::slice::from_ref(&l),
         &[hz(-10.0), hz(70.0), sph(70.0, 80.0), sph(-10.0, 80.0)],
     );
     assert!(out.is_empty());
     // Light is a lune around the zenith's side with a long horizon edge, occluder touching it
     // from above only at a horizon vertex.
-    let out = check_against_decomposition(&[l.clone()], &[hz(60.0), hz(100.0), sph(80.0, 30.0)]);
+    let out = check_against_decomposition(
+        std::slice::from_ref(&l),
+        &[hz(60.0), hz(100.0), sph(80.0, 30.0)],
+    );
     assert_unchanged(&l, &out);
 }
 
@@ -939,15 +1001,24 @@ fn occluder_with_vertex_exactly_on_horizon() {
     let l = vec![hz(0.0), hz(60.0), sph(60.0, 30.0), sph(0.0, 30.0)];
     // Occluder vertex on the light's horizon edge, occluder inside the light.
     let c = vec![hz(30.0), sph(40.0, 20.0), sph(20.0, 20.0)];
-    let out = check_against_decomposition(&[l.clone()], &c);
+    let out = check_against_decomposition(std::slice::from_ref(&l), &c);
     assert!((area(&out) - (loop_area(&l) - loop_area(&c))).abs() < 1e-15);
     // Occluder vertex on the horizon outside the light's horizon edge, crossing the light.
-    check_against_decomposition(&[l.clone()], &[hz(70.0), sph(20.0, 40.0), sph(50.0, 10.0)]);
+    check_against_decomposition(
+        std::slice::from_ref(&l),
+        &[hz(70.0), sph(20.0, 40.0), sph(50.0, 10.0)],
+    );
     // Occluder vertex on the horizon at a light vertex.
-    check_against_decomposition(&[l.clone()], &[hz(60.0), sph(80.0, 5.0), sph(50.0, 20.0)]);
+    check_against_decomposition(
+        std::slice::from_ref(&l),
+        &[hz(60.0), sph(80.0, 5.0), sph(50.0, 20.0)],
+    );
     // A light that is not clipped, occluder touching the horizon far away.
     let l2 = vec![sph(0.0, 20.0), sph(60.0, 20.0), sph(30.0, 60.0)];
-    let out = check_against_decomposition(&[l2.clone()], &[hz(120.0), sph(100.0, 30.0), hz(90.0)]);
+    let out = check_against_decomposition(
+        std::slice::from_ref(&l2),
+        &[hz(120.0), sph(100.0, 30.0), hz(90.0)],
+    );
     assert_unchanged(&l2, &out);
     check_against_decomposition(&[l2], &[hz(20.0), hz(40.0), sph(30.0, 30.0)]);
 }
@@ -966,7 +1037,10 @@ fn tiny_occluder() {
                 .normalize()
         })
         .collect();
-    let out = subtract(&planar(&[s.clone()]), &planar(&[tiny.clone()]));
+    let out = subtract(
+        &planar(std::slice::from_ref(&s)),
+        &planar(std::slice::from_ref(&tiny)),
+    );
     assert_valid(&out, "tiny hole");
     assert_eq!(out.loop_count(), 2);
     let mut hole = SphericalPolygon::new();
@@ -985,7 +1059,7 @@ fn tiny_occluder() {
                 .normalize()
         })
         .collect();
-    let out = check_against_decomposition(&[s.clone()], &tiny);
+    let out = check_against_decomposition(std::slice::from_ref(&s), &tiny);
     assert_eq!(out.loop_count(), 1);
     assert!(out.loop_at(0).len() > 4);
     for v in out.loop_at(0) {
@@ -1014,7 +1088,7 @@ fn steps_record_the_three_phases() {
     let mut out = PlanarPolygon::new();
     let mut steps = GreinerHormannSteps::default();
     sd.subtract(
-        &planar(&[s.clone()]),
+        &planar(std::slice::from_ref(&s)),
         &planar(&[c]),
         &mut out,
         Some(&mut steps),
@@ -1118,12 +1192,15 @@ fn light_covering_the_whole_hemisphere() {
     let dome = vec![hz(0.0), hz(90.0), hz(180.0), hz(270.0)];
     assert!((loop_area(&dome) - TAU).abs() < 1e-12);
     let c = vec![sph(0.0, 40.0), sph(120.0, 40.0), sph(240.0, 40.0)];
-    let out = subtract(&planar(&[dome.clone()]), &planar(&[c.clone()]));
+    let out = subtract(
+        &planar(std::slice::from_ref(&dome)),
+        &planar(std::slice::from_ref(&c)),
+    );
     assert_eq!(out.loop_count(), 2);
     assert!((area(&out) - (TAU - loop_area(&c))).abs() < 1e-12);
     // Minus an occluder cut by the horizon.
     let c = vec![hz(10.0), hz(50.0), sph(30.0, 30.0)];
-    let out = subtract(&planar(&[dome]), &planar(&[c.clone()]));
+    let out = subtract(&planar(&[dome]), &planar(std::slice::from_ref(&c)));
     assert_valid(&out, "dome");
     assert!((area(&out) - (TAU - loop_area(&c))).abs() < 1e-12);
     let _ = PI;
@@ -1156,7 +1233,12 @@ fn near_degenerate_perturbations() {
     for case in 0..cases {
         let delta = 10f64.powf(rng.range(-16.0, -9.0));
         let (s, c) = perturbed_snapped_pair(&mut rng, delta);
-        sd.subtract(&planar(&[s.clone()]), &planar(&[c.clone()]), &mut out, None);
+        sd.subtract(
+            &planar(std::slice::from_ref(&s)),
+            &planar(std::slice::from_ref(&c)),
+            &mut out,
+            None,
+        );
         let ctx = format!("case {case} δ = {delta:e}\n{s:?}\n{c:?}");
         assert!(sd.last_traversal_consistent(), "{ctx}");
         assert_valid(&out, &ctx);
@@ -1165,7 +1247,7 @@ fn near_degenerate_perturbations() {
             retries += 1;
         }
         let bound = scale * (EPS_LINE + EPS_POINT) * (perimeter(&s) + perimeter(&c)) + 1e-14;
-        let expected = area_by_convex_decomposition(&[s.clone()], &c);
+        let expected = area_by_convex_decomposition(std::slice::from_ref(&s), &c);
         let err = (area(&out) - expected).abs();
         worst_ratio = worst_ratio.max(err / bound);
         assert!(
@@ -1174,7 +1256,13 @@ fn near_degenerate_perturbations() {
             area(&out)
         );
         if case % 20 == 0 {
-            let mc = monte_carlo(&mut rng, &[s.clone()], &[vec![c.clone()]], &out, 4000);
+            let mc = monte_carlo(
+                &mut rng,
+                std::slice::from_ref(&s),
+                &[vec![c.clone()]],
+                &out,
+                4000,
+            );
             assert_eq!(mc.mismatches, 0, "{ctx}");
         }
     }
@@ -1203,7 +1291,7 @@ fn fan_of_triangles_touching_at_a_point() {
         let mut sd = SetDifference::new();
         for &k in &order {
             let c = tri(k);
-            sd.subtract(&current, &planar(&[c.clone()]), &mut next, None);
+            sd.subtract(&current, &planar(std::slice::from_ref(&c)), &mut next, None);
             assert!(sd.last_traversal_consistent());
             assert_valid(&next, "fan");
             let expected = area_by_convex_decomposition(&loops_of(&current), &c);
@@ -1262,7 +1350,12 @@ fn near_degeneracy_that_needs_larger_tolerances() {
     ];
     let mut sd = SetDifference::new();
     let mut out = PlanarPolygon::new();
-    sd.subtract(&planar(&[s.clone()]), &planar(&[c.clone()]), &mut out, None);
+    sd.subtract(
+        &planar(std::slice::from_ref(&s)),
+        &planar(std::slice::from_ref(&c)),
+        &mut out,
+        None,
+    );
     assert!(sd.last_traversal_consistent());
     assert!(sd.last_tolerance_scale() > 1.0);
     assert_valid(&out, "retry");
@@ -1274,6 +1367,6 @@ fn near_degeneracy_that_needs_larger_tolerances() {
     let bound =
         sd.last_tolerance_scale() * (EPS_LINE + EPS_POINT) * (perimeter(&s) + perimeter(&c))
             + 1e-14;
-    let expected = area_by_convex_decomposition(&[s.clone()], &c);
+    let expected = area_by_convex_decomposition(std::slice::from_ref(&s), &c);
     assert!((area(&out) - expected).abs() <= bound);
 }

@@ -187,6 +187,9 @@ pub struct SetDifference {
     /// subject edge i (see `intersections.rs`).
     contact_sc: Vec<u8>,
     contact_cs: Vec<u8>,
+    /// Indices into `side_sc` / `side_cs` of the pairs close enough for a contact.
+    near_sc: Vec<u32>,
+    near_cs: Vec<u32>,
     insertions: Vec<Insertion>,
     insertion_nodes: Vec<u32>,
     /// First live node of each cluster, indexed by the union–find representative.
@@ -266,6 +269,8 @@ impl SetDifference {
             + self.side_cs.capacity()
             + self.contact_sc.capacity()
             + self.contact_cs.capacity()
+            + self.near_sc.capacity()
+            + self.near_cs.capacity()
             + self.insertions.capacity()
             + self.insertion_nodes.capacity()
             + self.cluster_rep.capacity()
@@ -288,7 +293,14 @@ impl SetDifference {
             let first = self.nodes.len();
             let slot = self.loops.len() as u32;
             for (k, &v) in lp.iter().enumerate() {
-                let dir = v.normalize_or_zero();
+                // The pipeline's points are unit vectors; a length within 1e-14 of one changes
+                // the tolerances by a relative 1e-14 and needs no normalisation.
+                let len2 = v.length_squared();
+                let dir = if (len2 - 1.0).abs() < 1e-14 {
+                    v
+                } else {
+                    v.normalize_or_zero()
+                };
                 if !dir.is_finite() || dir == DVec3::ZERO {
                     continue;
                 }
