@@ -7,15 +7,21 @@
 //! 1. **V** (vertex on vertex): a subject vertex and a clip vertex closer than `EPS_POINT`.
 //! 2. **T** (vertex on edge): a vertex within `EPS_LINE` of the other operand's edge line,
 //!    strictly between its endpoints and coinciding with neither; a copy is inserted into the
-//!    edge.
+//!    edge. A vertex on two consecutive edges is a V contact with their common vertex instead
+//!    (the corner rule).
 //! 3. **X** (crossing): edges without any V or T contact whose endpoints lie strictly on
 //!    opposite sides of each other's lines; the crossing point is inserted into both.
 //!
 //! Collinear overlapping edges need no case of their own: the ends of an overlap are V or T
 //! contacts, and phase 2 recognises the overlap as a fragment whose two end clusters are also
-//! joined by an edge of the other operand. Deciding contacts per vertex (not per pair of edges)
-//! makes the two edges meeting at a vertex agree on it, and a pair of edges with a contact never
-//! also reports a crossing, so every meeting point is found exactly once.
+//! joined by a fragment of the other operand. Deciding contacts per vertex (not per pair of
+//! edges) makes the two edges meeting at a vertex agree on it, and a pair of edges with a
+//! contact never also reports a crossing, so every meeting point is found once.
+//!
+//! `finish_clusters` then removes detours of one operand through a cluster (sub-tolerance
+//! features folded onto one point), gives the nodes of each cluster one position and gives
+//! fragments whose ends were moved off their edge the normal of their chord. See
+//! `docs/set-difference.md` for the reasons.
 
 use super::predicates::{
     arc_coordinates, arc_parameter, coincident, on_line, opposite, unit_normal,
