@@ -1396,3 +1396,72 @@ fn near_degeneracy_that_needs_larger_tolerances() {
     let expected = area_by_convex_decomposition(std::slice::from_ref(&s), &c);
     assert!((area(&out) - expected).abs() <= bound);
 }
+
+/// Non-convex clips with several loops and holes (the later silhouette issue): the clip is
+/// C₁ − C₂ computed by the algorithm itself, and the result is checked point by point against
+/// membership in S ∧ ¬(C₁ ∧ ¬C₂) taken from S, C₁ and C₂ directly, so a wrong clip would show.
+#[test]
+fn nonconvex_clips_with_holes() {
+    let mut rng = Pcg32::new(12, 21);
+    let mut sd = SetDifference::new();
+    let (mut holed, mut nonconvex) = (0, 0);
+    for case in 0..600 {
+        let (s, c1) = random_pair(&mut rng);
+        let centre = c1.iter().copied().sum::<DVec3>().normalize();
+        let r = rng.range(0.02, 0.4);
+        let centre2 = nearby(&mut rng, centre, 0.3);
+        let c2 = horizon_clip(&random_convex(&mut rng, centre2, r));
+        if c2.len() < 3 {
+            continue;
+        }
+        let clip = subtract(
+            &planar(std::slice::from_ref(&c1)),
+            &planar(std::slice::from_ref(&c2)),
+        );
+        if clip.is_empty() {
+            continue;
+        }
+        if clip.loop_count() > 1 {
+            holed += 1;
+        } else {
+            nonconvex += 1;
+        }
+        let mut out = PlanarPolygon::new();
+        sd.subtract(&planar(std::slice::from_ref(&s)), &clip, &mut out, None);
+        let ctx = format!("case {case}");
+        assert!(sd.last_traversal_consistent(), "{ctx}");
+        assert_eq!(sd.last_tolerance_scale(), 1.0, "{ctx}");
+        assert_valid(&out, &ctx);
+        // Membership oracle: in S, and not (in C1 and not in C2).
+        let out_loops = loops_of(&out);
+        let (cap_c, cap_cos) = cap(std::slice::from_ref(&s));
+        let (mut hits, samples) = (0usize, 6000usize);
+        for _ in 0..samples {
+            let z = rng.next_f64();
+            let rr = (1.0 - z * z).sqrt();
+            let phi = TAU * rng.next_f64();
+            let p = DVec3::new(rr * phi.cos(), rr * phi.sin(), z);
+            if p.dot(cap_c) < cap_cos {
+                continue;
+            }
+            let (ls, l1, l2) = (
+                std::slice::from_ref(&s),
+                std::slice::from_ref(&c1),
+                std::slice::from_ref(&c2),
+            );
+            let expected = inside(ls, p) && !(inside(l1, p) && !inside(l2, p));
+            hits += expected as usize;
+            if inside(&out_loops, p) != expected {
+                let near = [ls, l1, l2, &out_loops[..]]
+                    .iter()
+                    .map(|l| distance_to_boundary(l, p))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(near < 1e-9, "{ctx}: mismatch at {p:?}");
+            }
+        }
+        let p0 = (area(&out) / TAU).clamp(0.0, 1.0);
+        assert!(within_binomial_bound(samples, hits, p0), "{ctx}: area");
+    }
+    eprintln!("non-convex clips: {holed} with several loops, {nonconvex} single loops");
+    assert!(holed > 50 && nonconvex > 50);
+}
