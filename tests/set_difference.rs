@@ -1449,7 +1449,8 @@ fn nonconvex_clips_with_holes() {
                 std::slice::from_ref(&c1),
                 std::slice::from_ref(&c2),
             );
-            let expected = inside(ls, p) && !(inside(l1, p) && !inside(l2, p));
+            let in_clip = inside(l1, p) && !inside(l2, p);
+            let expected = inside(ls, p) && !in_clip;
             hits += expected as usize;
             if inside(&out_loops, p) != expected {
                 let near = [ls, l1, l2, &out_loops[..]]
