@@ -7,15 +7,21 @@
 //! 1. **V** (vertex on vertex): a subject vertex and a clip vertex closer than `EPS_POINT`.
 //! 2. **T** (vertex on edge): a vertex within `EPS_LINE` of the other operand's edge line,
 //!    strictly between its endpoints and coinciding with neither; a copy is inserted into the
-//!    edge.
+//!    edge. A vertex on two consecutive edges is a V contact with their common vertex instead
+//!    (the corner rule).
 //! 3. **X** (crossing): edges without any V or T contact whose endpoints lie strictly on
 //!    opposite sides of each other's lines; the crossing point is inserted into both.
 //!
 //! Collinear overlapping edges need no case of their own: the ends of an overlap are V or T
 //! contacts, and phase 2 recognises the overlap as a fragment whose two end clusters are also
-//! joined by an edge of the other operand. Deciding contacts per vertex (not per pair of edges)
-//! makes the two edges meeting at a vertex agree on it, and a pair of edges with a contact never
-//! also reports a crossing, so every meeting point is found exactly once.
+//! joined by a fragment of the other operand. Deciding contacts per vertex (not per pair of
+//! edges) makes the two edges meeting at a vertex agree on it, and a pair of edges with a
+//! contact never also reports a crossing, so every meeting point is found once.
+//!
+//! `finish_clusters` then removes detours of one operand through a cluster (sub-tolerance
+//! features folded onto one point), gives the nodes of each cluster one position and gives
+//! fragments whose ends were moved off their edge the normal of their chord. See
+//! `docs/set-difference.md` for the reasons.
 
 use super::predicates::{
     arc_coordinates, arc_parameter, coincident, on_line, opposite, unit_normal,
@@ -67,106 +73,121 @@ impl SetDifference {
         }
         self.contact_sc.resize(ns * nc, 0);
         self.contact_cs.resize(nc * ns, 0);
+        // Signed distances of every vertex to every line of the other operand, remembering the
+        // few pairs near enough for a contact (none in the common case): the V and T tests
+        // below only visit those.
+        self.near_sc.clear();
+        self.near_cs.clear();
+        let near = self.tol.line.max(self.tol.point);
         for i in 0..ns {
             let p = self.nodes[i].dir;
             for j in 0..nc {
-                self.side_sc.push(p.dot(self.nodes[ns + j].n_out));
+                let side = p.dot(self.nodes[ns + j].n_out);
+                if side.abs() < near {
+                    self.near_sc.push((i * nc + j) as u32);
+                }
+                self.side_sc.push(side);
             }
         }
         for j in 0..nc {
             let p = self.nodes[ns + j].dir;
             for i in 0..ns {
-                self.side_cs.push(p.dot(self.nodes[i].n_out));
+                let side = p.dot(self.nodes[i].n_out);
+                if side.abs() < near {
+                    self.near_cs.push((j * ns + i) as u32);
+                }
+                self.side_cs.push(side);
             }
         }
 
         // 1. Vertex on vertex. A vertex within EPS_POINT of clip vertex j is within EPS_POINT
-        // of the line of clip edge j, which starts at j: a cheap filter.
-        for i in 0..ns {
-            for j in 0..nc {
-                if self.side_sc[i * nc + j].abs() <= self.tol.point
-                    && coincident(self.nodes[i].dir, self.nodes[ns + j].dir, self.tol.point)
-                {
-                    self.contact_sc[i * nc + j] |= VERTEX;
-                    self.union(i as u32, (ns + j) as u32);
-                    self.record_vertex_on_vertex(steps.as_deref_mut(), i, ns + j);
-                }
+        // of the line of clip edge j, which starts at j.
+        for k in 0..self.near_sc.len() {
+            let idx = self.near_sc[k] as usize;
+            let (i, j) = (idx / nc, idx % nc);
+            if self.side_sc[idx].abs() <= self.tol.point
+                && coincident(self.nodes[i].dir, self.nodes[ns + j].dir, self.tol.point)
+            {
+                self.contact_sc[idx] |= VERTEX;
+                self.union(i as u32, (ns + j) as u32);
+                self.record_vertex_on_vertex(steps.as_deref_mut(), i, ns + j);
             }
         }
 
         // 2. Vertices inside edges of the other operand (flags only, insertions below).
-        for i in 0..ns {
-            for j in 0..nc {
-                let c = ns + j;
-                let d = self.nodes[c].orig_next as usize;
-                if on_line(self.side_sc[i * nc + j], self.tol.line)
-                    && (self.contact_sc[i * nc + j] | self.contact_sc[i * nc + d - ns]) & VERTEX
-                        == 0
-                    && self.strictly_inside_arc(c, d, i)
-                {
-                    self.contact_sc[i * nc + j] |= ON_EDGE;
-                }
-            }
-        }
-        for j in 0..nc {
+        let mut any_on_edge = false;
+        for k in 0..self.near_sc.len() {
+            let idx = self.near_sc[k] as usize;
+            let (i, j) = (idx / nc, idx % nc);
             let c = ns + j;
-            for i in 0..ns {
-                let b = self.nodes[i].orig_next as usize;
-                if on_line(self.side_cs[j * ns + i], self.tol.line)
-                    && (self.contact_sc[i * nc + j] | self.contact_sc[b * nc + j]) & VERTEX == 0
-                    && self.strictly_inside_arc(i, b, c)
-                {
-                    self.contact_cs[j * ns + i] |= ON_EDGE;
-                }
+            let d = self.nodes[c].orig_next as usize;
+            if on_line(self.side_sc[idx], self.tol.line)
+                && (self.contact_sc[idx] | self.contact_sc[i * nc + d - ns]) & VERTEX == 0
+                && self.strictly_inside_arc(c, d, i)
+            {
+                self.contact_sc[idx] |= ON_EDGE;
+                any_on_edge = true;
+            }
+        }
+        for k in 0..self.near_cs.len() {
+            let idx = self.near_cs[k] as usize;
+            let (j, i) = (idx / ns, idx % ns);
+            let c = ns + j;
+            let b = self.nodes[i].orig_next as usize;
+            if on_line(self.side_cs[idx], self.tol.line)
+                && (self.contact_sc[i * nc + j] | self.contact_sc[b * nc + j]) & VERTEX == 0
+                && self.strictly_inside_arc(i, b, c)
+            {
+                self.contact_cs[idx] |= ON_EDGE;
+                any_on_edge = true;
             }
         }
 
-        // 2'. A vertex within the line tolerance of two consecutive edges of the other operand,
-        // inside both, lies at their common vertex (farther than EPS_POINT from it only because
-        // the corner is nearly straight or the point sits in the tolerance band): a V contact.
-        // Two T contacts would put two nodes of the other operand into one cluster with the
-        // corner vertex in between.
-        for i in 0..ns {
-            for k in 0..nc {
-                let j = self.orig_prev(ns + k) - ns;
-                if self.contact_sc[i * nc + j] & self.contact_sc[i * nc + k] & ON_EDGE != 0 {
-                    self.contact_sc[i * nc + j] &= !ON_EDGE;
-                    self.contact_sc[i * nc + k] &= !ON_EDGE;
-                    self.contact_sc[i * nc + k] |= VERTEX;
-                    self.union(i as u32, (ns + k) as u32);
-                    self.record_vertex_on_vertex(steps.as_deref_mut(), i, ns + k);
+        if any_on_edge {
+            // 2'. A vertex within the line tolerance of two consecutive edges of the other
+            // operand, inside both, lies at their common vertex (farther than EPS_POINT from
+            // it only because the corner is nearly straight or the point sits in the tolerance
+            // band): a V contact. Two T contacts would put two nodes of the other operand into
+            // one cluster with the corner vertex in between.
+            for k in 0..self.near_sc.len() {
+                let idx = self.near_sc[k] as usize;
+                let (i, j) = (idx / nc, idx % nc);
+                let corner = self.nodes[ns + j].orig_next as usize - ns;
+                let next = i * nc + corner;
+                if self.contact_sc[idx] & self.contact_sc[next] & ON_EDGE != 0 {
+                    self.contact_sc[idx] &= !ON_EDGE;
+                    self.contact_sc[next] &= !ON_EDGE;
+                    self.contact_sc[next] |= VERTEX;
+                    self.union(i as u32, (ns + corner) as u32);
+                    self.record_vertex_on_vertex(steps.as_deref_mut(), i, ns + corner);
                 }
             }
-        }
-        for j in 0..nc {
-            for b in 0..ns {
-                let a = self.orig_prev(b);
-                if self.contact_cs[j * ns + a] & self.contact_cs[j * ns + b] & ON_EDGE != 0 {
-                    self.contact_cs[j * ns + a] &= !ON_EDGE;
-                    self.contact_cs[j * ns + b] &= !ON_EDGE;
-                    self.contact_sc[b * nc + j] |= VERTEX;
-                    self.union(b as u32, (ns + j) as u32);
-                    self.record_vertex_on_vertex(steps.as_deref_mut(), b, ns + j);
+            for k in 0..self.near_cs.len() {
+                let idx = self.near_cs[k] as usize;
+                let (j, a) = (idx / ns, idx % ns);
+                let corner = self.nodes[a].orig_next as usize;
+                let next = j * ns + corner;
+                if self.contact_cs[idx] & self.contact_cs[next] & ON_EDGE != 0 {
+                    self.contact_cs[idx] &= !ON_EDGE;
+                    self.contact_cs[next] &= !ON_EDGE;
+                    self.contact_sc[corner * nc + j] |= VERTEX;
+                    self.union(corner as u32, (ns + j) as u32);
+                    self.record_vertex_on_vertex(steps.as_deref_mut(), corner, ns + j);
                 }
             }
-        }
 
-        // 2''. Insert the T contacts: a copy of the vertex goes into the edge.
-        for i in 0..ns {
-            for j in 0..nc {
-                if self.contact_sc[i * nc + j] & ON_EDGE == 0 {
+            // 2''. Insert the T contacts: a copy of the vertex goes into the edge.
+            for k in 0..self.near_sc.len() {
+                let idx = self.near_sc[k] as usize;
+                if self.contact_sc[idx] & ON_EDGE == 0 {
                     continue;
                 }
+                let (i, j) = (idx / nc, idx % nc);
                 let c = ns + j;
                 let d = self.nodes[c].orig_next as usize;
                 let p = self.nodes[i].dir;
-                let t = arc_parameter(
-                    self.nodes[c].dir,
-                    self.nodes[d].dir,
-                    self.nodes[c].n_out,
-                    p,
-                    0.5,
-                );
+                let (cn, dn) = (&self.nodes[c], &self.nodes[d]);
+                let t = arc_parameter(cn.dir, dn.dir, cn.n_out, p, 0.5);
                 self.push_insertion(c as u32, t, p, i as u32, false);
                 if let Some(s) = steps.as_deref_mut() {
                     s.intersections.push(IntersectionRecord {
@@ -177,22 +198,17 @@ impl SetDifference {
                     });
                 }
             }
-        }
-        for j in 0..nc {
-            let c = ns + j;
-            for i in 0..ns {
-                if self.contact_cs[j * ns + i] & ON_EDGE == 0 {
+            for k in 0..self.near_cs.len() {
+                let idx = self.near_cs[k] as usize;
+                if self.contact_cs[idx] & ON_EDGE == 0 {
                     continue;
                 }
+                let (j, i) = (idx / ns, idx % ns);
+                let c = ns + j;
                 let b = self.nodes[i].orig_next as usize;
                 let p = self.nodes[c].dir;
-                let t = arc_parameter(
-                    self.nodes[i].dir,
-                    self.nodes[b].dir,
-                    self.nodes[i].n_out,
-                    p,
-                    0.5,
-                );
+                let (an, bn) = (&self.nodes[i], &self.nodes[b]);
+                let t = arc_parameter(an.dir, bn.dir, an.n_out, p, 0.5);
                 self.push_insertion(i as u32, t, p, c as u32, false);
                 if let Some(s) = steps.as_deref_mut() {
                     s.intersections.push(IntersectionRecord {
@@ -259,8 +275,13 @@ impl SetDifference {
             }
         }
 
-        self.insert_nodes();
-        self.finish_clusters();
+        // Without any contact there are no clusters to finish (the common disjoint, nested
+        // and covering cases).
+        let any_vertex = self.contact_sc.iter().any(|&f| f & VERTEX != 0);
+        if any_vertex || !self.insertions.is_empty() {
+            self.insert_nodes();
+            self.finish_clusters();
+        }
     }
 
     /// The node of cluster `c` (at x) that ends a short detour starting after node n (see
@@ -337,16 +358,6 @@ impl SetDifference {
         let an = &self.nodes[a];
         let (u, v) = arc_coordinates(an.dir, self.nodes[b].dir, an.n_out, self.nodes[p].dir);
         u > 0.0 && v > 0.0
-    }
-
-    /// Predecessor of an original node in its input loop.
-    fn orig_prev(&self, n: usize) -> usize {
-        let lp = self.loops[self.nodes[n].loop_slot as usize];
-        if n == lp.first as usize {
-            (lp.first + lp.len - 1) as usize
-        } else {
-            n - 1
-        }
     }
 
     fn record_vertex_on_vertex(

@@ -5,22 +5,23 @@
 //! and Popa (2019), in three phases that are kept apart so that a debugger can show them one by
 //! one ([`GreinerHormannSteps`]):
 //!
-//! 1. [`find_intersections`](SetDifference::find_intersections) (`intersections.rs`): every
-//!    point where the boundaries meet becomes an intersection vertex in both vertex lists —
-//!    proper crossings, vertices on edges (T), vertices on vertices (V); collinear overlaps are
-//!    the runs between such vertices.
-//! 2. [`label_intersections`](SetDifference::label_intersections) and
-//!    [`mark_entry_exit`](SetDifference::mark_entry_exit) (`labels.rs`): the side of every
-//!    boundary fragment relative to the other polygon — inside, outside, or overlapping in the
-//!    same or the opposite direction — from which the crossing / bouncing / delayed labels and
-//!    the entry / exit flags follow; loops without intersections are classified by a
+//! 1. `find_intersections` (`intersections.rs`): every point where the boundaries meet becomes
+//!    an intersection vertex in both vertex lists — proper crossings, vertices on edges (T),
+//!    vertices on vertices (V); collinear overlaps are the runs between such vertices.
+//! 2. `label_intersections` and `mark_entry_exit` (`labels.rs`): the side of every boundary
+//!    fragment relative to the other polygon — inside, outside, or overlapping in the same or
+//!    the opposite direction — from which the crossing / bouncing / delayed labels and the
+//!    entry / exit flags follow; loops without intersections are classified by a
 //!    winding-number test.
-//! 3. [`traverse`](SetDifference::traverse) (`traversal.rs`): the result's loops, walking the
-//!    subject forwards outside the clip and the clip backwards inside the subject, switching
-//!    at crossings.
+//! 3. `traverse` (`traversal.rs`): the result's loops, walking the subject forwards outside the
+//!    clip and the clip backwards inside the subject, switching at crossings.
 //!
-//! The algorithm, its predicates, the degenerate cases and the tolerances are described in
-//! `docs/set-difference.md`. All scratch storage lives in [`SetDifference`] and is reused:
+//! Predicates are determinants of homogeneous points (`predicates.rs`), never divided by w, with
+//! absolute tolerances on normalised determinants ([`EPS_LINE`], [`EPS_POINT`]). When decisions
+//! near features at the tolerance scale contradict each other (detected by checking both ends
+//! of every fragment, and by the traversal), all phases are rerun with larger tolerances
+//! ([`TOLERANCE_SCALES`]). The algorithm, the degenerate cases and the tolerances are described
+//! in `docs/set-difference.md`. All scratch storage lives in [`SetDifference`] and is reused:
 //! once its vectors have grown, [`SetDifference::subtract`] does not allocate (unless steps are
 //! recorded).
 
@@ -187,6 +188,9 @@ pub struct SetDifference {
     /// subject edge i (see `intersections.rs`).
     contact_sc: Vec<u8>,
     contact_cs: Vec<u8>,
+    /// Indices into `side_sc` / `side_cs` of the pairs close enough for a contact.
+    near_sc: Vec<u32>,
+    near_cs: Vec<u32>,
     insertions: Vec<Insertion>,
     insertion_nodes: Vec<u32>,
     /// First live node of each cluster, indexed by the union–find representative.
@@ -266,6 +270,8 @@ impl SetDifference {
             + self.side_cs.capacity()
             + self.contact_sc.capacity()
             + self.contact_cs.capacity()
+            + self.near_sc.capacity()
+            + self.near_cs.capacity()
             + self.insertions.capacity()
             + self.insertion_nodes.capacity()
             + self.cluster_rep.capacity()
@@ -288,7 +294,14 @@ impl SetDifference {
             let first = self.nodes.len();
             let slot = self.loops.len() as u32;
             for (k, &v) in lp.iter().enumerate() {
-                let dir = v.normalize_or_zero();
+                // The pipeline's points are unit vectors; a length within 1e-14 of one changes
+                // the tolerances by a relative 1e-14 and needs no normalisation.
+                let len2 = v.length_squared();
+                let dir = if (len2 - 1.0).abs() < 1e-14 {
+                    v
+                } else {
+                    v.normalize_or_zero()
+                };
                 if !dir.is_finite() || dir == DVec3::ZERO {
                     continue;
                 }
