@@ -9,7 +9,11 @@ use penumbra::shading::Method;
 use std::path::{Path, PathBuf};
 
 #[derive(Parser)]
-#[command(name = "penumbra", version, about = "Analytic soft shadows from polyhedral area lights")]
+#[command(
+    name = "penumbra",
+    version,
+    about = "Analytic soft shadows from polyhedral area lights"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -103,7 +107,9 @@ fn parse_vec3(s: &str) -> Result<DVec3, String> {
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got '{s}'"))?;
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH, got '{s}'"))?;
     let w: u32 = w.trim().parse().map_err(|e| format!("width '{w}': {e}"))?;
     let h: u32 = h.trim().parse().map_err(|e| format!("height '{h}': {e}"))?;
     if w == 0 || h == 0 || w > 16384 || h > 16384 {
@@ -133,13 +139,17 @@ fn load_scene(name: &str) -> Result<Scene> {
 fn camera(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     let base = scene.camera;
     let pick = |v: Option<DVec3>, f: fn(&Camera) -> DVec3, what: &str| -> Result<DVec3> {
-        v.or(base.as_ref().map(f)).with_context(|| format!("the scene has no camera: pass --{what}"))
+        v.or(base.as_ref().map(f))
+            .with_context(|| format!("the scene has no camera: pass --{what}"))
     };
     let cam = Camera {
         eye: pick(args.eye, |c| c.eye, "eye")?,
         target: pick(args.target, |c| c.target, "target")?,
         up: pick(args.up, |c| c.up, "up")?,
-        fov_deg: args.fov.or(base.map(|c| c.fov_deg)).context("the scene has no camera: pass --fov")?,
+        fov_deg: args
+            .fov
+            .or(base.map(|c| c.fov_deg))
+            .context("the scene has no camera: pass --fov")?,
     };
     cam.basis().map_err(anyhow::Error::msg)?;
     Ok(cam)
@@ -147,13 +157,15 @@ fn camera(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
 
 fn write_outputs(img: &Image, out: &Path, exposure: f64) -> Result<Vec<PathBuf>> {
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create directory", dir.display()))?;
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
     }
     let rgb = img.to_rgb32();
     let pfm = out.with_extension("pfm");
     let exr = out.with_extension("exr");
     let png = out.with_extension("png");
-    image_io::write_pfm(&pfm, img.width, img.height, &rgb).with_context(|| format!("{}", pfm.display()))?;
+    image_io::write_pfm(&pfm, img.width, img.height, &rgb)
+        .with_context(|| format!("{}", pfm.display()))?;
     image_io::write_exr(&exr, img.width, img.height, &rgb)?;
     image_io::write_png(&png, img.width, img.height, &rgb, exposure)?;
     Ok(vec![pfm, exr, png])
@@ -166,8 +178,15 @@ fn render(args: &RenderArgs) -> Result<()> {
     for n in &ctx.prepared.notes {
         eprintln!("note: {n}");
     }
-    let settings = RenderSettings { width: args.size.0, height: args.size.1, aa: args.aa, method: args.method };
-    let (img, stats) = ctx.render(&cam, &settings, None).map_err(anyhow::Error::msg)?;
+    let settings = RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        aa: args.aa,
+        method: args.method,
+    };
+    let (img, stats) = ctx
+        .render(&cam, &settings, None)
+        .map_err(anyhow::Error::msg)?;
     let (nan, inf, neg) = img.invalid_counts();
     let files = write_outputs(&img, &args.out, args.exposure)?;
     println!(
@@ -194,17 +213,29 @@ fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
     let scene = load_scene(&args.scene)?;
     let cam = camera(args, &scene)?;
     let ctx = RenderContext::new(&scene);
-    let settings = RenderSettings { width: args.size.0, height: args.size.1, aa: args.aa, method: args.method };
+    let settings = RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        aa: args.aa,
+        method: args.method,
+    };
     let start = std::time::Instant::now();
-    let (img, err) =
-        penumbra::reference::render_reference(&ctx, &cam, &settings, samples, seed).map_err(anyhow::Error::msg)?;
-    println!("reference {}: {samples} samples per light, {:.3} s", args.scene, start.elapsed().as_secs_f64());
+    let (img, err) = penumbra::reference::render_reference(&ctx, &cam, &settings, samples, seed)
+        .map_err(anyhow::Error::msg)?;
+    println!(
+        "reference {}: {samples} samples per light, {:.3} s",
+        args.scene,
+        start.elapsed().as_secs_f64()
+    );
     for f in write_outputs(&img, &args.out, args.exposure)? {
         println!("wrote {}", f.display());
     }
     let stderr_path = args.out.with_file_name(format!(
         "{}_stderr.pfm",
-        args.out.file_stem().map(|s| s.to_string_lossy()).unwrap_or_default()
+        args.out
+            .file_stem()
+            .map(|s| s.to_string_lossy())
+            .unwrap_or_default()
     ));
     image_io::write_pfm(&stderr_path, err.width, err.height, &err.to_rgb32())?;
     println!("wrote {}", stderr_path.display());
@@ -216,7 +247,11 @@ fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> 
     let (w, h, a) = read(image)?;
     let (w2, h2, b) = read(reference)?;
     if (w, h) != (w2, h2) {
-        bail!("{} is {w}x{h} but {} is {w2}x{h2}", image.display(), reference.display());
+        bail!(
+            "{} is {w}x{h} but {} is {w2}x{h2}",
+            image.display(),
+            reference.display()
+        );
     }
     let s = stderr.map(read).transpose()?;
     let stats = penumbra::render::compare::compare(&a, &b, s.as_ref().map(|s| &s.2[..]));
@@ -244,9 +279,22 @@ fn main() -> Result<()> {
             render(&args)
         }
         Some(Command::Render(args)) => render(&args),
-        Some(Command::Reference { render, samples, seed }) => reference(&render, samples, seed),
-        Some(Command::Compare { image, reference, stderr }) => compare(&image, &reference, stderr.as_deref()),
-        Some(Command::Stress { cases, seed, rays, json }) => {
+        Some(Command::Reference {
+            render,
+            samples,
+            seed,
+        }) => reference(&render, samples, seed),
+        Some(Command::Compare {
+            image,
+            reference,
+            stderr,
+        }) => compare(&image, &reference, stderr.as_deref()),
+        Some(Command::Stress {
+            cases,
+            seed,
+            rays,
+            json,
+        }) => {
             let last = std::sync::atomic::AtomicU64::new(0);
             let rep = penumbra::stress::run(cases, seed, rays, |done| {
                 let step = (cases / 20).max(1);
@@ -257,7 +305,8 @@ fn main() -> Result<()> {
             });
             println!("{}", serde_json::to_string_pretty(&rep)?);
             if let Some(path) = json {
-                std::fs::write(&path, serde_json::to_string_pretty(&rep)?).with_context(|| format!("{}", path.display()))?;
+                std::fs::write(&path, serde_json::to_string_pretty(&rep)?)
+                    .with_context(|| format!("{}", path.display()))?;
             }
             if rep.nan + rep.inf + rep.negative + rep.panics > 0 {
                 bail!("stress found invalid results");
@@ -271,8 +320,14 @@ fn main() -> Result<()> {
                     eprintln!("  {done}/{total}");
                 }
             });
-            table.save(&out).with_context(|| format!("{}", out.display()))?;
-            println!("wrote {} in {:.1} s", out.display(), start.elapsed().as_secs_f64());
+            table
+                .save(&out)
+                .with_context(|| format!("{}", out.display()))?;
+            println!(
+                "wrote {} in {:.1} s",
+                out.display(),
+                start.elapsed().as_secs_f64()
+            );
             Ok(())
         }
         Some(Command::Scenes) => {

@@ -54,18 +54,30 @@ impl LightSampler {
                 for k in 0..p.len() {
                     newell += p[k].cross(p[(k + 1) % p.len()]);
                 }
-                let Some(n) = newell.try_normalize() else { continue };
+                let Some(n) = newell.try_normalize() else {
+                    continue;
+                };
                 for k in 1..p.len().saturating_sub(1) {
                     let a = 0.5 * (p[k] - p[0]).cross(p[k + 1] - p[0]).length();
                     if a > 0.0 {
                         area += a;
-                        tris.push(LightTriangle { v: [p[0], p[k], p[k + 1]], n, face: f as u32 });
+                        tris.push(LightTriangle {
+                            v: [p[0], p[k], p[k + 1]],
+                            n,
+                            face: f as u32,
+                        });
                         cdf.push(area);
                     }
                 }
             }
             if area > 0.0 {
-                lights.push(AreaLight { object: i as u32, radiance: obj.material.ke, area, tris, cdf });
+                lights.push(AreaLight {
+                    object: i as u32,
+                    radiance: obj.material.ke,
+                    area,
+                    tris,
+                    cdf,
+                });
             }
         }
         LightSampler { lights }
@@ -76,14 +88,21 @@ impl AreaLight {
     /// A uniform point on the light's surface: (point, front normal, face).
     fn sample(&self, rng: &mut Pcg32) -> (DVec3, DVec3, u32) {
         let u = rng.next_f64() * self.area;
-        let k = self.cdf.partition_point(|&c| c <= u).min(self.tris.len() - 1);
+        let k = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .min(self.tris.len() - 1);
         let t = &self.tris[k];
         let (mut a, mut b) = (rng.next_f64(), rng.next_f64());
         if a + b > 1.0 {
             a = 1.0 - a;
             b = 1.0 - b;
         }
-        (t.v[0] + (t.v[1] - t.v[0]) * a + (t.v[2] - t.v[0]) * b, t.n, t.face)
+        (
+            t.v[0] + (t.v[1] - t.v[0]) * a + (t.v[2] - t.v[0]) * b,
+            t.n,
+            t.face,
+        )
     }
 }
 
@@ -133,15 +152,25 @@ pub fn direct_lighting(
             if cos_x <= 0.0 || cos_y <= 0.0 {
                 continue;
             }
-            let blocked = ctx.bvh.occluded(&Ray { origin: sp.position, dir: w }, 1e-9, 1.0 - 1e-9, |o, f| {
-                objects[o as usize].flags.occluder
-                    && !(o == light.object && f == face)
-                    && !(Some(o) == sp.object && Some(f) == sp.face)
-            });
+            let blocked = ctx.bvh.occluded(
+                &Ray {
+                    origin: sp.position,
+                    dir: w,
+                },
+                1e-9,
+                1.0 - 1e-9,
+                |o, f| {
+                    objects[o as usize].flags.occluder
+                        && !(o == light.object && f == face)
+                        && !(Some(o) == sp.object && Some(f) == sp.face)
+                },
+            );
             if blocked {
                 continue;
             }
-            let value = light.radiance * brdf(material, &frame, sp.view, dir) * (cos_x * cos_y / r2 * light.area);
+            let value = light.radiance
+                * brdf(material, &frame, sp.view, dir)
+                * (cos_x * cos_y / r2 * light.area);
             sum += value;
             sum2 += value * value;
         }
@@ -176,12 +205,24 @@ pub fn render_reference(
                 for sx in 0..aa {
                     let fx = x as f64 + (sx as f64 + 0.5) / aa as f64;
                     let fy = y as f64 + (sy as f64 + 0.5) / aa as f64;
-                    let ray = Ray { origin: basis.eye, dir: basis.direction(fx, fy, w, h) };
-                    let Some(hit) = ctx.primary_hit(&ray) else { continue };
+                    let ray = Ray {
+                        origin: basis.eye,
+                        dir: basis.direction(fx, fy, w, h),
+                    };
+                    let Some(hit) = ctx.primary_hit(&ray) else {
+                        continue;
+                    };
                     mean += hit.emitted;
                     if hit.receiver {
                         let mat = &ctx.prepared.materials[hit.point.object.unwrap_or(0) as usize];
-                        let (m, e) = direct_lighting(ctx, &lights, &hit.point, mat, samples_per_light, &mut rng);
+                        let (m, e) = direct_lighting(
+                            ctx,
+                            &lights,
+                            &hit.point,
+                            mat,
+                            samples_per_light,
+                            &mut rng,
+                        );
                         mean += m;
                         var += e * e;
                     }

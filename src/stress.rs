@@ -92,10 +92,26 @@ fn rotation(rng: &mut Pcg32) -> DMat3 {
 fn random_convex(rng: &mut Pcg32, center: DVec3, size: f64) -> Mesh {
     let rot = rotation(rng);
     let m = match rng.below(4) {
-        0 => cuboid(DVec3::ZERO, DVec3::new(rng.range(0.2, 1.0), rng.range(0.2, 1.0), rng.range(0.2, 1.0)) * size),
-        1 => cylinder(DVec3::ZERO, size * rng.range(0.3, 1.0), size * rng.range(0.3, 1.5), 3 + rng.below(14)),
+        0 => cuboid(
+            DVec3::ZERO,
+            DVec3::new(
+                rng.range(0.2, 1.0),
+                rng.range(0.2, 1.0),
+                rng.range(0.2, 1.0),
+            ) * size,
+        ),
+        1 => cylinder(
+            DVec3::ZERO,
+            size * rng.range(0.3, 1.0),
+            size * rng.range(0.3, 1.5),
+            3 + rng.below(14),
+        ),
         2 => icosahedron(DVec3::ZERO, size),
-        _ => quad(DVec3::ZERO, DVec3::X * size, DVec3::Y * size * rng.range(0.2, 1.0)),
+        _ => quad(
+            DVec3::ZERO,
+            DVec3::X * size,
+            DVec3::Y * size * rng.range(0.2, 1.0),
+        ),
     };
     m.transformed(&DAffine3::from_mat3_translation(rot, center))
 }
@@ -104,15 +120,33 @@ fn object(name: &str, mesh: Mesh, light: bool) -> SceneObject {
     SceneObject {
         name: name.into(),
         mesh,
-        material: Material { ke: if light { DVec3::ONE } else { DVec3::ZERO }, ..Material::default() },
-        flags: ObjectFlags { light, occluder: true, receiver: true },
+        material: Material {
+            ke: if light { DVec3::ONE } else { DVec3::ZERO },
+            ..Material::default()
+        },
+        flags: ObjectFlags {
+            light,
+            occluder: true,
+            receiver: true,
+        },
     }
 }
 
 fn bounding_sphere(m: &Mesh) -> (DVec3, f64) {
-    let (lo, hi) = m.positions.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+    let (lo, hi) = m
+        .positions
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &p| {
+            (a.min(p), b.max(p))
+        });
     let c = 0.5 * (lo + hi);
-    (c, m.positions.iter().map(|p| p.distance(c)).fold(0.0, f64::max))
+    (
+        c,
+        m.positions
+            .iter()
+            .map(|p| p.distance(c))
+            .fold(0.0, f64::max),
+    )
 }
 
 fn spheres_overlap(a: &Mesh, b: &Mesh) -> bool {
@@ -123,7 +157,13 @@ fn spheres_overlap(a: &Mesh, b: &Mesh) -> bool {
 
 fn inside_any(objects: &[SceneObject], x: DVec3) -> bool {
     objects.iter().any(|o| {
-        let (lo, hi) = o.mesh.positions.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+        let (lo, hi) = o
+            .mesh
+            .positions
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &p| {
+                (a.min(p), b.max(p))
+            });
         x.cmpge(lo).all() && x.cmple(hi).all()
     })
 }
@@ -140,12 +180,26 @@ pub fn generate(seed: u64, index: u64) -> Case {
         CaseKind::Random => {
             n = rng.unit_vector();
             let up = Frame::from_z(n);
-            let lc = up.to_world(DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-0.5, 3.0)));
-            objects.push(object("light", { let size = rng.range(0.2, 1.0); random_convex(&mut rng, lc, size) }, true));
+            let lc = up.to_world(DVec3::new(
+                rng.range(-2.0, 2.0),
+                rng.range(-2.0, 2.0),
+                rng.range(-0.5, 3.0),
+            ));
+            objects.push(object(
+                "light",
+                {
+                    let size = rng.range(0.2, 1.0);
+                    random_convex(&mut rng, lc, size)
+                },
+                true,
+            ));
             for k in 0..rng.below(4) {
                 let t = rng.range(0.2, 0.8);
                 let c = lc * t + rng.unit_vector() * rng.range(0.0, 0.6);
-                let mesh = { let size = rng.range(0.05, 0.4) * t; random_convex(&mut rng, c, size) };
+                let mesh = {
+                    let size = rng.range(0.05, 0.4) * t;
+                    random_convex(&mut rng, c, size)
+                };
                 // Occluders may overlap each other but not pass through the light (000 assumes
                 // occluders between the point and the light; see docs/analytic-pipeline.md).
                 if !spheres_overlap(&objects[0].mesh, &mesh) {
@@ -154,14 +208,28 @@ pub fn generate(seed: u64, index: u64) -> Case {
             }
             // Keep the shading point outside every object.
             if inside_any(&objects, x) {
-                let lift = objects.iter().map(|o| bounding_sphere(&o.mesh).1).fold(0.0, f64::max) * 3.0;
-                objects.iter_mut().for_each(|o| o.mesh.positions.iter_mut().for_each(|p| *p += n * lift));
+                let lift = objects
+                    .iter()
+                    .map(|o| bounding_sphere(&o.mesh).1)
+                    .fold(0.0, f64::max)
+                    * 3.0;
+                objects
+                    .iter_mut()
+                    .for_each(|o| o.mesh.positions.iter_mut().for_each(|p| *p += n * lift));
             }
         }
         CaseKind::CoplanarWithLightFace => {
             // Light box above; x in the plane of one of its side faces.
-            let h = DVec3::new(rng.range(0.2, 1.0), rng.range(0.2, 1.0), rng.range(0.2, 1.0));
-            let c = DVec3::new(rng.range(-1.0, 1.0), h.y + rng.range(0.0, 1.0), h.z + rng.range(0.1, 1.0));
+            let h = DVec3::new(
+                rng.range(0.2, 1.0),
+                rng.range(0.2, 1.0),
+                rng.range(0.2, 1.0),
+            );
+            let c = DVec3::new(
+                rng.range(-1.0, 1.0),
+                h.y + rng.range(0.0, 1.0),
+                h.z + rng.range(0.1, 1.0),
+            );
             objects.push(object("light", cuboid(c, h), true));
             x = DVec3::new(rng.range(-2.0, 2.0), c.y - h.y, 0.0); // in the plane y = c.y − h.y
             n = DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), 1.0).normalize();
@@ -172,25 +240,63 @@ pub fn generate(seed: u64, index: u64) -> Case {
         CaseKind::LightVerticesOnHorizon => {
             // Light box resting on the tangent plane z = 0 of x: its bottom vertices are on the
             // horizon exactly.
-            let h = DVec3::new(rng.range(0.1, 1.0), rng.range(0.1, 1.0), rng.range(0.1, 1.0));
+            let h = DVec3::new(
+                rng.range(0.1, 1.0),
+                rng.range(0.1, 1.0),
+                rng.range(0.1, 1.0),
+            );
             let c = DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), h.z);
             objects.push(object("light", cuboid(c, h), true));
             if rng.below(2) == 0 {
                 let oc = c * rng.range(0.3, 0.7) + DVec3::Z * rng.range(0.0, 0.3);
-                objects.push(object("occluder", { let size = rng.range(0.05, 0.3); random_convex(&mut rng, oc, size) }, false));
+                objects.push(object(
+                    "occluder",
+                    {
+                        let size = rng.range(0.05, 0.3);
+                        random_convex(&mut rng, oc, size)
+                    },
+                    false,
+                ));
             }
         }
         CaseKind::OccluderVerticesOnHorizon => {
-            let lc = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(1.0, 3.0));
-            objects.push(object("light", { let size = rng.range(0.2, 0.8); random_convex(&mut rng, lc, size) }, true));
-            let h = DVec3::new(rng.range(0.05, 0.5), rng.range(0.05, 0.5), rng.range(0.05, 0.5));
+            let lc = DVec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(1.0, 3.0),
+            );
+            objects.push(object(
+                "light",
+                {
+                    let size = rng.range(0.2, 0.8);
+                    random_convex(&mut rng, lc, size)
+                },
+                true,
+            ));
+            let h = DVec3::new(
+                rng.range(0.05, 0.5),
+                rng.range(0.05, 0.5),
+                rng.range(0.05, 0.5),
+            );
             let d = DVec3::new(lc.x, lc.y, 0.0) * rng.range(0.2, 0.8);
-            objects.push(object("occluder", cuboid(DVec3::new(d.x, d.y, h.z), h), false));
+            objects.push(object(
+                "occluder",
+                cuboid(DVec3::new(d.x, d.y, h.z), h),
+                false,
+            ));
         }
         CaseKind::OccluderSharesEdgesWithLight => {
             // Two boxes sharing a face (and so four edges and vertices), seen from below.
-            let h = DVec3::new(rng.range(0.2, 1.0), rng.range(0.2, 1.0), rng.range(0.1, 0.5));
-            let c = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(1.0, 2.0));
+            let h = DVec3::new(
+                rng.range(0.2, 1.0),
+                rng.range(0.2, 1.0),
+                rng.range(0.1, 0.5),
+            );
+            let c = DVec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(1.0, 2.0),
+            );
             objects.push(object("light", cuboid(c, h), true));
             let shift = match rng.below(3) {
                 0 => DVec3::new(2.0 * h.x, 0.0, 0.0),
@@ -202,25 +308,48 @@ pub fn generate(seed: u64, index: u64) -> Case {
         }
         CaseKind::CoincidentVertices => {
             // A quad light and boxes whose corners coincide with the light's corners.
-            let c = DVec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(1.0, 2.0));
-            let (u, v) = (DVec3::X * rng.range(0.2, 1.0), DVec3::Y * rng.range(0.2, 1.0));
+            let c = DVec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(1.0, 2.0),
+            );
+            let (u, v) = (
+                DVec3::X * rng.range(0.2, 1.0),
+                DVec3::Y * rng.range(0.2, 1.0),
+            );
             objects.push(object("light", quad(c, u, -v), true)); // front faces −z, toward x
             let corner = c + u + v;
             let h = DVec3::splat(rng.range(0.05, 0.3));
             // Its top face lies in the light's plane and its corner is the light's corner.
             objects.push(object("occluder0", cuboid(corner - h, h), false));
             let corner2 = c - u - v;
-            objects.push(object("occluder1", cuboid(corner2 + h * DVec3::new(1.0, 1.0, -1.0), h), false));
+            objects.push(object(
+                "occluder1",
+                cuboid(corner2 + h * DVec3::new(1.0, 1.0, -1.0), h),
+                false,
+            ));
             n = DVec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), 1.0).normalize();
         }
         CaseKind::CoveringOrInside => {
-            let lc = DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), rng.range(1.5, 3.0));
+            let lc = DVec3::new(
+                rng.range(-0.5, 0.5),
+                rng.range(-0.5, 0.5),
+                rng.range(1.5, 3.0),
+            );
             let size = rng.range(0.2, 0.6);
             objects.push(object("light", random_convex(&mut rng, lc, size), true));
             let t = rng.range(0.3, 0.7);
             // Large enough to cover the light, or small enough to fall inside its silhouette.
-            let occ_size = if rng.below(2) == 0 { size * t * 3.0 } else { size * t * 0.2 };
-            objects.push(object("occluder", random_convex(&mut rng, lc * t, occ_size), false));
+            let occ_size = if rng.below(2) == 0 {
+                size * t * 3.0
+            } else {
+                size * t * 0.2
+            };
+            objects.push(object(
+                "occluder",
+                random_convex(&mut rng, lc * t, occ_size),
+                false,
+            ));
             n = DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), 1.0).normalize();
         }
     }
@@ -229,12 +358,25 @@ pub fn generate(seed: u64, index: u64) -> Case {
         o.mesh.positions.iter_mut().for_each(|p| *p *= scale);
     }
     x *= scale;
-    let view = (n + rng.unit_vector() * 0.9).try_normalize().filter(|v| v.dot(n) > 0.0).unwrap_or(n);
+    let view = (n + rng.unit_vector() * 0.9)
+        .try_normalize()
+        .filter(|v| v.dot(n) > 0.0)
+        .unwrap_or(n);
     Case {
         kind,
         scale,
-        scene: Scene { objects, camera: None, warnings: Vec::new() },
-        point: ShadingPoint { position: x, normal: n, view, object: None, face: None },
+        scene: Scene {
+            objects,
+            camera: None,
+            warnings: Vec::new(),
+        },
+        point: ShadingPoint {
+            position: x,
+            normal: n,
+            view,
+            object: None,
+            face: None,
+        },
         alpha: rng.range(0.01, 1.0),
     }
 }
@@ -248,7 +390,13 @@ struct RawIntegrals {
 
 impl Recorder for RawIntegrals {
     const ENABLED: bool = true;
-    fn lobe(&mut self, _lobe: Lobe, _t: &crate::geometry::SphericalPolygon, _c: &crate::geometry::SphericalPolygon, integral: f64) {
+    fn lobe(
+        &mut self,
+        _lobe: Lobe,
+        _t: &crate::geometry::SphericalPolygon,
+        _c: &crate::geometry::SphericalPolygon,
+        integral: f64,
+    ) {
         self.min = self.min.min(integral);
         self.nan |= !integral.is_finite();
     }
@@ -266,11 +414,36 @@ struct Outcome {
 
 fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratch) -> Outcome {
     let prepared = PreparedScene::new(&case.scene);
-    let diffuse = Material { kd: DVec3::ONE, ks: DVec3::ZERO, ..Material::default() };
-    let specular = Material { kd: DVec3::ZERO, ks: DVec3::ONE, alpha: case.alpha, ..Material::default() };
+    let diffuse = Material {
+        kd: DVec3::ONE,
+        ks: DVec3::ZERO,
+        ..Material::default()
+    };
+    let specular = Material {
+        kd: DVec3::ZERO,
+        ks: DVec3::ONE,
+        alpha: case.alpha,
+        ..Material::default()
+    };
     let mut raw = RawIntegrals::default();
-    let e = shade(&prepared, &case.point, &diffuse, Method::Analytic, scratch, &mut raw).x;
-    let s = shade(&prepared, &case.point, &specular, Method::Analytic, scratch, &mut raw).x;
+    let e = shade(
+        &prepared,
+        &case.point,
+        &diffuse,
+        Method::Analytic,
+        scratch,
+        &mut raw,
+    )
+    .x;
+    let s = shade(
+        &prepared,
+        &case.point,
+        &specular,
+        Method::Analytic,
+        scratch,
+        &mut raw,
+    )
+    .x;
     let values = [e, s];
     let nan = values.iter().any(|v| v.is_nan()) || raw.nan;
     let inf = values.iter().any(|v| v.is_infinite());
@@ -289,9 +462,20 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
             let u2 = (j as f64 + rng.next_f64()) / k as f64;
             let r = u1.sqrt();
             let phi = std::f64::consts::TAU * u2;
-            let d = frame.to_world(DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt()));
+            let d = frame.to_world(DVec3::new(
+                r * phi.cos(),
+                r * phi.sin(),
+                (1.0 - u1).max(0.0).sqrt(),
+            ));
             total += 1;
-            if let Some(hit) = bvh.intersect(&Ray { origin: case.point.position, dir: d }, 0.0, f64::INFINITY) {
+            if let Some(hit) = bvh.intersect(
+                &Ray {
+                    origin: case.point.position,
+                    dir: d,
+                },
+                0.0,
+                f64::INFINITY,
+            ) {
                 if hit.object == 0 && hit.geometric_normal.dot(d) < 0.0 {
                     hits += 1;
                 }
@@ -302,7 +486,14 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
     let p = e.clamp(0.0, 1.0);
     // Stratification only lowers the variance: the binomial σ is a conservative bound.
     let sigma = (p * (1.0 - p) / total as f64).sqrt();
-    Outcome { analytic: e, estimate, sigma, nan, inf, negative }
+    Outcome {
+        analytic: e,
+        estimate,
+        sigma,
+        nan,
+        inf,
+        negative,
+    }
 }
 
 /// Runs `cases` cases (parallel, deterministic for a given seed).
@@ -322,7 +513,11 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
                 rep.cases += 1;
                 let result = catch_unwind(AssertUnwindSafe(|| {
                     let case = generate(seed, index);
-                    (case.kind, case.scale, run_case(&case, rays, &mut rng, scratch))
+                    (
+                        case.kind,
+                        case.scale,
+                        run_case(&case, rays, &mut rng, scratch),
+                    )
                 }));
                 let Ok((kind, scale, o)) = result else {
                     rep.panics += 1;
@@ -340,7 +535,15 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
                 if sigmas > 6.0 {
                     rep.beyond_6_sigma += 1;
                 }
-                let w = WorstCase { index, kind: Some(kind), scale, analytic: o.analytic, estimate: o.estimate, abs_error: err, sigmas };
+                let w = WorstCase {
+                    index,
+                    kind: Some(kind),
+                    scale,
+                    analytic: o.analytic,
+                    estimate: o.estimate,
+                    abs_error: err,
+                    sigmas,
+                };
                 if err > rep.worst_abs.abs_error {
                     rep.worst_abs = w.clone();
                 }
@@ -354,7 +557,10 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
         })
         .collect();
     std::panic::set_hook(prev_hook);
-    let mut total = StressReport { rays_per_case: rays, ..Default::default() };
+    let mut total = StressReport {
+        rays_per_case: rays,
+        ..Default::default()
+    };
     for r in partial {
         total.cases += r.cases;
         total.nan += r.nan;

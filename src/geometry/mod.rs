@@ -2,6 +2,7 @@
 //! horizon clipping, the planar projection and the set difference (000 Alg. 1–3, 001 Sect. 4).
 
 pub mod horizon;
+pub mod overlap;
 mod polygon_loops;
 pub mod polyhedron;
 pub mod projection;
@@ -13,6 +14,7 @@ pub mod spherical_polygon;
 pub(crate) mod test_util;
 
 pub use horizon::{HorizonScratch, clip_to_horizon};
+pub use overlap::{Overlap, classify as classify_overlap};
 pub use polygon_loops::PolygonLoops;
 pub use polyhedron::{Edge, MeshDiagnostics, Plane, Polyhedron};
 pub use projection::{PlanarPolygon, ProjectionPlane};

@@ -13,10 +13,12 @@ use glam::DVec3;
 const MAX_EDGE_AXES: usize = 250_000;
 
 fn interval(poly: &Polyhedron, n: DVec3) -> (f64, f64) {
-    poly.face_indices.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &i| {
-        let d = n.dot(poly.vertices[i as usize]);
-        (lo.min(d), hi.max(d))
-    })
+    poly.face_indices
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &i| {
+            let d = n.dot(poly.vertices[i as usize]);
+            (lo.min(d), hi.max(d))
+        })
 }
 
 /// A plane with all of `front` on its positive side and all of `back` on its negative side
@@ -30,9 +32,15 @@ pub fn separating_plane(front: &Polyhedron, back: &Polyhedron) -> Option<Plane> 
         // plane through the contact: a point on either side sees a consistent depth order.
         let eps = 1e-12 * (f_hi.abs() + b_hi.abs() + f_lo.abs() + b_lo.abs());
         if b_hi <= f_lo + eps {
-            Some(Plane { n, d: 0.5 * (b_hi + f_lo) })
+            Some(Plane {
+                n,
+                d: 0.5 * (b_hi + f_lo),
+            })
         } else if f_hi <= b_lo + eps {
-            Some(Plane { n: -n, d: -0.5 * (f_hi + b_lo) })
+            Some(Plane {
+                n: -n,
+                d: -0.5 * (f_hi + b_lo),
+            })
         } else {
             None
         }
@@ -69,7 +77,11 @@ mod tests {
 
     fn cube_at(c: DVec3, h: f64) -> Polyhedron {
         let p: Vec<DVec3> = (0..8)
-            .map(|i| c + (DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) * 2.0 - 1.0) * h)
+            .map(|i| {
+                c + (DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) * 2.0
+                    - 1.0)
+                    * h
+            })
             .collect();
         let faces = vec![
             vec![0, 2, 3, 1],

@@ -151,7 +151,11 @@ impl L3Error {
         for &(l, f, p) in &self.brdf_samples {
             let x = m_inv * l;
             let len2 = x.length_squared();
-            let g = if x.z > 0.0 { x.z * k / (len2 * len2) } else { 0.0 };
+            let g = if x.z > 0.0 {
+                x.z * k / (len2 * len2)
+            } else {
+                0.0
+            };
             let d = (f - g).abs();
             e_brdf += d * d * d / (p + g);
         }

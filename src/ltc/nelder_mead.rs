@@ -167,7 +167,10 @@ mod tests {
                 ..Options::default()
             },
         );
-        assert!((r.x[0] - 1.0).abs() < 1e-5 && (r.x[1] - 1.0).abs() < 1e-5, "{r:?}");
+        assert!(
+            (r.x[0] - 1.0).abs() < 1e-5 && (r.x[1] - 1.0).abs() < 1e-5,
+            "{r:?}"
+        );
     }
 
     #[test]
@@ -196,6 +199,9 @@ mod tests {
             [0.1],
             &Options::default(),
         );
-        assert!((r.x[0] - 2.0).abs() < 1e-4 && (r.f - 1.0).abs() < 1e-8, "{r:?}");
+        assert!(
+            (r.x[0] - 2.0).abs() < 1e-4 && (r.f - 1.0).abs() < 1e-8,
+            "{r:?}"
+        );
     }
 }

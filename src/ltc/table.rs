@@ -61,7 +61,12 @@ impl LtcEntry {
     pub fn to_record(&self) -> [f64; 6] {
         let m = self.m_inv * (1.0 / self.m_inv.y_axis.y);
         [
-            m.x_axis.x, m.z_axis.x, m.x_axis.z, m.z_axis.z, self.norm, self.fresnel,
+            m.x_axis.x,
+            m.z_axis.x,
+            m.x_axis.z,
+            m.z_axis.z,
+            self.norm,
+            self.fresnel,
         ]
     }
 
@@ -307,7 +312,9 @@ impl LtcTable {
         let alpha_min = f64_at(bytes, 16);
         let cos_theta_min = f64_at(bytes, 24);
         if !(alpha_min > 0.0 && alpha_min < 1.0 && cos_theta_min > 0.0 && cos_theta_min < 1.0) {
-            return Err(TableFormatError::Header("alpha_min / cos_theta_min out of (0, 1)"));
+            return Err(TableFormatError::Header(
+                "alpha_min / cos_theta_min out of (0, 1)",
+            ));
         }
         let mut records = Vec::with_capacity(n * n);
         for k in 0..n * n {

@@ -18,7 +18,11 @@ pub struct Comparison {
     pub channels: usize,
 }
 
-pub fn compare(image: &[[f32; 3]], reference: &[[f32; 3]], stderr: Option<&[[f32; 3]]>) -> Comparison {
+pub fn compare(
+    image: &[[f32; 3]],
+    reference: &[[f32; 3]],
+    stderr: Option<&[[f32; 3]]>,
+) -> Comparison {
     let mut c = Comparison::default();
     let (mut abs, mut sq, mut refsum) = (0.0, 0.0, 0.0);
     let (mut zsq, mut zsum, mut within, mut nz) = (0.0, 0.0, 0usize, 0usize);

@@ -5,7 +5,9 @@ pub mod image_io;
 
 use crate::accel::{Bvh, Ray};
 use crate::scene::{Camera, Scene};
-use crate::shading::{Method, NoRecorder, PreparedScene, Recorder, ShadingPoint, ShadingScratch, shade};
+use crate::shading::{
+    Method, NoRecorder, PreparedScene, Recorder, ShadingPoint, ShadingScratch, shade,
+};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -21,7 +23,11 @@ pub struct Image {
 
 impl Image {
     pub fn new(width: u32, height: u32) -> Self {
-        Image { width, height, pixels: vec![DVec3::ZERO; width as usize * height as usize] }
+        Image {
+            width,
+            height,
+            pixels: vec![DVec3::ZERO; width as usize * height as usize],
+        }
     }
 
     #[inline]
@@ -31,7 +37,10 @@ impl Image {
 
     /// Pixels as f32 triples, for the image writers.
     pub fn to_rgb32(&self) -> Vec<[f32; 3]> {
-        self.pixels.iter().map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect()
+        self.pixels
+            .iter()
+            .map(|p| [p.x as f32, p.y as f32, p.z as f32])
+            .collect()
     }
 
     /// Counts of (NaN, infinite, negative) pixel channels.
@@ -86,7 +95,11 @@ pub struct PrimaryHit {
 
 impl<'a> RenderContext<'a> {
     pub fn new(scene: &'a Scene) -> Self {
-        RenderContext { scene, prepared: PreparedScene::new(scene), bvh: Bvh::build(scene) }
+        RenderContext {
+            scene,
+            prepared: PreparedScene::new(scene),
+            bvh: Bvh::build(scene),
+        }
     }
 
     /// The first surface along `ray`, as a shading point with the geometric normal turned toward
@@ -96,9 +109,17 @@ impl<'a> RenderContext<'a> {
         let obj = &self.scene.objects[hit.object as usize];
         let view = (-ray.dir).normalize();
         let front = hit.geometric_normal.dot(view) > 0.0;
-        let normal = if front { hit.geometric_normal } else { -hit.geometric_normal };
+        let normal = if front {
+            hit.geometric_normal
+        } else {
+            -hit.geometric_normal
+        };
         // Lights emit from the front side of their faces only.
-        let emitted = if obj.flags.light && front { obj.material.ke } else { DVec3::ZERO };
+        let emitted = if obj.flags.light && front {
+            obj.material.ke
+        } else {
+            DVec3::ZERO
+        };
         Some(PrimaryHit {
             point: ShadingPoint {
                 position: hit.point,
@@ -113,8 +134,16 @@ impl<'a> RenderContext<'a> {
     }
 
     /// Radiance toward the eye along a camera ray: emission plus direct lighting.
-    pub fn radiance<R: Recorder>(&self, ray: &Ray, method: Method, scratch: &mut ShadingScratch, rec: &mut R) -> DVec3 {
-        let Some(hit) = self.primary_hit(ray) else { return DVec3::ZERO };
+    pub fn radiance<R: Recorder>(
+        &self,
+        ray: &Ray,
+        method: Method,
+        scratch: &mut ShadingScratch,
+        rec: &mut R,
+    ) -> DVec3 {
+        let Some(hit) = self.primary_hit(ray) else {
+            return DVec3::ZERO;
+        };
         let mut l = hit.emitted;
         if hit.receiver {
             let material = &self.prepared.materials[hit.point.object.unwrap_or(0) as usize];
@@ -125,7 +154,12 @@ impl<'a> RenderContext<'a> {
 
     /// Renders the image seen by `camera`; tiles run in parallel. Stops early (leaving the rest
     /// black) when `cancel` becomes true.
-    pub fn render(&self, camera: &Camera, settings: &RenderSettings, cancel: Option<&AtomicBool>) -> Result<(Image, RenderStats), String> {
+    pub fn render(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<(Image, RenderStats), String> {
         let basis = camera.basis()?;
         if settings.width == 0 || settings.height == 0 || settings.aa == 0 {
             return Err("image size and --aa must be positive".into());
@@ -154,8 +188,12 @@ impl<'a> RenderContext<'a> {
                             for sx in 0..aa {
                                 let px = x as f64 + (sx as f64 + 0.5) / aa as f64;
                                 let py = y as f64 + (sy as f64 + 0.5) / aa as f64;
-                                let ray = Ray { origin: basis.eye, dir: basis.direction(px, py, w, h) };
-                                sum += self.radiance(&ray, settings.method, scratch, &mut NoRecorder);
+                                let ray = Ray {
+                                    origin: basis.eye,
+                                    dir: basis.direction(px, py, w, h),
+                                };
+                                sum +=
+                                    self.radiance(&ray, settings.method, scratch, &mut NoRecorder);
                             }
                         }
                         out.push(sum * inv);
@@ -179,6 +217,12 @@ impl<'a> RenderContext<'a> {
             }
         }
         let seconds = start.elapsed().as_secs_f64();
-        Ok((img, RenderStats { seconds, pixels_per_second: (w * h) as f64 / seconds.max(1e-12) }))
+        Ok((
+            img,
+            RenderStats {
+                seconds,
+                pixels_per_second: (w * h) as f64 / seconds.max(1e-12),
+            },
+        ))
     }
 }

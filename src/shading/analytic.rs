@@ -22,8 +22,9 @@ use super::get_between::get_between;
 use super::recorder::{Lobe, Recorder, Stage};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::{
-    HorizonScratch, PlanarPolygon, Plane, ProjectionPlane, SetDifference, Sidedness, SilhouetteScratch,
-    SphericalPolygon, clip_to_horizon, face_polygon, silhouette,
+    HorizonScratch, Overlap, PlanarPolygon, Plane, ProjectionPlane, SetDifference, Sidedness,
+    SilhouetteScratch, SphericalPolygon, classify_overlap, clip_to_horizon, face_polygon,
+    silhouette,
 };
 use crate::ltc::{LtcEntry, form_factor};
 use crate::math::Frame;
@@ -88,7 +89,9 @@ pub fn shade<R: Recorder>(
     let lobes = Lobes {
         kd: material.kd,
         specular: material.has_specular().then(|| {
-            let entry = scene.ltc.lookup(sp.normal.dot(sp.view).clamp(0.0, 1.0), material.alpha);
+            let entry = scene
+                .ltc
+                .lookup(sp.normal.dot(sp.view).clamp(0.0, 1.0), material.alpha);
             // Schlick's Fresnel per channel: F0 (norm − fresnel) + fresnel (see docs/ltc.md).
             let scale = material.ks.map(|f0| entry.specular_scale(f0));
             (entry, scale)
@@ -105,9 +108,21 @@ pub fn shade<R: Recorder>(
                 continue;
             }
             rec.begin_light(l, None);
-            silhouette(&light.poly, sp.position, &frame, Sidedness::FrontOnly, &mut scratch.light_sph, &mut scratch.silhouette);
-            let piece = LightPiece { light: l, face: None };
-            total += shade_light_piece(scene, &piece, sp, &frame, &lobes, radiance, method, scratch, rec);
+            silhouette(
+                &light.poly,
+                sp.position,
+                &frame,
+                Sidedness::FrontOnly,
+                &mut scratch.light_sph,
+                &mut scratch.silhouette,
+            );
+            let piece = LightPiece {
+                light: l,
+                face: None,
+            };
+            total += shade_light_piece(
+                scene, &piece, sp, &frame, &lobes, radiance, method, scratch, rec,
+            );
         } else {
             for f in 0..light.poly.face_count() {
                 if on_light && skip_own_face(light, f, sp) {
@@ -119,7 +134,16 @@ pub fn shade<R: Recorder>(
                 }
                 // What lies within rounding of the light face's plane is not in front of it.
                 let tol = COPLANAR * light.poly.radius;
-                let piece = LightPiece { light: l, face: Some((f, Plane { n: plane.n, d: plane.d + tol })) };
+                let piece = LightPiece {
+                    light: l,
+                    face: Some((
+                        f,
+                        Plane {
+                            n: plane.n,
+                            d: plane.d + tol,
+                        },
+                    )),
+                };
                 rec.begin_light(l, Some(f));
                 face_polygon(
                     &light.poly,
@@ -131,7 +155,9 @@ pub fn shade<R: Recorder>(
                     &mut scratch.light_sph,
                     &mut scratch.face_buf,
                 );
-                total += shade_light_piece(scene, &piece, sp, &frame, &lobes, radiance, method, scratch, rec);
+                total += shade_light_piece(
+                    scene, &piece, sp, &frame, &lobes, radiance, method, scratch, rec,
+                );
             }
         }
     }
@@ -141,7 +167,8 @@ pub fn shade<R: Recorder>(
 /// Is face `f` of `obj` the face the shading point lies on, or coplanar with it?
 #[inline]
 fn skip_own_face(obj: &PreparedObject, f: usize, sp: &ShadingPoint) -> bool {
-    sp.face == Some(f as u32) || obj.poly.face_planes[f].eval(sp.position).abs() <= COPLANAR * obj.poly.radius
+    sp.face == Some(f as u32)
+        || obj.poly.face_planes[f].eval(sp.position).abs() <= COPLANAR * obj.poly.radius
 }
 
 /// What one pass of lines 5–16 integrates: a whole light (its silhouette), or one face of it
@@ -165,7 +192,11 @@ fn shade_light_piece<R: Recorder>(
     rec: &mut R,
 ) -> DVec3 {
     rec.light_polygon(Stage::Silhouette, &scratch.light_sph);
-    clip_to_horizon(&scratch.light_sph, &mut scratch.light_clip, &mut scratch.horizon);
+    clip_to_horizon(
+        &scratch.light_sph,
+        &mut scratch.light_clip,
+        &mut scratch.horizon,
+    );
     rec.light_polygon(Stage::HorizonClipped, &scratch.light_clip);
     if scratch.light_clip.is_empty() {
         rec.end_light(DVec3::ZERO, DVec3::ZERO);
@@ -250,10 +281,21 @@ fn subtract_occluder<R: Recorder>(
         }
     }
     let cut = cut.as_ref();
-    let skip_face = if own_mesh { piece.face.map(|(f, _)| f) } else { None };
+    let skip_face = if own_mesh {
+        piece.face.map(|(f, _)| f)
+    } else {
+        None
+    };
     let on_this = sp.object == Some(occ.object);
     if occ.simple && method != Method::PerTriangle && cut.is_none() {
-        silhouette(&occ.poly, sp.position, frame, Sidedness::TwoSided, &mut scratch.occ_sph, &mut scratch.silhouette);
+        silhouette(
+            &occ.poly,
+            sp.position,
+            frame,
+            Sidedness::TwoSided,
+            &mut scratch.occ_sph,
+            &mut scratch.silhouette,
+        );
         subtract_polygon(oi, None, scratch, rec);
     } else {
         for g in 0..occ.poly.face_count() {
@@ -263,7 +305,16 @@ fn subtract_occluder<R: Recorder>(
             if (on_this && skip_own_face(occ, g, sp)) || skip_face == Some(g) {
                 continue;
             }
-            face_polygon(&occ.poly, g, sp.position, frame, Sidedness::TwoSided, cut, &mut scratch.occ_sph, &mut scratch.face_buf);
+            face_polygon(
+                &occ.poly,
+                g,
+                sp.position,
+                frame,
+                Sidedness::TwoSided,
+                cut,
+                &mut scratch.occ_sph,
+                &mut scratch.face_buf,
+            );
             if !scratch.occ_sph.is_empty() {
                 subtract_polygon(oi, Some(g), scratch, rec);
             }
@@ -273,27 +324,71 @@ fn subtract_occluder<R: Recorder>(
 
 /// Clips the occluder polygon in `scratch.occ_sph`, projects it and subtracts it from the
 /// visible polygon.
-fn subtract_polygon<R: Recorder>(oi: usize, piece: Option<usize>, scratch: &mut ShadingScratch, rec: &mut R) {
+fn subtract_polygon<R: Recorder>(
+    oi: usize,
+    piece: Option<usize>,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) {
     rec.occluder_polygon(oi, piece, Stage::Silhouette, &scratch.occ_sph);
-    clip_to_horizon(&scratch.occ_sph, &mut scratch.occ_clip, &mut scratch.horizon);
+    clip_to_horizon(
+        &scratch.occ_sph,
+        &mut scratch.occ_clip,
+        &mut scratch.horizon,
+    );
     rec.occluder_polygon(oi, piece, Stage::HorizonClipped, &scratch.occ_clip);
     if scratch.occ_clip.is_empty() {
         return;
     }
     ProjectionPlane::NORMAL.project(&scratch.occ_clip, &mut scratch.occ_plane);
-    scratch.difference.subtract(&scratch.visible, &scratch.occ_plane, &mut scratch.visible_next, rec.gh_steps());
-    scratch.stats.set_differences += 1;
-    rec.set_difference(oi, &scratch.visible, &scratch.occ_plane, &scratch.visible_next);
+    // Exact fast paths for convex clips; Greiner–Hormann for the rest.
+    let relation = if scratch.occ_plane.loop_count() == 1 {
+        classify_overlap(&scratch.visible, scratch.occ_plane.loop_at(0))
+    } else {
+        Overlap::Unknown
+    };
+    match relation {
+        Overlap::Disjoint => {
+            rec.set_difference(oi, &scratch.visible, &scratch.occ_plane, &scratch.visible);
+            return;
+        }
+        Overlap::SubjectInside => scratch.visible_next.clear(),
+        Overlap::Unknown => {
+            scratch.difference.subtract(
+                &scratch.visible,
+                &scratch.occ_plane,
+                &mut scratch.visible_next,
+                rec.gh_steps(),
+            );
+            scratch.stats.set_differences += 1;
+        }
+    }
+    rec.set_difference(
+        oi,
+        &scratch.visible,
+        &scratch.occ_plane,
+        &scratch.visible_next,
+    );
     std::mem::swap(&mut scratch.visible, &mut scratch.visible_next);
 }
 
 /// Lines 14–16 of Alg. 1: the diffuse lobe integrates the clamped cosine over the visible
 /// polygon directly (the identity LTC, exact); the specular lobe transforms it by M⁻¹, clips it
 /// to the horizon again and integrates. Returns (diffuse, specular) radiance.
-fn integrate_lobes<R: Recorder>(lobes: &Lobes, radiance: DVec3, scratch: &mut ShadingScratch, rec: &mut R) -> (DVec3, DVec3) {
+fn integrate_lobes<R: Recorder>(
+    lobes: &Lobes,
+    radiance: DVec3,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> (DVec3, DVec3) {
     // Rounding can leave a value a few ulps below zero for an empty visible region.
     let e_diffuse = form_factor(scratch.visible_sph.loops()).max(0.0);
-    rec.lobe(Lobe::Diffuse, &scratch.visible_sph, &scratch.visible_sph, e_diffuse);
+    rec.lobe(
+        Lobe::Diffuse,
+        &scratch.visible_sph,
+        &scratch.visible_sph,
+        e_diffuse,
+    );
     let diffuse = lobes.kd * radiance * e_diffuse;
     let mut specular = DVec3::ZERO;
     if let Some((entry, scale)) = &lobes.specular {
@@ -303,9 +398,18 @@ fn integrate_lobes<R: Recorder>(lobes: &Lobes, radiance: DVec3, scratch: &mut Sh
         if entry.m_inv.determinant() < 0.0 {
             scratch.lobe_poly.reverse_loops();
         }
-        clip_to_horizon(&scratch.lobe_poly, &mut scratch.lobe_clip, &mut scratch.horizon);
+        clip_to_horizon(
+            &scratch.lobe_poly,
+            &mut scratch.lobe_clip,
+            &mut scratch.horizon,
+        );
         let e_spec = form_factor(scratch.lobe_clip.loops()).max(0.0);
-        rec.lobe(Lobe::Specular, &scratch.lobe_poly, &scratch.lobe_clip, e_spec);
+        rec.lobe(
+            Lobe::Specular,
+            &scratch.lobe_poly,
+            &scratch.lobe_clip,
+            e_spec,
+        );
         specular = *scale * radiance * e_spec;
     }
     (diffuse, specular)

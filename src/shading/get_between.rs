@@ -13,22 +13,30 @@
 use super::{PreparedScene, ShadingPoint};
 use glam::DVec3;
 
-/// Angular radius of a sphere (centre `c`, radius `r`) seen from `x`, and the unit direction to
-/// its centre; `None` when `x` is inside the sphere (it then covers every direction).
+/// The cap a sphere (centre `c`, radius `r`) subtends from `x`: unit direction to its centre,
+/// sine and cosine of its angular radius, distance to its centre; `None` when `x` is inside the
+/// sphere (it then covers every direction).
 #[inline]
-fn cap(x: DVec3, c: DVec3, r: f64) -> Option<(DVec3, f64, f64)> {
+fn cap(x: DVec3, c: DVec3, r: f64) -> Option<(DVec3, f64, f64, f64)> {
     let d = c - x;
     let dist = d.length();
     if dist <= r {
         return None;
     }
-    Some((d / dist, (r / dist).asin(), dist))
+    let sin = r / dist;
+    Some((d / dist, sin, (1.0 - sin * sin).sqrt(), dist))
 }
 
 /// Fills `out` with indices into `scene.occluders` of the occluders that may hide part of light
 /// `l` (index into `scene.lights`) from `sp`. `self_occluding` keeps the light's own mesh (the
 /// per-face path of a non-convex light, where its faces hide each other).
-pub fn get_between(scene: &PreparedScene, l: usize, sp: &ShadingPoint, self_occluding: bool, out: &mut Vec<u32>) {
+pub fn get_between(
+    scene: &PreparedScene,
+    l: usize,
+    sp: &ShadingPoint,
+    self_occluding: bool,
+    out: &mut Vec<u32>,
+) {
     out.clear();
     let x = sp.position;
     let light_id = scene.lights[l].0;
@@ -51,14 +59,17 @@ pub fn get_between(scene: &PreparedScene, l: usize, sp: &ShadingPoint, self_occl
         if sp.normal.dot(c - x) < -r {
             continue;
         }
-        if let (Some((dl, tl, distl)), Some((dn, tn, distn))) = (light_cap, cap(x, c, r)) {
+        if let (Some((dl, sl, cl, distl)), Some((dn, sn, cn, distn))) = (light_cap, cap(x, c, r)) {
             // Entirely farther than the farthest point of the light.
             if distn - r > distl + light.poly.radius {
                 continue;
             }
-            // Caps that do not overlap (with a margin far above rounding of acos).
-            let sum = tl + tn;
-            if sum < std::f64::consts::PI && dl.dot(dn).clamp(-1.0, 1.0).acos() > sum + 1e-9 {
+            // Caps that do not overlap: the angle between the centres exceeds the sum of the
+            // angular radii. Both radii are in [0, π/2], so the sum is in [0, π] where cos
+            // decreases: the test is cos(angle) < cos(θl + θn) = cl·cn − sl·sn, no trigonometry.
+            // The margin keeps rounding on the side of keeping the occluder.
+            let cos_sum = cl * cn - sl * sn;
+            if dl.dot(dn) < cos_sum - 1e-12 {
                 continue;
             }
         }

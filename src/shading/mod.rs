@@ -12,7 +12,9 @@ pub use recorder::{Lobe, NoRecorder, Recorder, Stage, StageRecording};
 use glam::DVec3;
 
 /// How visibility is computed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
     /// 000 Alg. 1 with silhouettes of convex and flat meshes, per face for the others.

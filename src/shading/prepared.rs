@@ -52,7 +52,10 @@ impl PreparedScene {
             }
             let poly = Polyhedron::new(&obj.mesh.positions, &obj.mesh.faces);
             if poly.face_count() == 0 {
-                notes.push(format!("object '{}' has no usable face and is ignored", obj.name));
+                notes.push(format!(
+                    "object '{}' has no usable face and is ignored",
+                    obj.name
+                ));
                 continue;
             }
             let simple = poly.has_simple_silhouette();
@@ -65,7 +68,12 @@ impl PreparedScene {
                 ));
             }
             let id = objects.len() as u32;
-            objects.push(PreparedObject { object: i as u32, name: obj.name.clone(), poly, simple });
+            objects.push(PreparedObject {
+                object: i as u32,
+                name: obj.name.clone(),
+                poly,
+                simple,
+            });
             if is_light {
                 lights.push((id, obj.material.ke));
             }
@@ -93,7 +101,15 @@ impl PreparedScene {
             }
         }
         let materials = scene.objects.iter().map(|o| o.material.clone()).collect();
-        PreparedScene { objects, lights, occluders, materials, separations, ltc, notes }
+        PreparedScene {
+            objects,
+            lights,
+            occluders,
+            materials,
+            separations,
+            ltc,
+            notes,
+        }
     }
 
     /// The separating plane of light `l` and occluder `o` (indices into `lights`/`occluders`).

@@ -30,12 +30,33 @@ pub trait Recorder {
 
     fn begin_light(&mut self, _light: usize, _piece: Option<usize>) {}
     fn light_polygon(&mut self, _stage: Stage, _poly: &SphericalPolygon) {}
-    fn occluder_polygon(&mut self, _occluder: usize, _piece: Option<usize>, _stage: Stage, _poly: &SphericalPolygon) {}
+    fn occluder_polygon(
+        &mut self,
+        _occluder: usize,
+        _piece: Option<usize>,
+        _stage: Stage,
+        _poly: &SphericalPolygon,
+    ) {
+    }
     fn culled_occluders(&mut self, _kept: &[usize]) {}
     /// One `SetDifference` of Alg. 1 line 12 (its Greiner–Hormann phases, if recorded, were
     /// written into [`Recorder::gh_steps`] by the call itself).
-    fn set_difference(&mut self, _occluder: usize, _before: &PlanarPolygon, _clip: &PlanarPolygon, _after: &PlanarPolygon) {}
-    fn lobe(&mut self, _lobe: Lobe, _transformed: &SphericalPolygon, _clipped: &SphericalPolygon, _integral: f64) {}
+    fn set_difference(
+        &mut self,
+        _occluder: usize,
+        _before: &PlanarPolygon,
+        _clip: &PlanarPolygon,
+        _after: &PlanarPolygon,
+    ) {
+    }
+    fn lobe(
+        &mut self,
+        _lobe: Lobe,
+        _transformed: &SphericalPolygon,
+        _clipped: &SphericalPolygon,
+        _integral: f64,
+    ) {
+    }
     fn end_light(&mut self, _diffuse: DVec3, _specular: DVec3) {}
     /// Storage for the Greiner–Hormann phases of the next set difference, if recorded.
     fn gh_steps(&mut self) -> Option<&mut GreinerHormannSteps> {
@@ -94,7 +115,10 @@ pub struct StageRecording {
 
 impl StageRecording {
     pub fn new(record_gh_steps: bool) -> Self {
-        StageRecording { record_gh_steps, ..Default::default() }
+        StageRecording {
+            record_gh_steps,
+            ..Default::default()
+        }
     }
 
     fn current(&mut self) -> &mut LightRecord {
@@ -109,19 +133,39 @@ impl Recorder for StageRecording {
     const ENABLED: bool = true;
 
     fn begin_light(&mut self, light: usize, piece: Option<usize>) {
-        self.lights.push(LightRecord { light, piece, ..Default::default() });
+        self.lights.push(LightRecord {
+            light,
+            piece,
+            ..Default::default()
+        });
     }
     fn light_polygon(&mut self, stage: Stage, poly: &SphericalPolygon) {
         self.current().polygons.push((stage, poly.clone()));
     }
-    fn occluder_polygon(&mut self, occluder: usize, piece: Option<usize>, stage: Stage, poly: &SphericalPolygon) {
-        self.current().occluder_polygons.push((occluder, piece, stage, poly.clone()));
+    fn occluder_polygon(
+        &mut self,
+        occluder: usize,
+        piece: Option<usize>,
+        stage: Stage,
+        poly: &SphericalPolygon,
+    ) {
+        self.current()
+            .occluder_polygons
+            .push((occluder, piece, stage, poly.clone()));
     }
     fn culled_occluders(&mut self, kept: &[usize]) {
         self.current().occluders_kept = kept.to_vec();
     }
-    fn set_difference(&mut self, occluder: usize, before: &PlanarPolygon, clip: &PlanarPolygon, after: &PlanarPolygon) {
-        let steps = self.record_gh_steps.then(|| std::mem::take(&mut self.steps));
+    fn set_difference(
+        &mut self,
+        occluder: usize,
+        before: &PlanarPolygon,
+        clip: &PlanarPolygon,
+        after: &PlanarPolygon,
+    ) {
+        let steps = self
+            .record_gh_steps
+            .then(|| std::mem::take(&mut self.steps));
         self.current().set_differences.push(SetDifferenceRecord {
             occluder,
             before: before.clone(),
@@ -130,8 +174,16 @@ impl Recorder for StageRecording {
             steps,
         });
     }
-    fn lobe(&mut self, lobe: Lobe, transformed: &SphericalPolygon, clipped: &SphericalPolygon, integral: f64) {
-        self.current().lobes.push((lobe, transformed.clone(), clipped.clone(), integral));
+    fn lobe(
+        &mut self,
+        lobe: Lobe,
+        transformed: &SphericalPolygon,
+        clipped: &SphericalPolygon,
+        integral: f64,
+    ) {
+        self.current()
+            .lobes
+            .push((lobe, transformed.clone(), clipped.clone(), integral));
     }
     fn end_light(&mut self, diffuse: DVec3, specular: DVec3) {
         let cur = self.current();
