@@ -54,6 +54,9 @@ enum Command {
         /// Write the report as JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
+        /// Run only this case and describe it.
+        #[arg(long)]
+        only: Option<u64>,
     },
     /// Fit the 64×64 GGX LTC table (Nelder–Mead) and write it.
     FitLtc {
@@ -290,10 +293,31 @@ fn main() -> Result<()> {
             stderr,
         }) => compare(&image, &reference, stderr.as_deref()),
         Some(Command::Stress {
+            only: Some(index),
+            seed,
+            rays,
+            ..
+        }) => {
+            let (case, analytic, estimate, sigma) = penumbra::stress::run_one(seed, index, rays);
+            println!("case {index}: {:?}, scale {:e}", case.kind, case.scale);
+            println!("shading point {:?}", case.point);
+            for o in &case.scene.objects {
+                println!(
+                    "{} ({} vertices): {:?}",
+                    o.name,
+                    o.mesh.positions.len(),
+                    o.mesh.positions
+                );
+            }
+            println!("analytic {analytic}, ray cast {estimate} ± {sigma}");
+            Ok(())
+        }
+        Some(Command::Stress {
             cases,
             seed,
             rays,
             json,
+            ..
         }) => {
             let last = std::sync::atomic::AtomicU64::new(0);
             let rep = penumbra::stress::run(cases, seed, rays, |done| {
