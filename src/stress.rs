@@ -33,9 +33,12 @@ pub enum CaseKind {
     CoincidentVertices,
     /// An occluder hiding the whole light, or lying inside its silhouette.
     CoveringOrInside,
+    /// Several boxes separated by tiny gaps (a chair of boxes), so that their silhouettes have
+    /// nearly coincident corners and nearly collinear edges.
+    NearlyTouchingBoxes,
 }
 
-const KINDS: [CaseKind; 7] = [
+const KINDS: [CaseKind; 8] = [
     CaseKind::Random,
     CaseKind::CoplanarWithLightFace,
     CaseKind::LightVerticesOnHorizon,
@@ -43,6 +46,7 @@ const KINDS: [CaseKind; 7] = [
     CaseKind::OccluderSharesEdgesWithLight,
     CaseKind::CoincidentVertices,
     CaseKind::CoveringOrInside,
+    CaseKind::NearlyTouchingBoxes,
 ];
 
 /// One generated configuration.
@@ -78,7 +82,7 @@ pub struct StressReport {
     /// Cases whose error exceeds 6 standard deviations of the estimate plus 1/rays.
     pub beyond_6_sigma: u64,
     /// The same, per kind of case (in the order of `CaseKind`).
-    pub beyond_6_sigma_by_kind: [u64; 7],
+    pub beyond_6_sigma_by_kind: [u64; 8],
     pub worst_abs: WorstCase,
     pub worst_sigma: WorstCase,
     pub seconds: f64,
@@ -362,6 +366,54 @@ pub fn generate(seed: u64, index: u64) -> Case {
                 false,
             ));
             n = DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), 1.0).normalize();
+        }
+        CaseKind::NearlyTouchingBoxes => {
+            // A quad light above a "chair": a seat slab, legs under its corners and a back, with
+            // gaps from 1e-2 down to 1e-7 of the chair's size.
+            let c = DVec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(2.0, 3.0),
+            );
+            let (u, v) = (
+                DVec3::X * rng.range(0.2, 1.0),
+                DVec3::Y * rng.range(0.2, 1.0),
+            );
+            objects.push(object("light", quad(c, u, -v), true));
+            let gap = 10f64.powf(rng.range(-7.0, -2.0));
+            let s = DVec3::new(rng.range(0.2, 0.5), rng.range(0.2, 0.5), 0.03);
+            let seat_c = DVec3::new(
+                rng.range(-0.5, 0.5),
+                rng.range(-0.5, 0.5),
+                rng.range(0.8, 1.4),
+            );
+            objects.push(object("seat", cuboid(seat_c, s), false));
+            let leg_h = 0.5 * (seat_c.z - s.z - gap - 0.3);
+            for (k, (sx, sy)) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
+                .into_iter()
+                .enumerate()
+            {
+                let lc =
+                    seat_c + DVec3::new(sx * (s.x - 0.03), sy * (s.y - 0.03), -s.z - gap - leg_h);
+                objects.push(object(
+                    &format!("leg{k}"),
+                    cuboid(lc, DVec3::new(0.03, 0.03, leg_h)),
+                    false,
+                ));
+            }
+            let back_h = rng.range(0.2, 0.5);
+            let bc = seat_c + DVec3::new(0.0, s.y - 0.02, s.z + gap + back_h);
+            objects.push(object(
+                "back",
+                cuboid(bc, DVec3::new(s.x, 0.02, back_h)),
+                false,
+            ));
+            x = DVec3::new(
+                seat_c.x + rng.range(-1.0, 1.0),
+                seat_c.y + rng.range(-1.0, 1.0),
+                0.0,
+            );
+            n = DVec3::new(rng.range(-0.2, 0.2), rng.range(-0.2, 0.2), 1.0).normalize();
         }
     }
     // Occluders may touch the light only where a family means them to; elsewhere an occluder
