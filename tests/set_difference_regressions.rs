@@ -53,7 +53,10 @@ fn check(subject: &[DVec3], clip: &[DVec3]) {
     res.map_vertices(|v| v.normalize());
     let got = res.signed_solid_angle_about(DVec3::Z);
     let want = decomposition_area(subject, clip);
-    assert!((got - want).abs() < 1e-12, "set difference {got} vs decomposition {want}");
+    assert!(
+        (got - want).abs() < 1e-12,
+        "set difference {got} vs decomposition {want}"
+    );
 }
 
 #[test]

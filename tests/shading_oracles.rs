@@ -18,7 +18,10 @@ fn points(ctx: &RenderContext, n: usize, seed: u64) -> Vec<ShadingPoint> {
     let mut out = Vec::new();
     while out.len() < n {
         let dir = basis.direction(rng.range(0.0, 64.0), rng.range(0.0, 64.0), 64, 64);
-        if let Some(hit) = ctx.primary_hit(&Ray { origin: basis.eye, dir }) {
+        if let Some(hit) = ctx.primary_hit(&Ray {
+            origin: basis.eye,
+            dir,
+        }) {
             if hit.receiver {
                 out.push(hit.point);
             }
@@ -38,7 +41,7 @@ fn lambertian(name: &str) -> Scene {
 
 #[test]
 fn shading_points_match_brute_force_ray_casting() {
-    for name in ["fig4", "chair"] {
+    for name in ["fig4", "chair", "nonconvex"] {
         let scene = lambertian(name);
         let ctx = RenderContext::new(&scene);
         let lights = LightSampler::new(&scene);
@@ -47,7 +50,14 @@ fn shading_points_match_brute_force_ray_casting() {
         let mut worst: f64 = 0.0;
         for sp in points(&ctx, 60, 7) {
             let mat = &ctx.prepared.materials[sp.object.unwrap() as usize];
-            let analytic = shade(&ctx.prepared, &sp, mat, Method::Analytic, &mut scratch, &mut NoRecorder);
+            let analytic = shade(
+                &ctx.prepared,
+                &sp,
+                mat,
+                Method::Analytic,
+                &mut scratch,
+                &mut NoRecorder,
+            );
             let (mc, err) = direct_lighting(&ctx, &lights, &sp, mat, 20_000, &mut rng);
             for k in 0..3 {
                 // 4.5σ of the estimate's own standard error: a false alarm over the 180×2
@@ -77,12 +87,30 @@ fn silhouette_path_equals_per_triangle_path_on_convex_scenes() {
         let mut worst: f64 = 0.0;
         for sp in points(&ctx, 300, 3) {
             let mat = &ctx.prepared.materials[sp.object.unwrap() as usize];
-            let a = shade(&ctx.prepared, &sp, mat, Method::Analytic, &mut scratch, &mut NoRecorder);
-            let b = shade(&ctx.prepared, &sp, mat, Method::PerTriangle, &mut scratch, &mut NoRecorder);
+            let a = shade(
+                &ctx.prepared,
+                &sp,
+                mat,
+                Method::Analytic,
+                &mut scratch,
+                &mut NoRecorder,
+            );
+            let b = shade(
+                &ctx.prepared,
+                &sp,
+                mat,
+                Method::PerTriangle,
+                &mut scratch,
+                &mut NoRecorder,
+            );
             // Both are exact up to rounding: the visible region is the same set.
             let d = (a - b).abs().max_element() / a.max_element().max(1e-3);
             worst = worst.max(d);
-            assert!(d < 1e-7, "{name}: {:?}: silhouettes {a} vs per-triangle {b}", sp.position);
+            assert!(
+                d < 1e-7,
+                "{name}: {:?}: silhouettes {a} vs per-triangle {b}",
+                sp.position
+            );
         }
         eprintln!("{name}: worst relative difference {worst:.2e}");
     }
@@ -94,31 +122,56 @@ fn embedded_scenes_render_without_invalid_pixels() {
         let scene = scene_file::load_embedded(name).unwrap();
         let ctx = RenderContext::new(&scene);
         for method in [Method::Analytic, Method::PerTriangle, Method::Unshadowed] {
-            let settings = RenderSettings { width: 48, height: 36, aa: 2, method };
+            let settings = RenderSettings {
+                width: 48,
+                height: 36,
+                aa: 2,
+                method,
+            };
             let (img, _) = ctx.render(&scene.camera.unwrap(), &settings, None).unwrap();
             assert_eq!(img.invalid_counts(), (0, 0, 0), "{name} with {method:?}");
-            assert!(img.pixels.iter().any(|p| p.max_element() > 0.0), "{name} is black");
+            assert!(
+                img.pixels.iter().any(|p| p.max_element() > 0.0),
+                "{name} is black"
+            );
         }
     }
 }
 
 #[test]
 fn lambertian_render_agrees_with_a_converged_reference() {
-    for name in ["fig4", "chair"] {
+    for name in ["fig4", "chair", "nonconvex"] {
         let scene = lambertian(name);
         let ctx = RenderContext::new(&scene);
         let cam = scene.camera.unwrap();
-        let settings = RenderSettings { width: 40, height: 30, aa: 1, method: Method::Analytic };
+        let settings = RenderSettings {
+            width: 40,
+            height: 30,
+            aa: 1,
+            method: Method::Analytic,
+        };
         let (img, _) = ctx.render(&cam, &settings, None).unwrap();
         let (reference, stderr) = render_reference(&ctx, &cam, &settings, 2048, 5).unwrap();
-        let c = compare(&img.to_rgb32(), &reference.to_rgb32(), Some(&stderr.to_rgb32()));
+        let c = compare(
+            &img.to_rgb32(),
+            &reference.to_rgb32(),
+            Some(&stderr.to_rgb32()),
+        );
         eprintln!("{name}: {c:?}");
         // If the difference is the reference's noise alone, z is ~N(0, 1): over ~3600 channels the
         // RMS of z lies within 1 ± 0.05 and its mean within ±0.07 (4σ each). The variance estimate
         // of pixels with few unoccluded samples is itself noisy, which only widens |z| tails, so
         // the bounds allow 1.2 and 0.1; a bias of a tenth of the noise would already show.
         assert!(c.rms_z.unwrap() < 1.2, "{name}: rms z {:?}", c.rms_z);
-        assert!(c.mean_z.unwrap().abs() < 0.1, "{name}: mean z {:?}", c.mean_z);
-        assert!(c.within_3_sigma.unwrap() > 0.98, "{name}: {:?}", c.within_3_sigma);
+        assert!(
+            c.mean_z.unwrap().abs() < 0.1,
+            "{name}: mean z {:?}",
+            c.mean_z
+        );
+        assert!(
+            c.within_3_sigma.unwrap() > 0.98,
+            "{name}: {:?}",
+            c.within_3_sigma
+        );
     }
 }
