@@ -287,6 +287,7 @@ fn subtract_occluder<R: Recorder>(
         None
     };
     let on_this = sp.object == Some(occ.object);
+    let closed = occ.poly.diagnostics.closed_manifold;
     if occ.simple && method != Method::PerTriangle && cut.is_none() {
         silhouette(
             &occ.poly,
@@ -303,6 +304,11 @@ fn subtract_occluder<R: Recorder>(
                 break;
             }
             if (on_this && skip_own_face(occ, g, sp)) || skip_face == Some(g) {
+                continue;
+            }
+            // A ray from x (outside a closed mesh) that meets the mesh enters it first through a
+            // face turned toward x: the front faces alone cover its projection.
+            if closed && occ.poly.face_planes[g].eval(sp.position) <= 0.0 {
                 continue;
             }
             face_polygon(
