@@ -5,7 +5,7 @@
 use crate::accel::Ray;
 use crate::ltc::ggx;
 use crate::math::{Frame, Pcg32};
-use crate::render::{Image, RenderContext, RenderSettings};
+use crate::render::{Image, RenderContext, RenderSettings, subpixel_rays};
 use crate::scene::{Camera, Material, Scene};
 use crate::shading::ShadingPoint;
 use glam::DVec3;
@@ -201,31 +201,17 @@ pub fn render_reference(
             let (x, y) = (i % w, i / w);
             let mut rng = Pcg32::new(seed, i as u64);
             let (mut mean, mut var) = (DVec3::ZERO, DVec3::ZERO);
-            for sy in 0..aa {
-                for sx in 0..aa {
-                    let fx = x as f64 + (sx as f64 + 0.5) / aa as f64;
-                    let fy = y as f64 + (sy as f64 + 0.5) / aa as f64;
-                    let ray = Ray {
-                        origin: basis.eye,
-                        dir: basis.direction(fx, fy, w, h),
-                    };
-                    let Some(hit) = ctx.primary_hit(&ray) else {
-                        continue;
-                    };
-                    mean += hit.emitted;
-                    if hit.receiver {
-                        let mat = &ctx.prepared.materials[hit.point.object.unwrap_or(0) as usize];
-                        let (m, e) = direct_lighting(
-                            ctx,
-                            &lights,
-                            &hit.point,
-                            mat,
-                            samples_per_light,
-                            &mut rng,
-                        );
-                        mean += m;
-                        var += e * e;
-                    }
+            for ray in subpixel_rays(&basis, x, y, aa, w, h) {
+                let Some(hit) = ctx.primary_hit(&ray) else {
+                    continue;
+                };
+                mean += hit.emitted;
+                if hit.receiver {
+                    let mat = &ctx.prepared.materials[hit.point.object.unwrap_or(0) as usize];
+                    let (m, e) =
+                        direct_lighting(ctx, &lights, &hit.point, mat, samples_per_light, &mut rng);
+                    mean += m;
+                    var += e * e;
                 }
             }
             let k = (aa * aa) as f64;

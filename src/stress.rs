@@ -566,17 +566,14 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
                 (1.0 - u1).max(0.0).sqrt(),
             ));
             total += 1;
-            if let Some(hit) = bvh.intersect(
-                &Ray {
-                    origin: case.point.position,
-                    dir: d,
-                },
-                0.0,
-                f64::INFINITY,
-            ) {
-                if hit.object == 0 && hit.geometric_normal.dot(d) < 0.0 {
-                    hits += 1;
-                }
+            let ray = Ray {
+                origin: case.point.position,
+                dir: d,
+            };
+            // Counted when the first surface along the ray is the front of a light face.
+            let seen = bvh.intersect(&ray, 0.0, f64::INFINITY);
+            if seen.is_some_and(|hit| hit.object == 0 && hit.geometric_normal.dot(d) < 0.0) {
+                hits += 1;
             }
         }
     }

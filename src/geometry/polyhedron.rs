@@ -271,21 +271,9 @@ impl Polyhedron {
 mod tests {
     use super::*;
 
-    pub(crate) fn cube() -> (Vec<DVec3>, Vec<Vec<u32>>) {
-        let p: Vec<DVec3> = (0..8)
-            .map(|i| {
-                DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) * 2.0 - 1.0
-            })
-            .collect();
-        let faces = vec![
-            vec![0, 2, 3, 1], // -z
-            vec![4, 5, 7, 6], // +z
-            vec![0, 1, 5, 4], // -y
-            vec![2, 6, 7, 3], // +y
-            vec![0, 4, 6, 2], // -x
-            vec![1, 3, 7, 5], // +x
-        ];
-        (p, faces)
+    fn cube() -> (Vec<DVec3>, Vec<Vec<u32>>) {
+        let m = crate::scene::shapes::cuboid(DVec3::ZERO, DVec3::ONE);
+        (m.positions, m.faces)
     }
 
     #[test]

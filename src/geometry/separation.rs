@@ -76,22 +76,8 @@ mod tests {
     use super::*;
 
     fn cube_at(c: DVec3, h: f64) -> Polyhedron {
-        let p: Vec<DVec3> = (0..8)
-            .map(|i| {
-                c + (DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) * 2.0
-                    - 1.0)
-                    * h
-            })
-            .collect();
-        let faces = vec![
-            vec![0, 2, 3, 1],
-            vec![4, 5, 7, 6],
-            vec![0, 1, 5, 4],
-            vec![2, 6, 7, 3],
-            vec![0, 4, 6, 2],
-            vec![1, 3, 7, 5],
-        ];
-        Polyhedron::new(&p, &faces)
+        let m = crate::scene::shapes::cuboid(c, DVec3::splat(h));
+        Polyhedron::new(&m.positions, &m.faces)
     }
 
     #[test]

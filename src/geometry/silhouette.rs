@@ -228,20 +228,8 @@ mod tests {
     use crate::math::Pcg32;
 
     fn cube() -> Polyhedron {
-        let p: Vec<DVec3> = (0..8)
-            .map(|i| {
-                DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) * 2.0 - 1.0
-            })
-            .collect();
-        let faces = vec![
-            vec![0, 2, 3, 1],
-            vec![4, 5, 7, 6],
-            vec![0, 1, 5, 4],
-            vec![2, 6, 7, 3],
-            vec![0, 4, 6, 2],
-            vec![1, 3, 7, 5],
-        ];
-        Polyhedron::new(&p, &faces)
+        let m = crate::scene::shapes::cuboid(DVec3::ZERO, DVec3::ONE);
+        Polyhedron::new(&m.positions, &m.faces)
     }
 
     /// Solid angle of the cube seen from x by brute-force ray casting against its 12 triangles.

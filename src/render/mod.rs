@@ -4,6 +4,7 @@ pub mod compare;
 pub mod image_io;
 
 use crate::accel::{Bvh, Ray};
+use crate::scene::camera::CameraBasis;
 use crate::scene::{Camera, Scene};
 use crate::shading::{
     Method, NoRecorder, PreparedScene, Recorder, ShadingPoint, ShadingScratch, shade,
@@ -59,6 +60,27 @@ impl Image {
         }
         c
     }
+}
+
+/// The camera rays of pixel (x, y): `aa`×`aa` stratified positions at the centres of the
+/// sub-pixel cells, averaged with a box filter by every renderer (analytic and reference alike).
+pub fn subpixel_rays(
+    basis: &CameraBasis,
+    x: u32,
+    y: u32,
+    aa: u32,
+    width: u32,
+    height: u32,
+) -> impl Iterator<Item = Ray> + '_ {
+    (0..aa * aa).map(move |k| {
+        let (sx, sy) = (k % aa, k / aa);
+        let px = x as f64 + (sx as f64 + 0.5) / aa as f64;
+        let py = y as f64 + (sy as f64 + 0.5) / aa as f64;
+        Ray {
+            origin: basis.eye,
+            dir: basis.direction(px, py, width, height),
+        }
+    })
 }
 
 /// Settings of `penumbra render`.
@@ -184,17 +206,8 @@ impl<'a> RenderContext<'a> {
                 for y in y0..y1 {
                     for x in x0..x1 {
                         let mut sum = DVec3::ZERO;
-                        for sy in 0..aa {
-                            for sx in 0..aa {
-                                let px = x as f64 + (sx as f64 + 0.5) / aa as f64;
-                                let py = y as f64 + (sy as f64 + 0.5) / aa as f64;
-                                let ray = Ray {
-                                    origin: basis.eye,
-                                    dir: basis.direction(px, py, w, h),
-                                };
-                                sum +=
-                                    self.radiance(&ray, settings.method, scratch, &mut NoRecorder);
-                            }
+                        for ray in subpixel_rays(&basis, x, y, aa, w, h) {
+                            sum += self.radiance(&ray, settings.method, scratch, &mut NoRecorder);
                         }
                         out.push(sum * inv);
                     }

@@ -73,10 +73,11 @@ pub fn get_between(
                 continue;
             }
         }
-        if let Some(plane) = scene.separation(l, oi) {
-            if plane.eval(x) <= 0.0 {
-                continue;
-            }
+        if scene
+            .separation(l, oi)
+            .is_some_and(|plane| plane.eval(x) <= 0.0)
+        {
+            continue;
         }
         out.push(oi as u32);
     }
