@@ -65,6 +65,20 @@ enum Command {
         #[arg(long, default_value_t = 64)]
         size: usize,
     },
+    /// Shade one pixel with the stage recorder and write every intermediate polygon as JSON
+    /// (the debug dump the workbench replays).
+    Probe {
+        #[command(flatten)]
+        render: RenderArgs,
+        /// Pixel position X,Y (fractional positions allowed; the pixel centre is X+0.5,Y+0.5).
+        #[arg(long, value_parser = parse_vec2)]
+        pixel: (f64, f64),
+        /// Record the Greiner–Hormann phases too.
+        #[arg(long)]
+        gh_steps: bool,
+        #[arg(long, default_value = "out/probe.json")]
+        json: PathBuf,
+    },
     /// List the embedded scenes.
     Scenes,
 }
@@ -107,6 +121,15 @@ fn parse_vec3(s: &str) -> Result<DVec3, String> {
         [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(DVec3::new(x, y, z)),
         _ => Err(format!("expected three finite numbers X,Y,Z, got '{s}'")),
     }
+}
+
+fn parse_vec2(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected X,Y, got '{s}'"))?;
+    let a: f64 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
+    let b: f64 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
+    Ok((a, b))
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -245,6 +268,68 @@ fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
     Ok(())
 }
 
+/// The debug dump of one shading point.
+#[derive(serde::Serialize)]
+struct ProbeDump<'a> {
+    scene: &'a str,
+    method: Method,
+    pixel: (f64, f64),
+    size: (u32, u32),
+    camera: Camera,
+    point: Option<penumbra::shading::ShadingPoint>,
+    emitted: DVec3,
+    radiance: DVec3,
+    stats: penumbra::shading::ShadingStats,
+    recording: penumbra::shading::StageRecording,
+}
+
+fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> Result<()> {
+    let scene = load_scene(&args.scene)?;
+    let cam = camera(args, &scene)?;
+    let ctx = RenderContext::new(&scene);
+    let basis = cam.basis().map_err(anyhow::Error::msg)?;
+    let ray = penumbra::accel::Ray {
+        origin: basis.eye,
+        dir: basis.direction(pixel.0 + 0.5, pixel.1 + 0.5, args.size.0, args.size.1),
+    };
+    let mut recording = penumbra::shading::StageRecording::new(gh_steps);
+    let mut scratch = penumbra::shading::ShadingScratch::default();
+    let radiance = ctx.radiance(&ray, args.method, &mut scratch, &mut recording);
+    let hit = ctx.primary_hit(&ray);
+    let dump = ProbeDump {
+        scene: &args.scene,
+        method: args.method,
+        pixel,
+        size: args.size,
+        camera: cam,
+        point: hit.map(|h| h.point),
+        emitted: hit.map(|h| h.emitted).unwrap_or_default(),
+        radiance,
+        stats: scratch.stats,
+        recording,
+    };
+    if let Some(dir) = json.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+    }
+    std::fs::write(json, serde_json::to_string_pretty(&dump)?)
+        .with_context(|| format!("{}", json.display()))?;
+    println!("radiance {radiance} at pixel {pixel:?}");
+    for l in &dump.recording.lights {
+        println!(
+            "  light {} {:?}: diffuse {} specular {}, occluders kept {:?}, set differences {}",
+            l.light,
+            l.piece,
+            l.diffuse,
+            l.specular,
+            l.occluders_kept,
+            l.set_differences.len()
+        );
+    }
+    println!("wrote {}", json.display());
+    Ok(())
+}
+
 fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> {
     let read = |p: &Path| image_io::read_pfm(p).with_context(|| format!("{}", p.display()));
     let (w, h, a) = read(image)?;
@@ -354,6 +439,12 @@ fn main() -> Result<()> {
             );
             Ok(())
         }
+        Some(Command::Probe {
+            render,
+            pixel,
+            gh_steps,
+            json,
+        }) => probe(&render, pixel, gh_steps, &json),
         Some(Command::Scenes) => {
             for name in scene_file::embedded_scene_names() {
                 println!("{name}");
