@@ -60,8 +60,18 @@ pub struct ShadingScratch {
     lobe_poly: SphericalPolygon,
     lobe_clip: SphericalPolygon,
     kept: Vec<u32>,
+    /// Per occluder: its projected, horizon-clipped silhouette at the shading point `stamp`.
+    occluder_cache: Vec<CachedOccluder>,
+    /// Counts shading points, to invalidate `occluder_cache` without clearing it.
+    stamp: u64,
     face_buf: Vec<DVec3>,
     pub stats: ShadingStats,
+}
+
+#[derive(Default)]
+struct CachedOccluder {
+    stamp: u64,
+    poly: PlanarPolygon,
 }
 
 /// Relative distance below which a face is taken to contain the shading point (its spherical
@@ -85,6 +95,12 @@ pub fn shade<R: Recorder>(
     rec: &mut R,
 ) -> DVec3 {
     scratch.stats = ShadingStats::default();
+    scratch.stamp += 1;
+    if scratch.occluder_cache.len() < scene.occluders.len() {
+        scratch
+            .occluder_cache
+            .resize_with(scene.occluders.len(), CachedOccluder::default);
+    }
     let frame = Frame::from_normal_and_view(sp.normal, sp.view);
     let lobes = Lobes {
         kd: material.kd,
@@ -289,15 +305,43 @@ fn subtract_occluder<R: Recorder>(
     let on_this = sp.object == Some(occ.object);
     let closed = occ.poly.diagnostics.closed_manifold;
     if occ.simple && method != Method::PerTriangle && cut.is_none() {
-        silhouette(
-            &occ.poly,
-            sp.position,
-            frame,
-            Sidedness::TwoSided,
-            &mut scratch.occ_sph,
-            &mut scratch.silhouette,
-        );
-        subtract_polygon(oi, None, scratch, rec);
+        if R::ENABLED {
+            silhouette(
+                &occ.poly,
+                sp.position,
+                frame,
+                Sidedness::TwoSided,
+                &mut scratch.occ_sph,
+                &mut scratch.silhouette,
+            );
+            subtract_polygon(oi, None, scratch, rec);
+            return;
+        }
+        // An occluder's clipped silhouette depends on the shading point and frame only, not on
+        // the light: computed once per shading point and reused for every light. (A recorder
+        // gets every stage recomputed instead; the numbers are the same.)
+        let stamp = scratch.stamp;
+        let cached = &mut scratch.occluder_cache[oi];
+        if cached.stamp != stamp {
+            silhouette(
+                &occ.poly,
+                sp.position,
+                frame,
+                Sidedness::TwoSided,
+                &mut scratch.occ_sph,
+                &mut scratch.silhouette,
+            );
+            clip_to_horizon(
+                &scratch.occ_sph,
+                &mut scratch.occ_clip,
+                &mut scratch.horizon,
+            );
+            ProjectionPlane::NORMAL.project(&scratch.occ_clip, &mut cached.poly);
+            cached.stamp = stamp;
+        }
+        std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
+        subtract_planar(oi, scratch, rec);
+        std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
     } else {
         for g in 0..occ.poly.face_count() {
             if scratch.visible.is_empty() {
@@ -343,10 +387,15 @@ fn subtract_polygon<R: Recorder>(
         &mut scratch.horizon,
     );
     rec.occluder_polygon(oi, piece, Stage::HorizonClipped, &scratch.occ_clip);
-    if scratch.occ_clip.is_empty() {
+    ProjectionPlane::NORMAL.project(&scratch.occ_clip, &mut scratch.occ_plane);
+    subtract_planar(oi, scratch, rec);
+}
+
+/// Subtracts the projected occluder polygon in `scratch.occ_plane` from the visible polygon.
+fn subtract_planar<R: Recorder>(oi: usize, scratch: &mut ShadingScratch, rec: &mut R) {
+    if scratch.occ_plane.is_empty() {
         return;
     }
-    ProjectionPlane::NORMAL.project(&scratch.occ_clip, &mut scratch.occ_plane);
     // Exact fast paths for convex clips; Greiner–Hormann for the rest.
     let relation = if scratch.occ_plane.loop_count() == 1 {
         classify_overlap(&scratch.visible, scratch.occ_plane.loop_at(0))
