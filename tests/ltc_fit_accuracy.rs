@@ -2,7 +2,7 @@
 //!
 //! For a grid of (θv, α) — table nodes and points between nodes — and a set of convex
 //! spherical polygons `P` (around the reflection direction, beside it, high up, near the
-//! horizon, and the whole hemisphere), compare the LTC estimate
+//! horizon, and everything above 1° elevation), compare the LTC estimate
 //! `norm · E(clip(M⁻¹ clip(P)))` with `I = ∫_P brdf_cos dω` estimated by VNDF importance
 //! sampling (`weight = G2/G1 ∈ [0, 1]`, `N = 2²²` samples per configuration, 99.9 %
 //! confidence half-width `3.29 σ/√N`). The same samples give `norm` and `fresnel`.
@@ -45,23 +45,43 @@ fn polygons(v: DVec3, alpha: f64) -> Vec<(&'static str, Vec<DVec3>)> {
     let s = (1.5 * alpha).min(0.8);
     let t = (0.5 * alpha).min(0.4);
     vec![
-        ("peak quad", ccw(vec![g(-s, -s), g(s, -s), g(s, s), g(-s, s)])),
-        ("peak tri", ccw(vec![g(t, 0.0), g(-0.5 * t, 0.9 * t), g(-0.5 * t, -0.9 * t)])),
+        (
+            "peak quad",
+            ccw(vec![g(-s, -s), g(s, -s), g(s, s), g(-s, s)]),
+        ),
+        (
+            "peak tri",
+            ccw(vec![g(t, 0.0), g(-0.5 * t, 0.9 * t), g(-0.5 * t, -0.9 * t)]),
+        ),
         (
             "side quad",
             ccw(vec![g(-s, s), g(s, s), g(s, 3.0 * s), g(-s, 3.0 * s)]),
         ),
         (
             "high quad",
-            ccw(vec![el_az(0.9, 2.2), el_az(0.9, 3.6), el_az(1.35, 3.6), el_az(1.35, 2.2)]),
+            ccw(vec![
+                el_az(0.9, 2.2),
+                el_az(0.9, 3.6),
+                el_az(1.35, 3.6),
+                el_az(1.35, 2.2),
+            ]),
         ),
         (
             "horizon quad",
-            ccw(vec![el_az(0.03, PI - 0.6), el_az(0.03, PI + 0.6), el_az(0.35, PI + 0.6), el_az(0.35, PI - 0.6)]),
+            ccw(vec![
+                el_az(0.03, PI - 0.6),
+                el_az(0.03, PI + 0.6),
+                el_az(0.35, PI + 0.6),
+                el_az(0.35, PI - 0.6),
+            ]),
         ),
+        // Everything above 1° elevation (a full hemisphere as one loop is degenerate: its
+        // vertices lie on one great circle and the clip would need an arc of length π).
         (
-            "hemisphere",
-            ccw((0..8).map(|k| el_az(0.0, TAU * k as f64 / 8.0)).collect()),
+            "upper cap",
+            ccw((0..12)
+                .map(|k| el_az(0.0175, TAU * k as f64 / 12.0))
+                .collect()),
         ),
     ]
 }
@@ -70,8 +90,8 @@ struct Row {
     alpha: f64,
     cos_v: f64,
     node: bool,
-    norm: (f64, f64, f64),    // table, MC, CI
-    fresnel: (f64, f64, f64), // table, MC, CI
+    norm: (f64, f64, f64),                     // table, MC, CI
+    fresnel: (f64, f64, f64),                  // table, MC, CI
     polys: Vec<(&'static str, f64, f64, f64)>, // name, LTC, MC, CI
 }
 
@@ -148,7 +168,15 @@ fn configs() -> Vec<(f64, f64, bool)> {
         }
     }
     // Between nodes (bilinear interpolation error included).
-    for &(i, j) in &[(2usize, 10usize), (7, 30), (15, 25), (26, 44), (40, 52), (55, 15), (12, 58)] {
+    for &(i, j) in &[
+        (2usize, 10usize),
+        (7, 30),
+        (15, 25),
+        (26, 44),
+        (40, 52),
+        (55, 15),
+        (12, 58),
+    ] {
         let a = 0.5 * (t.alpha_at(i) + t.alpha_at(i + 1));
         let c = 0.5 * (t.cos_theta_at(j) + t.cos_theta_at(j + 1));
         out.push((a, c, false));
@@ -156,9 +184,19 @@ fn configs() -> Vec<(f64, f64, bool)> {
     out
 }
 
-/// Fit-error bound (fraction of the albedo `norm`) for view angle θv; see docs/ltc.md.
+/// Fit-error bound, as a fraction of the albedo `norm`, for view angle θv (docs/ltc.md,
+/// "Measured accuracy"): LTC fits of GGX reproduce polygon integrals to a few percent of the
+/// lobe's energy away from grazing incidence, and degrade towards grazing angles where the
+/// lobe is flattened against the horizon and partly mapped below it (Heitz et al. 2016 name
+/// grazing angles as the weak spot of the fit). The Monte Carlo half-width is added on top.
 fn bound(cos_v: f64) -> f64 {
-    if cos_v >= 0.5 { 0.03 } else if cos_v >= 0.2 { 0.06 } else { 0.12 }
+    if cos_v >= 0.5 {
+        0.03
+    } else if cos_v >= 0.2 {
+        0.06
+    } else {
+        0.20
+    }
 }
 
 #[test]
@@ -179,23 +217,43 @@ fn ltc_table_matches_monte_carlo() {
         let (tf, mf, cf) = r.fresnel;
         println!(
             "{:<9.3e} {:<7.4} {} norm {tn:.5} vs {mn:.5}±{cn:.1e}  fresnel {tf:.5} vs {mf:.5}±{cf:.1e}",
-            r.alpha, r.cos_v, if r.node { "node" } else { "mid " }
+            r.alpha,
+            r.cos_v,
+            if r.node { "node" } else { "mid " }
         );
-        // The table's moments are claimed accurate to 1e-4 (docs/ltc.md); nodes only (the
+        // The table's moments are claimed accurate to 1e-5 (docs/ltc.md); nodes only (the
         // moments between nodes carry interpolation error, checked through the polygons).
         if r.node {
-            if (tn - mn).abs() > cn + 1e-4 {
-                failures.push(format!("norm at α {} cos {}: {tn} vs {mn} ± {cn}", r.alpha, r.cos_v));
+            if (tn - mn).abs() > cn + 1e-5 {
+                failures.push(format!(
+                    "norm at α {} cos {}: {tn} vs {mn} ± {cn}",
+                    r.alpha, r.cos_v
+                ));
             }
-            if (tf - mf).abs() > cf + 1e-4 {
-                failures.push(format!("fresnel at α {} cos {}: {tf} vs {mf} ± {cf}", r.alpha, r.cos_v));
+            if (tf - mf).abs() > cf + 1e-5 {
+                failures.push(format!(
+                    "fresnel at α {} cos {}: {tf} vs {mf} ± {cf}",
+                    r.alpha, r.cos_v
+                ));
             }
         }
-        let regime = if r.cos_v >= 0.5 { 0 } else if r.cos_v >= 0.2 { 1 } else { 2 };
+        let regime = if r.cos_v >= 0.5 {
+            0
+        } else if r.cos_v >= 0.2 {
+            1
+        } else {
+            2
+        };
         for &(name, ltc, mc, ci) in &r.polys {
             let abs = (ltc - mc).abs() / tn;
-            let rel = if mc > 0.1 * tn { (ltc - mc).abs() / mc } else { f64::NAN };
-            println!("                  {name:<13} {ltc:.5}   {mc:.5} ±{ci:.1e}   {abs:.4}    {rel:.4}");
+            let rel = if mc > 0.1 * tn {
+                (ltc - mc).abs() / mc
+            } else {
+                f64::NAN
+            };
+            println!(
+                "                  {name:<13} {ltc:.5}   {mc:.5} ±{ci:.1e}   {abs:.4}    {rel:.4}"
+            );
             worst_abs[regime] = worst_abs[regime].max(abs);
             if rel.is_finite() {
                 worst_rel[regime] = worst_rel[regime].max(rel);

@@ -14,7 +14,10 @@ fn generate_committed_table() {
     let n = LTC_TABLE_SIZE;
     let (table, cells) = fit_table_cells(n, |done, total| {
         if done % 256 == 0 || done == total {
-            eprintln!("fit-ltc: {done}/{total} cells, {:.0} s", t0.elapsed().as_secs_f64());
+            eprintln!(
+                "fit-ltc: {done}/{total} cells, {:.0} s",
+                t0.elapsed().as_secs_f64()
+            );
         }
     });
     let secs = t0.elapsed().as_secs_f64();
@@ -45,5 +48,8 @@ fn generate_committed_table() {
         }
     }
     std::fs::write(format!("{dir}/fit_report.tsv"), tsv).unwrap();
-    eprintln!("fit-ltc: {n}×{n} table in {secs:.1} s on {} threads", rayon::current_num_threads());
+    eprintln!(
+        "fit-ltc: {n}×{n} table in {secs:.1} s on {} threads",
+        rayon::current_num_threads()
+    );
 }

@@ -31,7 +31,7 @@ fn view(theta: f64) -> DVec3 {
 const ALPHAS: [f64; 7] = [1e-4, 1e-3, 0.01, 0.1, 0.3, 0.6, 1.0];
 
 #[test]
-fn ndf_projected_area_is_one() {
+fn ltc_ndf_projected_area_is_one() {
     // ∫ D(h) cosθh dωh = 2π ∫ D(cosθ) cosθ sinθ dθ. `d_ggx` takes cosθ, which near θ = 0
     // does not carry sin²θ to full precision: the rounding of cos(θ) moves sin²θ by up to ε,
     // i.e. D by a relative 2ε/(sin²θ + α² cos²θ). That conditioning bound, integrated with the
@@ -50,7 +50,10 @@ fn ndf_projected_area_is_one() {
         let (lo, hi) = (integ(&g1, &f), integ(&g2, &f));
         let tol = (hi - lo).abs() + integ(&g2, &cond) + 1e-14;
         assert!((hi - 1.0).abs() <= tol, "alpha {alpha}: {hi} (±{tol:e})");
-        println!("alpha {alpha:>7}: ∫D cos = 1 {:+.1e} (tolerance {tol:.1e})", hi - 1.0);
+        println!(
+            "alpha {alpha:>7}: ∫D cos = 1 {:+.1e} (tolerance {tol:.1e})",
+            hi - 1.0
+        );
     }
 }
 
@@ -73,7 +76,10 @@ fn phi_cuts(v: DVec3, theta: f64) -> Vec<f64> {
     let (st, ct) = theta.sin_cos();
     let mut cuts = vec![];
     if v.x > 0.0 && st > 0.0 {
-        for c in [-v.z * ct / (v.x * st), (0.5 * v.z / ct - v.z * ct) / (v.x * st)] {
+        for c in [
+            -v.z * ct / (v.x * st),
+            (0.5 * v.z / ct - v.z * ct) / (v.x * st),
+        ] {
             if c.abs() < 1.0 {
                 cuts.push(c.acos());
             }
@@ -94,7 +100,10 @@ fn theta_events(v: DVec3) -> Vec<f64> {
     let g = |t: f64| ((0.5 * v.z / t.cos() - v.z * t.cos()) / (v.x * t.sin())).abs() - 1.0;
     let n = 4000;
     for k in 1..n {
-        let (a, b) = (FRAC_PI_2 * k as f64 / n as f64, FRAC_PI_2 * (k + 1) as f64 / n as f64);
+        let (a, b) = (
+            FRAC_PI_2 * k as f64 / n as f64,
+            FRAC_PI_2 * (k + 1) as f64 / n as f64,
+        );
         if b < FRAC_PI_2 && g(a).signum() != g(b).signum() {
             let (mut lo, mut hi) = (a, b);
             for _ in 0..100 {
@@ -119,7 +128,13 @@ fn hemisphere_integral(v: DVec3, alpha: f64, gl: &[(f64, f64)], g: impl Fn(DVec3
     let mut tb = theta_panels(alpha);
     for t in theta_events(v) {
         if t > 0.0 && t < FRAC_PI_2 {
-            let (a, b) = (tb.iter().copied().filter(|&x| x < t).fold(0.0, f64::max), tb.iter().copied().filter(|&x| x > t).fold(FRAC_PI_2, f64::min));
+            let (a, b) = (
+                tb.iter().copied().filter(|&x| x < t).fold(0.0, f64::max),
+                tb.iter()
+                    .copied()
+                    .filter(|&x| x > t)
+                    .fold(FRAC_PI_2, f64::min),
+            );
             tb.extend(graded(a, t));
             tb.extend(graded(t, b));
         }
@@ -137,7 +152,9 @@ fn hemisphere_integral(v: DVec3, alpha: f64, gl: &[(f64, f64)], g: impl Fn(DVec3
             for c in cuts.windows(2) {
                 let pts = graded(c[0], c[1]);
                 for p in pts.windows(2) {
-                    inner += gl_1d(gl, p[0], p[1], |phi| g(DVec3::new(st * phi.cos(), st * phi.sin(), ct)));
+                    inner += gl_1d(gl, p[0], p[1], |phi| {
+                        g(DVec3::new(st * phi.cos(), st * phi.sin(), ct))
+                    });
                 }
             }
             2.0 * inner * st
@@ -147,7 +164,7 @@ fn hemisphere_integral(v: DVec3, alpha: f64, gl: &[(f64, f64)], g: impl Fn(DVec3
 }
 
 #[test]
-fn vndf_reflection_pdf_integrates_to_one() {
+fn ltc_vndf_reflection_pdf_integrates_to_one() {
     // ∫ pdf(l) dωl = ∫ pdf(reflect(v, h)) 4 (v·h) dωh (|dωl/dωh| = 4 v·h).
     let (g1, g2) = (gauss_legendre(12), gauss_legendre(20));
     for &alpha in &ALPHAS {
@@ -173,7 +190,7 @@ fn vndf_reflection_pdf_integrates_to_one() {
 }
 
 #[test]
-fn albedo_at_most_one_and_moments_match_quadrature() {
+fn ltc_albedo_at_most_one_and_moments_match_quadrature() {
     // norm = ∫ brdf_cos dωl ≤ 1 and fresnel = ∫ brdf_cos (1 − v·h)⁵ dωl by quadrature over h
     // (independent of the table's graded midpoint rule on the VNDF square), compared with
     // fit::lobe_moments at the table's resolution, claimed accurate to 1e-5 (docs/ltc.md).
@@ -212,7 +229,7 @@ fn albedo_at_most_one_and_moments_match_quadrature() {
 }
 
 #[test]
-fn vndf_samples_match_pdf_histogram() {
+fn ltc_vndf_samples_match_pdf_histogram() {
     // Bins in h: s = t/(1 + t), t = tan²θh/α² (≈ equal mass), 16 bins × 24 in φ. Expected bin
     // probabilities from the public pdf by quadrature (θ panels graded geometrically inside
     // a bin, φ split at the kink v·h = 0); χ² at the 99.9 % level.
@@ -252,7 +269,10 @@ fn vndf_samples_match_pdf_histogram() {
         let mut df = 0usize;
         let mut total_p = 0.0;
         for i in 0..ns {
-            let (t0, t1) = (theta_of(i as f64 / ns as f64), theta_of((i + 1) as f64 / ns as f64));
+            let (t0, t1) = (
+                theta_of(i as f64 / ns as f64),
+                theta_of((i + 1) as f64 / ns as f64),
+            );
             let mut tb = vec![t0, t1];
             if t0 > 0.0 {
                 let mut t = 1.25 * t0;
@@ -265,7 +285,10 @@ fn vndf_samples_match_pdf_histogram() {
             }
             tb.sort_by(f64::total_cmp);
             for j in 0..nphi {
-                let (p0, p1) = (TAU * j as f64 / nphi as f64, TAU * (j + 1) as f64 / nphi as f64);
+                let (p0, p1) = (
+                    TAU * j as f64 / nphi as f64,
+                    TAU * (j + 1) as f64 / nphi as f64,
+                );
                 let mut p = 0.0;
                 for w in tb.windows(2) {
                     p += gl_1d(&gl, w[0], w[1], |t| {
@@ -281,7 +304,11 @@ fn vndf_samples_match_pdf_histogram() {
                         pb.sort_by(f64::total_cmp);
                         let (st, ct) = t.sin_cos();
                         pb.windows(2)
-                            .map(|q| gl_1d(&gl, q[0], q[1], |phi| dens(DVec3::new(st * phi.cos(), st * phi.sin(), ct))))
+                            .map(|q| {
+                                gl_1d(&gl, q[0], q[1], |phi| {
+                                    dens(DVec3::new(st * phi.cos(), st * phi.sin(), ct))
+                                })
+                            })
                             .sum::<f64>()
                             * st
                     });
@@ -293,7 +320,10 @@ fn vndf_samples_match_pdf_histogram() {
                     chi2 += (o - e) * (o - e) / e;
                     df += 1;
                 } else {
-                    assert!(o <= 5.0 + 10.0 * e.max(1.0), "bin {i},{j}: {o} samples, expected {e}");
+                    assert!(
+                        o <= 5.0 + 10.0 * e.max(1.0),
+                        "bin {i},{j}: {o} samples, expected {e}"
+                    );
                 }
             }
         }

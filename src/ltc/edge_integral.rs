@@ -104,7 +104,11 @@ mod tests {
             let a = rng.unit_vector();
             let b = rng.unit_vector();
             let e = edge_integral(a, b);
-            assert!((edge_integral(a * 2.5, b * 0.3) - e).abs() < 1e-14);
+            let d = (edge_integral(a * 2.5, b * 0.3) - e).abs();
+            // Rounding of w relative to |w| = sinθ is amplified by θ/sinθ near antipodes.
+            let s = a.cross(b).length();
+            let bound = 16.0 * f64::EPSILON * s.atan2(a.dot(b)) / s;
+            assert!(d <= bound, "{a} {b} {e} {d:e} > {bound:e}");
         }
         // Around t = 1e-2 both branches must agree to rounding.
         let a = DVec3::new(0.3, -0.2, 0.9).normalize();

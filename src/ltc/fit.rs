@@ -19,7 +19,7 @@
 
 use super::ggx::{self, brdf_cos_and_pdf};
 use super::nelder_mead::{self, Options};
-use super::table::{ALPHA_MIN, COS_THETA_MIN, LtcEntry, LtcTable};
+use super::table::{ALPHA_MIN, COS_THETA_MIN, LtcEntry, LtcTable, nodes};
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -159,7 +159,11 @@ impl L3Error {
         for &(l, f, p) in &self.brdf_samples {
             let x = m_inv * l;
             let len2 = x.length_squared();
-            let g = if x.z > 0.0 { x.z * k / (len2 * len2) } else { 0.0 };
+            let g = if x.z > 0.0 {
+                x.z * k / (len2 * len2)
+            } else {
+                0.0
+            };
             let d = (f - g).abs();
             e_brdf += d * d * d / (p + g);
         }
@@ -291,19 +295,7 @@ pub fn fit_table_cells(
     progress: impl Fn(usize, usize) + Sync,
 ) -> (LtcTable, Vec<CellFit>) {
     assert!(n >= 2);
-    let probe = LtcTable::from_entries(
-        n,
-        ALPHA_MIN,
-        COS_THETA_MIN,
-        &vec![
-            LtcEntry {
-                m_inv: DMat3::IDENTITY,
-                norm: 0.0,
-                fresnel: 0.0
-            };
-            n * n
-        ],
-    );
+    let (alphas, cosines) = nodes(n, ALPHA_MIN, COS_THETA_MIN);
     let total = n * n;
     let done = AtomicUsize::new(0);
     let tick = || progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
@@ -313,9 +305,9 @@ pub fn fit_table_cells(
     let mut ln_m = 0.0;
     for i in (0..n).rev() {
         if i + 1 < n {
-            ln_m += (probe.alpha_at(i) / probe.alpha_at(i + 1)).ln();
+            ln_m += (alphas[i] / alphas[i + 1]).ln();
         }
-        let fit = fit_cell(1.0, probe.alpha_at(i), [ln_m, ln_m, 0.0, 0.0]);
+        let fit = fit_cell(1.0, alphas[i], [ln_m, ln_m, 0.0, 0.0]);
         ln_m = fit.params[0];
         col0[i] = Some(fit);
         tick();
@@ -329,8 +321,8 @@ pub fn fit_table_cells(
             let mut row = Vec::with_capacity(n);
             row.push(first);
             let mut q = first.params;
-            for j in 1..n {
-                let fit = fit_cell(probe.cos_theta_at(j), probe.alpha_at(i), q);
+            for &cos_theta in &cosines[1..] {
+                let fit = fit_cell(cos_theta, alphas[i], q);
                 q = fit.params;
                 row.push(fit);
                 tick();

@@ -105,11 +105,7 @@ pub fn brdf_cos(v: DVec3, l: DVec3, alpha: f64) -> f64 {
     let a2 = alpha2(alpha);
     let h = v + l; // h.z > 0, so |h| > 0
     let inv_len2 = 1.0 / h.length_squared();
-    let d = ndf(
-        (h.x * h.x + h.y * h.y) * inv_len2,
-        h.z * h.z * inv_len2,
-        a2,
-    );
+    let d = ndf((h.x * h.x + h.y * h.y) * inv_len2, h.z * h.z * inv_len2, a2);
     d * l.z / (2.0 * (s_term(v, a2) * l.z + s_term(l, a2) * v.z))
 }
 
@@ -184,11 +180,7 @@ pub fn pdf_vndf_reflect(v: DVec3, l: DVec3, alpha: f64) -> f64 {
     }
     let a2 = alpha2(alpha);
     let inv_len2 = 1.0 / len2;
-    let d = ndf(
-        (h.x * h.x + h.y * h.y) * inv_len2,
-        h.z * h.z * inv_len2,
-        a2,
-    );
+    let d = ndf((h.x * h.x + h.y * h.y) * inv_len2, h.z * h.z * inv_len2, a2);
     d / (2.0 * (v.z + s_term(v, a2)))
 }
 
@@ -205,11 +197,7 @@ pub(crate) fn brdf_cos_and_pdf(v: DVec3, l: DVec3, alpha: f64) -> (f64, f64) {
     }
     let a2 = alpha2(alpha);
     let inv_len2 = 1.0 / len2;
-    let d = ndf(
-        (h.x * h.x + h.y * h.y) * inv_len2,
-        h.z * h.z * inv_len2,
-        a2,
-    );
+    let d = ndf((h.x * h.x + h.y * h.y) * inv_len2, h.z * h.z * inv_len2, a2);
     let sv = s_term(v, a2);
     let pdf = d / (2.0 * (v.z + sv));
     let f = if l.z > 0.0 {

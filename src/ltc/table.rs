@@ -61,7 +61,12 @@ impl LtcEntry {
     pub fn to_record(&self) -> [f64; 6] {
         let m = self.m_inv * (1.0 / self.m_inv.y_axis.y);
         [
-            m.x_axis.x, m.z_axis.x, m.x_axis.z, m.z_axis.z, self.norm, self.fresnel,
+            m.x_axis.x,
+            m.z_axis.x,
+            m.x_axis.z,
+            m.z_axis.z,
+            self.norm,
+            self.fresnel,
         ]
     }
 
@@ -107,7 +112,7 @@ pub enum TableFormatError {
     Length { got: usize, expected: usize },
     #[error("LTC table checksum mismatch")]
     Checksum,
-    #[error("LTC table record {0} is invalid (non-finite or m_inv[y][y] != 1)")]
+    #[error("LTC table record {0} holds a non-finite value")]
     Record(usize),
 }
 
@@ -129,8 +134,9 @@ fn u32_at(bytes: &[u8], off: usize) -> u32 {
     u32::from_le_bytes(bytes[off..off + 4].try_into().unwrap())
 }
 
-/// Grid abscissa `k/(n−1)` and node values.
-fn nodes(n: usize, alpha_min: f64, cos_theta_min: f64) -> (Vec<f64>, Vec<f64>) {
+/// Node values `(alphas, cosines)` of the `n × n` grid (see [`LtcTable::alpha_at`],
+/// [`LtcTable::cos_theta_at`]).
+pub(crate) fn nodes(n: usize, alpha_min: f64, cos_theta_min: f64) -> (Vec<f64>, Vec<f64>) {
     let step = 1.0 / (n - 1) as f64;
     let alphas = (0..n)
         .map(|i| {
@@ -307,7 +313,9 @@ impl LtcTable {
         let alpha_min = f64_at(bytes, 16);
         let cos_theta_min = f64_at(bytes, 24);
         if !(alpha_min > 0.0 && alpha_min < 1.0 && cos_theta_min > 0.0 && cos_theta_min < 1.0) {
-            return Err(TableFormatError::Header("alpha_min / cos_theta_min out of (0, 1)"));
+            return Err(TableFormatError::Header(
+                "alpha_min / cos_theta_min out of (0, 1)",
+            ));
         }
         let mut records = Vec::with_capacity(n * n);
         for k in 0..n * n {
