@@ -19,7 +19,7 @@
 
 use super::ggx::{self, brdf_cos_and_pdf};
 use super::nelder_mead::{self, Options};
-use super::table::{ALPHA_MIN, COS_THETA_MIN, LtcEntry, LtcTable};
+use super::table::{ALPHA_MIN, COS_THETA_MIN, LtcEntry, LtcTable, nodes};
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -29,7 +29,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// (`FIT_SAMPLES²` from the BRDF and as many from the LTC).
 pub const FIT_SAMPLES: usize = 64;
 /// Samples per axis of the midpoint rule for `norm`, `fresnel` and the average direction.
-pub const MOMENT_SAMPLES: usize = 512;
+pub const MOMENT_SAMPLES: usize = 1024;
 
 /// Moments of the cosine-weighted GGX lobe (`F = 1`).
 #[derive(Clone, Copy, Debug)]
@@ -52,28 +52,36 @@ pub fn view_dir(cos_theta_v: f64) -> DVec3 {
 /// `norm`, `fresnel` and the average direction by the midpoint rule with `k × k` points on
 /// the VNDF sample square: `∫ brdf_cos g dω = ∫∫ (G2/G1)(v, l(u)) g(l(u)) du`, where the
 /// weight `G2/G1 ∈ [0, 1]` is smooth except where `l` crosses the horizon.
+///
+/// The radial sample coordinate is graded, `u1 = 1 − (1 − w)³` with `w` on the midpoint grid
+/// (`du1 = 3 (1 − w)² dw`): `u1 → 1` maps to the tail of the NDF (`tanθh ∝ α/√(1 − u1)` at
+/// normal incidence), where for small α the reflected direction sweeps through the horizon
+/// within a sliver `1 − u1 ~ α²` of the square that a uniform grid does not resolve.
 pub fn lobe_moments(v: DVec3, alpha: f64, k: usize) -> LobeMoments {
     let mut norm = 0.0;
     let mut fresnel = 0.0;
     let mut avg = DVec3::ZERO;
     let inv = 1.0 / k as f64;
     for a in 0..k {
-        let u1 = (a as f64 + 0.5) * inv;
+        let w = (a as f64 + 0.5) * inv;
+        let om = 1.0 - w;
+        let u1 = 1.0 - om * om * om;
+        let jac = 3.0 * om * om;
         let (mut row_n, mut row_f, mut row_a) = (0.0, 0.0, DVec3::ZERO);
         for b in 0..k {
             let u2 = (b as f64 + 0.5) * inv;
             let h = ggx::sample_vndf(v, alpha, u1, u2);
             let l = ggx::reflect(v, h);
-            let w = ggx::vndf_weight(v, l, alpha);
-            if w > 0.0 {
-                row_n += w;
-                row_f += w * ggx::schlick_weight(v.dot(h));
-                row_a += w * l;
+            let wt = ggx::vndf_weight(v, l, alpha);
+            if wt > 0.0 {
+                row_n += wt;
+                row_f += wt * ggx::schlick_weight(v.dot(h));
+                row_a += wt * l;
             }
         }
-        norm += row_n;
-        fresnel += row_f;
-        avg += row_a;
+        norm += jac * row_n;
+        fresnel += jac * row_f;
+        avg += jac * row_a;
     }
     let s = inv * inv;
     LobeMoments {
@@ -287,19 +295,7 @@ pub fn fit_table_cells(
     progress: impl Fn(usize, usize) + Sync,
 ) -> (LtcTable, Vec<CellFit>) {
     assert!(n >= 2);
-    let probe = LtcTable::from_entries(
-        n,
-        ALPHA_MIN,
-        COS_THETA_MIN,
-        &vec![
-            LtcEntry {
-                m_inv: DMat3::IDENTITY,
-                norm: 0.0,
-                fresnel: 0.0
-            };
-            n * n
-        ],
-    );
+    let (alphas, cosines) = nodes(n, ALPHA_MIN, COS_THETA_MIN);
     let total = n * n;
     let done = AtomicUsize::new(0);
     let tick = || progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
@@ -309,9 +305,9 @@ pub fn fit_table_cells(
     let mut ln_m = 0.0;
     for i in (0..n).rev() {
         if i + 1 < n {
-            ln_m += (probe.alpha_at(i) / probe.alpha_at(i + 1)).ln();
+            ln_m += (alphas[i] / alphas[i + 1]).ln();
         }
-        let fit = fit_cell(1.0, probe.alpha_at(i), [ln_m, ln_m, 0.0, 0.0]);
+        let fit = fit_cell(1.0, alphas[i], [ln_m, ln_m, 0.0, 0.0]);
         ln_m = fit.params[0];
         col0[i] = Some(fit);
         tick();
@@ -325,8 +321,8 @@ pub fn fit_table_cells(
             let mut row = Vec::with_capacity(n);
             row.push(first);
             let mut q = first.params;
-            for j in 1..n {
-                let fit = fit_cell(probe.cos_theta_at(j), probe.alpha_at(i), q);
+            for &cos_theta in &cosines[1..] {
+                let fit = fit_cell(cos_theta, alphas[i], q);
                 q = fit.params;
                 row.push(fit);
                 tick();

@@ -129,8 +129,8 @@ pub fn minimize<const D: usize>(
             // Shrink towards the best vertex.
             let x_best = simplex[0].0;
             for v in simplex[1..].iter_mut() {
-                for k in 0..D {
-                    v.0[k] = x_best[k] + c_shr * (v.0[k] - x_best[k]);
+                for (x, b) in v.0.iter_mut().zip(x_best.iter()) {
+                    *x = b + c_shr * (*x - b);
                 }
                 v.1 = eval(&v.0, &mut evals);
             }
@@ -190,8 +190,8 @@ mod tests {
                 ..Options::default()
             },
         );
-        for k in 0..4 {
-            assert!((r.x[k] - c[k]).abs() < 1e-6, "{r:?}");
+        for (x, c) in r.x.iter().zip(c.iter()) {
+            assert!((x - c).abs() < 1e-6, "{r:?}");
         }
         let r = minimize(
             |x: &[f64; 1]| (x[0] - 2.0).powi(2) + 1.0,

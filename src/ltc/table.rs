@@ -112,7 +112,7 @@ pub enum TableFormatError {
     Length { got: usize, expected: usize },
     #[error("LTC table checksum mismatch")]
     Checksum,
-    #[error("LTC table record {0} is invalid (non-finite or m_inv[y][y] != 1)")]
+    #[error("LTC table record {0} holds a non-finite value")]
     Record(usize),
 }
 
@@ -134,8 +134,9 @@ fn u32_at(bytes: &[u8], off: usize) -> u32 {
     u32::from_le_bytes(bytes[off..off + 4].try_into().unwrap())
 }
 
-/// Grid abscissa `k/(n−1)` and node values.
-fn nodes(n: usize, alpha_min: f64, cos_theta_min: f64) -> (Vec<f64>, Vec<f64>) {
+/// Node values `(alphas, cosines)` of the `n × n` grid (see [`LtcTable::alpha_at`],
+/// [`LtcTable::cos_theta_at`]).
+pub(crate) fn nodes(n: usize, alpha_min: f64, cos_theta_min: f64) -> (Vec<f64>, Vec<f64>) {
     let step = 1.0 / (n - 1) as f64;
     let alphas = (0..n)
         .map(|i| {
