@@ -1,5 +1,6 @@
-//! Set-difference configurations found by comparing renders with the ray-cast reference, each
-//! checked against the convex-decomposition second algorithm (the clip polygons are convex).
+//! Set-difference configurations found by comparing renders with the ray-cast reference or by
+//! the realistic chains of `set_difference_chains.rs`, each checked against the
+//! convex-decomposition second algorithm (the clip polygons are convex).
 
 use glam::DVec3;
 use penumbra::geometry::{PlanarPolygon, SetDifference, SphericalPolygon, orient};
@@ -41,19 +42,31 @@ fn decomposition_area(subject: &[DVec3], clip: &[DVec3]) -> f64 {
 }
 
 fn check(subject: &[DVec3], clip: &[DVec3]) {
+    check_loops(&[subject], clip);
+}
+
+/// `subject − clip` for a subject of several loops (outer loops and holes) against the sum of
+/// the decompositions of its loops (signed areas add up for holes too).
+fn check_loops(subject: &[&[DVec3]], clip: &[DVec3]) {
     let mut s = PlanarPolygon::new();
-    s.push_loop(subject.iter().copied());
+    for lp in subject {
+        s.push_loop(lp.iter().copied());
+    }
     let mut c = PlanarPolygon::new();
     c.push_loop(clip.iter().copied());
     let mut out = PlanarPolygon::new();
-    SetDifference::new().subtract(&s, &c, &mut out, None);
-    let mut sph = SphericalPolygon::new();
-    sph.push_loop([]);
+    let mut sd = SetDifference::new();
+    sd.subtract(&s, &c, &mut out, None);
+    assert!(sd.last_traversal_consistent());
+    assert_eq!(sd.last_tolerance_scale(), 1.0);
     let mut res = SphericalPolygon(out.0.clone());
     res.map_vertices(|v| v.normalize());
     let got = res.signed_solid_angle_about(DVec3::Z);
-    let want = decomposition_area(subject, clip);
-    assert!((got - want).abs() < 1e-12, "set difference {got} vs decomposition {want}");
+    let want: f64 = subject.iter().map(|lp| decomposition_area(lp, clip)).sum();
+    assert!(
+        (got - want).abs() < 1e-12,
+        "set difference {got} vs decomposition {want}"
+    );
 }
 
 #[test]
@@ -78,4 +91,33 @@ fn chair_back_behind_seat_gap() {
         DVec3::new(0.2507960248441329, -0.26729149807550184, 0.9304066900979029),
     ];
     check(&subject, &clip);
+}
+
+#[test]
+fn loop_containment_along_the_meridian_of_a_vertical_edge() {
+    // Chain 3672 of `set_difference_chains.rs` (before the fix): a floor point, the light split
+    // into two loops by a first box; the second box rests on the floor, and its vertical edge
+    // projects to the meridian through the top vertex of the small loop (the boxes are aligned).
+    // The small loop has no intersection with the box and is classified by the winding number
+    // of that vertex along its meridian, which ran along the box's edge: the side of the vertex
+    // relative to the edge's line was rounding noise, and the loop was dropped.
+    let small = [
+        DVec3::new(0.3503203679591666, 0.9099202940319966, 0.22208263845172346),
+        DVec3::new(0.49516103035418535, 0.8288979562452196, 0.260276261213119),
+        DVec3::new(0.5037153205976459, 0.8432178103235201, 0.18776208389453714),
+    ];
+    let large = [
+        DVec3::new(0.7889056982755612, 0.5238684702812324, 0.321231419810626),
+        DVec3::new(0.8541098508729754, 0.4709953038668438, 0.2205896334307737),
+        DVec3::new(0.6317489603493845, 0.7504846983021113, 0.19407722357829887),
+        DVec3::new(0.6165284023549055, 0.7324034720692119, 0.2889253938141656),
+    ];
+    let clip = [
+        DVec3::new(0.5081465358326949, 0.8506356502318575, 0.1349299398793943),
+        DVec3::new(0.6061572454384228, 0.7816148721076684, 0.14714477735419912),
+        DVec3::new(0.6378327170313011, 0.7577118828081953, 0.13799321626706212),
+        DVec3::new(0.6439936925995056, 0.7650307993094485, 0.0),
+        DVec3::new(0.5128363517321434, 0.8584863868123161, 0.0),
+    ];
+    check_loops(&[&small, &large], &clip);
 }

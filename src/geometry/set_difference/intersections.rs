@@ -9,8 +9,10 @@
 //!    strictly between its endpoints and coinciding with neither; a copy is inserted into the
 //!    edge. A vertex on two consecutive edges is a V contact with their common vertex instead
 //!    (the corner rule).
-//! 3. **X** (crossing): edges without any V or T contact whose endpoints lie strictly on
-//!    opposite sides of each other's lines; the crossing point is inserted into both.
+//! 3. **X** (crossing): edges without any V or T contact whose endpoints lie on opposite
+//!    sides of each other's lines, each farther than `EPS_LINE` from it (a vertex within the
+//!    tolerance of a line is on it, for this test as for the T test); the crossing point is
+//!    inserted into both.
 //!
 //! Collinear overlapping edges need no case of their own: the ends of an overlap are V or T
 //! contacts, and phase 2 recognises the overlap as a fragment whose two end clusters are also
@@ -222,6 +224,23 @@ impl SetDifference {
         }
 
         // 3. Proper crossings of edges a → b (subject) and c → d (clip) without contacts.
+        //
+        // The endpoints must lie on opposite sides of the other line by at least the line
+        // tolerance, the same classification as the T test above: a vertex within EPS_LINE of
+        // a line is *on* it, which is neither side. Reading raw signs here was the bug of the
+        // chair scene (tests/set_difference_regressions.rs): boxes built on a common grid have
+        // edges on one 3D line (a chair's leg and its back, 1 mm apart), so a subject edge and a
+        // clip edge lie on the same great circle without overlapping. All four side values are
+        // then rounding noise (~1e-17), both pairs of signs could come out "opposite", and a
+        // "crossing" was inserted at t = sa / (sa − sb), a ratio of noise: here beyond the end
+        // of the clip edge (t = 1.06), which made the labels contradict each other at every
+        // tolerance scale and the traversal drop the loop. A vertex on the line but outside the
+        // edge touches nothing, and where the lines of two transversal edges meet near such a
+        // vertex inside the other edge, the other edge's endpoint is the one within the
+        // tolerance of this edge and is a T contact. With both endpoints beyond the tolerance
+        // the crossing is well conditioned: its error along the line is the rounding error
+        // (1e-16) over the angle of the edges, the endpoints' distances from it are at least
+        // EPS_LINE over that angle, so it lies well inside both edges.
         for a in 0..ns {
             let b = self.nodes[a].orig_next as usize;
             for j in 0..nc {
@@ -230,12 +249,12 @@ impl SetDifference {
                 let dj = d - ns;
                 let sa = self.side_sc[a * nc + j];
                 let sb = self.side_sc[b * nc + j];
-                if !opposite(sa, sb) {
+                if !opposite(sa, sb, self.tol.line) {
                     continue;
                 }
                 let sc = self.side_cs[j * ns + a];
                 let sd = self.side_cs[dj * ns + a];
-                if !opposite(sc, sd) {
+                if !opposite(sc, sd, self.tol.line) {
                     continue;
                 }
                 let contact = self.contact_sc[a * nc + j]

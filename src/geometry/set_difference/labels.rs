@@ -16,7 +16,7 @@
 //! flag, read off locally instead of propagated, so a single misjudged vertex cannot flip a
 //! whole loop. Only loops without any intersection vertex need a containment test.
 
-use super::predicates::{in_sector, ray_normal, tangent, winding_contribution};
+use super::predicates::{Ray, in_sector, tangent};
 use super::{
     ChainKind, GreinerHormannSteps, LabelRecord, NONE, Operand, OverlapChain, SetDifference,
     Status, Transition, UntouchedLoop, VertexLabel,
@@ -195,7 +195,7 @@ impl SetDifference {
     /// loops), for p not on its boundary. Points on or within `EPS_LINE` of the horizon are
     /// outside every region of the closed upper hemisphere that does not pass through them.
     fn contains(&self, p: DVec3, operand: Operand) -> bool {
-        let Some(m) = ray_normal(p, self.tol.line) else {
+        let Some(ray) = Ray::new(p, self.tol.line) else {
             return false;
         };
         let mut winding = 0;
@@ -204,7 +204,7 @@ impl SetDifference {
             for i in lp.first..lp.first + lp.len {
                 let a = &self.nodes[i as usize];
                 let b = &self.nodes[a.orig_next as usize];
-                winding += winding_contribution(p, m, a.dir, b.dir);
+                winding += ray.winding_contribution(a.dir, b.dir);
             }
         }
         winding != 0

@@ -53,10 +53,11 @@ pub(super) fn arc_parameter(a: DVec3, b: DVec3, n: DVec3, p: DVec3, fallback: f6
     if u + v > 0.0 { u / (u + v) } else { fallback }
 }
 
-/// Whether signed distances have strictly opposite signs (zero is neither).
+/// Whether two signed distances lie on opposite sides of a line by at least `eps` each (the
+/// line tolerance): a distance within it is "on the line" ([`on_line`]), which is neither side.
 #[inline]
-pub(super) fn opposite(s: f64, t: f64) -> bool {
-    (s < 0.0 && t > 0.0) || (s > 0.0 && t < 0.0)
+pub(super) fn opposite(s: f64, t: f64, eps: f64) -> bool {
+    (s <= -eps && t >= eps) || (s >= eps && t <= -eps)
 }
 
 /// Tangent at x of an arc leaving x along the great circle with normal n (walked so that the
@@ -114,50 +115,71 @@ pub(super) fn clockwise_before(x: DVec3, b: DVec3, u1: DVec3, u2: DVec3) -> bool
     }
 }
 
-/// `orient(a, b, p)` evaluated as a · ((b − a) × (p − a)): the same determinant, but when the
-/// three points are close (a short edge and a point near it) the differences are exact and the
-/// result keeps its relative precision, where a · (b × p) would cancel down to noise of 1e-16.
-#[inline]
-pub(super) fn orient_near(a: DVec3, b: DVec3, p: DVec3) -> f64 {
-    a.dot((b - a).cross(p - a))
+/// The ray of the winding-number test from the unit direction p: the arc leaving p radially,
+/// away from the zenith, to the horizon point r = (p.x, p.y, 0) (the gnomonic ray from p away
+/// from the origin, closed at infinity), continued below the horizon, where no edge lies.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ray {
+    p: DVec3,
+    r: DVec3,
+    /// Normal p × r of the ray's great circle (a meridian).
+    m: DVec3,
 }
 
-/// Contribution of the edge a → b to the winding number about p, counted along the arc that
-/// leaves p radially towards the horizon point r (the gnomonic ray from p away from the
-/// origin, closed at infinity) and continues below the horizon, where no edge lies. `m` is
-/// p × r and a vertex v counts as "above" the ray's line when v · m > 0 (the half-open rule,
-/// which makes vertices and edges lying on the ray's line count consistently).
-#[inline]
-pub(super) fn winding_contribution(p: DVec3, m: DVec3, a: DVec3, b: DVec3) -> i32 {
-    let above_a = a.dot(m) > 0.0;
-    let above_b = b.dot(m) > 0.0;
-    if above_a == above_b {
-        return 0;
+impl Ray {
+    /// The ray from the unit direction p, or `None` when p is within `eps` (the line tolerance)
+    /// of the horizon: such a point is inside no region of the closed upper hemisphere unless
+    /// it lies on its boundary, which callers have excluded.
+    #[inline]
+    pub(super) fn new(p: DVec3, eps: f64) -> Option<Ray> {
+        if p.z <= eps {
+            return None;
+        }
+        let r = if p.x == 0.0 && p.y == 0.0 {
+            DVec3::X
+        } else {
+            DVec3::new(p.x, p.y, 0.0)
+        };
+        Some(Ray {
+            p,
+            r,
+            m: p.cross(r),
+        })
     }
-    let o = orient_near(a, b, p);
-    if !above_a && o > 0.0 {
-        1
-    } else if above_a && o < 0.0 {
-        -1
-    } else {
-        0
-    }
-}
 
-/// The ray normal m = p × r of [`winding_contribution`] for the unit direction p, or `None`
-/// when p is within `eps` (the line tolerance) of the horizon: such a point is inside no region
-/// of the closed upper hemisphere unless it lies on its boundary, which callers have excluded.
-#[inline]
-pub(super) fn ray_normal(p: DVec3, eps: f64) -> Option<DVec3> {
-    if p.z <= eps {
-        return None;
+    /// Contribution of the edge a → b to the winding number about p: ±1 when the arc crosses
+    /// the ray (+1 from right to left, i.e. p to the left of a → b), 0 otherwise.
+    ///
+    /// A vertex v counts as "above" the ray's great circle when v · m > 0 (the half-open rule,
+    /// which makes vertices and edges lying on the circle count consistently). An arc with one
+    /// end above and one not meets the circle once, at X = a·|b·m| + b·|a·m| (the positive
+    /// combination of a and b on it), and is counted when X lies on the ray: on p's side of the
+    /// zenith and farther from it than p.
+    ///
+    /// Locating X on the ray, rather than testing on which side of the line a → b the point p
+    /// lies, is what keeps the test exact when p is on (or within rounding of) the *line* of an
+    /// edge but far from the edge itself. That is the normal case in scenes of boxes: a
+    /// vertical edge seen from a floor point is a meridian, so is the ray, and the vertex of an
+    /// earlier occluder above it lies on the same meridian. `orient(a, b, p)` is then rounding
+    /// noise and decided the containment of the whole loop at random; the position of X along
+    /// the ray is as accurate as X itself, and is ambiguous only when X is within rounding of p,
+    /// i.e. when p lies on the boundary, which callers exclude.
+    #[inline]
+    pub(super) fn winding_contribution(&self, a: DVec3, b: DVec3) -> i32 {
+        let (sa, sb) = (a.dot(self.m), b.dot(self.m));
+        let above_a = sa > 0.0;
+        if above_a == (sb > 0.0) {
+            return 0;
+        }
+        let x = a * sb.abs() + b * sa.abs();
+        // x.z ≥ 0 and p.z > 0: "farther from the zenith than p" is x̂.z < p.z, squared.
+        let on_ray = x.dot(self.r) > 0.0 && x.z * x.z < self.p.z * self.p.z * x.length_squared();
+        match (on_ray, above_a) {
+            (false, _) => 0,
+            (true, false) => 1,
+            (true, true) => -1,
+        }
     }
-    let r = if p.x == 0.0 && p.y == 0.0 {
-        DVec3::X
-    } else {
-        DVec3::new(p.x, p.y, 0.0)
-    };
-    Some(p.cross(r))
 }
 
 #[cfg(test)]
@@ -202,9 +224,9 @@ mod tests {
         // The quadrant x, y > 0 of the plane: zenith, +x at infinity, +y at infinity.
         let lp = [DVec3::Z, DVec3::X, DVec3::Y];
         let wind = |p: DVec3| {
-            let m = ray_normal(p, 1e-12).unwrap();
+            let ray = Ray::new(p, 1e-12).unwrap();
             (0..3)
-                .map(|i| winding_contribution(p, m, lp[i], lp[(i + 1) % 3]))
+                .map(|i| ray.winding_contribution(lp[i], lp[(i + 1) % 3]))
                 .sum::<i32>()
         };
         assert_eq!(wind(h(0.5, 0.5, 1.0)), 1);
