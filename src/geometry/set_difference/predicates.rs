@@ -23,15 +23,16 @@ pub(super) fn unit_normal(a: DVec3, b: DVec3) -> DVec3 {
     a.cross(b - a).normalize_or_zero()
 }
 
-/// Whether two unit directions are the same point: sin(angle) < `eps` (the point tolerance,
-/// [`EPS_POINT`](super::EPS_POINT) times the tolerance scale) on the same side.
+/// Whether two unit directions are the same point: sin(angle) < `eps` (the point tolerance
+/// [`EPS_POINT`](super::EPS_POINT), or [`COLLAPSE_RADIUS`](super::COLLAPSE_RADIUS) when
+/// loading) on the same side.
 #[inline]
 pub(super) fn coincident(p: DVec3, q: DVec3, eps: f64) -> bool {
     p.dot(q) > 0.0 && p.cross(q).length_squared() < eps * eps
 }
 
 /// Whether a unit direction whose signed distance (sine) to a line is `side` lies on it: below
-/// `eps`, the line tolerance ([`EPS_LINE`](super::EPS_LINE) times the tolerance scale).
+/// `eps`, the line tolerance [`EPS_LINE`](super::EPS_LINE).
 #[inline]
 pub(super) fn on_line(side: f64, eps: f64) -> bool {
     side.abs() < eps
@@ -53,11 +54,10 @@ pub(super) fn arc_parameter(a: DVec3, b: DVec3, n: DVec3, p: DVec3, fallback: f6
     if u + v > 0.0 { u / (u + v) } else { fallback }
 }
 
-/// Whether two signed distances lie on opposite sides of a line by at least `eps` each (the
-/// line tolerance): a distance within it is "on the line" ([`on_line`]), which is neither side.
+/// Whether signed distances have strictly opposite signs (zero is neither).
 #[inline]
-pub(super) fn opposite(s: f64, t: f64, eps: f64) -> bool {
-    (s <= -eps && t >= eps) || (s >= eps && t <= -eps)
+pub(super) fn opposite(s: f64, t: f64) -> bool {
+    (s < 0.0 && t > 0.0) || (s > 0.0 && t < 0.0)
 }
 
 /// Tangent at x of an arc leaving x along the great circle with normal n (walked so that the
@@ -234,5 +234,34 @@ mod tests {
         assert_eq!(wind(h(-0.5, 0.5, 1.0)), 0);
         assert_eq!(wind(h(0.5, -0.5, 1.0)), 0);
         assert_eq!(wind(h(-1.0, -1.0, 1.0)), 0);
+    }
+
+    #[test]
+    fn winding_along_the_meridian_of_an_edge() {
+        // A box resting on the floor seen from a floor point: its vertical edge is a meridian,
+        // and the test point above it lies on the same meridian (outside the region), so the
+        // ray runs along the edge and p is on the edge's line.
+        let sph = |az: f64, el: f64| {
+            let (az, el) = (az.to_radians(), el.to_radians());
+            DVec3::new(el.cos() * az.cos(), el.cos() * az.sin(), el.sin())
+        };
+        for k in 0..3600 {
+            let az = k as f64 * 0.1 + 0.0123;
+            let lp = [
+                sph(az, 0.0),
+                sph(az + 15.0, 0.0),
+                sph(az + 15.0, 40.0),
+                sph(az, 40.0),
+            ];
+            let wind = |p: DVec3| {
+                let ray = Ray::new(p, 1e-12).unwrap();
+                (0..4)
+                    .map(|i| ray.winding_contribution(lp[i], lp[(i + 1) % 4]))
+                    .sum::<i32>()
+            };
+            assert_eq!(wind(sph(az, 60.0)), 0, "above the edge, azimuth {az}");
+            assert_eq!(wind(sph(az + 7.0, 20.0)), 1, "inside, azimuth {az}");
+            assert_eq!(wind(sph(az - 7.0, 20.0)), 0, "beside, azimuth {az}");
+        }
     }
 }
