@@ -120,7 +120,10 @@ pub(super) fn clockwise_before(x: DVec3, b: DVec3, u1: DVec3, u2: DVec3) -> bool
 /// from the origin, closed at infinity), continued below the horizon, where no edge lies.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Ray {
-    p: DVec3,
+    /// p = p.z·ẑ + (p.x, p.y, 0): `pz` = p.z and `rr` = p.x² + p.y² (0 at the zenith).
+    pz: f64,
+    rr: f64,
+    /// The horizon point (p.x, p.y, 0), or +x when p is the zenith.
     r: DVec3,
     /// Normal p × r of the ray's great circle (a meridian).
     m: DVec3,
@@ -141,7 +144,8 @@ impl Ray {
             DVec3::new(p.x, p.y, 0.0)
         };
         Some(Ray {
-            p,
+            pz: p.z,
+            rr: p.x * p.x + p.y * p.y,
             r,
             m: p.cross(r),
         })
@@ -172,12 +176,15 @@ impl Ray {
             return 0;
         }
         let x = a * sb.abs() + b * sa.abs();
-        // x.z ≥ 0 and p.z > 0: "farther from the zenith than p" is x̂.z < p.z, squared.
-        let on_ray = x.dot(self.r) > 0.0 && x.z * x.z < self.p.z * self.p.z * x.length_squared();
-        match (on_ray, above_a) {
-            (false, _) => 0,
-            (true, false) => 1,
-            (true, true) => -1,
+        // On the circle, x ∝ x.z·ẑ + q·r / |r|² with q = x · r: on p's side of the zenith when
+        // q > 0, and farther from it than p = p.z·ẑ + r when x.z / q < p.z / |r|², here
+        // multiplied by q·|r|² (no division or square root; at the zenith |r|² = 0 and every
+        // x with q > 0 is farther).
+        let q = x.dot(self.r);
+        if q > 0.0 && x.z * self.rr < self.pz * q {
+            if above_a { -1 } else { 1 }
+        } else {
+            0
         }
     }
 }
@@ -234,6 +241,21 @@ mod tests {
         assert_eq!(wind(h(-0.5, 0.5, 1.0)), 0);
         assert_eq!(wind(h(0.5, -0.5, 1.0)), 0);
         assert_eq!(wind(h(-1.0, -1.0, 1.0)), 0);
+        // The zenith itself (its ray runs along +x).
+        let square = [
+            h(-1.0, -1.0, 1.0),
+            h(1.0, -1.0, 1.0),
+            h(1.0, 1.0, 1.0),
+            h(-1.0, 1.0, 1.0),
+        ];
+        for (dx, expected) in [(0.0, 1), (1.5, 0), (-1.5, 0)] {
+            let shifted = square.map(|v| h(v.x / v.z + dx, v.y / v.z, 1.0));
+            let ray = Ray::new(DVec3::Z, 1e-12).unwrap();
+            let w: i32 = (0..4)
+                .map(|i| ray.winding_contribution(shifted[i], shifted[(i + 1) % 4]))
+                .sum();
+            assert_eq!(w, expected, "square shifted by {dx}");
+        }
     }
 
     #[test]
