@@ -1,5 +1,6 @@
-//! Set-difference configurations found by comparing renders with the ray-cast reference, each
-//! checked against the convex-decomposition second algorithm (the clip polygons are convex).
+//! Set-difference configurations found by comparing renders with the ray-cast reference or by
+//! the realistic chains of `set_difference_chains.rs`, each checked against the
+//! convex-decomposition second algorithm (the clip polygons are convex).
 
 use glam::DVec3;
 use penumbra::geometry::{PlanarPolygon, SetDifference, SphericalPolygon, orient};
@@ -41,18 +42,26 @@ fn decomposition_area(subject: &[DVec3], clip: &[DVec3]) -> f64 {
 }
 
 fn check(subject: &[DVec3], clip: &[DVec3]) {
+    check_loops(&[subject], clip);
+}
+
+/// `subject − clip` for a subject of several loops (outer loops and holes) against the sum of
+/// the decompositions of its loops (signed areas add up for holes too).
+fn check_loops(subject: &[&[DVec3]], clip: &[DVec3]) {
     let mut s = PlanarPolygon::new();
-    s.push_loop(subject.iter().copied());
+    for lp in subject {
+        s.push_loop(lp.iter().copied());
+    }
     let mut c = PlanarPolygon::new();
     c.push_loop(clip.iter().copied());
     let mut out = PlanarPolygon::new();
-    SetDifference::new().subtract(&s, &c, &mut out, None);
-    let mut sph = SphericalPolygon::new();
-    sph.push_loop([]);
+    let mut sd = SetDifference::new();
+    sd.subtract(&s, &c, &mut out, None);
+    assert!(sd.last_traversal_consistent());
     let mut res = SphericalPolygon(out.0.clone());
     res.map_vertices(|v| v.normalize());
     let got = res.signed_solid_angle_about(DVec3::Z);
-    let want = decomposition_area(subject, clip);
+    let want: f64 = subject.iter().map(|lp| decomposition_area(lp, clip)).sum();
     assert!(
         (got - want).abs() < 1e-12,
         "set difference {got} vs decomposition {want}"
@@ -79,6 +88,64 @@ fn chair_back_behind_seat_gap() {
         DVec3::new(0.7011301229793777, 0.1846031495616251, 0.6887221702710395),
         DVec3::new(0.4397866383195552, 0.11579305453874657, 0.8906063559598997),
         DVec3::new(0.2507960248441329, -0.26729149807550184, 0.9304066900979029),
+    ];
+    check(&subject, &clip);
+}
+
+#[test]
+fn loop_containment_along_the_meridian_of_a_vertical_edge() {
+    // Chain 3672 of `set_difference_chains.rs` (before the fix): a floor point, the light split
+    // into two loops by a first box; the second box rests on the floor, and its vertical edge
+    // projects to the meridian through the top vertex of the small loop (the boxes are aligned).
+    // The small loop has no intersection with the box and is classified by the winding number
+    // of that vertex along its meridian, which ran along the box's edge: the side of the vertex
+    // relative to the edge's line was rounding noise, and the loop was dropped.
+    let small = [
+        DVec3::new(0.3503203679591666, 0.9099202940319966, 0.22208263845172346),
+        DVec3::new(0.49516103035418535, 0.8288979562452196, 0.260276261213119),
+        DVec3::new(0.5037153205976459, 0.8432178103235201, 0.18776208389453714),
+    ];
+    let large = [
+        DVec3::new(0.7889056982755612, 0.5238684702812324, 0.321231419810626),
+        DVec3::new(0.8541098508729754, 0.4709953038668438, 0.2205896334307737),
+        DVec3::new(0.6317489603493845, 0.7504846983021113, 0.19407722357829887),
+        DVec3::new(0.6165284023549055, 0.7324034720692119, 0.2889253938141656),
+    ];
+    let clip = [
+        DVec3::new(0.5081465358326949, 0.8506356502318575, 0.1349299398793943),
+        DVec3::new(0.6061572454384228, 0.7816148721076684, 0.14714477735419912),
+        DVec3::new(0.6378327170313011, 0.7577118828081953, 0.13799321626706212),
+        DVec3::new(0.6439936925995056, 0.7650307993094485, 0.0),
+        DVec3::new(0.5128363517321434, 0.8584863868123161, 0.0),
+    ];
+    check_loops(&[&small, &large], &clip);
+}
+
+#[test]
+fn nearly_parallel_edges_ending_at_the_line_tolerance() {
+    // Case 8 039 682 of the near-degeneracy stress run (δ = 7.9e-11): a light edge and an
+    // occluder edge 0.4 rad long at an angle of 2e-10 cross 5e-3 rad from their ends, each
+    // end lying 1.000e-12 from the other edge's line, i.e. at the line tolerance. Deciding the
+    // crossing with tolerance-classified signs called one end "on the line" (outside the other
+    // edge: no T contact) and the other "off" (no T contact either) and lost the crossing.
+    let subject = [
+        DVec3::new(0.4739311332485434, 0.4688413567456092, 0.7453704200883529),
+        DVec3::new(0.2959322628764743, 0.8704223997736912, 0.3934322581601792),
+        DVec3::new(-0.6553255268132027, 0.7361524498921158, 0.16919818091467329),
+        DVec3::new(-0.676621775128205, 0.2931610786733259, 0.6754550728016253),
+    ];
+    let clip = [
+        DVec3::new(-0.6766217751439471, 0.29316107873733976, 0.6754550727580727),
+        DVec3::new(0.4739311332898512, 0.46884135667995736, 0.7453704201033835),
+        DVec3::new(0.5148875462112034, 0.8526202123424523, 0.08904823559014316),
+        DVec3::new(0.4953708909689122, 0.8686815759417637, 0.0),
+        DVec3::new(0.28573870545749797, 0.9583075666003442, 0.0),
+        DVec3::new(
+            -0.08056537218783918,
+            0.9960898649342351,
+            0.036251921046096196,
+        ),
+        DVec3::new(-0.6553255268668329, 0.7361524498545333, 0.1691981808704719),
     ];
     check(&subject, &clip);
 }

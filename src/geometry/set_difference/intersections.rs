@@ -10,7 +10,9 @@
 //!    edge. A vertex on two consecutive edges is a V contact with their common vertex instead
 //!    (the corner rule).
 //! 3. **X** (crossing): edges without any V or T contact whose endpoints lie strictly on
-//!    opposite sides of each other's lines; the crossing point is inserted into both.
+//!    opposite sides of each other's lines and whose crossing point lies strictly inside both
+//!    (checked on the point: for edges on one great circle the signs are noise); the crossing
+//!    point is inserted into both.
 //!
 //! Collinear overlapping edges need no case of their own: the ends of an overlap are V or T
 //! contacts, and phase 2 recognises the overlap as a fragment whose two end clusters are also
@@ -27,8 +29,8 @@ use super::predicates::{
     arc_coordinates, arc_parameter, coincident, on_line, opposite, unit_normal,
 };
 use super::{
-    EPS_ON_EDGE, GreinerHormannSteps, IntersectionKind, IntersectionRecord, NONE, Node,
-    SetDifference, Status,
+    COLLAPSE_RADIUS, EPS_LINE, EPS_ON_EDGE, EPS_POINT, GreinerHormannSteps, IntersectionKind,
+    IntersectionRecord, NONE, Node, SetDifference, Status,
 };
 use glam::DVec3;
 
@@ -78,7 +80,7 @@ impl SetDifference {
         // below only visit those.
         self.near_sc.clear();
         self.near_cs.clear();
-        let near = self.tol.line.max(self.tol.point);
+        let near = EPS_LINE.max(EPS_POINT);
         for i in 0..ns {
             let p = self.nodes[i].dir;
             for j in 0..nc {
@@ -105,8 +107,8 @@ impl SetDifference {
         for k in 0..self.near_sc.len() {
             let idx = self.near_sc[k] as usize;
             let (i, j) = (idx / nc, idx % nc);
-            if self.side_sc[idx].abs() <= self.tol.point
-                && coincident(self.nodes[i].dir, self.nodes[ns + j].dir, self.tol.point)
+            if self.side_sc[idx].abs() <= EPS_POINT
+                && coincident(self.nodes[i].dir, self.nodes[ns + j].dir, EPS_POINT)
             {
                 self.contact_sc[idx] |= VERTEX;
                 self.union(i as u32, (ns + j) as u32);
@@ -121,7 +123,7 @@ impl SetDifference {
             let (i, j) = (idx / nc, idx % nc);
             let c = ns + j;
             let d = self.nodes[c].orig_next as usize;
-            if on_line(self.side_sc[idx], self.tol.line)
+            if on_line(self.side_sc[idx], EPS_LINE)
                 && (self.contact_sc[idx] | self.contact_sc[i * nc + d - ns]) & VERTEX == 0
                 && self.strictly_inside_arc(c, d, i)
             {
@@ -134,7 +136,7 @@ impl SetDifference {
             let (j, i) = (idx / ns, idx % ns);
             let c = ns + j;
             let b = self.nodes[i].orig_next as usize;
-            if on_line(self.side_cs[idx], self.tol.line)
+            if on_line(self.side_cs[idx], EPS_LINE)
                 && (self.contact_sc[i * nc + j] | self.contact_sc[b * nc + j]) & VERTEX == 0
                 && self.strictly_inside_arc(i, b, c)
             {
@@ -222,6 +224,28 @@ impl SetDifference {
         }
 
         // 3. Proper crossings of edges a → b (subject) and c → d (clip) without contacts.
+        //
+        // The crossing point must lie strictly inside both edges, checked on the point itself.
+        // Opposite signs of the endpoints' sides on both lines imply that only when the signs
+        // are right, and they are rounding noise when the edges lie on one great circle. That
+        // was the bug of the chair scene (tests/set_difference_regressions.rs): boxes built on a
+        // common grid have edges on one 3D line (a chair's back leg and its back, 1 mm apart),
+        // so a subject edge and a clip edge lay on the same great circle without overlapping.
+        // All four side values were ~1e-17, both pairs of signs came out "opposite", and a
+        // "crossing" was inserted at t = sa / (sa − sb), a ratio of noise: on the subject edge,
+        // but beyond the end of the clip edge (t = 1.06 there). Inserted into that edge's list,
+        // it made the labels contradict each other at any tolerance (the collinearity is exact)
+        // and the traversal dropped the loop: the light came out fully shadowed.
+        //
+        // x is a positive combination of a and b, hence on the arc a → b; that it lies strictly
+        // inside the arc c → d is decided by its arc coordinates there, which are accurate to
+        // rounding. Collinear edges that do not overlap (their ends are not T contacts of each
+        // other) are at least EPS_POINT apart along the line, so the check rejects them however
+        // the noise falls. When the signs are reliable the check always passes. Raw signs (not
+        // signs classified with EPS_LINE) are what decides transversal edges: with nearly
+        // parallel edges whose ends both lie about EPS_LINE from the other line, classifying
+        // could call one end on the line (and outside the other edge: no T contact) and the
+        // other end off it (no T contact either), losing a crossing that lies far from both ends.
         for a in 0..ns {
             let b = self.nodes[a].orig_next as usize;
             for j in 0..nc {
@@ -253,14 +277,14 @@ impl SetDifference {
                 // on the line of c → d, so the point of the arc a → b (never the antipode).
                 let t = sa / (sa - sb);
                 let x = (pa * (1.0 - t) + pb * t).normalize();
-                // Arcs of a sphere can straddle each other's great circles yet meet only at
-                // antipodal points; impossible for inputs in w ≥ 0 but checked for safety.
-                let u = sc / (sc - sd);
-                if x.dot(pc * (1.0 - u) + pd * u) <= 0.0 {
+                // Strictly inside the arc c → d (this also rejects the antipodal point, where
+                // arcs of a sphere straddling each other's great circles may meet instead).
+                let (u, v) = arc_coordinates(pc, pd, self.nodes[c].n_out, x);
+                if u <= 0.0 || v <= 0.0 {
                     continue;
                 }
                 let ts = arc_parameter(pa, pb, self.nodes[a].n_out, x, t);
-                let tc = arc_parameter(pc, pd, self.nodes[c].n_out, x, u);
+                let tc = u / (u + v);
                 let id = self.insertions.len() as u32;
                 self.push_insertion(a as u32, ts, x, id + 1, true);
                 self.push_insertion(c as u32, tc, x, NONE, false);
@@ -297,7 +321,7 @@ impl SetDifference {
                 return Some(m);
             }
             if node.dir.dot(x) <= 0.0
-                || node.dir.cross(x).length_squared() > self.tol.collapse * self.tol.collapse
+                || node.dir.cross(x).length_squared() > COLLAPSE_RADIUS * COLLAPSE_RADIUS
             {
                 return None;
             }

@@ -16,10 +16,10 @@
 //! flag, read off locally instead of propagated, so a single misjudged vertex cannot flip a
 //! whole loop. Only loops without any intersection vertex need a containment test.
 
-use super::predicates::{in_sector, ray_normal, tangent, winding_contribution};
+use super::predicates::{Ray, in_sector, tangent};
 use super::{
-    ChainKind, GreinerHormannSteps, LabelRecord, NONE, Operand, OverlapChain, SetDifference,
-    Status, Transition, UntouchedLoop, VertexLabel,
+    ChainKind, EPS_LINE, GreinerHormannSteps, LabelRecord, NONE, Operand, OverlapChain,
+    SetDifference, Status, Transition, UntouchedLoop, VertexLabel,
 };
 use glam::DVec3;
 
@@ -156,8 +156,9 @@ impl SetDifference {
     /// The side of a fragment was decided at its start; the test at its end (the backward
     /// tangent against the other operand's sector there) must agree, as must the two operands
     /// at a crossing. They always do in exact arithmetic; a disagreement means that two
-    /// decisions near features at the tolerance scale contradict each other, and
-    /// [`SetDifference::subtract`] tries again with larger tolerances.
+    /// decisions near features at the tolerance scale contradict each other (not observed since
+    /// edges shorter than the tolerances are merged on loading), and is reported by
+    /// [`SetDifference::last_traversal_consistent`].
     fn check_both_ends(&mut self) {
         for n in 0..self.nodes.len() {
             let node = &self.nodes[n];
@@ -195,7 +196,7 @@ impl SetDifference {
     /// loops), for p not on its boundary. Points on or within `EPS_LINE` of the horizon are
     /// outside every region of the closed upper hemisphere that does not pass through them.
     fn contains(&self, p: DVec3, operand: Operand) -> bool {
-        let Some(m) = ray_normal(p, self.tol.line) else {
+        let Some(ray) = Ray::new(p, EPS_LINE) else {
             return false;
         };
         let mut winding = 0;
@@ -204,7 +205,7 @@ impl SetDifference {
             for i in lp.first..lp.first + lp.len {
                 let a = &self.nodes[i as usize];
                 let b = &self.nodes[a.orig_next as usize];
-                winding += winding_contribution(p, m, a.dir, b.dir);
+                winding += ray.winding_contribution(a.dir, b.dir);
             }
         }
         winding != 0

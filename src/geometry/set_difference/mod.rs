@@ -17,13 +17,15 @@
 //!    clip and the clip backwards inside the subject, switching at crossings.
 //!
 //! Predicates are determinants of homogeneous points (`predicates.rs`), never divided by w, with
-//! absolute tolerances on normalised determinants ([`EPS_LINE`], [`EPS_POINT`]). When decisions
-//! near features at the tolerance scale contradict each other (detected by checking both ends
-//! of every fragment, and by the traversal), all phases are rerun with larger tolerances
-//! ([`TOLERANCE_SCALES`]). The algorithm, the degenerate cases and the tolerances are described
-//! in `docs/set-difference.md`. All scratch storage lives in [`SetDifference`] and is reused:
-//! once its vectors have grown, [`SetDifference::subtract`] does not allocate (unless steps are
-//! recorded).
+//! absolute tolerances on normalised determinants ([`EPS_LINE`], [`EPS_POINT`]) for contacts,
+//! and every decision that raw signs would leave to rounding noise (a crossing of collinear
+//! edges, a point on the line of an edge) made on the computed point instead. Features smaller
+//! than the tolerances are folded onto points ([`COLLAPSE_RADIUS`]). The two ends of every
+//! fragment are checked to agree on its side, and the traversal checks that every loop closes
+//! ([`SetDifference::last_traversal_consistent`]). The algorithm, the degenerate cases and the
+//! tolerances are described in `docs/set-difference.md`. All scratch storage
+//! lives in [`SetDifference`] and is reused: once its vectors have grown,
+//! [`SetDifference::subtract`] does not allocate (unless steps are recorded).
 
 mod intersections;
 mod labels;
@@ -54,42 +56,18 @@ pub const EPS_LINE: f64 = 1e-12;
 /// within the line tolerance of the original edge, i.e. a T-junction.
 pub const EPS_POINT: f64 = 5e-13;
 
-/// Detours of one operand through an intersection point whose vertices all lie within this
-/// distance (sine) of the point are removed (`finish_clusters`): four times [`EPS_LINE`], the
-/// size of features that the tolerances can fold onto one point.
+/// Features smaller than this (sine of angle), four times [`EPS_LINE`], are folded onto one
+/// point: consecutive input vertices closer than this are merged on loading (edges shorter than
+/// the tolerances), and detours of one operand through an intersection point whose vertices all
+/// lie within this distance of the point are removed (`finish_clusters`).
+///
+/// An edge shorter than a few [`EPS_LINE`] has a well-defined line, but the tolerance band
+/// around that line is as wide as the edge is long, so "on the line" says nothing about the
+/// edge: a vertex of the other operand near it is then on its line and also on the lines of
+/// its neighbours, decided V by one test and T or X by another, and the labels of the
+/// fragments around it contradict each other. Merging moves the boundary by less than this
+/// radius (the area by less than half of it times the edge length).
 pub const COLLAPSE_RADIUS: f64 = 4e-12;
-
-/// Tolerance scales tried in turn: when the labels are found inconsistent (the two ends of a
-/// fragment disagree on its side, or the traversal reaches a dead end: two features closer than
-/// a few tolerances, decided differently by different tests), every phase is run again with
-/// all tolerances multiplied by the next scale, which turns the near-degeneracy into an exact
-/// one. The result then differs from the exact difference by at
-/// most the scaled tolerances times the perimeters.
-pub const TOLERANCE_SCALES: [f64; 3] = [1.0, 16.0, 256.0];
-
-/// The tolerances of one attempt.
-#[derive(Clone, Copy, Debug)]
-struct Tolerances {
-    line: f64,
-    point: f64,
-    collapse: f64,
-}
-
-impl Tolerances {
-    fn scaled(scale: f64) -> Self {
-        Tolerances {
-            line: EPS_LINE * scale,
-            point: EPS_POINT * scale,
-            collapse: COLLAPSE_RADIUS * scale,
-        }
-    }
-}
-
-impl Default for Tolerances {
-    fn default() -> Self {
-        Tolerances::scaled(1.0)
-    }
-}
 
 /// A fragment whose end points lie farther than this (sine of angle) from the line of its input
 /// edge after snapping takes the normal of its own chord (see `finish_clusters`).
@@ -196,8 +174,6 @@ pub struct SetDifference {
     /// First live node of each cluster, indexed by the union–find representative.
     cluster_rep: Vec<u32>,
     loop_scratch: Vec<DVec3>,
-    tol: Tolerances,
-    tolerance_scale: f64,
     consistent: bool,
 }
 
@@ -211,10 +187,10 @@ impl SetDifference {
     /// Both inputs are sets of closed loops of homogeneous points with w ≥ 0 (filled loops
     /// counter-clockwise, holes clockwise, loops not crossing each other, every edge a
     /// great-circle arc shorter than π); points on the horizon (w = 0) and edges along it are
-    /// ordinary input. Consecutive vertices closer than [`EPS_POINT`] are merged. The output
-    /// follows the same conventions; loops may touch each other at isolated vertices but never
-    /// cross. When `steps` is `Some`, the three phases are recorded into it (this allocates);
-    /// otherwise nothing extra is computed.
+    /// ordinary input. Consecutive vertices closer than [`COLLAPSE_RADIUS`] are merged. The
+    /// output follows the same conventions; loops may touch each other at isolated vertices but
+    /// never cross. When `steps` is `Some`, the three phases are recorded into it (this
+    /// allocates); otherwise nothing extra is computed.
     pub fn subtract(
         &mut self,
         subject: &PlanarPolygon,
@@ -222,44 +198,27 @@ impl SetDifference {
         out: &mut PlanarPolygon,
         mut steps: Option<&mut GreinerHormannSteps>,
     ) {
-        for (attempt, scale) in TOLERANCE_SCALES.into_iter().enumerate() {
-            let last = attempt + 1 == TOLERANCE_SCALES.len();
-            if let Some(s) = steps.as_deref_mut() {
-                s.clear();
-                s.tolerance_scale = scale;
-            }
-            out.clear();
-            self.consistent = true;
-            self.tolerance_scale = scale;
-            self.tol = Tolerances::scaled(scale);
-            self.load(subject, clip);
-            if self.subject_nodes == 0 {
-                return;
-            }
-            self.find_intersections(steps.as_deref_mut());
-            self.label_intersections();
-            self.mark_entry_exit(steps.as_deref_mut());
-            if !self.consistent && !last {
-                continue;
-            }
-            self.traverse(out, steps.as_deref_mut());
-            if self.consistent {
-                return;
-            }
+        if let Some(s) = steps.as_deref_mut() {
+            s.clear();
         }
+        out.clear();
+        self.consistent = true;
+        self.load(subject, clip);
+        if self.subject_nodes == 0 {
+            return;
+        }
+        self.find_intersections(steps.as_deref_mut());
+        self.label_intersections();
+        self.mark_entry_exit(steps.as_deref_mut());
+        self.traverse(out, steps);
     }
 
-    /// False when even the last attempt of [`SetDifference::subtract`] found the labelling
-    /// inconsistent and dropped a loop (see [`TOLERANCE_SCALES`]). Not observed for inputs that
-    /// satisfy the preconditions (the tests check it); possible for self-intersecting input.
+    /// False when the last [`SetDifference::subtract`] found its labelling inconsistent (the
+    /// two ends of a fragment disagreeing on its side, or a dead end in the traversal) and
+    /// dropped a loop. Not observed for inputs that satisfy the preconditions (every test checks
+    /// it); possible for self-intersecting input.
     pub fn last_traversal_consistent(&self) -> bool {
         self.consistent
-    }
-
-    /// The tolerance scale (an entry of [`TOLERANCE_SCALES`]) of the last
-    /// [`SetDifference::subtract`]: 1 unless near-degeneracies forced a retry.
-    pub fn last_tolerance_scale(&self) -> f64 {
-        self.tolerance_scale
     }
 
     /// Total capacity of the scratch buffers, in elements (for allocation tests and tuning).
@@ -305,8 +264,9 @@ impl SetDifference {
                 if !dir.is_finite() || dir == DVec3::ZERO {
                     continue;
                 }
+                // Edges shorter than the tolerances are folded (see COLLAPSE_RADIUS).
                 if self.nodes.len() > first
-                    && coincident(self.nodes[self.nodes.len() - 1].dir, dir, self.tol.point)
+                    && coincident(self.nodes[self.nodes.len() - 1].dir, dir, COLLAPSE_RADIUS)
                 {
                     continue;
                 }
@@ -333,7 +293,7 @@ impl SetDifference {
                 && coincident(
                     self.nodes[self.nodes.len() - 1].dir,
                     self.nodes[first].dir,
-                    self.tol.point,
+                    COLLAPSE_RADIUS,
                 )
             {
                 self.nodes.pop();

@@ -23,15 +23,16 @@ pub(super) fn unit_normal(a: DVec3, b: DVec3) -> DVec3 {
     a.cross(b - a).normalize_or_zero()
 }
 
-/// Whether two unit directions are the same point: sin(angle) < `eps` (the point tolerance,
-/// [`EPS_POINT`](super::EPS_POINT) times the tolerance scale) on the same side.
+/// Whether two unit directions are the same point: sin(angle) < `eps` (the point tolerance
+/// [`EPS_POINT`](super::EPS_POINT), or [`COLLAPSE_RADIUS`](super::COLLAPSE_RADIUS) when
+/// loading) on the same side.
 #[inline]
 pub(super) fn coincident(p: DVec3, q: DVec3, eps: f64) -> bool {
     p.dot(q) > 0.0 && p.cross(q).length_squared() < eps * eps
 }
 
 /// Whether a unit direction whose signed distance (sine) to a line is `side` lies on it: below
-/// `eps`, the line tolerance ([`EPS_LINE`](super::EPS_LINE) times the tolerance scale).
+/// `eps`, the line tolerance [`EPS_LINE`](super::EPS_LINE).
 #[inline]
 pub(super) fn on_line(side: f64, eps: f64) -> bool {
     side.abs() < eps
@@ -114,50 +115,78 @@ pub(super) fn clockwise_before(x: DVec3, b: DVec3, u1: DVec3, u2: DVec3) -> bool
     }
 }
 
-/// `orient(a, b, p)` evaluated as a · ((b − a) × (p − a)): the same determinant, but when the
-/// three points are close (a short edge and a point near it) the differences are exact and the
-/// result keeps its relative precision, where a · (b × p) would cancel down to noise of 1e-16.
-#[inline]
-pub(super) fn orient_near(a: DVec3, b: DVec3, p: DVec3) -> f64 {
-    a.dot((b - a).cross(p - a))
+/// The ray of the winding-number test from the unit direction p: the arc leaving p radially,
+/// away from the zenith, to the horizon point r = (p.x, p.y, 0) (the gnomonic ray from p away
+/// from the origin, closed at infinity), continued below the horizon, where no edge lies.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ray {
+    /// p = p.z·ẑ + (p.x, p.y, 0): `pz` = p.z and `rr` = p.x² + p.y² (0 at the zenith).
+    pz: f64,
+    rr: f64,
+    /// The horizon point (p.x, p.y, 0), or +x when p is the zenith.
+    r: DVec3,
+    /// Normal p × r of the ray's great circle (a meridian).
+    m: DVec3,
 }
 
-/// Contribution of the edge a → b to the winding number about p, counted along the arc that
-/// leaves p radially towards the horizon point r (the gnomonic ray from p away from the
-/// origin, closed at infinity) and continues below the horizon, where no edge lies. `m` is
-/// p × r and a vertex v counts as "above" the ray's line when v · m > 0 (the half-open rule,
-/// which makes vertices and edges lying on the ray's line count consistently).
-#[inline]
-pub(super) fn winding_contribution(p: DVec3, m: DVec3, a: DVec3, b: DVec3) -> i32 {
-    let above_a = a.dot(m) > 0.0;
-    let above_b = b.dot(m) > 0.0;
-    if above_a == above_b {
-        return 0;
+impl Ray {
+    /// The ray from the unit direction p, or `None` when p is within `eps` (the line tolerance)
+    /// of the horizon: such a point is inside no region of the closed upper hemisphere unless
+    /// it lies on its boundary, which callers have excluded.
+    #[inline]
+    pub(super) fn new(p: DVec3, eps: f64) -> Option<Ray> {
+        if p.z <= eps {
+            return None;
+        }
+        let r = if p.x == 0.0 && p.y == 0.0 {
+            DVec3::X
+        } else {
+            DVec3::new(p.x, p.y, 0.0)
+        };
+        Some(Ray {
+            pz: p.z,
+            rr: p.x * p.x + p.y * p.y,
+            r,
+            m: p.cross(r),
+        })
     }
-    let o = orient_near(a, b, p);
-    if !above_a && o > 0.0 {
-        1
-    } else if above_a && o < 0.0 {
-        -1
-    } else {
-        0
-    }
-}
 
-/// The ray normal m = p × r of [`winding_contribution`] for the unit direction p, or `None`
-/// when p is within `eps` (the line tolerance) of the horizon: such a point is inside no region
-/// of the closed upper hemisphere unless it lies on its boundary, which callers have excluded.
-#[inline]
-pub(super) fn ray_normal(p: DVec3, eps: f64) -> Option<DVec3> {
-    if p.z <= eps {
-        return None;
+    /// Contribution of the edge a → b to the winding number about p: ±1 when the arc crosses
+    /// the ray (+1 from right to left, i.e. p to the left of a → b), 0 otherwise.
+    ///
+    /// A vertex v counts as "above" the ray's great circle when v · m > 0 (the half-open rule,
+    /// which makes vertices and edges lying on the circle count consistently). An arc with one
+    /// end above and one not meets the circle once, at X = a·|b·m| + b·|a·m| (the positive
+    /// combination of a and b on it), and is counted when X lies on the ray: on p's side of the
+    /// zenith and farther from it than p.
+    ///
+    /// Locating X on the ray, rather than testing on which side of the line a → b the point p
+    /// lies, is what keeps the test exact when p is on (or within rounding of) the *line* of an
+    /// edge but far from the edge itself. That is the normal case in scenes of boxes: a
+    /// vertical edge seen from a floor point is a meridian, so is the ray, and the vertex of an
+    /// earlier occluder above it lies on the same meridian. `orient(a, b, p)` is then rounding
+    /// noise and decided the containment of the whole loop at random; the position of X along
+    /// the ray is as accurate as X itself, and is ambiguous only when X is within rounding of p,
+    /// i.e. when p lies on the boundary, which callers exclude.
+    #[inline]
+    pub(super) fn winding_contribution(&self, a: DVec3, b: DVec3) -> i32 {
+        let (sa, sb) = (a.dot(self.m), b.dot(self.m));
+        let above_a = sa > 0.0;
+        if above_a == (sb > 0.0) {
+            return 0;
+        }
+        let x = a * sb.abs() + b * sa.abs();
+        // On the circle, x ∝ x.z·ẑ + q·r / |r|² with q = x · r: on p's side of the zenith when
+        // q > 0, and farther from it than p = p.z·ẑ + r when x.z / q < p.z / |r|², here
+        // multiplied by q·|r|² (no division or square root; at the zenith |r|² = 0 and every
+        // x with q > 0 is farther).
+        let q = x.dot(self.r);
+        if q > 0.0 && x.z * self.rr < self.pz * q {
+            if above_a { -1 } else { 1 }
+        } else {
+            0
+        }
     }
-    let r = if p.x == 0.0 && p.y == 0.0 {
-        DVec3::X
-    } else {
-        DVec3::new(p.x, p.y, 0.0)
-    };
-    Some(p.cross(r))
 }
 
 #[cfg(test)]
@@ -202,9 +231,9 @@ mod tests {
         // The quadrant x, y > 0 of the plane: zenith, +x at infinity, +y at infinity.
         let lp = [DVec3::Z, DVec3::X, DVec3::Y];
         let wind = |p: DVec3| {
-            let m = ray_normal(p, 1e-12).unwrap();
+            let ray = Ray::new(p, 1e-12).unwrap();
             (0..3)
-                .map(|i| winding_contribution(p, m, lp[i], lp[(i + 1) % 3]))
+                .map(|i| ray.winding_contribution(lp[i], lp[(i + 1) % 3]))
                 .sum::<i32>()
         };
         assert_eq!(wind(h(0.5, 0.5, 1.0)), 1);
@@ -212,5 +241,49 @@ mod tests {
         assert_eq!(wind(h(-0.5, 0.5, 1.0)), 0);
         assert_eq!(wind(h(0.5, -0.5, 1.0)), 0);
         assert_eq!(wind(h(-1.0, -1.0, 1.0)), 0);
+        // The zenith itself (its ray runs along +x).
+        let square = [
+            h(-1.0, -1.0, 1.0),
+            h(1.0, -1.0, 1.0),
+            h(1.0, 1.0, 1.0),
+            h(-1.0, 1.0, 1.0),
+        ];
+        for (dx, expected) in [(0.0, 1), (1.5, 0), (-1.5, 0)] {
+            let shifted = square.map(|v| h(v.x / v.z + dx, v.y / v.z, 1.0));
+            let ray = Ray::new(DVec3::Z, 1e-12).unwrap();
+            let w: i32 = (0..4)
+                .map(|i| ray.winding_contribution(shifted[i], shifted[(i + 1) % 4]))
+                .sum();
+            assert_eq!(w, expected, "square shifted by {dx}");
+        }
+    }
+
+    #[test]
+    fn winding_along_the_meridian_of_an_edge() {
+        // A box resting on the floor seen from a floor point: its vertical edge is a meridian,
+        // and the test point above it lies on the same meridian (outside the region), so the
+        // ray runs along the edge and p is on the edge's line.
+        let sph = |az: f64, el: f64| {
+            let (az, el) = (az.to_radians(), el.to_radians());
+            DVec3::new(el.cos() * az.cos(), el.cos() * az.sin(), el.sin())
+        };
+        for k in 0..3600 {
+            let az = k as f64 * 0.1 + 0.0123;
+            let lp = [
+                sph(az, 0.0),
+                sph(az + 15.0, 0.0),
+                sph(az + 15.0, 40.0),
+                sph(az, 40.0),
+            ];
+            let wind = |p: DVec3| {
+                let ray = Ray::new(p, 1e-12).unwrap();
+                (0..4)
+                    .map(|i| ray.winding_contribution(lp[i], lp[(i + 1) % 4]))
+                    .sum::<i32>()
+            };
+            assert_eq!(wind(sph(az, 60.0)), 0, "above the edge, azimuth {az}");
+            assert_eq!(wind(sph(az + 7.0, 20.0)), 1, "inside, azimuth {az}");
+            assert_eq!(wind(sph(az - 7.0, 20.0)), 0, "beside, azimuth {az}");
+        }
     }
 }

@@ -211,9 +211,6 @@ pub struct GreinerHormannSteps {
     /// same flag is available without recording from
     /// [`SetDifference::last_traversal_consistent`](super::SetDifference::last_traversal_consistent)).
     pub consistent: bool,
-    /// Scale of the tolerances of the recorded attempt (see
-    /// [`TOLERANCE_SCALES`](super::TOLERANCE_SCALES)); 1 unless a near-degeneracy forced a retry.
-    pub tolerance_scale: f64,
 }
 
 impl GreinerHormannSteps {
@@ -225,6 +222,5 @@ impl GreinerHormannSteps {
         self.untouched_loops.clear();
         self.traversal.clear();
         self.consistent = true;
-        self.tolerance_scale = 1.0;
     }
 }
