@@ -201,3 +201,63 @@ fn lambertian_render_agrees_with_a_converged_reference() {
         );
     }
 }
+
+/// Glossy shading (GGX through the LTC) at whole shading points, shadows included, against
+/// ray casting. The LTC is an approximation: `tests/ltc_*.rs` measures its fit error against
+/// Monte Carlo integration of GGX at ≤ 3 % of the lobe's albedo (`norm`) per unit radiance for
+/// view angles up to 60°, so the tolerance here is 3 % · norm · Σ radiance, plus 4.5σ of the
+/// estimate. A wrong frame, Fresnel split, orientation or clipping would exceed it by far.
+#[test]
+fn glossy_shading_points_match_ray_casting_within_the_ltc_fit_error() {
+    use penumbra::scene::Material;
+    let scene = scene_file::load_embedded("fig4").unwrap();
+    let ctx = RenderContext::new(&scene);
+    let lights = LightSampler::new(&scene);
+    let radiance: f64 = ctx
+        .prepared
+        .lights
+        .iter()
+        .map(|(_, l)| l.max_element())
+        .sum();
+    let mut scratch = ShadingScratch::default();
+    let mut rng = Pcg32::new(17, 2);
+    for alpha in [0.3, 0.6, 1.0] {
+        for view_deg in [0.0f64, 30.0, 50.0] {
+            for &(px, pz) in &[(0.0, 0.0), (1.0, 0.5), (-1.0, -0.7), (0.4, -1.2)] {
+                let p = DVec3::new(px, 0.0, pz);
+                let (s, c) = view_deg.to_radians().sin_cos();
+                let sp = ShadingPoint {
+                    position: p,
+                    normal: DVec3::Y,
+                    view: DVec3::new(s, c, 0.0),
+                    object: Some(0),
+                    face: Some(0),
+                };
+                let mat = Material {
+                    kd: DVec3::ZERO,
+                    ks: DVec3::ONE,
+                    alpha,
+                    ..Material::default()
+                };
+                let a = shade(
+                    &ctx.prepared,
+                    &sp,
+                    &mat,
+                    Method::Analytic,
+                    &mut scratch,
+                    &mut NoRecorder,
+                )
+                .x;
+                let (m, e) = direct_lighting(&ctx, &lights, &sp, &mat, 100_000, &mut rng);
+                let norm = ctx.prepared.ltc.lookup(c, alpha).norm;
+                let bound = 0.03 * norm * radiance + 4.5 * e.x;
+                assert!(
+                    (a - m.x).abs() <= bound,
+                    "α {alpha}, θv {view_deg}°, {p}: LTC {a} vs ray cast {} ± {} (bound {bound})",
+                    m.x,
+                    e.x
+                );
+            }
+        }
+    }
+}
