@@ -18,13 +18,12 @@ fn points(ctx: &RenderContext, n: usize, seed: u64) -> Vec<ShadingPoint> {
     let mut out = Vec::new();
     while out.len() < n {
         let dir = basis.direction(rng.range(0.0, 64.0), rng.range(0.0, 64.0), 64, 64);
-        if let Some(hit) = ctx.primary_hit(&Ray {
+        let hit = ctx.primary_hit(&Ray {
             origin: basis.eye,
             dir,
-        }) {
-            if hit.receiver {
-                out.push(hit.point);
-            }
+        });
+        if let Some(hit) = hit.filter(|h| h.receiver) {
+            out.push(hit.point);
         }
     }
     out
@@ -44,9 +43,7 @@ fn load(name: &str) -> Scene {
         .filter(|o| o.flags.occluder && !o.flags.light)
         .cloned()
         .collect();
-    scene
-        .objects
-        .retain(|o| !(o.flags.occluder && !o.flags.light));
+    scene.objects.retain(|o| !o.flags.occluder || o.flags.light);
     let mut merged = parts[0].clone();
     merged.name = "chair".into();
     for p in &parts[1..] {
