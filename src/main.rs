@@ -8,6 +8,14 @@ use penumbra::scene::{Camera, Scene, scene_file};
 use penumbra::shading::Method;
 use std::path::{Path, PathBuf};
 
+/// `println!` that ignores a closed stdout (e.g. piped into `head`) instead of panicking.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 #[derive(Parser)]
 #[command(
     name = "penumbra",
@@ -215,7 +223,7 @@ fn render(args: &RenderArgs) -> Result<()> {
         .map_err(anyhow::Error::msg)?;
     let (nan, inf, neg) = img.invalid_counts();
     let files = write_outputs(&img, &args.out, args.exposure)?;
-    println!(
+    say!(
         "{} {}x{} aa {} method {}: {:.3} s, {:.0} pixels/s ({} threads)",
         args.scene,
         settings.width,
@@ -230,7 +238,7 @@ fn render(args: &RenderArgs) -> Result<()> {
         eprintln!("warning: {nan} NaN, {inf} infinite and {neg} negative pixel values");
     }
     for f in files {
-        println!("wrote {}", f.display());
+        say!("wrote {}", f.display());
     }
     Ok(())
 }
@@ -248,13 +256,13 @@ fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
     let start = std::time::Instant::now();
     let (img, err) = penumbra::reference::render_reference(&ctx, &cam, &settings, samples, seed)
         .map_err(anyhow::Error::msg)?;
-    println!(
+    say!(
         "reference {}: {samples} samples per light, {:.3} s",
         args.scene,
         start.elapsed().as_secs_f64()
     );
     for f in write_outputs(&img, &args.out, args.exposure)? {
-        println!("wrote {}", f.display());
+        say!("wrote {}", f.display());
     }
     let stderr_path = args.out.with_file_name(format!(
         "{}_stderr.pfm",
@@ -264,7 +272,7 @@ fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
             .unwrap_or_default()
     ));
     image_io::write_pfm(&stderr_path, err.width, err.height, &err.to_rgb32())?;
-    println!("wrote {}", stderr_path.display());
+    say!("wrote {}", stderr_path.display());
     Ok(())
 }
 
@@ -314,9 +322,9 @@ fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> R
     }
     std::fs::write(json, serde_json::to_string_pretty(&dump)?)
         .with_context(|| format!("{}", json.display()))?;
-    println!("radiance {radiance} at pixel {pixel:?}");
+    say!("radiance {radiance} at pixel {pixel:?}");
     for l in &dump.recording.lights {
-        println!(
+        say!(
             "  light {} {:?}: diffuse {} specular {}, occluders kept {:?}, set differences {}",
             l.light,
             l.piece,
@@ -326,7 +334,7 @@ fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> R
             l.set_differences.len()
         );
     }
-    println!("wrote {}", json.display());
+    say!("wrote {}", json.display());
     Ok(())
 }
 
@@ -343,7 +351,7 @@ fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> 
     }
     let s = stderr.map(read).transpose()?;
     let stats = penumbra::render::compare::compare(&a, &b, s.as_ref().map(|s| &s.2[..]));
-    println!("{}", serde_json::to_string_pretty(&stats)?);
+    say!("{}", serde_json::to_string_pretty(&stats)?);
     Ok(())
 }
 
@@ -384,17 +392,17 @@ fn main() -> Result<()> {
             ..
         }) => {
             let (case, analytic, estimate, sigma) = penumbra::stress::run_one(seed, index, rays);
-            println!("case {index}: {:?}, scale {:e}", case.kind, case.scale);
-            println!("shading point {:?}", case.point);
+            say!("case {index}: {:?}, scale {:e}", case.kind, case.scale);
+            say!("shading point {:?}", case.point);
             for o in &case.scene.objects {
-                println!(
+                say!(
                     "{} ({} vertices): {:?}",
                     o.name,
                     o.mesh.positions.len(),
                     o.mesh.positions
                 );
             }
-            println!("analytic {analytic}, ray cast {estimate} ± {sigma}");
+            say!("analytic {analytic}, ray cast {estimate} ± {sigma}");
             Ok(())
         }
         Some(Command::Stress {
@@ -412,7 +420,7 @@ fn main() -> Result<()> {
                     eprintln!("  {done}/{cases}");
                 }
             });
-            println!("{}", serde_json::to_string_pretty(&rep)?);
+            say!("{}", serde_json::to_string_pretty(&rep)?);
             if let Some(path) = json {
                 std::fs::write(&path, serde_json::to_string_pretty(&rep)?)
                     .with_context(|| format!("{}", path.display()))?;
@@ -432,7 +440,7 @@ fn main() -> Result<()> {
             table
                 .save(&out)
                 .with_context(|| format!("{}", out.display()))?;
-            println!(
+            say!(
                 "wrote {} in {:.1} s",
                 out.display(),
                 start.elapsed().as_secs_f64()
@@ -447,7 +455,7 @@ fn main() -> Result<()> {
         }) => probe(&render, pixel, gh_steps, &json),
         Some(Command::Scenes) => {
             for name in scene_file::embedded_scene_names() {
-                println!("{name}");
+                say!("{name}");
             }
             Ok(())
         }
