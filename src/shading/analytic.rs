@@ -305,7 +305,13 @@ fn subtract_occluder<R: Recorder>(
     let on_this = sp.object == Some(occ.object);
     let closed = occ.poly.diagnostics.closed_manifold;
     if occ.simple && method != Method::PerTriangle && cut.is_none() {
-        if R::ENABLED {
+        // An occluder's projected silhouette depends on the shading point and frame only, not
+        // on the light: computed once per shading point and kept for the next lights. (With a
+        // recorder every stage is recomputed so that it reaches the recording; same numbers.)
+        let cache_hit = !R::ENABLED && scratch.occluder_cache[oi].stamp == scratch.stamp;
+        if cache_hit {
+            std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
+        } else {
             silhouette(
                 &occ.poly,
                 sp.position,
@@ -314,34 +320,13 @@ fn subtract_occluder<R: Recorder>(
                 &mut scratch.occ_sph,
                 &mut scratch.silhouette,
             );
-            subtract_polygon(oi, None, scratch, rec);
-            return;
+            clip_and_project(oi, None, scratch, rec);
         }
-        // An occluder's clipped silhouette depends on the shading point and frame only, not on
-        // the light: computed once per shading point and reused for every light. (A recorder
-        // gets every stage recomputed instead; the numbers are the same.)
-        let stamp = scratch.stamp;
-        let cached = &mut scratch.occluder_cache[oi];
-        if cached.stamp != stamp {
-            silhouette(
-                &occ.poly,
-                sp.position,
-                frame,
-                Sidedness::TwoSided,
-                &mut scratch.occ_sph,
-                &mut scratch.silhouette,
-            );
-            clip_to_horizon(
-                &scratch.occ_sph,
-                &mut scratch.occ_clip,
-                &mut scratch.horizon,
-            );
-            ProjectionPlane::NORMAL.project(&scratch.occ_clip, &mut cached.poly);
-            cached.stamp = stamp;
-        }
-        std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
         subtract_planar(oi, scratch, rec);
-        std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
+        if !R::ENABLED {
+            std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
+            scratch.occluder_cache[oi].stamp = scratch.stamp;
+        }
     } else {
         for g in 0..occ.poly.face_count() {
             if scratch.visible.is_empty() {
@@ -380,6 +365,18 @@ fn subtract_polygon<R: Recorder>(
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) {
+    clip_and_project(oi, piece, scratch, rec);
+    subtract_planar(oi, scratch, rec);
+}
+
+/// Alg. 1 lines 10–11: `scratch.occ_sph` clipped to the horizon and projected into
+/// `scratch.occ_plane`.
+fn clip_and_project<R: Recorder>(
+    oi: usize,
+    piece: Option<usize>,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) {
     rec.occluder_polygon(oi, piece, Stage::Silhouette, &scratch.occ_sph);
     clip_to_horizon(
         &scratch.occ_sph,
@@ -388,7 +385,6 @@ fn subtract_polygon<R: Recorder>(
     );
     rec.occluder_polygon(oi, piece, Stage::HorizonClipped, &scratch.occ_clip);
     ProjectionPlane::NORMAL.project(&scratch.occ_clip, &mut scratch.occ_plane);
-    subtract_planar(oi, scratch, rec);
 }
 
 /// Subtracts the projected occluder polygon in `scratch.occ_plane` from the visible polygon.
