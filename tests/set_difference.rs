@@ -9,6 +9,9 @@
 //!   Sutherland–Hodgman clipping on the sphere, areas agreeing to 1e-12;
 //! * named degenerate configurations with known answers.
 
+mod set_difference_common;
+use set_difference_common::*;
+
 use glam::DVec3;
 use penumbra::geometry::set_difference::{
     ChainKind, FragmentSide, IntersectionKind, Operand, Transition, VertexLabel,
@@ -51,12 +54,6 @@ fn square(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<DVec3> {
     vec![h(x0, y0), h(x1, y0), h(x1, y1), h(x0, y1)]
 }
 
-fn loops_of(p: &PlanarPolygon) -> Vec<Vec<DVec3>> {
-    p.loops()
-        .map(|l| l.iter().map(|v| v.normalize()).collect())
-        .collect()
-}
-
 /// Solid angle of a planar polygon reprojected to the sphere (normalised vertices).
 fn area(p: &PlanarPolygon) -> f64 {
     let mut s = SphericalPolygon::new();
@@ -80,38 +77,6 @@ fn subtract(subject: &PlanarPolygon, clip: &PlanarPolygon) -> PlanarPolygon {
     sd.subtract(subject, clip, &mut out, None);
     assert!(sd.last_traversal_consistent(), "inconsistent traversal");
     out
-}
-
-/// Sutherland–Hodgman: the part of a loop where n · p ≥ 0 (on the sphere; crossing points are
-/// positive combinations of the edge's endpoints, exact zeros stay exact for n = ±z).
-fn clip_halfspace(lp: &[DVec3], n: DVec3) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(lp.len() + 2);
-    for i in 0..lp.len() {
-        let a = lp[i];
-        let b = lp[(i + 1) % lp.len()];
-        let (da, db) = (n.dot(a), n.dot(b));
-        if da >= 0.0 {
-            out.push(a);
-        }
-        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            let x = if da > 0.0 {
-                b * da - a * db
-            } else {
-                a * db - b * da
-            };
-            let x = x.normalize();
-            out.push(if n == DVec3::Z {
-                DVec3::new(x.x, x.y, 0.0).normalize()
-            } else {
-                x
-            });
-        }
-    }
-    out
-}
-
-fn horizon_clip(lp: &[DVec3]) -> Vec<DVec3> {
-    clip_halfspace(lp, DVec3::Z)
 }
 
 /// A random convex loop around `center`: points of an ellipse in its gnomonic plane, in
@@ -166,29 +131,6 @@ fn random_pair(rng: &mut Pcg32) -> (Vec<DVec3>, Vec<DVec3>) {
 
 // ---------------------------------------------------------------------------------------------
 // Oracles
-
-/// Unit normal of the great circle through a and b, as a × (b − a): for short edges a × b
-/// loses its relative precision to cancellation (1e-7 for an edge of 1e-9 rad).
-fn line_normal(a: DVec3, b: DVec3) -> DVec3 {
-    a.cross(b - a).normalize()
-}
-
-/// Winding number of the loops about the unit direction p: the sum of the angles the edges
-/// subtend about p (each arc is shorter than π and avoids ±p, so its angle is the signed angle
-/// between its endpoints' projections onto the plane orthogonal to p).
-fn winding(loops: &[Vec<DVec3>], p: DVec3) -> f64 {
-    let mut w = 0.0;
-    for lp in loops {
-        for i in 0..lp.len() {
-            let a = lp[i];
-            let b = lp[(i + 1) % lp.len()];
-            let ta = a - p * p.dot(a);
-            let tb = b - p * p.dot(b);
-            w += orient(p, ta, tb).atan2(ta.dot(tb));
-        }
-    }
-    w / TAU
-}
 
 fn inside(loops: &[Vec<DVec3>], p: DVec3) -> bool {
     winding(loops, p) > 0.5
@@ -508,12 +450,6 @@ fn random_convex_pairs_match_convex_decomposition() {
         );
     }
     eprintln!("convex decomposition: 20000 configurations, worst |Δarea| {worst:.2e} sr");
-}
-
-/// `orient(a, b, c)` as a · ((b − a) × (c − a)): accurate for nearby points, where the direct
-/// a · (b × c) is rounding noise (1e-16 against determinants of 1e-20 for points 1e-10 apart).
-fn orient_near(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    a.dot((b - a).cross(c - a))
 }
 
 /// The spherical convex hull of points within 90° of their mean (monotone chain in the

@@ -27,11 +27,12 @@
 //! `PENUMBRA_CHAINS=1000000 cargo test --release --test set_difference_chains -- --ignored
 //! --nocapture`. `PENUMBRA_CHAIN=i` replays chain i alone and prints it.
 
+mod set_difference_common;
+use set_difference_common::*;
+
 use glam::DVec3;
 use penumbra::geometry::set_difference::{COLLAPSE_RADIUS, EPS_LINE, EPS_POINT};
-use penumbra::geometry::{
-    GreinerHormannSteps, PlanarPolygon, SetDifference, SphericalPolygon, orient,
-};
+use penumbra::geometry::{GreinerHormannSteps, PlanarPolygon, SetDifference, SphericalPolygon};
 use penumbra::math::{Frame, Pcg32};
 use std::f64::consts::TAU;
 
@@ -251,15 +252,6 @@ struct Chain {
     occluders: Vec<Vec<DVec3>>,
 }
 
-/// Unit normal of the great circle through a and b (a × (b − a): accurate for short edges).
-fn line_normal(a: DVec3, b: DVec3) -> DVec3 {
-    a.cross(b - a).normalize()
-}
-
-fn orient_near(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    a.dot((b - a).cross(c - a))
-}
-
 /// The silhouette of the convex hull of 3D points seen from the origin: the spherical convex
 /// hull of their directions (monotone chain in the gnomonic plane of the mean direction, turns
 /// by `orient`), clipped to the upper hemisphere. `None` when the points surround the origin
@@ -311,38 +303,6 @@ fn silhouette(points: &[DVec3]) -> Option<Vec<DVec3>> {
         && (0..k).all(|i| (i + 1..k).all(|j| hull[i].cross(hull[j]).length() >= 1e-13))
         && loop_area(&hull) > 1e-9;
     valid.then_some(hull)
-}
-
-/// The part of a loop where n · p ≥ 0; crossing points are positive combinations of the edge's
-/// endpoints; for n = +z they are put on the horizon exactly.
-fn clip_halfspace(lp: &[DVec3], n: DVec3) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(lp.len() + 2);
-    for i in 0..lp.len() {
-        let a = lp[i];
-        let b = lp[(i + 1) % lp.len()];
-        let (da, db) = (n.dot(a), n.dot(b));
-        if da >= 0.0 {
-            out.push(a);
-        }
-        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
-            let x = if da > 0.0 {
-                b * da - a * db
-            } else {
-                a * db - b * da
-            };
-            let x = x.normalize();
-            out.push(if n == DVec3::Z {
-                DVec3::new(x.x, x.y, 0.0).normalize()
-            } else {
-                x
-            });
-        }
-    }
-    out
-}
-
-fn horizon_clip(lp: &[DVec3]) -> Vec<DVec3> {
-    clip_halfspace(lp, DVec3::Z)
 }
 
 fn loop_area(lp: &[DVec3]) -> f64 {
@@ -522,22 +482,6 @@ fn convex_depth(lp: &[DVec3], p: DVec3) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// Winding number of the loops about the unit direction p by the sum of the angles its edges
-/// subtend (the loops lie in the upper hemisphere, −p below it).
-fn winding(loops: &[Vec<DVec3>], p: DVec3) -> f64 {
-    let mut w = 0.0;
-    for lp in loops {
-        for i in 0..lp.len() {
-            let a = lp[i];
-            let b = lp[(i + 1) % lp.len()];
-            let ta = a - p * p.dot(a);
-            let tb = b - p * p.dot(b);
-            w += orient(p, ta, tb).atan2(ta.dot(tb));
-        }
-    }
-    w / TAU
-}
-
 /// Kinds of failure, counted separately.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Failure {
@@ -592,12 +536,6 @@ fn planar(lp: &[DVec3]) -> PlanarPolygon {
     let mut p = PlanarPolygon::new();
     p.push_loop(lp.iter().copied());
     p
-}
-
-fn loops_of(p: &PlanarPolygon) -> Vec<Vec<DVec3>> {
-    p.loops()
-        .map(|l| l.iter().map(|v| v.normalize()).collect())
-        .collect()
 }
 
 /// Structural validity of an output (see the module documentation).
