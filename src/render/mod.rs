@@ -193,15 +193,16 @@ impl<'a> RenderContext<'a> {
         let tiles_y = h.div_ceil(TILE);
         let aa = settings.aa;
         let inv = 1.0 / (aa * aa) as f64;
-        let tiles: Vec<(u32, u32, Vec<DVec3>)> = (0..tiles_x * tiles_y)
+        let tiles: Vec<(u32, Vec<DVec3>)> = (0..tiles_x * tiles_y)
             .into_par_iter()
             .map_init(ShadingScratch::default, |scratch, t| {
                 let (tx, ty) = (t % tiles_x, t / tiles_x);
                 let (x0, y0) = (tx * TILE, ty * TILE);
                 let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
                 let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+                // A cancelled tile comes back empty and stays black.
                 if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                    return (t, 0, out);
+                    return (t, out);
                 }
                 for y in y0..y1 {
                     for x in x0..x1 {
@@ -212,14 +213,11 @@ impl<'a> RenderContext<'a> {
                         out.push(sum * inv);
                     }
                 }
-                (t, 1, out)
+                (t, out)
             })
             .collect();
         let mut img = Image::new(w, h);
-        for (t, done, px) in tiles {
-            if done == 0 {
-                continue;
-            }
+        for (t, px) in tiles {
             let (tx, ty) = (t % tiles_x, t / tiles_x);
             let (x0, y0) = (tx * TILE, ty * TILE);
             let x1 = (x0 + TILE).min(w);
