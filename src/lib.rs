@@ -18,6 +18,7 @@ pub mod ltc;
 pub mod math;
 pub mod reference;
 pub mod render;
+pub mod sampling;
 pub mod scene;
 pub mod shading;
 pub mod stress;

@@ -1,0 +1,5 @@
+//! Sampling routines for the stochastic estimators and the oracles.
+
+pub mod spherical_triangle;
+
+pub use spherical_triangle::{SphericalTriangle, solid_angle_of_triangle};
