@@ -7,43 +7,9 @@ use std::time::Instant;
 use glam::DVec3;
 use penumbra::accel::{Bvh, Ray};
 use penumbra::math::Pcg32;
-use penumbra::scene::{Material, Mesh, ObjectFlags, Scene, SceneObject};
+use penumbra::scene::shapes::uv_ellipsoid;
+use penumbra::scene::{Material, ObjectFlags, Scene, SceneObject};
 use rayon::prelude::*;
-
-/// UV sphere of quads (two triangles each) and pole triangles.
-fn uv_sphere(r: f64, n_lon: u32, n_lat: u32) -> Mesh {
-    let mut positions = vec![r * DVec3::Z, -r * DVec3::Z];
-    for i in 1..n_lat {
-        let theta = std::f64::consts::PI * i as f64 / n_lat as f64;
-        for j in 0..n_lon {
-            let phi = std::f64::consts::TAU * j as f64 / n_lon as f64;
-            positions.push(
-                r * DVec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                ),
-            );
-        }
-    }
-    let ring = |i: u32, j: u32| 2 + (i - 1) * n_lon + j % n_lon;
-    let mut faces = Vec::new();
-    for j in 0..n_lon {
-        faces.push(vec![0, ring(1, j), ring(1, j + 1)]);
-        faces.push(vec![1, ring(n_lat - 1, j + 1), ring(n_lat - 1, j)]);
-    }
-    for i in 1..n_lat - 1 {
-        for j in 0..n_lon {
-            faces.push(vec![
-                ring(i, j),
-                ring(i + 1, j),
-                ring(i + 1, j + 1),
-                ring(i, j + 1),
-            ]);
-        }
-    }
-    Mesh { positions, faces }
-}
 
 fn time<T>(f: impl FnOnce() -> T) -> (T, f64) {
     let t0 = Instant::now();
@@ -68,7 +34,7 @@ fn main() {
     let scene = Scene {
         objects: vec![SceneObject {
             name: "sphere".into(),
-            mesh: uv_sphere(1.0, n_lon, n_lat),
+            mesh: uv_ellipsoid(DVec3::ZERO, DVec3::ONE, n_lon, n_lat),
             material: Material::default(),
             flags: ObjectFlags {
                 light: false,

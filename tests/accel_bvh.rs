@@ -89,38 +89,8 @@ fn octahedron(center: DVec3, r: f64) -> SceneObject {
 
 /// UV sphere: quads between parallels, triangles at the poles, counter-clockwise outside.
 fn uv_sphere(center: DVec3, r: f64, n_lon: u32, n_lat: u32) -> SceneObject {
-    let mut positions = vec![center + r * DVec3::Z, center - r * DVec3::Z];
-    for i in 1..n_lat {
-        let theta = std::f64::consts::PI * i as f64 / n_lat as f64;
-        for j in 0..n_lon {
-            let phi = std::f64::consts::TAU * j as f64 / n_lon as f64;
-            positions.push(
-                center
-                    + r * DVec3::new(
-                        theta.sin() * phi.cos(),
-                        theta.sin() * phi.sin(),
-                        theta.cos(),
-                    ),
-            );
-        }
-    }
-    let ring = |i: u32, j: u32| 2 + (i - 1) * n_lon + j % n_lon;
-    let mut faces = Vec::new();
-    for j in 0..n_lon {
-        faces.push(vec![0, ring(1, j), ring(1, j + 1)]);
-        faces.push(vec![1, ring(n_lat - 1, j + 1), ring(n_lat - 1, j)]);
-    }
-    for i in 1..n_lat - 1 {
-        for j in 0..n_lon {
-            faces.push(vec![
-                ring(i, j),
-                ring(i + 1, j),
-                ring(i + 1, j + 1),
-                ring(i, j + 1),
-            ]);
-        }
-    }
-    object("sphere", positions, faces)
+    let m = penumbra::scene::shapes::uv_ellipsoid(center, DVec3::splat(r), n_lon, n_lat);
+    object("uv_sphere", m.positions, m.faces)
 }
 
 /// Random triangles, quads and pentagons (planar and not) in [-1, 1]^3 times `scale`.
