@@ -53,6 +53,17 @@ fn load(name: &str) -> Scene {
     scene
 }
 
+/// The pipeline's value at a shading point, with the material of the object it lies on.
+fn shade_at(
+    ctx: &RenderContext,
+    sp: &ShadingPoint,
+    method: Method,
+    scratch: &mut ShadingScratch,
+) -> glam::DVec3 {
+    let mat = &ctx.prepared.materials[sp.object.unwrap() as usize];
+    shade(&ctx.prepared, sp, mat, method, scratch, &mut NoRecorder)
+}
+
 fn lambertian(name: &str) -> Scene {
     let scene = load(name);
     assert!(
@@ -73,14 +84,7 @@ fn shading_points_match_brute_force_ray_casting() {
         let mut worst: f64 = 0.0;
         for sp in points(&ctx, 60, 7) {
             let mat = &ctx.prepared.materials[sp.object.unwrap() as usize];
-            let analytic = shade(
-                &ctx.prepared,
-                &sp,
-                mat,
-                Method::Analytic,
-                &mut scratch,
-                &mut NoRecorder,
-            );
+            let analytic = shade_at(&ctx, &sp, Method::Analytic, &mut scratch);
             let (mc, err) = direct_lighting(&ctx, &lights, &sp, mat, 20_000, &mut rng);
             for k in 0..3 {
                 // 4.5σ of the estimate's own standard error: a false alarm over the 180×2
@@ -109,23 +113,8 @@ fn silhouette_path_equals_per_triangle_path_on_convex_scenes() {
         let mut scratch = ShadingScratch::default();
         let mut worst: f64 = 0.0;
         for sp in points(&ctx, 300, 3) {
-            let mat = &ctx.prepared.materials[sp.object.unwrap() as usize];
-            let a = shade(
-                &ctx.prepared,
-                &sp,
-                mat,
-                Method::Analytic,
-                &mut scratch,
-                &mut NoRecorder,
-            );
-            let b = shade(
-                &ctx.prepared,
-                &sp,
-                mat,
-                Method::PerTriangle,
-                &mut scratch,
-                &mut NoRecorder,
-            );
+            let a = shade_at(&ctx, &sp, Method::Analytic, &mut scratch);
+            let b = shade_at(&ctx, &sp, Method::PerTriangle, &mut scratch);
             // Both are exact up to rounding: the visible region is the same set.
             let d = (a - b).abs().max_element() / a.max_element().max(1e-3);
             worst = worst.max(d);
