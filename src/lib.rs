@@ -10,6 +10,7 @@
 //! * [`accel`]: rays, triangles and the BVH for camera rays and the ray-cast oracle.
 //! * [`render`]: images, tiles, output files.
 //! * [`reference`]: brute-force ray-cast estimates used as independent oracles.
+//! * [`stochastic`]: solid-angle and BRDF sampling with MIS, and the estimators of 003.
 //! * [`stress`]: random and adversarial shading configurations.
 
 pub mod accel;
@@ -21,4 +22,5 @@ pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod shading;
+pub mod stochastic;
 pub mod stress;

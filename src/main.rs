@@ -3,9 +3,10 @@
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
-use penumbra::render::{Image, RenderContext, RenderSettings, image_io};
+use penumbra::render::{Image, RenderContext, RenderMethod, RenderSettings, image_io};
 use penumbra::scene::{Camera, Scene, scene_file};
 use penumbra::shading::Method;
+use penumbra::stochastic::LightSampling;
 use std::path::{Path, PathBuf};
 
 /// `println!` that ignores a closed stdout (e.g. piped into `head`) instead of panicking.
@@ -29,7 +30,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene with an analytic method; writes .pfm, .exr and .png.
+    /// Render a scene with any method (analytic or stochastic); writes .pfm, .exr and .png
+    /// (and name_stderr.pfm for `--method reference`).
     Render(RenderArgs),
     /// Render a converged brute-force Monte Carlo reference (ray-cast shadow rays) and its
     /// per-pixel standard error.
@@ -39,8 +41,6 @@ enum Command {
         /// Area samples per light per sub-pixel position.
         #[arg(long, default_value_t = 1024)]
         samples: u32,
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
     },
     /// Compare two linear images (PFM); with --stderr, in units of the reference's noise.
     Compare {
@@ -110,8 +110,17 @@ struct RenderArgs {
     /// N×N stratified sub-pixel positions per pixel.
     #[arg(long, default_value_t = 1)]
     aa: u32,
-    #[arg(long, value_enum, default_value_t = Method::Analytic)]
-    method: Method,
+    #[arg(long, value_enum, default_value_t = RenderMethod::Analytic)]
+    method: RenderMethod,
+    /// Stochastic methods: samples (shadow rays) per camera ray.
+    #[arg(long, default_value_t = 16)]
+    spp: u32,
+    /// Stochastic methods: random seed (renders are reproducible bit for bit).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Stochastic methods: how lights are sampled.
+    #[arg(long, value_enum, default_value_t = LightSampling::SolidAngle)]
+    light_sampling: LightSampling,
     /// Output path; the extension is replaced by .pfm, .exr and .png.
     #[arg(long, default_value = "out/render.png")]
     out: PathBuf,
@@ -205,6 +214,28 @@ fn write_outputs(img: &Image, out: &Path, exposure: f64) -> Result<Vec<PathBuf>>
     Ok(vec![pfm, exr, png])
 }
 
+/// `dir/name_stderr.pfm` beside `dir/name.ext`: the standard error of a reference image.
+fn stderr_path(out: &Path) -> PathBuf {
+    out.with_file_name(format!(
+        "{}_stderr.pfm",
+        out.file_stem()
+            .map(|s| s.to_string_lossy())
+            .unwrap_or_default()
+    ))
+}
+
+fn settings(args: &RenderArgs) -> RenderSettings {
+    RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        aa: args.aa,
+        method: args.method,
+        spp: args.spp,
+        seed: args.seed,
+        light_sampling: args.light_sampling,
+    }
+}
+
 fn render(args: &RenderArgs) -> Result<()> {
     let scene = load_scene(&args.scene)?;
     let cam = camera(args, &scene)?;
@@ -212,17 +243,18 @@ fn render(args: &RenderArgs) -> Result<()> {
     for n in &ctx.prepared.notes {
         eprintln!("note: {n}");
     }
-    let settings = RenderSettings {
-        width: args.size.0,
-        height: args.size.1,
-        aa: args.aa,
-        method: args.method,
-    };
-    let (img, stats) = ctx
-        .render(&cam, &settings, None)
+    let settings = settings(args);
+    let out = ctx
+        .render_full(&cam, &settings, None)
         .map_err(anyhow::Error::msg)?;
+    let (img, stats) = (&out.image, out.stats);
     let (nan, inf, neg) = img.invalid_counts();
-    let files = write_outputs(&img, &args.out, args.exposure)?;
+    let mut files = write_outputs(img, &args.out, args.exposure)?;
+    if let Some(err) = &out.stderr {
+        let p = stderr_path(&args.out);
+        image_io::write_pfm(&p, err.width, err.height, &err.to_rgb32())?;
+        files.push(p);
+    }
     say!(
         "{} {}x{} aa {} method {}: {:.3} s, {:.0} pixels/s ({} threads)",
         args.scene,
@@ -247,12 +279,7 @@ fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
     let scene = load_scene(&args.scene)?;
     let cam = camera(args, &scene)?;
     let ctx = RenderContext::new(&scene);
-    let settings = RenderSettings {
-        width: args.size.0,
-        height: args.size.1,
-        aa: args.aa,
-        method: args.method,
-    };
+    let settings = settings(args);
     let start = std::time::Instant::now();
     let (img, err) = penumbra::reference::render_reference(&ctx, &cam, &settings, samples, seed)
         .map_err(anyhow::Error::msg)?;
@@ -264,13 +291,7 @@ fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
     for f in write_outputs(&img, &args.out, args.exposure)? {
         say!("wrote {}", f.display());
     }
-    let stderr_path = args.out.with_file_name(format!(
-        "{}_stderr.pfm",
-        args.out
-            .file_stem()
-            .map(|s| s.to_string_lossy())
-            .unwrap_or_default()
-    ));
+    let stderr_path = stderr_path(&args.out);
     image_io::write_pfm(&stderr_path, err.width, err.height, &err.to_rgb32())?;
     say!("wrote {}", stderr_path.display());
     Ok(())
@@ -302,11 +323,16 @@ fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> R
     };
     let mut recording = penumbra::shading::StageRecording::new(gh_steps);
     let mut scratch = penumbra::shading::ShadingScratch::default();
-    let radiance = ctx.radiance(&ray, args.method, &mut scratch, &mut recording);
+    let Some(method) = args.method.analytic() else {
+        bail!(
+            "probe records the analytic stages: --method must be analytic, per-triangle or unshadowed"
+        );
+    };
+    let radiance = ctx.radiance(&ray, method, &mut scratch, &mut recording);
     let hit = ctx.primary_hit(&ray);
     let dump = ProbeDump {
         scene: &args.scene,
-        method: args.method,
+        method,
         pixel,
         size: args.size,
         camera: cam,
@@ -368,18 +394,17 @@ fn main() -> Result<()> {
                 fov: None,
                 size: (800, 600),
                 aa: 2,
-                method: Method::Analytic,
+                method: RenderMethod::Analytic,
+                spp: 16,
+                seed: 1,
+                light_sampling: LightSampling::SolidAngle,
                 out: PathBuf::from("out/default.png"),
                 exposure: 0.0,
             };
             render(&args)
         }
         Some(Command::Render(args)) => render(&args),
-        Some(Command::Reference {
-            render,
-            samples,
-            seed,
-        }) => reference(&render, samples, seed),
+        Some(Command::Reference { render, samples }) => reference(&render, samples, render.seed),
         Some(Command::Compare {
             image,
             reference,

@@ -16,7 +16,8 @@ fn recorded_stages_reproduce_the_rendered_pixels() {
         width: 24,
         height: 18,
         aa: 1,
-        method: Method::Analytic,
+        method: Method::Analytic.into(),
+        ..Default::default()
     };
     let (img, _) = ctx.render(&cam, &settings, None).unwrap();
     let mut scratch = ShadingScratch::default();

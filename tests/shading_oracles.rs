@@ -138,7 +138,8 @@ fn embedded_scenes_render_without_invalid_pixels() {
                 width: 48,
                 height: 36,
                 aa: 2,
-                method,
+                method: method.into(),
+                ..Default::default()
             };
             let (img, _) = ctx.render(&scene.camera.unwrap(), &settings, None).unwrap();
             assert_eq!(img.invalid_counts(), (0, 0, 0), "{name} with {method:?}");
@@ -160,7 +161,8 @@ fn lambertian_render_agrees_with_a_converged_reference() {
             width: 40,
             height: 30,
             aa: 1,
-            method: Method::Analytic,
+            method: Method::Analytic.into(),
+            ..Default::default()
         };
         let (img, _) = ctx.render(&cam, &settings, None).unwrap();
         let (reference, stderr) = render_reference(&ctx, &cam, &settings, 2048, 5).unwrap();

@@ -562,6 +562,19 @@ impl Bvh {
     /// Closest hit with `t_min < t < t_max`. Ties in `t` (a ray through an edge shared by
     /// two faces) go to the smallest (object, face). Rays with a zero direction hit nothing.
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        self.intersect_accept(ray, t_min, t_max, |_, _| true)
+    }
+
+    /// Closest hit among the triangles whose (object, face) `accept` returns true for (the
+    /// others are transparent), with the tie rule of [`Bvh::intersect`]. `accept` is called
+    /// only for triangles the ray hits.
+    pub fn intersect_accept(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mut accept: impl FnMut(u32, u32) -> bool,
+    ) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
         }
@@ -575,7 +588,7 @@ impl Bvh {
                 let Some(raw) = tr.tri.intersect_raw(tri.v0, tri.v1, tri.v2) else {
                     continue;
                 };
-                if raw.t > t_min && raw.t <= best_t {
+                if raw.t > t_min && raw.t <= best_t && accept(tri.object, tri.face) {
                     let key = tri.key();
                     if raw.t < best_t || (best.is_some() && key < best_key) {
                         best = Some((i, raw));

@@ -2,6 +2,7 @@
 
 pub mod compare;
 pub mod image_io;
+pub mod stochastic;
 
 use crate::accel::{Bvh, Ray};
 use crate::scene::camera::CameraBasis;
@@ -9,6 +10,7 @@ use crate::scene::{Camera, Scene};
 use crate::shading::{
     Method, NoRecorder, PreparedScene, Recorder, ShadingPoint, ShadingScratch, shade,
 };
+use crate::stochastic::{AreaLights, LightSampling};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -83,6 +85,90 @@ pub fn subpixel_rays(
     })
 }
 
+/// Every way `penumbra render` can compute an image.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum RenderMethod {
+    /// 000 Alg. 1: analytic visibility and LTC shading.
+    Analytic,
+    /// 000 Sect. 4.4: every light and occluder face on its own.
+    PerTriangle,
+    /// LTC shading without occluders (003's U).
+    Unshadowed,
+    /// Full-stochastic S_N with MIS (003 Eq. 10).
+    Mc,
+    /// U − (U_N − S_N) (003 Eq. 11, c = 1).
+    ControlVariate,
+    /// U · S_N / U_N per channel (003 Eq. 15).
+    Ratio,
+    /// U · lum(S_N) / lum(U_N) (003 Sect. 3.4, grayscale weighted shadow).
+    RatioGray,
+    /// U · denoise[S_N] / denoise[U_N] with the joint-bilateral filter driven by the noise
+    /// estimate E (003 Sect. 4).
+    RatioDenoised,
+    /// U · bilateral[S_N] / bilateral[U_N] with a fixed filter width (000's comparison).
+    RatioBilateral,
+    /// A converged full-stochastic image with its per-pixel standard error.
+    Reference,
+}
+
+impl RenderMethod {
+    pub const ALL: [RenderMethod; 10] = [
+        RenderMethod::Analytic,
+        RenderMethod::PerTriangle,
+        RenderMethod::Unshadowed,
+        RenderMethod::Mc,
+        RenderMethod::ControlVariate,
+        RenderMethod::Ratio,
+        RenderMethod::RatioGray,
+        RenderMethod::RatioDenoised,
+        RenderMethod::RatioBilateral,
+        RenderMethod::Reference,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            RenderMethod::Analytic => "analytic",
+            RenderMethod::PerTriangle => "per-triangle",
+            RenderMethod::Unshadowed => "unshadowed",
+            RenderMethod::Mc => "mc",
+            RenderMethod::ControlVariate => "control-variate",
+            RenderMethod::Ratio => "ratio",
+            RenderMethod::RatioGray => "ratio-gray",
+            RenderMethod::RatioDenoised => "ratio-denoised",
+            RenderMethod::RatioBilateral => "ratio-bilateral",
+            RenderMethod::Reference => "reference",
+        }
+    }
+
+    /// The analytic visibility method, for the deterministic methods.
+    pub fn analytic(self) -> Option<Method> {
+        match self {
+            RenderMethod::Analytic => Some(Method::Analytic),
+            RenderMethod::PerTriangle => Some(Method::PerTriangle),
+            RenderMethod::Unshadowed => Some(Method::Unshadowed),
+            _ => None,
+        }
+    }
+
+    /// Whether the image depends on the sample count (`--spp`).
+    pub fn is_stochastic(self) -> bool {
+        self.analytic().is_none()
+    }
+}
+
+impl From<Method> for RenderMethod {
+    fn from(m: Method) -> Self {
+        match m {
+            Method::Analytic => RenderMethod::Analytic,
+            Method::PerTriangle => RenderMethod::PerTriangle,
+            Method::Unshadowed => RenderMethod::Unshadowed,
+        }
+    }
+}
+
 /// Settings of `penumbra render`.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RenderSettings {
@@ -90,11 +176,31 @@ pub struct RenderSettings {
     pub height: u32,
     /// `aa`×`aa` stratified sub-pixel positions per pixel, averaged with a box filter.
     pub aa: u32,
-    pub method: Method,
+    pub method: RenderMethod,
+    /// Stochastic methods: samples (shadow rays) per camera ray, so `spp`·`aa`² per pixel.
+    pub spp: u32,
+    /// Stochastic methods: the seed; pixel (x, y) draws from stream `y·width + x`, so a render
+    /// is reproducible bit for bit whatever the thread count.
+    pub seed: u64,
+    pub light_sampling: LightSampling,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 640,
+            height: 480,
+            aa: 1,
+            method: RenderMethod::Analytic,
+            spp: 16,
+            seed: 0,
+            light_sampling: LightSampling::SolidAngle,
+        }
+    }
 }
 
 /// Timing of a render.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RenderStats {
     pub seconds: f64,
     pub pixels_per_second: f64,
@@ -105,6 +211,8 @@ pub struct RenderContext<'a> {
     pub scene: &'a Scene,
     pub prepared: PreparedScene,
     pub bvh: Bvh,
+    /// The lights prepared for area sampling (the stochastic baseline).
+    pub area_lights: AreaLights,
 }
 
 /// What a camera ray sees first: the shading point and the radiance emitted toward the eye.
@@ -117,9 +225,11 @@ pub struct PrimaryHit {
 
 impl<'a> RenderContext<'a> {
     pub fn new(scene: &'a Scene) -> Self {
+        let prepared = PreparedScene::new(scene);
         RenderContext {
+            area_lights: AreaLights::new(scene, &prepared),
             scene,
-            prepared: PreparedScene::new(scene),
+            prepared,
             bvh: Bvh::build(scene),
         }
     }
@@ -174,66 +284,139 @@ impl<'a> RenderContext<'a> {
         l
     }
 
-    /// Renders the image seen by `camera`; tiles run in parallel. Stops early (leaving the rest
-    /// black) when `cancel` becomes true.
+    /// Renders the image seen by `camera` with `settings.method`; tiles run in parallel.
+    /// Stops early (leaving the rest black) when `cancel` becomes true.
     pub fn render(
         &self,
         camera: &Camera,
         settings: &RenderSettings,
         cancel: Option<&AtomicBool>,
     ) -> Result<(Image, RenderStats), String> {
+        let out = self.render_full(camera, settings, cancel)?;
+        Ok((out.image, out.stats))
+    }
+
+    /// Like [`RenderContext::render`], with everything the method computed on the way: the
+    /// standard error of a reference, the stochastic buffers (U, S_N, U_N, G-buffer) and the
+    /// denoiser's intermediate images.
+    pub fn render_full(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<RenderOutput, String> {
         let basis = camera.basis()?;
         if settings.width == 0 || settings.height == 0 || settings.aa == 0 {
             return Err("image size and --aa must be positive".into());
         }
+        if settings.method.is_stochastic() && settings.spp == 0 {
+            return Err("--spp must be positive".into());
+        }
         let start = Instant::now();
-        let (w, h) = (settings.width, settings.height);
-        const TILE: u32 = 16;
-        let tiles_x = w.div_ceil(TILE);
-        let tiles_y = h.div_ceil(TILE);
-        let aa = settings.aa;
+        let mut out = match settings.method.analytic() {
+            Some(method) => {
+                RenderOutput::image(self.render_analytic(&basis, settings, method, cancel))
+            }
+            None => stochastic::render(self, &basis, settings, cancel),
+        };
+        let seconds = start.elapsed().as_secs_f64();
+        out.stats = RenderStats {
+            seconds,
+            pixels_per_second: (settings.width * settings.height) as f64 / seconds.max(1e-12),
+        };
+        Ok(out)
+    }
+
+    fn render_analytic(
+        &self,
+        basis: &CameraBasis,
+        settings: &RenderSettings,
+        method: Method,
+        cancel: Option<&AtomicBool>,
+    ) -> Image {
+        let (w, h, aa) = (settings.width, settings.height, settings.aa);
         let inv = 1.0 / (aa * aa) as f64;
-        let tiles: Vec<(u32, Vec<DVec3>)> = (0..tiles_x * tiles_y)
-            .into_par_iter()
-            .map_init(ShadingScratch::default, |scratch, t| {
-                let (tx, ty) = (t % tiles_x, t / tiles_x);
-                let (x0, y0) = (tx * TILE, ty * TILE);
-                let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
-                let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-                // A cancelled tile comes back empty and stays black.
-                if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                    return (t, out);
-                }
-                for y in y0..y1 {
-                    for x in x0..x1 {
-                        let mut sum = DVec3::ZERO;
-                        for ray in subpixel_rays(&basis, x, y, aa, w, h) {
-                            sum += self.radiance(&ray, settings.method, scratch, &mut NoRecorder);
-                        }
-                        out.push(sum * inv);
-                    }
-                }
-                (t, out)
-            })
-            .collect();
-        let mut img = Image::new(w, h);
-        for (t, px) in tiles {
+        let pixels = render_tiles(w, h, cancel, ShadingScratch::default, |scratch, x, y| {
+            let mut sum = DVec3::ZERO;
+            for ray in subpixel_rays(basis, x, y, aa, w, h) {
+                sum += self.radiance(&ray, method, scratch, &mut NoRecorder);
+            }
+            sum * inv
+        });
+        Image {
+            width: w,
+            height: h,
+            pixels,
+        }
+    }
+}
+
+/// An image and what its method computed on the way.
+#[derive(Clone, Debug, Default)]
+pub struct RenderOutput {
+    pub image: Image,
+    /// Per-pixel standard error of the image (the reference method).
+    pub stderr: Option<Image>,
+    /// U, S_N, U_N and the G-buffer (stochastic methods).
+    pub buffers: Option<stochastic::StochasticBuffers>,
+    pub stats: RenderStats,
+}
+
+impl RenderOutput {
+    fn image(image: Image) -> Self {
+        RenderOutput {
+            image,
+            ..RenderOutput::default()
+        }
+    }
+}
+
+/// Evaluates `pixel(scratch, x, y)` for every pixel in 16×16 tiles spread over rayon's
+/// threads (one scratch per worker), and returns the values in row-major order. Tiles not yet
+/// started when `cancel` becomes true are left at `T::default()`.
+pub fn render_tiles<T, S>(
+    width: u32,
+    height: u32,
+    cancel: Option<&AtomicBool>,
+    init: impl Fn() -> S + Sync + Send,
+    pixel: impl Fn(&mut S, u32, u32) -> T + Sync + Send,
+) -> Vec<T>
+where
+    T: Default + Clone + Send,
+{
+    const TILE: u32 = 16;
+    let (w, h) = (width, height);
+    let tiles_x = w.div_ceil(TILE);
+    let tiles_y = h.div_ceil(TILE);
+    let tiles: Vec<(u32, Vec<T>)> = (0..tiles_x * tiles_y)
+        .into_par_iter()
+        .map_init(&init, |scratch, t| {
             let (tx, ty) = (t % tiles_x, t / tiles_x);
             let (x0, y0) = (tx * TILE, ty * TILE);
-            let x1 = (x0 + TILE).min(w);
-            let tw = (x1 - x0) as usize;
-            for (i, p) in px.into_iter().enumerate() {
-                let (x, y) = (x0 + (i % tw) as u32, y0 + (i / tw) as u32);
-                img.pixels[(y * w + x) as usize] = p;
+            let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
+            let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+            // A cancelled tile comes back empty and stays at the default value.
+            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                return (t, out);
             }
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    out.push(pixel(scratch, x, y));
+                }
+            }
+            (t, out)
+        })
+        .collect();
+    let mut pixels = vec![T::default(); w as usize * h as usize];
+    for (t, px) in tiles {
+        let (tx, ty) = (t % tiles_x, t / tiles_x);
+        let (x0, y0) = (tx * TILE, ty * TILE);
+        let x1 = (x0 + TILE).min(w);
+        let tw = (x1 - x0) as usize;
+        for (i, p) in px.into_iter().enumerate() {
+            let (x, y) = (x0 + (i % tw) as u32, y0 + (i / tw) as u32);
+            pixels[(y * w + x) as usize] = p;
         }
-        let seconds = start.elapsed().as_secs_f64();
-        Ok((
-            img,
-            RenderStats {
-                seconds,
-                pixels_per_second: (w * h) as f64 / seconds.max(1e-12),
-            },
-        ))
     }
+    pixels
 }

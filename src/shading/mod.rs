@@ -1,6 +1,7 @@
 //! Shading one point: 000 Alg. 1 for every light, with the scene prepared once.
 
 pub mod analytic;
+pub mod brdf;
 pub mod get_between;
 pub mod prepared;
 pub mod recorder;

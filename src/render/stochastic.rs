@@ -1,0 +1,201 @@
+//! The stochastic methods of `penumbra render`: per pixel the emitted radiance, the analytic
+//! unshadowed U (the same `shade` as the analytic renderer, `Method::Unshadowed`), the sums
+//! S_N and U_N of the same samples, the variance of S_N and a G-buffer at the pixel centre;
+//! then the estimator of the method, per pixel or (denoised methods) over the whole image.
+
+use super::{
+    Image, RenderContext, RenderMethod, RenderOutput, RenderSettings, render_tiles, subpixel_rays,
+};
+use crate::accel::Ray;
+use crate::math::Pcg32;
+use crate::scene::camera::CameraBasis;
+use crate::shading::{Method, NoRecorder, ShadingScratch, shade};
+use crate::stochastic::{Estimator, EstimatorScratch, combine, direct_samples};
+use glam::DVec3;
+use std::sync::atomic::AtomicBool;
+
+/// Per-pixel images of a stochastic render (averages over the pixel's camera rays).
+#[derive(Clone, Debug, Default)]
+pub struct StochasticBuffers {
+    /// Radiance emitted toward the eye (lights seen directly).
+    pub emitted: Image,
+    /// Analytic unshadowed illumination U (zero when the method does not need it).
+    pub u: Image,
+    /// S_N and U_N (003 Eq. 21, 22 divided by N).
+    pub s_n: Image,
+    pub u_n: Image,
+    /// Variance of the pixel's S_N (of the mean over all its samples).
+    pub s_variance: Image,
+    /// Primary hit at the pixel centre: position, normal toward the viewer, world size of one
+    /// pixel there, and whether it is a receiver (false: background or not shaded).
+    pub position: Vec<DVec3>,
+    pub normal: Vec<DVec3>,
+    pub footprint: Vec<f64>,
+    pub valid: Vec<bool>,
+}
+
+#[derive(Clone, Default)]
+struct PixelValues {
+    emitted: DVec3,
+    u: DVec3,
+    s_n: DVec3,
+    u_n: DVec3,
+    s_var: DVec3,
+    position: DVec3,
+    normal: DVec3,
+    footprint: f64,
+    valid: bool,
+}
+
+#[derive(Default)]
+struct Scratch {
+    shading: ShadingScratch,
+    estimator: EstimatorScratch,
+}
+
+/// Whether the method needs the analytic U.
+fn needs_u(method: RenderMethod) -> bool {
+    !matches!(method, RenderMethod::Mc | RenderMethod::Reference)
+}
+
+/// Renders the per-pixel buffers of a stochastic method.
+pub fn render_buffers(
+    ctx: &RenderContext,
+    basis: &CameraBasis,
+    settings: &RenderSettings,
+    cancel: Option<&AtomicBool>,
+) -> StochasticBuffers {
+    let (w, h, aa) = (settings.width, settings.height, settings.aa);
+    let with_u = needs_u(settings.method);
+    let k = (aa * aa) as f64;
+    let values = render_tiles(w, h, cancel, Scratch::default, |scratch, x, y| {
+        let mut rng = Pcg32::new(settings.seed, y as u64 * w as u64 + x as u64);
+        let mut px = PixelValues::default();
+        for ray in subpixel_rays(basis, x, y, aa, w, h) {
+            let Some(hit) = ctx.primary_hit(&ray) else {
+                continue;
+            };
+            px.emitted += hit.emitted;
+            if !hit.receiver {
+                continue;
+            }
+            let material = &ctx.prepared.materials[hit.point.object.unwrap_or(0) as usize];
+            if with_u {
+                px.u += shade(
+                    &ctx.prepared,
+                    &hit.point,
+                    material,
+                    Method::Unshadowed,
+                    &mut scratch.shading,
+                    &mut NoRecorder,
+                );
+            }
+            let sums = direct_samples(
+                ctx,
+                &hit.point,
+                material,
+                settings.spp,
+                settings.light_sampling,
+                &mut rng,
+                &mut scratch.estimator,
+            );
+            px.s_n += sums.s_n();
+            px.u_n += sums.u_n();
+            px.s_var += sums.s_variance_of_mean();
+        }
+        px.emitted /= k;
+        px.u /= k;
+        px.s_n /= k;
+        px.u_n /= k;
+        px.s_var /= k * k;
+        // G-buffer at the pixel centre, with the size of one pixel at the hit.
+        let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
+        let d0 = basis.direction(cx, cy, w, h);
+        let centre = Ray {
+            origin: basis.eye,
+            dir: d0,
+        };
+        if let Some(hit) = ctx.primary_hit(&centre) {
+            let d1 = basis.direction(cx + 1.0, cy, w, h);
+            let dist = (hit.point.position - basis.eye).length();
+            px.position = hit.point.position;
+            px.normal = hit.point.normal;
+            px.footprint = dist * (d1 - d0).length();
+            px.valid = hit.receiver;
+        }
+        px
+    });
+    let image = |f: &dyn Fn(&PixelValues) -> DVec3| Image {
+        width: w,
+        height: h,
+        pixels: values.iter().map(f).collect(),
+    };
+    StochasticBuffers {
+        emitted: image(&|p| p.emitted),
+        u: image(&|p| p.u),
+        s_n: image(&|p| p.s_n),
+        u_n: image(&|p| p.u_n),
+        s_variance: image(&|p| p.s_var),
+        position: values.iter().map(|p| p.position).collect(),
+        normal: values.iter().map(|p| p.normal).collect(),
+        footprint: values.iter().map(|p| p.footprint).collect(),
+        valid: values.iter().map(|p| p.valid).collect(),
+    }
+}
+
+/// Renders a stochastic method: the buffers, then its estimator.
+pub fn render(
+    ctx: &RenderContext,
+    basis: &CameraBasis,
+    settings: &RenderSettings,
+    cancel: Option<&AtomicBool>,
+) -> RenderOutput {
+    let buffers = render_buffers(ctx, basis, settings, cancel);
+    let per_pixel = |e: Estimator| {
+        let pixels = (0..buffers.emitted.pixels.len())
+            .map(|i| {
+                buffers.emitted.pixels[i]
+                    + combine(
+                        e,
+                        buffers.u.pixels[i],
+                        buffers.s_n.pixels[i],
+                        buffers.u_n.pixels[i],
+                    )
+            })
+            .collect();
+        Image {
+            width: settings.width,
+            height: settings.height,
+            pixels,
+        }
+    };
+    let mut out = RenderOutput::default();
+    match settings.method {
+        RenderMethod::Mc => out.image = per_pixel(Estimator::FullStochastic),
+        RenderMethod::Reference => {
+            out.image = per_pixel(Estimator::FullStochastic);
+            out.stderr = Some(Image {
+                width: settings.width,
+                height: settings.height,
+                pixels: buffers
+                    .s_variance
+                    .pixels
+                    .iter()
+                    .map(|v| v.map(f64::sqrt))
+                    .collect(),
+            });
+        }
+        RenderMethod::ControlVariate => out.image = per_pixel(Estimator::ControlVariate),
+        RenderMethod::Ratio => out.image = per_pixel(Estimator::Ratio),
+        RenderMethod::RatioGray => out.image = per_pixel(Estimator::RatioGray),
+        RenderMethod::RatioDenoised | RenderMethod::RatioBilateral => {
+            // TODO(denoise): merged from the denoiser branch.
+            out.image = per_pixel(Estimator::Ratio);
+        }
+        RenderMethod::Analytic | RenderMethod::PerTriangle | RenderMethod::Unshadowed => {
+            unreachable!("deterministic methods are rendered by RenderContext::render_analytic")
+        }
+    }
+    out.buffers = Some(buffers);
+    out
+}
