@@ -198,6 +198,43 @@ mod tests {
         }
     }
 
+    /// The density 1/Ω integrates to 1: Ω from the closed form against a Monte Carlo estimate
+    /// of the triangle's area from uniform directions on the sphere (within 4.5σ), for thin
+    /// slivers and near-hemisphere triangles.
+    #[test]
+    fn pdf_integrates_to_one() {
+        let mut rng = Pcg32::new(10, 10);
+        let sliver = (
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(1.5, 0.0, 1.0).normalize(),
+            DVec3::new(1.5, 0.02, 1.0).normalize(),
+        );
+        let mut cases = vec![sliver];
+        for size in [0.4, 3.0, 80.0] {
+            for _ in 0..4 {
+                cases.push(random_triangle(&mut rng, size));
+            }
+        }
+        for (a, b, c) in cases {
+            let Some(tri) = SphericalTriangle::new(a, b, c) else {
+                continue;
+            };
+            let n = 400_000;
+            let hits = (0..n)
+                .filter(|_| inside(a, b, c, rng.unit_vector(), 0.0))
+                .count();
+            let f = hits as f64 / n as f64;
+            let sigma = (f * (1.0 - f) / n as f64).sqrt().max(1.0 / n as f64);
+            let integral = tri.pdf() * 4.0 * std::f64::consts::PI * f;
+            let tol = 4.5 * sigma * 4.0 * std::f64::consts::PI * tri.pdf();
+            assert!(
+                (integral - 1.0).abs() < tol,
+                "∫pdf = {integral} ± {tol} for Ω = {}",
+                tri.solid_angle()
+            );
+        }
+    }
+
     #[test]
     fn degenerate_triangles_are_rejected() {
         assert!(SphericalTriangle::new(DVec3::Z, DVec3::Z, DVec3::X).is_none());
