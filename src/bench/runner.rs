@@ -1,0 +1,180 @@
+//! The driver of `penumbra bench`: a converged reference, then every method at a ladder of
+//! budgets, each render timed whole (for the ratio methods: U, the samples and the denoiser,
+//! as 000 Sect. 5 counts them) and compared with the reference.
+
+use super::table::{BenchReport, BenchRow, ReferenceInfo};
+use crate::render::compare::compare;
+use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
+use crate::scene::Camera;
+use crate::stochastic::LightSampling;
+
+/// What to run.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct BenchConfig {
+    pub scene: String,
+    pub camera: Camera,
+    pub width: u32,
+    pub height: u32,
+    pub aa: u32,
+    /// Samples per camera ray for the stochastic methods.
+    pub ladder: Vec<u32>,
+    pub methods: Vec<RenderMethod>,
+    pub reference_spp: u32,
+    pub seed: u64,
+    pub light_sampling: LightSampling,
+    /// Deterministic methods are timed as the best of this many renders.
+    pub repeats: u32,
+}
+
+impl BenchConfig {
+    /// Every method but the reference, spp 1 to 256, a 4096-spp reference.
+    pub fn new(scene: &str, camera: Camera, width: u32, height: u32) -> Self {
+        BenchConfig {
+            scene: scene.into(),
+            camera,
+            width,
+            height,
+            aa: 1,
+            ladder: vec![1, 2, 4, 8, 16, 32, 64, 128, 256],
+            methods: RenderMethod::ALL
+                .into_iter()
+                .filter(|&m| m != RenderMethod::Reference)
+                .collect(),
+            reference_spp: 4096,
+            seed: 1,
+            light_sampling: LightSampling::SolidAngle,
+            repeats: 2,
+        }
+    }
+
+    fn settings(&self, method: RenderMethod, spp: u32, seed: u64) -> RenderSettings {
+        RenderSettings {
+            width: self.width,
+            height: self.height,
+            aa: self.aa,
+            method,
+            spp,
+            seed,
+            light_sampling: self.light_sampling,
+        }
+    }
+}
+
+/// A converged image and its per-pixel standard error.
+#[derive(Clone, Debug)]
+pub struct ReferenceImage {
+    pub image: Image,
+    pub stderr: Image,
+    pub spp: u32,
+    pub seconds: f64,
+}
+
+/// Renders the reference: the full-stochastic estimator at `reference_spp`, with a seed no
+/// ladder render uses.
+pub fn render_reference(
+    ctx: &RenderContext,
+    config: &BenchConfig,
+) -> Result<ReferenceImage, String> {
+    let settings = config.settings(
+        RenderMethod::Reference,
+        config.reference_spp,
+        config.seed ^ 0x9e37_79b9_7f4a_7c15,
+    );
+    let out = ctx.render_full(&config.camera, &settings, None)?;
+    Ok(ReferenceImage {
+        image: out.image,
+        stderr: out.stderr.ok_or("the reference method returned no standard error")?,
+        spp: config.reference_spp,
+        seconds: out.stats.seconds,
+    })
+}
+
+/// One rendered image of the run, kept for the equal-time strip.
+#[derive(Clone, Debug)]
+pub struct BenchImage {
+    pub method: RenderMethod,
+    pub spp: Option<u32>,
+    pub seconds: f64,
+    pub image: Image,
+}
+
+/// Renders every method of `config` (stochastic ones at every budget of the ladder), times
+/// and compares each with `reference`. `progress(done, total, label)` is called before every
+/// render. Returns the report and, per method, the image whose time is closest to the
+/// analytic method's (for an equal-time comparison strip).
+pub fn run_bench(
+    ctx: &RenderContext,
+    config: &BenchConfig,
+    reference: &ReferenceImage,
+    mut progress: impl FnMut(usize, usize, &str),
+) -> Result<(BenchReport, Vec<BenchImage>), String> {
+    let (w, h) = (reference.image.width, reference.image.height);
+    if (w, h) != (config.width, config.height) {
+        return Err(format!(
+            "the reference is {w}x{h} but the bench renders {}x{}",
+            config.width, config.height
+        ));
+    }
+    let ref_rgb = reference.image.to_rgb32();
+    let err_rgb = reference.stderr.to_rgb32();
+    let info = ReferenceInfo::from_stderr(reference.spp, reference.seconds, &err_rgb);
+    let jobs: Vec<(RenderMethod, Option<u32>)> = config
+        .methods
+        .iter()
+        .flat_map(|&m| {
+            if m.is_stochastic() {
+                config.ladder.iter().map(|&n| (m, Some(n))).collect::<Vec<_>>()
+            } else {
+                vec![(m, None)]
+            }
+        })
+        .collect();
+    let mut rows = Vec::with_capacity(jobs.len());
+    let mut images: Vec<BenchImage> = Vec::new();
+    for (k, &(method, spp)) in jobs.iter().enumerate() {
+        let label = match spp {
+            Some(n) => format!("{} {n} spp", method.name()),
+            None => method.name().to_string(),
+        };
+        progress(k, jobs.len(), &label);
+        let settings = config.settings(method, spp.unwrap_or(1), config.seed);
+        let repeats = if spp.is_some() { 1 } else { config.repeats.max(1) };
+        let mut best: Option<(f64, Image)> = None;
+        for _ in 0..repeats {
+            let (img, stats) = ctx.render(&config.camera, &settings, None)?;
+            if best.as_ref().is_none_or(|(t, _)| stats.seconds < *t) {
+                best = Some((stats.seconds, img));
+            }
+        }
+        let (seconds, image) = best.expect("at least one render");
+        let cmp = compare(&image.to_rgb32(), &ref_rgb, Some(&err_rgb));
+        rows.push(BenchRow::from_comparison(
+            &config.scene,
+            method.name(),
+            spp,
+            seconds,
+            &cmp,
+            info.rms_stderr,
+        ));
+        images.push(BenchImage {
+            method,
+            spp,
+            seconds,
+            image,
+        });
+    }
+    progress(jobs.len(), jobs.len(), "done");
+    let report = BenchReport::new(&config.scene, w, h, info, rows);
+    // Keep, per method, the image closest in time (log scale) to the analytic one.
+    let t_star = report.speed_ratios.analytic_seconds;
+    let mut strip: Vec<BenchImage> = Vec::new();
+    for img in images {
+        let d = |i: &BenchImage| t_star.map_or(0.0, |t| (i.seconds.max(1e-9) / t).ln().abs());
+        match strip.iter_mut().find(|s| s.method == img.method) {
+            Some(s) if d(&img) < d(s) => *s = img,
+            Some(_) => {}
+            None => strip.push(img),
+        }
+    }
+    Ok((report, strip))
+}
