@@ -11,7 +11,7 @@
 //! * [`render`]: images, tiles, output files.
 //! * [`reference`]: brute-force ray-cast estimates used as independent oracles.
 //! * [`stress`]: random and adversarial shading configurations.
-//! * [`bench`]: the report of `penumbra bench`: rows of time and error, equal-time
+//! * [`bench`](mod@bench): the report of `penumbra bench`: rows of time and error, equal-time
 //!   comparisons, scaling fits, PNG charts.
 
 pub mod accel;

@@ -4,7 +4,7 @@
 //!
 //! * [`table`]: one row per render ([`BenchRow`]), the report of a scene ([`BenchReport`]),
 //!   CSV and JSON files, the noise-corrected RMSE.
-//! * [`equal_time`]: the error each method reaches in the analytic method's time, and the time
+//! * [`equal_time`](mod@equal_time): the error each method reaches in the analytic method's time, and the time
 //!   it needs for the analytic method's error (000 Fig. 6), by log–log interpolation.
 //! * [`fit`]: least-squares lines and power laws for scaling plots (000 Figs. 5 and 7).
 //! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].

@@ -1,5 +1,5 @@
 //! Scatter and line charts as PNG, drawn with tiny-skia and the stroke font of
-//! [`font`](super::font).
+//! [`font`](mod@super::font).
 //!
 //! A chart has a white background, a frame, ticks at nice values with grid lines and labels
 //! (1-2-5 steps on a linear axis; decades subdivided at 2 and 5 on a log axis), axis labels, a

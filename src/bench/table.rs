@@ -159,7 +159,7 @@ pub struct BenchReport {
     pub reference: ReferenceInfo,
     pub rows: Vec<BenchRow>,
     /// Every other method against the analytic one at the analytic method's time
-    /// (see [`equal_time`](super::equal_time)); empty without an analytic row.
+    /// (see [`equal_time`](mod@super::equal_time)); empty without an analytic row.
     pub equal_time: Vec<EqualTimeRow>,
     pub speed_ratios: SpeedRatios,
 }
