@@ -12,8 +12,11 @@
 //! * [`reference`]: brute-force ray-cast estimates used as independent oracles.
 //! * [`stochastic`]: solid-angle and BRDF sampling with MIS, and the estimators of 003.
 //! * [`stress`]: random and adversarial shading configurations.
+//! * [`bench`](mod@bench): the report of `penumbra bench`: rows of time and error, equal-time
+//!   comparisons, scaling fits, PNG charts.
 
 pub mod accel;
+pub mod bench;
 pub mod geometry;
 pub mod ltc;
 pub mod math;

@@ -1,0 +1,21 @@
+//! The report of `penumbra bench`: run time against error for every method at a ladder of
+//! budgets. The driver renders and times; this module holds what it produces and what is read
+//! off it, all pure data. See `docs/benchmarks.md`.
+//!
+//! * [`table`]: one row per render ([`BenchRow`]), the report of a scene ([`BenchReport`]),
+//!   CSV and JSON files, the noise-corrected RMSE.
+//! * [`equal_time`](mod@equal_time): the error each method reaches in the analytic method's time, and the time
+//!   it needs for the analytic method's error (000 Fig. 6), by log–log interpolation.
+//! * [`fit`]: least-squares lines and power laws for scaling plots (000 Figs. 5 and 7).
+//! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].
+
+pub mod equal_time;
+pub mod fit;
+pub mod font;
+pub mod plot;
+pub mod table;
+
+pub use equal_time::{EqualTimeRow, ErrorMetric, Estimate, Target, equal_time};
+pub use fit::{LineFit, fit_line, fit_log_log};
+pub use plot::{Chart, Series, render_chart, save_chart_png};
+pub use table::{BenchReport, BenchRow, ReferenceInfo, SpeedRatios, write_csv, write_json};
