@@ -87,8 +87,65 @@ enum Command {
         #[arg(long, default_value = "out/probe.json")]
         json: PathBuf,
     },
+    /// Run time against error: a reference, then every method across a ladder of budgets;
+    /// writes CSV, JSON, an equal-time table and a log–log chart. With --scaling, run time
+    /// against light and occluder vertices (000 Figs. 5 and 7).
+    Bench(BenchArgs),
     /// List the embedded scenes.
     Scenes,
+}
+
+#[derive(Args, Clone)]
+struct BenchArgs {
+    /// A scene file or embedded scene name (not needed with --scaling).
+    scene: Option<String>,
+    #[arg(long, value_parser = parse_vec3)]
+    eye: Option<DVec3>,
+    #[arg(long, value_parser = parse_vec3)]
+    target: Option<DVec3>,
+    #[arg(long, value_parser = parse_vec3)]
+    up: Option<DVec3>,
+    #[arg(long)]
+    fov: Option<f64>,
+    #[arg(long, default_value = "320x240", value_parser = parse_size)]
+    size: (u32, u32),
+    #[arg(long, default_value_t = 1)]
+    aa: u32,
+    /// Samples per camera ray of the stochastic methods.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1,2,4,8,16,32,64,128,256"
+    )]
+    ladder: Vec<u32>,
+    /// Methods to run (default: all but `reference`).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    methods: Vec<RenderMethod>,
+    /// Use this reference image (PFM) instead of rendering one; its standard error is read
+    /// from NAME_stderr.pfm beside it.
+    #[arg(long)]
+    reference: Option<PathBuf>,
+    #[arg(long, default_value_t = 4096)]
+    reference_spp: u32,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Deterministic methods are timed as the best of this many renders.
+    #[arg(long, default_value_t = 2)]
+    repeats: u32,
+    /// Output directory (default out/bench/SCENE, or out/bench/scaling).
+    #[arg(long)]
+    out_dir: Option<PathBuf>,
+    #[arg(long, default_value_t = 0.0)]
+    exposure: f64,
+    /// Run the scaling study instead (000 Figs. 5 and 7).
+    #[arg(long)]
+    scaling: bool,
+    /// Scaling: copies of the lights / occluders of the fig4 scene (1..=N).
+    #[arg(long, default_value_t = 5)]
+    max_copies: u32,
+    /// Scaling: subdivision levels of the icosahedral light (0..=N).
+    #[arg(long, default_value_t = 4)]
+    max_level: u32,
 }
 
 #[derive(Args, Clone)]
@@ -364,6 +421,119 @@ fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> R
     Ok(())
 }
 
+fn bench(args: &BenchArgs) -> Result<()> {
+    use penumbra::bench::{output, runner, scaling};
+    if args.scaling {
+        let base = scene_file::load_embedded("fig4")?;
+        let report = scaling::run_scaling(
+            &base,
+            args.max_copies.max(2),
+            args.max_level,
+            args.size.0,
+            args.size.1,
+            args.repeats,
+            |m| eprintln!("{m}"),
+        )
+        .map_err(anyhow::Error::msg)?;
+        let dir = args
+            .out_dir
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out/bench/scaling"));
+        say!("{}", output::scaling_markdown(&report));
+        for f in output::write_scaling_files(&report, &dir)? {
+            say!("wrote {}", f.display());
+        }
+        return Ok(());
+    }
+    let Some(scene_name) = args.scene.clone() else {
+        bail!("bench needs a SCENE (or --scaling)");
+    };
+    let rargs = RenderArgs {
+        scene: scene_name.clone(),
+        eye: args.eye,
+        target: args.target,
+        up: args.up,
+        fov: args.fov,
+        size: args.size,
+        aa: args.aa,
+        method: RenderMethod::Analytic,
+        spp: 1,
+        seed: args.seed,
+        light_sampling: LightSampling::SolidAngle,
+        out: PathBuf::new(),
+        exposure: args.exposure,
+    };
+    let scene = load_scene(&scene_name)?;
+    let cam = camera(&rargs, &scene)?;
+    let ctx = RenderContext::new(&scene);
+    let label = Path::new(&scene_name)
+        .file_stem()
+        .map_or(scene_name.clone(), |s| s.to_string_lossy().into_owned());
+    let dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out/bench").join(&label));
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+    let mut config = runner::BenchConfig::new(&label, cam, args.size.0, args.size.1);
+    config.aa = args.aa;
+    config.ladder = args.ladder.clone();
+    if !args.methods.is_empty() {
+        config.methods = args.methods.clone();
+    }
+    config.reference_spp = args.reference_spp;
+    config.seed = args.seed;
+    config.repeats = args.repeats;
+    let reference = match &args.reference {
+        Some(path) => {
+            let read = |p: &Path| -> Result<Image> {
+                let (w, h, px) =
+                    image_io::read_pfm(p).with_context(|| format!("{}", p.display()))?;
+                Ok(Image {
+                    width: w,
+                    height: h,
+                    pixels: px
+                        .iter()
+                        .map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
+                        .collect(),
+                })
+            };
+            runner::ReferenceImage {
+                image: read(path)?,
+                stderr: read(&stderr_path(path))?,
+                spp: 0,
+                seconds: f64::NAN,
+            }
+        }
+        None => {
+            eprintln!(
+                "rendering the reference ({} spp, {}x{})...",
+                config.reference_spp, config.width, config.height
+            );
+            let r = runner::render_reference(&ctx, &config).map_err(anyhow::Error::msg)?;
+            let p = dir.join("reference.pfm");
+            image_io::write_pfm(&p, r.image.width, r.image.height, &r.image.to_rgb32())?;
+            let e = stderr_path(&p);
+            image_io::write_pfm(&e, r.stderr.width, r.stderr.height, &r.stderr.to_rgb32())?;
+            say!(
+                "reference: {:.1} s; wrote {} and {}",
+                r.seconds,
+                p.display(),
+                e.display()
+            );
+            r
+        }
+    };
+    let (report, strip) = runner::run_bench(&ctx, &config, &reference, |k, n, what| {
+        eprintln!("[{k}/{n}] {what}")
+    })
+    .map_err(anyhow::Error::msg)?;
+    say!("{}", output::equal_time_markdown(&report));
+    for f in output::write_bench_files(&report, &strip, &dir, args.exposure)? {
+        say!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
 fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> {
     let read = |p: &Path| image_io::read_pfm(p).with_context(|| format!("{}", p.display()));
     let (w, h, a) = read(image)?;
@@ -404,6 +574,7 @@ fn main() -> Result<()> {
             render(&args)
         }
         Some(Command::Render(args)) => render(&args),
+        Some(Command::Bench(args)) => bench(&args),
         Some(Command::Reference { render, samples }) => reference(&render, samples, render.seed),
         Some(Command::Compare {
             image,

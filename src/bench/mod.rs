@@ -7,12 +7,17 @@
 //! * [`equal_time`](mod@equal_time): the error each method reaches in the analytic method's time, and the time
 //!   it needs for the analytic method's error (000 Fig. 6), by log–log interpolation.
 //! * [`fit`]: least-squares lines and power laws for scaling plots (000 Figs. 5 and 7).
+//! * [`runner`]: the driver: reference, ladder, timing, comparison.
+//! * [`scaling`]: run time against vertex counts (000 Figs. 5 and 7).
 //! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].
 
 pub mod equal_time;
 pub mod fit;
 pub mod font;
+pub mod output;
 pub mod plot;
+pub mod runner;
+pub mod scaling;
 pub mod table;
 
 pub use equal_time::{EqualTimeRow, ErrorMetric, Estimate, Target, equal_time};

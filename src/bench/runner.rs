@@ -83,7 +83,9 @@ pub fn render_reference(
     let out = ctx.render_full(&config.camera, &settings, None)?;
     Ok(ReferenceImage {
         image: out.image,
-        stderr: out.stderr.ok_or("the reference method returned no standard error")?,
+        stderr: out
+            .stderr
+            .ok_or("the reference method returned no standard error")?,
         spp: config.reference_spp,
         seconds: out.stats.seconds,
     })
@@ -123,7 +125,11 @@ pub fn run_bench(
         .iter()
         .flat_map(|&m| {
             if m.is_stochastic() {
-                config.ladder.iter().map(|&n| (m, Some(n))).collect::<Vec<_>>()
+                config
+                    .ladder
+                    .iter()
+                    .map(|&n| (m, Some(n)))
+                    .collect::<Vec<_>>()
             } else {
                 vec![(m, None)]
             }
@@ -138,7 +144,11 @@ pub fn run_bench(
         };
         progress(k, jobs.len(), &label);
         let settings = config.settings(method, spp.unwrap_or(1), config.seed);
-        let repeats = if spp.is_some() { 1 } else { config.repeats.max(1) };
+        let repeats = if spp.is_some() {
+            1
+        } else {
+            config.repeats.max(1)
+        };
         let mut best: Option<(f64, Image)> = None;
         for _ in 0..repeats {
             let (img, stats) = ctx.render(&config.camera, &settings, None)?;

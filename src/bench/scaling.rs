@@ -95,7 +95,11 @@ pub fn duplicated(
 pub fn icosahedral_light_scene(level: u32) -> Scene {
     let floor = SceneObject {
         name: "floor".into(),
-        mesh: shapes::quad(DVec3::ZERO, DVec3::new(6.0, 0.0, 0.0), DVec3::new(0.0, 0.0, -6.0)),
+        mesh: shapes::quad(
+            DVec3::ZERO,
+            DVec3::new(6.0, 0.0, 0.0),
+            DVec3::new(0.0, 0.0, -6.0),
+        ),
         material: Material {
             name: "glossy_floor".into(),
             kd: DVec3::splat(0.2),
@@ -138,7 +142,13 @@ pub fn icosahedral_light_scene(level: u32) -> Scene {
 }
 
 /// Best of `repeats` timed renders.
-fn time_render(scene: &Scene, method: RenderMethod, width: u32, height: u32, repeats: u32) -> Result<f64, String> {
+fn time_render(
+    scene: &Scene,
+    method: RenderMethod,
+    width: u32,
+    height: u32,
+    repeats: u32,
+) -> Result<f64, String> {
     let ctx = RenderContext::new(scene);
     let cam = scene.camera.ok_or("the scene has no camera")?;
     let settings = RenderSettings {
@@ -171,7 +181,8 @@ fn fit_series(points: &[ScalingPoint], series: &str, method: &str, x: &str) -> O
     let LineFit {
         slope,
         intercept,
-        r2,
+        r_squared: r2,
+        ..
     } = fit_line(&xy)?;
     Some(ScalingFit {
         series: series.into(),

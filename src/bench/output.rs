@@ -1,0 +1,286 @@
+//! The files of a bench run: CSV and JSON tables, charts, the equal-time image strip, and the
+//! Markdown tables printed by the CLI and quoted in `docs/benchmarks.md`.
+
+use super::equal_time::{ErrorMetric, Estimate, error_vs_time_chart};
+use super::plot::{Chart, Series, save_chart_png};
+use super::runner::BenchImage;
+use super::scaling::ScalingReport;
+use super::table::{BenchReport, write_csv, write_json};
+use crate::render::image_io::write_png;
+use anyhow::{Context, Result};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+fn estimate(e: &Option<Estimate>, digits: usize) -> String {
+    match e {
+        Some(e) if e.value.is_finite() => {
+            format!(
+                "{:.*e}{}",
+                digits,
+                e.value,
+                if e.extrapolated { "*" } else { "" }
+            )
+        }
+        _ => "–".into(),
+    }
+}
+
+/// The equal-time table (000 Fig. 6) as Markdown: per method, its error at the analytic
+/// method's time t* and the time it needs for the analytic method's error. `*` marks values
+/// extrapolated beyond the ladder.
+pub fn equal_time_markdown(report: &BenchReport) -> String {
+    let mut s = String::new();
+    let t_star = report
+        .equal_time
+        .first()
+        .map_or(f64::NAN, |r| r.target_seconds);
+    let target = report.equal_time.first();
+    let _ = writeln!(
+        s,
+        "Scene `{}`, {}×{}, reference {} spp (rms stderr {:.2e}); analytic: t* = {:.3} s, \
+         RMSE {:.3e}, corrected RMSE {:.3e}.\n",
+        report.scene,
+        report.width,
+        report.height,
+        report.reference.spp,
+        report.reference.rms_stderr,
+        t_star,
+        target.map_or(f64::NAN, |r| r.rmse.target_error),
+        target.map_or(f64::NAN, |r| r.rmse_corrected.target_error),
+    );
+    let _ = writeln!(
+        s,
+        "| method | MAE at t* | RMSE at t* | corrected RMSE at t* | time for analytic corrected RMSE | × t* |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    for r in &report.equal_time {
+        // Matching is done on the corrected RMSE: the raw RMSE of an exact method is the
+        // reference's own noise, which no other method can get below.
+        let m = &r.rmse_corrected;
+        let ratio = match (&m.time_to_match, m.time_ratio) {
+            (Some(e), Some(x)) => format!("{x:.1}{}", if e.extrapolated { "*" } else { "" }),
+            _ => "never".into(),
+        };
+        let time = match &m.time_to_match {
+            Some(e) => format!("{:.3} s{}", e.value, if e.extrapolated { "*" } else { "" }),
+            None => "–".into(),
+        };
+        // Below a method's cheapest rung, extrapolating toward zero time is meaningless
+        // (renders have a fixed cost): show the cheapest rung's error as a lower bound.
+        let cheapest = report
+            .rows
+            .iter()
+            .filter(|x| x.method == r.method && x.seconds.is_finite())
+            .min_by(|a, b| a.seconds.total_cmp(&b.seconds));
+        let at = |e: &Option<Estimate>, of: fn(&super::table::BenchRow) -> f64| match cheapest {
+            Some(c) if !r.deterministic && r.target_seconds < c.seconds => format!(
+                "> {:.2e} (its {} spp takes {:.3} s)",
+                of(c),
+                c.spp.unwrap_or(0),
+                c.seconds
+            ),
+            _ => estimate(e, 2),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} |",
+            r.method,
+            at(&r.mae.error_at_target_time, |x| x.mae),
+            at(&r.rmse.error_at_target_time, |x| x.rmse),
+            at(&r.rmse_corrected.error_at_target_time, |x| x.rmse_corrected),
+            time,
+            ratio
+        );
+    }
+    let sr = &report.speed_ratios;
+    let f = |x: Option<f64>| x.map_or("–".into(), |v| format!("{v:.2}"));
+    let _ = writeln!(
+        s,
+        "\nSpeed: analytic {} s, per-triangle {} s, unshadowed {} s; per-triangle / analytic = {}, \
+         analytic / unshadowed = {}.",
+        f(sr.analytic_seconds),
+        f(sr.per_triangle_seconds),
+        f(sr.unshadowed_seconds),
+        f(sr.per_triangle_over_analytic),
+        f(sr.analytic_over_unshadowed)
+    );
+    s
+}
+
+/// The time-against-RMSE chart of a report, with the reference's own noise level drawn as a
+/// horizontal line (errors near it are dominated by the reference, not the method).
+pub fn time_vs_rmse_chart(report: &BenchReport) -> Chart {
+    let mut chart = error_vs_time_chart(
+        &report.rows,
+        ErrorMetric::Rmse,
+        &format!("{}: run time against RMSE", report.scene),
+    );
+    let times: Vec<f64> = report
+        .rows
+        .iter()
+        .map(|r| r.seconds)
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .collect();
+    let (lo, hi) = times
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &t| (a.min(t), b.max(t)));
+    if lo < hi && report.reference.rms_stderr > 0.0 {
+        chart.series.push(Series {
+            name: "reference noise".into(),
+            points: vec![
+                (lo, report.reference.rms_stderr),
+                (hi, report.reference.rms_stderr),
+            ],
+            connect: true,
+        });
+    }
+    chart
+}
+
+/// Writes `bench.csv`, `bench.json`, `equal_time.md`, `time_vs_rmse.png` and one PNG per
+/// method of the equal-time strip into `dir`.
+pub fn write_bench_files(
+    report: &BenchReport,
+    strip: &[BenchImage],
+    dir: &Path,
+    exposure: f64,
+) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+    let mut files = Vec::new();
+    let csv = dir.join("bench.csv");
+    write_csv(&report.rows, &csv).with_context(|| csv.display().to_string())?;
+    files.push(csv);
+    let json = dir.join("bench.json");
+    write_json(report, &json).with_context(|| json.display().to_string())?;
+    files.push(json);
+    let md = dir.join("equal_time.md");
+    std::fs::write(&md, equal_time_markdown(report)).with_context(|| md.display().to_string())?;
+    files.push(md);
+    let png = dir.join("time_vs_rmse.png");
+    save_chart_png(&time_vs_rmse_chart(report), 900, 600, &png)?;
+    files.push(png);
+    for img in strip {
+        let name = match img.spp {
+            Some(n) => format!("strip_{}_{n}spp.png", img.method.name()),
+            None => format!("strip_{}.png", img.method.name()),
+        };
+        let p = dir.join(name);
+        write_png(
+            &p,
+            img.image.width,
+            img.image.height,
+            &img.image.to_rgb32(),
+            exposure,
+        )?;
+        files.push(p);
+    }
+    Ok(files)
+}
+
+/// The scaling fits as Markdown.
+pub fn scaling_markdown(report: &ScalingReport) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{}×{}, best of the repeats.\n",
+        report.width, report.height
+    );
+    let _ = writeln!(
+        s,
+        "| series | method | x | slope (µs per vertex) | intercept (s) | R² |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    for f in &report.fits {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.2} | {:.3} | {:.4} |",
+            f.series,
+            f.method,
+            f.x,
+            f.slope * 1e6,
+            f.intercept,
+            f.r2
+        );
+    }
+    if let Some(r) = report.naive_over_silhouette_slope {
+        let _ = writeln!(
+            s,
+            "\nFig. 7: the naive per-face slope is {r:.2}× the silhouette slope (000 reports more than 2×)."
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n| series | method | step | light vertices | occluder vertices | seconds |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    for p in &report.points {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {:.3} |",
+            p.series, p.method, p.step, p.light_vertices, p.occluder_vertices, p.seconds
+        );
+    }
+    s
+}
+
+/// Writes `scaling.json`, `scaling.md`, `fig5_scaling.png` and `fig7_scaling.png` into `dir`.
+pub fn write_scaling_files(report: &ScalingReport, dir: &Path) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+    let mut files = Vec::new();
+    let json = dir.join("scaling.json");
+    std::fs::write(&json, serde_json::to_string_pretty(report)?)
+        .with_context(|| json.display().to_string())?;
+    files.push(json);
+    let md = dir.join("scaling.md");
+    std::fs::write(&md, scaling_markdown(report)).with_context(|| md.display().to_string())?;
+    files.push(md);
+    let series = |name: &str, method: &str, light: bool| Series {
+        name: format!(
+            "{method}: {} vertices",
+            if light { "light" } else { "occluder" }
+        ),
+        points: report
+            .points
+            .iter()
+            .filter(|p| p.series == name && p.method == method)
+            .map(|p| {
+                let x = if light {
+                    p.light_vertices
+                } else {
+                    p.occluder_vertices
+                };
+                (x as f64, p.seconds)
+            })
+            .collect(),
+        connect: true,
+    };
+    let fig5 = Chart {
+        title: "000 Fig. 5: run time against vertices (duplicated lights / occluders)".into(),
+        x_label: "vertices".into(),
+        y_label: "time (s)".into(),
+        x_log: false,
+        y_log: false,
+        series: vec![
+            series("fig5_lights", "analytic", true),
+            series("fig5_occluders", "analytic", false),
+        ],
+    };
+    let p = dir.join("fig5_scaling.png");
+    save_chart_png(&fig5, 900, 600, &p)?;
+    files.push(p);
+    let fig7 = Chart {
+        title: "000 Fig. 7: subdivided icosahedral light, silhouette vs naive per face".into(),
+        x_label: "light vertices".into(),
+        y_label: "time (s)".into(),
+        x_log: false,
+        y_log: false,
+        series: vec![
+            series("fig7", "analytic", true),
+            series("fig7", "per-triangle", true),
+        ],
+    };
+    let p = dir.join("fig7_scaling.png");
+    save_chart_png(&fig7, 900, 600, &p)?;
+    files.push(p);
+    Ok(files)
+}
