@@ -14,7 +14,7 @@ pub const MAX_KERNEL_RADIUS: u32 = 64;
 /// pass then a vertical pass over both images at once. In each pass the output at the centre
 /// pixel c is
 ///
-/// out[c] = Σₜ wₜ in[t] / Σₜ wₜ,   t = c + k·(1, 0) (horizontal) or c + k·(0, 1) (vertical),
+/// `out[c] = Σₜ wₜ in[t] / Σₜ wₜ`,   t = c + k·(1, 0) (horizontal) or c + k·(0, 1) (vertical),
 /// |k| ≤ r = min(⌈3σ_c⌉, [`MAX_KERNEL_RADIUS`]),
 ///
 /// wₜ = exp(−k²/(2σ_c²)) · exp(−½ (|n_c·(p_t − p_c)| / (τ_p·f_c))²) · exp(−(1 − n_c·n_t)/τ_n²),

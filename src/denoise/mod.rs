@@ -5,7 +5,7 @@
 //! stochastic shadowed illumination S_N and the stochastic unshadowed illumination U_N (the same
 //! samples, so 0 ≤ S_N ≤ U_N per channel), plus a [`GBuffer`]. The result is
 //!
-//! U × denoise[S_N] / denoise[U_N]   (003 Eq. 25–27: denoise *before* dividing),
+//! `U × denoise[S_N] / denoise[U_N]`   (003 Eq. 25–27: denoise *before* dividing),
 //!
 //! which converges to S = U·W as the denoised neighbourhood grows, whereas denoising
 //! W_N = S_N/U_N itself is biased (Eq. 26).

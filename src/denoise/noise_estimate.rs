@@ -22,12 +22,12 @@ pub fn noise_estimate(w: &[f64], g: &GBuffer, settings: &DenoiseSettings) -> Vec
 
 /// Eq. 29 without the box filter:
 ///
-/// E[x] = (1/n) Σᵢ ∫_{ℓᵢ} |d²W_N(ℓᵢ(t))/dt²| dt,
+/// `E[x] = (1/n) Σᵢ ∫_{ℓᵢ} |d²W_N(ℓᵢ(t))/dt²| dt`,
 ///
 /// over n = 4 lines ℓᵢ through x at 0°, 45°, 90° and 135°. Each line has 2L+1 taps
 /// (L = `settings.line_half_length`) at integer pixel positions, t counting taps (one step along
 /// a diagonal is one tap, as along an axis), so the integral is the sum of the absolute second
-/// differences |W[t−1] − 2W[t] + W[t+1]| over the 2L−1 interior taps. The line contains x but is
+/// differences `|W[t−1] − 2W[t] + W[t+1]|` over the 2L−1 interior taps. The line contains x but is
 /// shifted along itself by a deterministic per-pixel random offset in [−⌊L/2⌋, ⌊L/2⌋] taps (a
 /// hash of `settings.seed`, the pixel and the line), so that the lines of neighbouring pixels
 /// differ; near the image border the line is slid inward instead of being cut, so border pixels
@@ -36,9 +36,10 @@ pub fn noise_estimate(w: &[f64], g: &GBuffer, settings: &DenoiseSettings) -> Vec
 /// over the lines with at least one second difference (E = 0 if none).
 ///
 /// A constant or linear W gives E = 0; a straight step edge of height h crosses a line at most
-/// once and adds at most 2h to its integral, so E ≤ 2h (≤ (3/4)·2h for an axis-aligned edge,
-/// which the line parallel to it does not cross), whereas noise adds to every tap: an iid W of standard
-/// deviation s gives E ≈ (2L−1)·√(12/π)·s (Gaussian) and exactly 2L−1 for fair 0/1 coin flips.
+/// once and adds at most 2h to its integral, so E ≤ 2h (≤ (3/4)·2h for an axis-aligned or
+/// diagonal edge, which the line parallel to it does not cross), whereas noise adds to every
+/// tap: an iid W of standard deviation s gives E ≈ (2L−1)·√(12/π)·s (Gaussian) and, on
+/// average, exactly 2L−1 for fair 0/1 coin flips.
 pub fn line_total_variation(w: &[f64], g: &GBuffer, settings: &DenoiseSettings) -> Vec<f64> {
     g.check();
     assert_eq!(w.len(), g.len(), "W must have one value per G-buffer pixel");

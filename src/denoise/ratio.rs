@@ -18,9 +18,9 @@ pub struct DenoiseAovs {
     /// The Gaussian standard deviation used at each pixel, in pixels; 0 where the pixel was
     /// copied unchanged.
     pub sigma: Vec<f64>,
-    /// denoise[S_N].
+    /// `denoise[S_N]`.
     pub s_denoised: Image,
-    /// denoise[U_N].
+    /// `denoise[U_N]`.
     pub u_denoised: Image,
 }
 
@@ -44,7 +44,7 @@ pub fn weighted_shadow(s_n: &Image, u_n: &Image, g: &GBuffer) -> Vec<f64> {
     let mut w = vec![1.0; g.len()];
     w.par_iter_mut().enumerate().for_each(|(i, w)| {
         if g.valid[i] {
-            // Halving is exact and keeps the weighted sums below f64::MAX.
+            // Halving (exact for normal values) keeps the weighted sums below f64::MAX.
             let s = luminance(sanitize(s_n.pixels[i]) * 0.5);
             let u = luminance(sanitize(u_n.pixels[i]) * 0.5);
             if u > 0.0 {
@@ -55,9 +55,9 @@ pub fn weighted_shadow(s_n: &Image, u_n: &Image, g: &GBuffer) -> Vec<f64> {
     w
 }
 
-/// Eq. 25 applied to U (003 Sect. 3.5): result = U × denoise[S_N] / denoise[U_N], per channel.
+/// Eq. 25 applied to U (003 Sect. 3.5): result = `U × denoise[S_N] / denoise[U_N]`, per channel.
 ///
-/// Where denoise[U_N] = 0 in a channel (then denoise[S_N] = 0 too, as the filter keeps
+/// Where `denoise[U_N]` = 0 in a channel (then `denoise[S_N]` = 0 too, as the filter keeps
 /// S_N ≤ U_N) the ratio is 0/0 and is taken as 1, i.e. the result is U: the same convention
 /// W = 1 as the noise estimate, and the natural one, since no sample saw any light to shadow.
 /// The ratio is clamped to [0, 1], which only removes rounding (the filter keeps
@@ -100,13 +100,15 @@ fn applied_sigma(sigma: f64, settings: &DenoiseSettings) -> f64 {
 
 /// The denoiser of 003 Sect. 4.1, passes 1–4 (no temporal pass):
 ///
-/// 1. W_N from luminance ([`weighted_shadow`], Eq. 23), E from W_N ([`noise_estimate`], Eq. 29);
-/// 2. E box-filtered 3×3 (inside [`noise_estimate`]);
+/// 1. W_N from luminance ([`weighted_shadow`], Eq. 23), E from W_N
+///    ([`noise_estimate`](fn@noise_estimate), Eq. 29);
+/// 2. E box-filtered 3×3 (inside [`noise_estimate`](fn@noise_estimate));
 /// 3. σ = min(`sigma_gain`·E, `sigma_max`) per pixel (0 below `sigma_min`: the pixel is copied);
 ///    003 Sect. 4.1: "the standard deviation of the Gaussian kernel proportional to the noise
 ///    estimate E";
-/// 4. the joint-bilateral filter of S_N and U_N with that σ ([`joint_bilateral`]), then
-///    U × denoise[S_N] / denoise[U_N] per channel ([`ratio_combine`], Eq. 25, 27).
+/// 4. the joint-bilateral filter of S_N and U_N with that σ
+///    ([`joint_bilateral`](fn@joint_bilateral)), then
+///    `U × denoise[S_N] / denoise[U_N]` per channel ([`ratio_combine`], Eq. 25, 27).
 ///
 /// Returns the final image and the intermediate images.
 pub fn ratio_denoised(
@@ -127,10 +129,10 @@ pub fn ratio_denoised(
 }
 
 /// The plain bilateral of paper 000's comparison (000 Sect. 5: S_N and U_N each denoised with a
-/// bilateral filter, then combined): [`joint_bilateral`] with the same fixed `sigma_px` at
-/// every valid pixel (no noise estimate), then U × denoise[S_N] / denoise[U_N] (Eq. 25).
-/// `sigma_max` does not apply; the kernel radius is still capped at
-/// [`super::MAX_KERNEL_RADIUS`].
+/// bilateral filter, then combined): [`joint_bilateral`](fn@joint_bilateral) with the same
+/// fixed `sigma_px` at every valid pixel (no noise estimate), then
+/// `U × denoise[S_N] / denoise[U_N]` (Eq. 25). `sigma_max` does not apply; the kernel radius is
+/// still capped at [`super::MAX_KERNEL_RADIUS`]; below `sigma_min` nothing is filtered.
 pub fn ratio_bilateral(
     u: &Image,
     s_n: &Image,
@@ -228,7 +230,7 @@ mod tests {
     /// kinds, each with probability 1/2: weight r = 1, visible with probability 0.9, or r = 10,
     /// visible with probability 0.1, so W = E[rV]/E[r] = 0.95/5.5 (Eq. 14), while W_N = S_N/U_N
     /// averages to ≈ 0.23: the per-pixel ratio is biased, and so is any denoising of it.
-    /// denoise[S_N]/denoise[U_N] is a ratio estimator over n_eff = N/Σw² samples (Σw² of the
+    /// `denoise[S_N]`/`denoise[U_N]` is a ratio estimator over n_eff = N/Σw² samples (Σw² of the
     /// 2-D kernel): its mean over pixels 2⌈3σ⌉+1 apart (independent) must be within
     /// 4.5 standard errors plus its second-order bias (W Var r − Cov(rV, r))/(n_eff E[r]²),
     /// both from the sample statistics; denoising W_N directly must miss by far more.

@@ -1,12 +1,13 @@
 //! Parameters of the denoiser, with the reasoning behind each default.
 
-/// Parameters of [`super::noise_estimate`], [`super::joint_bilateral`] and the two pipelines.
+/// Parameters of [`noise_estimate`](fn@super::noise_estimate),
+/// [`joint_bilateral`](fn@super::joint_bilateral) and the two pipelines.
 ///
 /// Defaults (see `docs/denoiser.md` for the derivations):
 ///
 /// | field | default | meaning |
 /// |---|---|---|
-/// | `line_half_length` | 6 | each of the 4 lines of Eq. 29 has 2·6+1 = 13 taps, 11 second differences |
+/// | `line_half_length` | 6 | 4 lines of 2·6+1 = 13 taps (11 second differences) in Eq. 29 |
 /// | `sigma_gain` | 0.65 | σ = gain·E; aims at a residual standard deviation of ≈ 0.02 in W |
 /// | `sigma_max` | 8 px | largest Gaussian standard deviation (kernel radius 24 px) |
 /// | `sigma_min` | 0.25 px | below this a pixel is copied unchanged (neighbour weight < e⁻⁸) |
