@@ -9,6 +9,8 @@
 //! * [`shading`]: one shading point, light by light (Alg. 1), with an optional recorder.
 //! * [`accel`]: rays, triangles and the BVH for camera rays and the ray-cast oracle.
 //! * [`render`]: images, tiles, output files.
+//! * [`denoise`]: the ratio denoiser of paper 003 (Sect. 3.5, 4.1–4.2): `U × denoise[S_N] /
+//!   denoise[U_N]` with a noise-driven joint-bilateral filter.
 //! * [`reference`]: brute-force ray-cast estimates used as independent oracles.
 //! * [`stochastic`]: solid-angle and BRDF sampling with MIS, and the estimators of 003.
 //! * [`stress`]: random and adversarial shading configurations.
@@ -17,6 +19,7 @@
 
 pub mod accel;
 pub mod bench;
+pub mod denoise;
 pub mod geometry;
 pub mod ltc;
 pub mod math;
