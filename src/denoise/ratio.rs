@@ -24,11 +24,7 @@ pub struct DenoiseAovs {
     pub u_denoised: Image,
 }
 
-/// Rec. 709 luminance of a linear-RGB colour.
-#[inline]
-pub fn luminance(c: DVec3) -> f64 {
-    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
-}
+pub use crate::shading::brdf::luminance;
 
 /// The grayscale weighted shadow of Eq. 23, W_N = S_N / U_N, on luminance (the grayscale
 /// weighted shadow of 003 Sect. 3.4), which feeds the noise estimate.

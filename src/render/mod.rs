@@ -359,6 +359,8 @@ pub struct RenderOutput {
     pub stderr: Option<Image>,
     /// U, S_N, U_N and the G-buffer (stochastic methods).
     pub buffers: Option<stochastic::StochasticBuffers>,
+    /// The denoiser's intermediate images: W_N, E, σ, denoised S_N and U_N.
+    pub denoise: Option<crate::denoise::DenoiseAovs>,
     pub stats: RenderStats,
 }
 

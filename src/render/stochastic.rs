@@ -7,6 +7,7 @@ use super::{
     Image, RenderContext, RenderMethod, RenderOutput, RenderSettings, render_tiles, subpixel_rays,
 };
 use crate::accel::Ray;
+use crate::denoise::{DenoiseSettings, GBuffer, ratio_bilateral, ratio_denoised};
 use crate::math::Pcg32;
 use crate::scene::camera::CameraBasis;
 use crate::shading::{Method, NoRecorder, ShadingScratch, shade};
@@ -33,6 +34,24 @@ pub struct StochasticBuffers {
     pub footprint: Vec<f64>,
     pub valid: Vec<bool>,
 }
+
+impl StochasticBuffers {
+    /// The G-buffer the denoiser reads.
+    pub fn gbuffer(&self) -> GBuffer {
+        GBuffer {
+            width: self.emitted.width,
+            height: self.emitted.height,
+            position: self.position.clone(),
+            normal: self.normal.clone(),
+            footprint: self.footprint.clone(),
+            valid: self.valid.clone(),
+        }
+    }
+}
+
+/// Width (standard deviation, pixels) of the fixed bilateral filter of `ratio-bilateral`:
+/// 003 Fig. 7 uses a σ = 4-pixel Gaussian for its robustness comparison.
+pub const BILATERAL_SIGMA_PX: f64 = 4.0;
 
 #[derive(Clone, Default)]
 struct PixelValues {
@@ -189,8 +208,26 @@ pub fn render(
         RenderMethod::Ratio => out.image = per_pixel(Estimator::Ratio),
         RenderMethod::RatioGray => out.image = per_pixel(Estimator::RatioGray),
         RenderMethod::RatioDenoised | RenderMethod::RatioBilateral => {
-            // TODO(denoise): merged from the denoiser branch.
-            out.image = per_pixel(Estimator::Ratio);
+            let g = buffers.gbuffer();
+            let denoise = DenoiseSettings::default();
+            let (shading, aovs) = if settings.method == RenderMethod::RatioDenoised {
+                ratio_denoised(&buffers.u, &buffers.s_n, &buffers.u_n, &g, &denoise)
+            } else {
+                ratio_bilateral(
+                    &buffers.u,
+                    &buffers.s_n,
+                    &buffers.u_n,
+                    &g,
+                    BILATERAL_SIGMA_PX,
+                    &denoise,
+                )
+            };
+            let mut image = shading;
+            for (p, e) in image.pixels.iter_mut().zip(&buffers.emitted.pixels) {
+                *p += *e;
+            }
+            out.image = image;
+            out.denoise = Some(aovs);
         }
         RenderMethod::Analytic | RenderMethod::PerTriangle | RenderMethod::Unshadowed => {
             unreachable!("deterministic methods are rendered by RenderContext::render_analytic")
