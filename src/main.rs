@@ -125,6 +125,8 @@ struct BenchArgs {
     /// from NAME_stderr.pfm beside it.
     #[arg(long)]
     reference: Option<PathBuf>,
+    /// Samples per camera ray of the reference (when --reference is given: the count it was
+    /// rendered with, for the report).
     #[arg(long, default_value_t = 4096)]
     reference_spp: u32,
     #[arg(long, default_value_t = 1)]
@@ -500,7 +502,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
             runner::ReferenceImage {
                 image: read(path)?,
                 stderr: read(&stderr_path(path))?,
-                spp: 0,
+                spp: args.reference_spp,
                 seconds: f64::NAN,
             }
         }

@@ -1,7 +1,7 @@
 //! The files of a bench run: CSV and JSON tables, charts, the equal-time image strip, and the
 //! Markdown tables printed by the CLI and quoted in `docs/benchmarks.md`.
 
-use super::equal_time::{ErrorMetric, Estimate, error_vs_time_chart};
+use super::equal_time::{ErrorMetric, Estimate, LogLadder, error_vs_time_chart};
 use super::plot::{Chart, Series, save_chart_png};
 use super::runner::BenchImage;
 use super::scaling::ScalingReport;
@@ -50,20 +50,32 @@ pub fn equal_time_markdown(report: &BenchReport) -> String {
     );
     let _ = writeln!(
         s,
-        "| method | MAE at t* | RMSE at t* | corrected RMSE at t* | time for analytic corrected RMSE | × t* |"
+        "| method | MAE at t* | RMSE at t* | corrected RMSE at t* | time for analytic corrected RMSE | × t* | × t* to reach the reference noise |"
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
     for r in &report.equal_time {
         // Matching is done on the corrected RMSE: the raw RMSE of an exact method is the
         // reference's own noise, which no other method can get below.
         let m = &r.rmse_corrected;
-        let ratio = match (&m.time_to_match, m.time_ratio) {
-            (Some(e), Some(x)) => format!("{x:.1}{}", if e.extrapolated { "*" } else { "" }),
-            _ => "never".into(),
-        };
-        let time = match &m.time_to_match {
-            Some(e) => format!("{:.3} s{}", e.value, if e.extrapolated { "*" } else { "" }),
-            None => "–".into(),
+        // An extrapolation more than 100× past the ladder's longest render reads a flattening
+        // curve (a denoiser's bias, the LTC bias) as a slow decay: report it as not reached.
+        let longest = report
+            .rows
+            .iter()
+            .filter(|x| x.method == r.method && x.seconds.is_finite())
+            .map(|x| x.seconds)
+            .fold(0.0f64, f64::max);
+        let credible = |e: &Estimate| !e.extrapolated || e.value <= 100.0 * longest;
+        let (time, ratio) = match (&m.time_to_match, m.time_ratio) {
+            (Some(e), Some(x)) if credible(e) => {
+                let star = if e.extrapolated { "*" } else { "" };
+                (format!("{:.3} s{star}", e.value), format!("{x:.1}{star}"))
+            }
+            (Some(_), _) => (
+                format!("not reached in {longest:.2} s"),
+                format!("> {:.0}", longest / r.target_seconds),
+            ),
+            _ => ("–".into(), "never".into()),
         };
         // Below a method's cheapest rung, extrapolating toward zero time is meaningless
         // (renders have a fixed cost): show the cheapest rung's error as a lower bound.
@@ -81,15 +93,39 @@ pub fn equal_time_markdown(report: &BenchReport) -> String {
             ),
             _ => estimate(e, 2),
         };
+        // Where the analytic error is below what the reference can resolve, the time a method
+        // needs to reach the reference's own noise (rms stderr) is a lower bound on the time it
+        // needs for the analytic error.
+        let floor = if r.deterministic {
+            "–".to_string()
+        } else {
+            let ladder = LogLadder::new(
+                report
+                    .rows
+                    .iter()
+                    .filter(|x| x.method == r.method)
+                    .map(|x| (x.seconds, x.rmse_corrected)),
+            );
+            match ladder.time_for(report.reference.rms_stderr) {
+                Some(e) if credible(&e) => format!(
+                    "{:.0}{}",
+                    e.value / r.target_seconds,
+                    if e.extrapolated { "*" } else { "" }
+                ),
+                Some(_) => format!("> {:.0}", longest / r.target_seconds),
+                None => "–".into(),
+            }
+        };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} |",
             r.method,
             at(&r.mae.error_at_target_time, |x| x.mae),
             at(&r.rmse.error_at_target_time, |x| x.rmse),
             at(&r.rmse_corrected.error_at_target_time, |x| x.rmse_corrected),
             time,
-            ratio
+            ratio,
+            floor
         );
     }
     let sr = &report.speed_ratios;
@@ -161,8 +197,8 @@ pub fn write_bench_files(
     files.push(png);
     for img in strip {
         let name = match img.spp {
-            Some(n) => format!("strip_{}_{n}spp.png", img.method.name()),
-            None => format!("strip_{}.png", img.method.name()),
+            Some(n) => format!("strip_{}_{n}spp.png", img.label),
+            None => format!("strip_{}.png", img.label),
         };
         let p = dir.join(name);
         write_png(

@@ -24,6 +24,9 @@ pub struct BenchConfig {
     pub light_sampling: LightSampling,
     /// Deterministic methods are timed as the best of this many renders.
     pub repeats: u32,
+    /// Also run `mc` with area sampling of the lights (001 Sect. 3.6's baseline), reported as
+    /// `mc-area`.
+    pub area_baseline: bool,
 }
 
 impl BenchConfig {
@@ -44,10 +47,21 @@ impl BenchConfig {
             seed: 1,
             light_sampling: LightSampling::SolidAngle,
             repeats: 2,
+            area_baseline: true,
         }
     }
 
     fn settings(&self, method: RenderMethod, spp: u32, seed: u64) -> RenderSettings {
+        self.settings_with(method, spp, seed, self.light_sampling)
+    }
+
+    fn settings_with(
+        &self,
+        method: RenderMethod,
+        spp: u32,
+        seed: u64,
+        light_sampling: LightSampling,
+    ) -> RenderSettings {
         RenderSettings {
             width: self.width,
             height: self.height,
@@ -55,7 +69,7 @@ impl BenchConfig {
             method,
             spp,
             seed,
-            light_sampling: self.light_sampling,
+            light_sampling,
         }
     }
 }
@@ -94,6 +108,8 @@ pub fn render_reference(
 /// One rendered image of the run, kept for the equal-time strip.
 #[derive(Clone, Debug)]
 pub struct BenchImage {
+    /// The method's name in the report (`mc-area` for area-sampled `mc`).
+    pub label: String,
     pub method: RenderMethod,
     pub spp: Option<u32>,
     pub seconds: f64,
@@ -120,30 +136,37 @@ pub fn run_bench(
     let ref_rgb = reference.image.to_rgb32();
     let err_rgb = reference.stderr.to_rgb32();
     let info = ReferenceInfo::from_stderr(reference.spp, reference.seconds, &err_rgb);
-    let jobs: Vec<(RenderMethod, Option<u32>)> = config
-        .methods
-        .iter()
-        .flat_map(|&m| {
-            if m.is_stochastic() {
-                config
-                    .ladder
-                    .iter()
-                    .map(|&n| (m, Some(n)))
-                    .collect::<Vec<_>>()
-            } else {
-                vec![(m, None)]
+    // (name in the report, method, spp, light sampling)
+    let mut jobs: Vec<(String, RenderMethod, Option<u32>, LightSampling)> = Vec::new();
+    for &m in &config.methods {
+        if m.is_stochastic() {
+            for &n in &config.ladder {
+                jobs.push((m.name().into(), m, Some(n), config.light_sampling));
             }
-        })
-        .collect();
+        } else {
+            jobs.push((m.name().into(), m, None, config.light_sampling));
+        }
+    }
+    if config.area_baseline && config.methods.contains(&RenderMethod::Mc) {
+        for &n in &config.ladder {
+            jobs.push((
+                "mc-area".into(),
+                RenderMethod::Mc,
+                Some(n),
+                LightSampling::Area,
+            ));
+        }
+    }
     let mut rows = Vec::with_capacity(jobs.len());
     let mut images: Vec<BenchImage> = Vec::new();
-    for (k, &(method, spp)) in jobs.iter().enumerate() {
+    for (k, (name, method, spp, sampling)) in jobs.iter().enumerate() {
+        let (method, spp) = (*method, *spp);
         let label = match spp {
-            Some(n) => format!("{} {n} spp", method.name()),
-            None => method.name().to_string(),
+            Some(n) => format!("{name} {n} spp"),
+            None => name.clone(),
         };
         progress(k, jobs.len(), &label);
-        let settings = config.settings(method, spp.unwrap_or(1), config.seed);
+        let settings = config.settings_with(method, spp.unwrap_or(1), config.seed, *sampling);
         let repeats = if spp.is_some() {
             1
         } else {
@@ -160,13 +183,14 @@ pub fn run_bench(
         let cmp = compare(&image.to_rgb32(), &ref_rgb, Some(&err_rgb));
         rows.push(BenchRow::from_comparison(
             &config.scene,
-            method.name(),
+            name,
             spp,
             seconds,
             &cmp,
             info.rms_stderr,
         ));
         images.push(BenchImage {
+            label: name.clone(),
             method,
             spp,
             seconds,
@@ -180,7 +204,7 @@ pub fn run_bench(
     let mut strip: Vec<BenchImage> = Vec::new();
     for img in images {
         let d = |i: &BenchImage| t_star.map_or(0.0, |t| (i.seconds.max(1e-9) / t).ln().abs());
-        match strip.iter_mut().find(|s| s.method == img.method) {
+        match strip.iter_mut().find(|s| s.label == img.label) {
             Some(s) if d(&img) < d(s) => *s = img,
             Some(_) => {}
             None => strip.push(img),
