@@ -142,6 +142,10 @@ struct BenchArgs {
     /// Run the scaling study instead (000 Figs. 5 and 7).
     #[arg(long)]
     scaling: bool,
+    /// Render nothing: read a bench.json written by an earlier run and write its tables and
+    /// chart again (into --out-dir, default beside the JSON).
+    #[arg(long)]
+    from_json: Option<PathBuf>,
     /// Scaling: copies of the lights / occluders of the fig4 scene (1..=N).
     #[arg(long, default_value_t = 5)]
     max_copies: u32,
@@ -425,6 +429,19 @@ fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> R
 
 fn bench(args: &BenchArgs) -> Result<()> {
     use penumbra::bench::{output, runner, scaling};
+    if let Some(json) = &args.from_json {
+        let report = penumbra::bench::table::read_json(json)
+            .with_context(|| format!("{}", json.display()))?;
+        let dir = args.out_dir.clone().unwrap_or_else(|| {
+            json.parent()
+                .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+        });
+        say!("{}", output::equal_time_markdown(&report));
+        for f in output::write_bench_files(&report, &[], &dir, args.exposure)? {
+            say!("wrote {}", f.display());
+        }
+        return Ok(());
+    }
     if args.scaling {
         let base = scene_file::load_embedded("fig4")?;
         let report = scaling::run_scaling(

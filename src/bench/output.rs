@@ -53,6 +53,7 @@ pub fn equal_time_markdown(report: &BenchReport) -> String {
         "| method | MAE at t* | RMSE at t* | corrected RMSE at t* | time for analytic corrected RMSE | × t* | × t* to reach the reference noise |"
     );
     let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+    let target_corrected = target.map_or(f64::NAN, |r| r.rmse_corrected.target_error);
     for r in &report.equal_time {
         // Matching is done on the corrected RMSE: the raw RMSE of an exact method is the
         // reference's own noise, which no other method can get below.
@@ -96,7 +97,8 @@ pub fn equal_time_markdown(report: &BenchReport) -> String {
         // Where the analytic error is below what the reference can resolve, the time a method
         // needs to reach the reference's own noise (rms stderr) is a lower bound on the time it
         // needs for the analytic error.
-        let floor = if r.deterministic {
+        let below_noise = target_corrected < report.reference.rms_stderr;
+        let floor = if r.deterministic || !below_noise {
             "–".to_string()
         } else {
             let ladder = LogLadder::new(
