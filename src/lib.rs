@@ -2,6 +2,7 @@
 //!
 //! The modules follow the pipeline of KT et al. 2021 (paper 000, Alg. 1):
 //!
+//! * [`app`]: the egui workbench (viewport, picked point, sphere view, stepping, plots, exports).
 //! * [`scene`]: OBJ/MTL and scene files, procedural shapes, the camera.
 //! * [`geometry`]: polyhedra, contour edges and silhouettes, spherical polygons,
 //!   horizon clipping, the planar projection and the set difference.
@@ -11,6 +12,8 @@
 //! * [`render`]: images, tiles, output files.
 //! * [`denoise`]: the ratio denoiser of paper 003 (Sect. 3.5, 4.1–4.2): `U × denoise[S_N] /
 //!   denoise[U_N]` with a noise-driven joint-bilateral filter.
+//! * [`inspect`]: one pixel under the microscope: the recorded stages and per-light numbers
+//!   (the debug dump).
 //! * [`reference`]: brute-force ray-cast estimates used as independent oracles.
 //! * [`stochastic`]: solid-angle and BRDF sampling with MIS, and the estimators of 003.
 //! * [`stress`]: random and adversarial shading configurations.
@@ -18,9 +21,11 @@
 //!   comparisons, scaling fits, PNG charts.
 
 pub mod accel;
+pub mod app;
 pub mod bench;
 pub mod denoise;
 pub mod geometry;
+pub mod inspect;
 pub mod ltc;
 pub mod math;
 pub mod reference;

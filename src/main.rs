@@ -5,7 +5,6 @@ use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
 use penumbra::render::{Image, RenderContext, RenderMethod, RenderSettings, image_io};
 use penumbra::scene::{Camera, Scene, scene_file};
-use penumbra::shading::Method;
 use penumbra::stochastic::LightSampling;
 use std::path::{Path, PathBuf};
 
@@ -93,6 +92,17 @@ enum Command {
     Bench(BenchArgs),
     /// List the embedded scenes.
     Scenes,
+    /// Open the workbench window (what `penumbra` without arguments does).
+    Gui {
+        /// A scene file or embedded scene name (default: the last one used).
+        scene: Option<String>,
+        /// Save a screenshot of the window here once the render has finished, then quit.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        /// With --screenshot: take it after at most this many seconds.
+        #[arg(long, default_value_t = 30.0)]
+        after: f64,
+    },
 }
 
 #[derive(Args, Clone)]
@@ -296,6 +306,7 @@ fn settings(args: &RenderArgs) -> RenderSettings {
         spp: args.spp,
         seed: args.seed,
         light_sampling: args.light_sampling,
+        collect_stats: false,
     }
 }
 
@@ -360,67 +371,48 @@ fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
     Ok(())
 }
 
-/// The debug dump of one shading point.
-#[derive(serde::Serialize)]
-struct ProbeDump<'a> {
-    scene: &'a str,
-    method: Method,
-    pixel: (f64, f64),
-    size: (u32, u32),
-    camera: Camera,
-    point: Option<penumbra::shading::ShadingPoint>,
-    emitted: DVec3,
-    radiance: DVec3,
-    stats: penumbra::shading::ShadingStats,
-    recording: penumbra::shading::StageRecording,
-}
-
+/// Writes the debug dump of one shading point (`penumbra probe`).
 fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> Result<()> {
     let scene = load_scene(&args.scene)?;
     let cam = camera(args, &scene)?;
     let ctx = RenderContext::new(&scene);
-    let basis = cam.basis().map_err(anyhow::Error::msg)?;
-    let ray = penumbra::accel::Ray {
-        origin: basis.eye,
-        dir: basis.direction(pixel.0 + 0.5, pixel.1 + 0.5, args.size.0, args.size.1),
-    };
-    let mut recording = penumbra::shading::StageRecording::new(gh_steps);
-    let mut scratch = penumbra::shading::ShadingScratch::default();
     let Some(method) = args.method.analytic() else {
         bail!(
             "probe records the analytic stages: --method must be analytic, per-triangle or unshadowed"
         );
     };
-    let radiance = ctx.radiance(&ray, method, &mut scratch, &mut recording);
-    let hit = ctx.primary_hit(&ray);
-    let dump = ProbeDump {
-        scene: &args.scene,
-        method,
-        pixel,
-        size: args.size,
-        camera: cam,
-        point: hit.map(|h| h.point),
-        emitted: hit.map(|h| h.emitted).unwrap_or_default(),
-        radiance,
-        stats: scratch.stats,
-        recording,
-    };
+    let mut dump =
+        penumbra::inspect::probe(&ctx, &args.scene, &cam, args.size, pixel, method, gh_steps)
+            .map_err(anyhow::Error::msg)?;
+    if let (Some(sp), Some(m)) = (dump.point, dump.material.clone()) {
+        dump.monte_carlo = Some(penumbra::inspect::monte_carlo(
+            &ctx, &sp, &m, 65536, args.seed,
+        ));
+    }
     if let Some(dir) = json.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create directory", dir.display()))?;
     }
     std::fs::write(json, serde_json::to_string_pretty(&dump)?)
         .with_context(|| format!("{}", json.display()))?;
-    say!("radiance {radiance} at pixel {pixel:?}");
-    for l in &dump.recording.lights {
+    say!("radiance {} at pixel {pixel:?}", dump.radiance);
+    for l in &dump.lights {
         say!(
-            "  light {} {:?}: diffuse {} specular {}, occluders kept {:?}, set differences {}",
+            "  light {} '{}': shadowed {} unshadowed {}, visible {:.1} % of {:.4} sr",
             l.light,
-            l.piece,
-            l.diffuse,
-            l.specular,
-            l.occluders_kept,
-            l.set_differences.len()
+            l.name,
+            l.shadowed,
+            l.unshadowed,
+            100.0 * l.visible_fraction(),
+            l.solid_angle
+        );
+    }
+    if let Some(mc) = dump.monte_carlo {
+        say!(
+            "  Monte Carlo ({} samples): {} ± {} (1σ)",
+            mc.samples,
+            mc.mean,
+            mc.stderr
         );
     }
     say!("wrote {}", json.display());
@@ -573,25 +565,13 @@ fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> 
 fn main() -> Result<()> {
     let cli = Cli::parse();
     match cli.command {
-        None => {
-            // The main job on the embedded default scene.
-            let args = RenderArgs {
-                scene: "default".into(),
-                eye: None,
-                target: None,
-                up: None,
-                fov: None,
-                size: (800, 600),
-                aa: 2,
-                method: RenderMethod::Analytic,
-                spp: 16,
-                seed: 1,
-                light_sampling: LightSampling::SolidAngle,
-                out: PathBuf::from("out/default.png"),
-                exposure: 0.0,
-            };
-            render(&args)
-        }
+        None => penumbra::app::run(None, None).map_err(|e| anyhow::anyhow!("{e}")),
+        Some(Command::Gui {
+            scene,
+            screenshot,
+            after,
+        }) => penumbra::app::run(scene, screenshot.map(|p| (p, after)))
+            .map_err(|e| anyhow::anyhow!("{e}")),
         Some(Command::Render(args)) => render(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::Reference { render, samples }) => reference(&render, samples, render.seed),

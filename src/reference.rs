@@ -193,7 +193,7 @@ pub fn render_reference(
     seed: u64,
 ) -> Result<(Image, Image), String> {
     let basis = camera.basis()?;
-    let lights = LightSampler::new(ctx.scene);
+    let lights = LightSampler::new(&ctx.scene);
     let (w, h, aa) = (settings.width, settings.height, settings.aa.max(1));
     let px: Vec<(DVec3, DVec3)> = (0..w * h)
         .into_par_iter()

@@ -19,6 +19,7 @@ fn settings(method: RenderMethod, w: u32, h: u32, spp: u32, seed: u64) -> Render
         spp,
         seed,
         light_sampling: LightSampling::SolidAngle,
+        collect_stats: false,
     }
 }
 

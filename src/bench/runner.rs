@@ -70,6 +70,7 @@ impl BenchConfig {
             spp,
             seed,
             light_sampling,
+            collect_stats: false,
         }
     }
 }

@@ -2,6 +2,7 @@
 
 pub mod compare;
 pub mod image_io;
+pub mod progressive;
 pub mod stochastic;
 
 use crate::accel::{Bvh, Ray};
@@ -13,6 +14,7 @@ use crate::shading::{
 use crate::stochastic::{AreaLights, LightSampling};
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -183,6 +185,21 @@ pub struct RenderSettings {
     /// is reproducible bit for bit whatever the thread count.
     pub seed: u64,
     pub light_sampling: LightSampling,
+    /// Also record per-pixel work counters and time ([`PixelStats`]) for the AOVs.
+    pub collect_stats: bool,
+}
+
+/// Work done for one pixel (summed over its camera rays): for the workbench's AOVs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PixelStats {
+    /// Occluders left after `GetBetween`, summed over lights.
+    pub occluders_kept: u32,
+    /// Edges of the horizon-clipped light polygons, summed over lights.
+    pub light_edges: u32,
+    /// Set differences performed.
+    pub set_differences: u32,
+    /// Wall-clock time spent on the pixel, in nanoseconds.
+    pub nanos: u32,
 }
 
 impl Default for RenderSettings {
@@ -195,6 +212,7 @@ impl Default for RenderSettings {
             spp: 16,
             seed: 0,
             light_sampling: LightSampling::SolidAngle,
+            collect_stats: false,
         }
     }
 }
@@ -207,8 +225,9 @@ pub struct RenderStats {
 }
 
 /// A scene ready to render: the scene, its prepared shading data and its BVH.
-pub struct RenderContext<'a> {
-    pub scene: &'a Scene,
+pub struct RenderContext {
+    /// The scene, shared (the workbench hands one context to its render thread and its UI).
+    pub scene: Arc<Scene>,
     pub prepared: PreparedScene,
     pub bvh: Bvh,
     /// The lights prepared for area sampling (the stochastic baseline).
@@ -223,14 +242,20 @@ pub struct PrimaryHit {
     pub receiver: bool,
 }
 
-impl<'a> RenderContext<'a> {
-    pub fn new(scene: &'a Scene) -> Self {
-        let prepared = PreparedScene::new(scene);
+impl RenderContext {
+    /// Prepares a copy of `scene` (see [`RenderContext::from_arc`] to share one).
+    pub fn new(scene: &Scene) -> Self {
+        Self::from_arc(Arc::new(scene.clone()))
+    }
+
+    /// Prepares `scene`: shading data, BVH, area-sampling tables.
+    pub fn from_arc(scene: Arc<Scene>) -> Self {
+        let prepared = PreparedScene::new(&scene);
         RenderContext {
-            area_lights: AreaLights::new(scene, &prepared),
-            scene,
+            area_lights: AreaLights::new(&scene, &prepared),
+            bvh: Bvh::build(&scene),
             prepared,
-            bvh: Bvh::build(scene),
+            scene,
         }
     }
 
@@ -314,9 +339,7 @@ impl<'a> RenderContext<'a> {
         }
         let start = Instant::now();
         let mut out = match settings.method.analytic() {
-            Some(method) => {
-                RenderOutput::image(self.render_analytic(&basis, settings, method, cancel))
-            }
+            Some(method) => self.render_analytic(&basis, settings, method, cancel),
             None => stochastic::render(self, &basis, settings, cancel),
         };
         let seconds = start.elapsed().as_secs_f64();
@@ -333,20 +356,37 @@ impl<'a> RenderContext<'a> {
         settings: &RenderSettings,
         method: Method,
         cancel: Option<&AtomicBool>,
-    ) -> Image {
+    ) -> RenderOutput {
         let (w, h, aa) = (settings.width, settings.height, settings.aa);
         let inv = 1.0 / (aa * aa) as f64;
+        let collect = settings.collect_stats;
         let pixels = render_tiles(w, h, cancel, ShadingScratch::default, |scratch, x, y| {
+            let start = collect.then(Instant::now);
             let mut sum = DVec3::ZERO;
+            let mut stats = PixelStats::default();
             for ray in subpixel_rays(basis, x, y, aa, w, h) {
                 sum += self.radiance(&ray, method, scratch, &mut NoRecorder);
+                if collect {
+                    stats.occluders_kept += scratch.stats.occluders_kept;
+                    stats.light_edges += scratch.stats.light_edges;
+                    stats.set_differences += scratch.stats.set_differences;
+                    scratch.stats = Default::default();
+                }
             }
-            sum * inv
+            if let Some(t) = start {
+                stats.nanos = t.elapsed().as_nanos().min(u32::MAX as u128) as u32;
+            }
+            (sum * inv, stats)
         });
-        Image {
+        let image = Image {
             width: w,
             height: h,
-            pixels,
+            pixels: pixels.iter().map(|p| p.0).collect(),
+        };
+        RenderOutput {
+            image,
+            pixel_stats: collect.then(|| pixels.iter().map(|p| p.1).collect()),
+            ..RenderOutput::default()
         }
     }
 }
@@ -361,16 +401,9 @@ pub struct RenderOutput {
     pub buffers: Option<stochastic::StochasticBuffers>,
     /// The denoiser's intermediate images: W_N, E, σ, denoised S_N and U_N.
     pub denoise: Option<crate::denoise::DenoiseAovs>,
+    /// Per-pixel work counters and time (deterministic methods, with `collect_stats`).
+    pub pixel_stats: Option<Vec<PixelStats>>,
     pub stats: RenderStats,
-}
-
-impl RenderOutput {
-    fn image(image: Image) -> Self {
-        RenderOutput {
-            image,
-            ..RenderOutput::default()
-        }
-    }
 }
 
 /// Evaluates `pixel(scratch, x, y)` for every pixel in 16×16 tiles spread over rayon's

@@ -170,6 +170,15 @@ pub fn render(
     cancel: Option<&AtomicBool>,
 ) -> RenderOutput {
     let buffers = render_buffers(ctx, basis, settings, cancel);
+    let mut out = compose(settings.method, &buffers);
+    out.buffers = Some(buffers);
+    out
+}
+
+/// Applies the estimator of `method` to the buffers: per pixel, or over the whole image for the
+/// denoised methods. Progressive rendering calls it again on buffers averaged over passes.
+pub fn compose(method: RenderMethod, buffers: &StochasticBuffers) -> RenderOutput {
+    let (w, h) = (buffers.emitted.width, buffers.emitted.height);
     let per_pixel = |e: Estimator| {
         let pixels = (0..buffers.emitted.pixels.len())
             .map(|i| {
@@ -183,19 +192,19 @@ pub fn render(
             })
             .collect();
         Image {
-            width: settings.width,
-            height: settings.height,
+            width: w,
+            height: h,
             pixels,
         }
     };
     let mut out = RenderOutput::default();
-    match settings.method {
+    match method {
         RenderMethod::Mc => out.image = per_pixel(Estimator::FullStochastic),
         RenderMethod::Reference => {
             out.image = per_pixel(Estimator::FullStochastic);
             out.stderr = Some(Image {
-                width: settings.width,
-                height: settings.height,
+                width: w,
+                height: h,
                 pixels: buffers
                     .s_variance
                     .pixels
@@ -210,7 +219,7 @@ pub fn render(
         RenderMethod::RatioDenoised | RenderMethod::RatioBilateral => {
             let g = buffers.gbuffer();
             let denoise = DenoiseSettings::default();
-            let (shading, aovs) = if settings.method == RenderMethod::RatioDenoised {
+            let (shading, aovs) = if method == RenderMethod::RatioDenoised {
                 ratio_denoised(&buffers.u, &buffers.s_n, &buffers.u_n, &g, &denoise)
             } else {
                 ratio_bilateral(
@@ -229,10 +238,42 @@ pub fn render(
             out.image = image;
             out.denoise = Some(aovs);
         }
+        // Deterministic methods have no stochastic buffers: show U (what they would be shaded
+        // with, unshadowed) rather than fail.
         RenderMethod::Analytic | RenderMethod::PerTriangle | RenderMethod::Unshadowed => {
-            unreachable!("deterministic methods are rendered by RenderContext::render_analytic")
+            out.image = Image {
+                width: w,
+                height: h,
+                pixels: (0..buffers.u.pixels.len())
+                    .map(|i| buffers.emitted.pixels[i] + buffers.u.pixels[i])
+                    .collect(),
+            };
         }
     }
-    out.buffers = Some(buffers);
     out
+}
+
+impl StochasticBuffers {
+    /// Folds `next` (another pass with an independent seed and the same sample count) into
+    /// `self`, which holds the mean of `passes` passes: S_N, U_N become the mean over all
+    /// passes, the variance of S_N that of the mean.
+    pub fn accumulate(&mut self, next: &StochasticBuffers, passes: u32) {
+        let k = passes as f64;
+        let mean = |a: &mut Image, b: &Image| {
+            for (x, y) in a.pixels.iter_mut().zip(&b.pixels) {
+                *x = (*x * k + *y) / (k + 1.0);
+            }
+        };
+        mean(&mut self.s_n, &next.s_n);
+        mean(&mut self.u_n, &next.u_n);
+        // Var(mean of k+1 passes) = (k² Var_k + Var_1) / (k+1)².
+        for (x, y) in self
+            .s_variance
+            .pixels
+            .iter_mut()
+            .zip(&next.s_variance.pixels)
+        {
+            *x = (*x * (k * k) + *y) / ((k + 1.0) * (k + 1.0));
+        }
+    }
 }

@@ -8,7 +8,9 @@ pub mod recorder;
 
 pub use analytic::{ShadingScratch, ShadingStats, shade};
 pub use prepared::{PreparedObject, PreparedScene};
-pub use recorder::{Lobe, NoRecorder, Recorder, Stage, StageRecording};
+pub use recorder::{
+    LightRecord, Lobe, NoRecorder, Recorder, SetDifferenceRecord, Stage, StageRecording,
+};
 
 use glam::DVec3;
 

@@ -1,0 +1,250 @@
+//! The picked shading point: its numbers, the stage stepper, the sphere view and the planar
+//! view of the set differences. Everything shown comes from the [`Probe`] (the renderer's own
+//! recording), so a loaded debug dump replays without the scene.
+
+use super::planar_view::planar_ui;
+use super::sphere_view::SphereView;
+use super::stages::{Step, StepKind, steps};
+use crate::inspect::{MonteCarloEstimate, Probe};
+use egui::{RichText, Ui};
+
+/// The picked point and where the stepper stands.
+pub struct Inspector {
+    pub probe: Probe,
+    pub steps: Vec<Step>,
+    /// Index into `steps`; `None` shows every stage at once.
+    pub step: Option<usize>,
+    pub playing: bool,
+    /// Seconds since the last automatic step.
+    pub play_clock: f64,
+}
+
+impl Inspector {
+    pub fn new(probe: Probe) -> Self {
+        let names = probe.occluder_names.clone();
+        let steps = steps(&probe.recording, |i| {
+            names.get(i).cloned().unwrap_or_else(|| format!("#{i}"))
+        });
+        Inspector {
+            probe,
+            steps,
+            step: None,
+            playing: false,
+            play_clock: 0.0,
+        }
+    }
+
+    pub fn current(&self) -> Option<&Step> {
+        self.step.and_then(|i| self.steps.get(i))
+    }
+
+    pub fn next(&mut self) {
+        if self.steps.is_empty() {
+            return;
+        }
+        self.step = Some(match self.step {
+            None => 0,
+            Some(i) => (i + 1).min(self.steps.len() - 1),
+        });
+    }
+
+    pub fn previous(&mut self) {
+        self.step = match self.step {
+            None | Some(0) => None,
+            Some(i) => Some(i - 1),
+        };
+    }
+
+    /// Advances the player by `dt` seconds (one step per 0.8 s); stops at the end.
+    pub fn tick(&mut self, dt: f64) -> bool {
+        if !self.playing {
+            return false;
+        }
+        self.play_clock += dt;
+        if self.play_clock < 0.8 {
+            return false;
+        }
+        self.play_clock = 0.0;
+        let at_end = self.step == Some(self.steps.len().saturating_sub(1));
+        if at_end {
+            self.playing = false;
+        } else {
+            self.next();
+        }
+        true
+    }
+
+    /// The numbers of the point: per light U and S, solid angles, the MC check.
+    pub fn numbers_ui(&self, ui: &mut Ui, monte_carlo: Option<&MonteCarloEstimate>) {
+        let p = &self.probe;
+        let Some(sp) = p.point else {
+            ui.label("The ray hits nothing.");
+            return;
+        };
+        egui::Grid::new("point_numbers")
+            .num_columns(2)
+            .striped(true)
+            .show(ui, |ui| {
+                ui.label("pixel");
+                ui.label(format!(
+                    "({:.1}, {:.1}) of {}×{}",
+                    p.pixel.0, p.pixel.1, p.size.0, p.size.1
+                ));
+                ui.end_row();
+                ui.label("object");
+                ui.label(p.object_name.clone().unwrap_or_default());
+                ui.end_row();
+                ui.label("position");
+                ui.label(fmt3(sp.position));
+                ui.end_row();
+                ui.label("normal");
+                ui.label(fmt3(sp.normal));
+                ui.end_row();
+                ui.label("view");
+                ui.label(fmt3(sp.view));
+                ui.end_row();
+                if let Some(m) = &p.material {
+                    ui.label("material");
+                    ui.label(format!(
+                        "{}: kd {} ks {} α {:.3}",
+                        m.name,
+                        fmt3(m.kd),
+                        fmt3(m.ks),
+                        m.alpha
+                    ));
+                    ui.end_row();
+                }
+                ui.label("radiance");
+                ui.label(RichText::new(fmt3(p.radiance)).strong());
+                ui.end_row();
+                if let Some(mc) = monte_carlo {
+                    ui.label("Monte Carlo");
+                    ui.label(format!(
+                        "{} ± {} (95 %, {} samples)",
+                        fmt3(mc.mean + p.emitted),
+                        fmt3(mc.stderr * 1.96),
+                        mc.samples
+                    ));
+                    ui.end_row();
+                }
+            });
+        ui.add_space(4.0);
+        egui::Grid::new("light_numbers")
+            .num_columns(5)
+            .striped(true)
+            .show(ui, |ui| {
+                ui.strong("light");
+                ui.strong("unshadowed U");
+                ui.strong("shadowed S");
+                ui.strong("solid angle (sr)");
+                ui.strong("visible");
+                ui.end_row();
+                for l in &p.lights {
+                    ui.label(&l.name);
+                    ui.label(fmt3(l.unshadowed));
+                    ui.label(fmt3(l.shadowed));
+                    ui.label(format!("{:.5}", l.solid_angle));
+                    ui.label(format!("{:.1} %", 100.0 * l.visible_fraction()));
+                    ui.end_row();
+                }
+            });
+    }
+
+    /// Previous / next / play and the step list.
+    pub fn stepper_ui(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            if ui
+                .button("⏮ all")
+                .on_hover_text("Show every stage (Home)")
+                .clicked()
+            {
+                self.step = None;
+                self.playing = false;
+            }
+            if ui
+                .button("◀ previous")
+                .on_hover_text("Previous stage (←)")
+                .clicked()
+            {
+                self.previous();
+            }
+            if ui
+                .button("next ▶")
+                .on_hover_text("Next stage (→)")
+                .clicked()
+            {
+                self.next();
+            }
+            let play = if self.playing {
+                "⏸ pause"
+            } else {
+                "⏵ play"
+            };
+            if ui
+                .button(play)
+                .on_hover_text("Step automatically (P)")
+                .clicked()
+            {
+                self.playing = !self.playing;
+            }
+            ui.label(match self.step {
+                Some(i) => format!("stage {}/{}", i + 1, self.steps.len()),
+                None => format!("all {} stages", self.steps.len()),
+            });
+        });
+        if let Some(s) = self.current() {
+            ui.label(RichText::new(&s.label).strong());
+        }
+        egui::ScrollArea::vertical()
+            .id_salt("step_list")
+            .max_height(140.0)
+            .show(ui, |ui| {
+                for (i, s) in self.steps.iter().enumerate() {
+                    let selected = self.step == Some(i);
+                    if ui.selectable_label(selected, &s.label).clicked() {
+                        self.step = Some(i);
+                    }
+                }
+            });
+    }
+
+    /// The sphere view, and the planar view when the step is a set difference.
+    pub fn views_ui(&mut self, ui: &mut Ui, sphere: &mut SphereView) {
+        ui.horizontal_wrapped(|ui| {
+            let l = &mut sphere.layers;
+            ui.checkbox(&mut l.light_silhouette, "light silhouette");
+            ui.checkbox(&mut l.light_clipped, "clipped");
+            ui.checkbox(&mut l.occluders, "occluders");
+            ui.checkbox(&mut l.visible, "visible");
+            ui.checkbox(&mut l.ltc, "LTC space");
+            ui.checkbox(&mut l.directions, "n, v, r");
+        });
+        let step = self.current().cloned();
+        if let Some(Step {
+            record,
+            kind: StepKind::SetDifference { k, phase },
+            ..
+        }) = step
+            && let Some(sd) = self
+                .probe
+                .recording
+                .lights
+                .get(record)
+                .and_then(|r| r.set_differences.get(k))
+        {
+            let name = self
+                .probe
+                .occluder_names
+                .get(sd.occluder)
+                .cloned()
+                .unwrap_or_default();
+            planar_ui(ui, sd, &name, phase);
+            return;
+        }
+        sphere.ui(ui, &self.probe, step.as_ref());
+    }
+}
+
+pub fn fmt3(v: glam::DVec3) -> String {
+    format!("({:.5}, {:.5}, {:.5})", v.x, v.y, v.z)
+}

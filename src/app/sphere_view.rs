@@ -1,0 +1,449 @@
+//! The unit sphere at the picked shading point, drawing what the renderer recorded: a
+//! rotatable 3D sphere (back hemisphere dimmed, horizon, normal, view and mirror directions)
+//! and the flat hemisphere seen from above (orthographic: the area a polygon covers there is
+//! its diffuse form factor, Nusselt's analogue). Everything is in the shading frame (z = n).
+
+use super::stages::{Step, StepKind};
+use crate::inspect::Probe;
+use crate::ltc::edge_integral;
+use crate::shading::{LightRecord, Stage};
+use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Ui, Vec2};
+use glam::DVec3;
+
+/// Which recorded polygons are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Layers {
+    pub light_silhouette: bool,
+    pub light_clipped: bool,
+    pub occluders: bool,
+    pub visible: bool,
+    pub ltc: bool,
+    pub directions: bool,
+}
+
+impl Default for Layers {
+    fn default() -> Self {
+        Layers {
+            light_silhouette: true,
+            light_clipped: true,
+            occluders: true,
+            visible: true,
+            ltc: false,
+            directions: true,
+        }
+    }
+}
+
+/// Colours of the layers (also used by the legend and the planar view).
+pub mod colours {
+    use egui::Color32;
+    pub const LIGHT: Color32 = Color32::from_rgb(240, 200, 40);
+    pub const LIGHT_CLIPPED: Color32 = Color32::from_rgb(250, 140, 30);
+    pub const OCCLUDER: Color32 = Color32::from_rgb(220, 60, 60);
+    pub const OCCLUDER_CLIPPED: Color32 = Color32::from_rgb(160, 30, 90);
+    pub const VISIBLE: Color32 = Color32::from_rgb(60, 200, 90);
+    pub const LTC: Color32 = Color32::from_rgb(170, 90, 230);
+    pub const NORMAL: Color32 = Color32::from_rgb(80, 150, 255);
+    pub const VIEW: Color32 = Color32::from_rgb(200, 200, 200);
+    pub const MIRROR: Color32 = Color32::from_rgb(120, 220, 220);
+}
+
+/// State of the sphere view: orientation, layers, the vertex under the mouse.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SphereView {
+    /// Azimuth and elevation of the eye around the sphere, radians.
+    pub yaw: f32,
+    pub pitch: f32,
+    pub layers: Layers,
+    #[serde(skip)]
+    pub hovered: Option<String>,
+}
+
+impl Default for SphereView {
+    fn default() -> Self {
+        SphereView {
+            yaw: -1.2,
+            pitch: 0.45,
+            layers: Layers::default(),
+            hovered: None,
+        }
+    }
+}
+
+/// A polyline on the sphere with how to draw it.
+struct Curve {
+    points: Vec<DVec3>,
+    colour: Color32,
+    width: f32,
+    closed: bool,
+    label: String,
+}
+
+/// Points along the great-circle arc from `a` to `b` (unit vectors), `a` included.
+fn arc(a: DVec3, b: DVec3, out: &mut Vec<DVec3>) {
+    let theta = a.cross(b).length().atan2(a.dot(b));
+    let n = ((theta / 0.04).ceil() as usize).clamp(1, 200);
+    let s = theta.sin();
+    for i in 0..n {
+        let t = i as f64 / n as f64;
+        let p = if s.abs() < 1e-9 {
+            a.lerp(b, t)
+        } else {
+            (a * ((1.0 - t) * theta).sin() + b * (t * theta).sin()) / s
+        };
+        out.push(p.normalize_or_zero());
+    }
+}
+
+fn loops_to_curves(
+    loops: impl Iterator<Item = Vec<DVec3>>,
+    colour: Color32,
+    width: f32,
+    label: &str,
+    out: &mut Vec<Curve>,
+) {
+    for lp in loops {
+        if lp.len() < 2 {
+            continue;
+        }
+        let v: Vec<DVec3> = lp.iter().map(|p| p.normalize_or_zero()).collect();
+        let mut points = Vec::new();
+        for k in 0..v.len() {
+            arc(v[k], v[(k + 1) % v.len()], &mut points);
+        }
+        out.push(Curve {
+            points,
+            colour,
+            width,
+            closed: true,
+            label: label.into(),
+        });
+    }
+}
+
+/// What the step (or everything, without a step) shows of one light record.
+fn curves_of(
+    rec: &LightRecord,
+    step: Option<&Step>,
+    layers: &Layers,
+    occluder_name: &dyn Fn(usize) -> String,
+    out: &mut Vec<Curve>,
+) {
+    // Order of the kinds within a light record, to draw everything up to the current step.
+    let rank = |k: &StepKind| match k {
+        StepKind::LightSilhouette => 0,
+        StepKind::LightClipped => 1,
+        StepKind::Culling => 2,
+        StepKind::OccluderSilhouette { .. } | StepKind::OccluderClipped { .. } => 3,
+        StepKind::SetDifference { .. } => 4,
+        StepKind::Visible => 5,
+        StepKind::LtcTransformed { .. } | StepKind::LtcClipped { .. } => 6,
+        StepKind::Integral => 7,
+    };
+    let upto = step.map_or(7, |s| rank(&s.kind));
+    for (stage, poly) in &rec.polygons {
+        let (show, colour, width, name, r) = match stage {
+            Stage::Silhouette => (
+                layers.light_silhouette,
+                colours::LIGHT,
+                1.5,
+                "light silhouette",
+                0,
+            ),
+            Stage::HorizonClipped => (
+                layers.light_clipped,
+                colours::LIGHT_CLIPPED,
+                2.0,
+                "light, clipped",
+                1,
+            ),
+            Stage::Visible => (layers.visible, colours::VISIBLE, 3.0, "visible polygon", 5),
+            _ => continue,
+        };
+        // Once the visible polygon is shown, the earlier light polygons fade.
+        let colour = if upto >= 5 && r < 5 {
+            colour.gamma_multiply(0.35)
+        } else {
+            colour
+        };
+        if show && r <= upto {
+            loops_to_curves(poly.loops().map(|l| l.to_vec()), colour, width, name, out);
+        }
+    }
+    if layers.occluders && upto >= 3 {
+        for (k, (oi, _, stage, poly)) in rec.occluder_polygons.iter().enumerate() {
+            // At an occluder step, only that occluder's polygons so far.
+            if let Some(
+                StepKind::OccluderSilhouette { k: cur } | StepKind::OccluderClipped { k: cur },
+            ) = step.map(|s| s.kind)
+                && k > cur
+            {
+                continue;
+            }
+            let (colour, width) = match stage {
+                Stage::Silhouette => (colours::OCCLUDER, 1.5),
+                _ => (colours::OCCLUDER_CLIPPED, 2.0),
+            };
+            let colour = if upto >= 5 {
+                colour.gamma_multiply(0.35)
+            } else {
+                colour
+            };
+            loops_to_curves(
+                poly.loops().map(|l| l.to_vec()),
+                colour,
+                width,
+                &format!("occluder {}", occluder_name(*oi)),
+                out,
+            );
+        }
+    }
+    if layers.ltc && upto >= 6 {
+        for (lobe, transformed, clipped, integral) in &rec.lobes {
+            let name = format!("{lobe:?} lobe, LTC space (integral {integral:.5})");
+            loops_to_curves(
+                transformed.loops().map(|l| l.to_vec()),
+                colours::LTC.gamma_multiply(0.5),
+                1.5,
+                &name,
+                out,
+            );
+            loops_to_curves(
+                clipped.loops().map(|l| l.to_vec()),
+                colours::LTC,
+                2.5,
+                &name,
+                out,
+            );
+        }
+    }
+}
+
+/// Orthographic eye basis: (right, up, toward the eye).
+fn eye_basis(yaw: f32, pitch: f32) -> (DVec3, DVec3, DVec3) {
+    let (yaw, pitch) = (yaw as f64, pitch as f64);
+    let e = DVec3::new(
+        pitch.cos() * yaw.cos(),
+        pitch.cos() * yaw.sin(),
+        pitch.sin(),
+    );
+    let right = DVec3::Z.cross(e).try_normalize().unwrap_or(DVec3::X);
+    let up = e.cross(right);
+    (right, up, e)
+}
+
+impl SphereView {
+    /// Draws the 3D sphere (left half of the space given) and the flat hemisphere (right half).
+    pub fn ui(&mut self, ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
+        let names = |i: usize| {
+            probe
+                .occluder_names
+                .get(i)
+                .cloned()
+                .unwrap_or_else(|| format!("#{i}"))
+        };
+        let mut curves = Vec::new();
+        for (r, rec) in probe.recording.lights.iter().enumerate() {
+            match step {
+                Some(s) if s.record != r => continue,
+                _ => curves_of(rec, step, &self.layers, &names, &mut curves),
+            }
+        }
+        // Shading-frame directions.
+        let mut arrows: Vec<(DVec3, Color32, &str)> = Vec::new();
+        if self.layers.directions {
+            arrows.push((DVec3::Z, colours::NORMAL, "normal n"));
+            if let Some(sp) = probe.point {
+                let to_local = |w: DVec3| {
+                    DVec3::new(
+                        w.dot(probe.frame_x),
+                        w.dot(probe.frame_y),
+                        w.dot(probe.frame_z),
+                    )
+                };
+                let v = to_local(sp.view);
+                arrows.push((v, colours::VIEW, "view v"));
+                arrows.push((DVec3::new(-v.x, -v.y, v.z), colours::MIRROR, "mirror r"));
+            }
+        }
+
+        let avail = ui.available_size();
+        let side = (avail.x / 2.0).min(avail.y).max(120.0);
+        self.hovered = None;
+        ui.horizontal(|ui| {
+            // 3D sphere.
+            let (resp, painter) = ui.allocate_painter(Vec2::splat(side), Sense::drag());
+            if resp.dragged() {
+                let d = resp.drag_delta();
+                self.yaw -= d.x * 0.01;
+                self.pitch = (self.pitch + d.y * 0.01).clamp(-1.5, 1.5);
+            }
+            let rect = resp.rect;
+            let c = rect.center();
+            let radius = side * 0.45;
+            let (right, up, eye) = eye_basis(self.yaw, self.pitch);
+            let project = |p: DVec3| -> (Pos2, bool) {
+                (
+                    Pos2::new(
+                        c.x + (p.dot(right) as f32) * radius,
+                        c.y - (p.dot(up) as f32) * radius,
+                    ),
+                    p.dot(eye) >= 0.0,
+                )
+            };
+            let bg = ui.visuals().extreme_bg_color;
+            painter.rect_filled(rect, 4.0, bg);
+            painter.circle_stroke(c, radius, Stroke::new(1.0, ui.visuals().weak_text_color()));
+            // Horizon: the great circle z = 0.
+            let mut horizon = Vec::new();
+            for k in 0..=128 {
+                let a = k as f64 / 128.0 * std::f64::consts::TAU;
+                horizon.push(DVec3::new(a.cos(), a.sin(), 0.0));
+            }
+            let hcol = ui.visuals().text_color();
+            draw_polyline(&painter, &horizon, &project, hcol, 1.0, false);
+            for cv in &curves {
+                draw_polyline(
+                    &painter, &cv.points, &project, cv.colour, cv.width, cv.closed,
+                );
+            }
+            for (d, col, name) in &arrows {
+                let (tip, front) = project(*d);
+                let col = if front { *col } else { col.gamma_multiply(0.3) };
+                painter.line_segment([c, tip], Stroke::new(2.0, col));
+                painter.text(
+                    tip,
+                    egui::Align2::LEFT_BOTTOM,
+                    *name,
+                    egui::FontId::proportional(11.0),
+                    col,
+                );
+            }
+            if let Some(pos) = resp.hover_pos() {
+                self.hover(&curves, pos, &|p| project(p).0, &painter);
+            }
+
+            // Flat hemisphere, seen from above the normal.
+            let (resp2, painter2) = ui.allocate_painter(Vec2::splat(side), Sense::hover());
+            let rect2: Rect = resp2.rect;
+            let c2 = rect2.center();
+            painter2.rect_filled(rect2, 4.0, bg);
+            painter2.circle_stroke(c2, radius, Stroke::new(1.0, hcol));
+            let flat = |p: DVec3| -> (Pos2, bool) {
+                (
+                    Pos2::new(c2.x + p.x as f32 * radius, c2.y - p.y as f32 * radius),
+                    p.z >= 0.0,
+                )
+            };
+            for cv in &curves {
+                draw_polyline(&painter2, &cv.points, &flat, cv.colour, cv.width, cv.closed);
+            }
+            for (d, col, name) in &arrows {
+                let (tip, _) = flat(*d);
+                painter2.circle_filled(tip, 3.0, *col);
+                painter2.text(
+                    tip,
+                    egui::Align2::LEFT_BOTTOM,
+                    *name,
+                    egui::FontId::proportional(11.0),
+                    *col,
+                );
+            }
+            if let Some(pos) = resp2.hover_pos() {
+                self.hover(&curves, pos, &|p| flat(p).0, &painter2);
+            }
+        });
+        if let Some(h) = &self.hovered {
+            ui.label(h);
+        }
+        if let Some(s) = step
+            && let Some(rec) = probe.recording.lights.get(s.record)
+            && s.kind == StepKind::Integral
+        {
+            for (lobe, _, clipped, integral) in &rec.lobes {
+                ui.label(format!("{lobe:?} lobe: ∫ = {integral:.6}; per edge:"));
+                for (li, lp) in clipped.loops().enumerate() {
+                    let parts: Vec<String> = (0..lp.len())
+                        .map(|k| {
+                            format!(
+                                "{:+.5}",
+                                edge_integral(lp[k], lp[(k + 1) % lp.len()])
+                                    / std::f64::consts::TAU
+                            )
+                        })
+                        .collect();
+                    ui.label(format!("  loop {li}: {}", parts.join(" ")));
+                }
+            }
+        }
+    }
+
+    fn hover(
+        &mut self,
+        curves: &[Curve],
+        pos: Pos2,
+        project: &dyn Fn(DVec3) -> Pos2,
+        painter: &egui::Painter,
+    ) {
+        let mut best: Option<(f32, DVec3, &str)> = None;
+        for cv in curves {
+            // Vertices of the original polygon are where arcs start; show every arc point.
+            for &p in &cv.points {
+                let d = project(p).distance(pos);
+                if d < 8.0 && best.is_none_or(|b| d < b.0) {
+                    best = Some((d, p, &cv.label));
+                }
+            }
+        }
+        if let Some((_, p, label)) = best {
+            painter.circle_stroke(project(p), 5.0, Stroke::new(1.5, Color32::WHITE));
+            let theta = p.z.clamp(-1.0, 1.0).acos().to_degrees();
+            let phi = p.y.atan2(p.x).to_degrees();
+            self.hovered = Some(format!(
+                "{label}: ({:.5}, {:.5}, {:.5})  θ = {theta:.2}°, φ = {phi:.2}°",
+                p.x, p.y, p.z
+            ));
+        }
+    }
+}
+
+/// Draws a polyline, solid where `project` says front, faint elsewhere; an arrowhead every
+/// ~third of the way shows the orientation.
+fn draw_polyline(
+    painter: &egui::Painter,
+    pts: &[DVec3],
+    project: &dyn Fn(DVec3) -> (Pos2, bool),
+    colour: Color32,
+    width: f32,
+    closed: bool,
+) {
+    let n = pts.len();
+    if n < 2 {
+        return;
+    }
+    let segs = if closed { n } else { n - 1 };
+    let faint = colour.gamma_multiply(0.25);
+    for k in 0..segs {
+        let (a, fa) = project(pts[k]);
+        let (b, fb) = project(pts[(k + 1) % n]);
+        let front = fa && fb;
+        let stroke = if front {
+            Stroke::new(width, colour)
+        } else {
+            Stroke::new(width * 0.6, faint)
+        };
+        painter.add(Shape::line_segment([a, b], stroke));
+        if closed && front && k % (n / 3).max(1) == n / 6 {
+            let d = (b - a).normalized();
+            if d.is_finite() {
+                let nrm = Vec2::new(-d.y, d.x);
+                let tip = b;
+                painter.add(Shape::convex_polygon(
+                    vec![tip, tip - d * 8.0 + nrm * 4.0, tip - d * 8.0 - nrm * 4.0],
+                    colour,
+                    Stroke::NONE,
+                ));
+            }
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! The stages of 000 Alg. 1 at one shading point, as a flat list to step through: built from
+//! the recording the renderer's own `shade` call produced (never recomputed here).
+
+use crate::shading::{Lobe, StageRecording};
+
+/// The three Greiner–Hormann phases, stepped one by one inside a set difference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum GhPhase {
+    Intersections,
+    Labels,
+    Traversal,
+}
+
+/// What one step shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum StepKind {
+    /// Alg. 1 line 4: the light's silhouette.
+    LightSilhouette,
+    /// Line 5: clipped to the horizon.
+    LightClipped,
+    /// GetBetween: the occluders kept.
+    Culling,
+    /// Lines 9–10 for occluder record `k` of the light record: silhouette, then clipped.
+    OccluderSilhouette {
+        k: usize,
+    },
+    OccluderClipped {
+        k: usize,
+    },
+    /// Line 12: set difference `k` of the light record, optionally one GH phase of it.
+    SetDifference {
+        k: usize,
+        phase: Option<GhPhase>,
+    },
+    /// Line 13: the visible polygon, reprojected.
+    Visible,
+    /// Lines 14–15: lobe `k` after the LTC transform, then clipped again.
+    LtcTransformed {
+        k: usize,
+    },
+    LtcClipped {
+        k: usize,
+    },
+    /// Line 16: the light's contribution.
+    Integral,
+}
+
+/// One step: which light record of the recording, what it shows, and a label.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Step {
+    /// Index into `StageRecording::lights`.
+    pub record: usize,
+    pub kind: StepKind,
+    pub label: String,
+}
+
+/// Every step of a recording, light record by light record, in pipeline order.
+pub fn steps(rec: &StageRecording, occluder_name: impl Fn(usize) -> String) -> Vec<Step> {
+    let mut out = Vec::new();
+    for (r, lr) in rec.lights.iter().enumerate() {
+        let who = match lr.piece {
+            Some(f) => format!("light {} face {f}", lr.light),
+            None => format!("light {}", lr.light),
+        };
+        let mut push = |kind: StepKind, what: String| {
+            out.push(Step {
+                record: r,
+                kind,
+                label: format!("{who}: {what}"),
+            })
+        };
+        push(StepKind::LightSilhouette, "silhouette (line 4)".into());
+        push(
+            StepKind::LightClipped,
+            "clipped to the horizon (line 5)".into(),
+        );
+        push(
+            StepKind::Culling,
+            format!(
+                "GetBetween kept {} occluder(s) (line 8)",
+                lr.occluders_kept.len()
+            ),
+        );
+        for (k, (oi, piece, stage, _)) in lr.occluder_polygons.iter().enumerate() {
+            let name = match piece {
+                Some(f) => format!("{} face {f}", occluder_name(*oi)),
+                None => occluder_name(*oi),
+            };
+            match stage {
+                crate::shading::Stage::Silhouette => push(
+                    StepKind::OccluderSilhouette { k },
+                    format!("occluder {name}: silhouette (line 9)"),
+                ),
+                _ => push(
+                    StepKind::OccluderClipped { k },
+                    format!("occluder {name}: clipped and projected (lines 10–11)"),
+                ),
+            }
+        }
+        for (k, sd) in lr.set_differences.iter().enumerate() {
+            let name = occluder_name(sd.occluder);
+            push(
+                StepKind::SetDifference { k, phase: None },
+                format!("set difference − {name} (line 12)"),
+            );
+            if sd.steps.is_some() {
+                for (phase, what) in [
+                    (GhPhase::Intersections, "phase 1: intersections"),
+                    (GhPhase::Labels, "phase 2: entry/exit labels"),
+                    (GhPhase::Traversal, "phase 3: traversal"),
+                ] {
+                    push(
+                        StepKind::SetDifference {
+                            k,
+                            phase: Some(phase),
+                        },
+                        format!("set difference − {name}: {what}"),
+                    );
+                }
+            }
+        }
+        push(
+            StepKind::Visible,
+            "visible polygon, reprojected (line 13)".into(),
+        );
+        for (k, (lobe, _, _, _)) in lr.lobes.iter().enumerate() {
+            let l = match lobe {
+                Lobe::Diffuse => "diffuse",
+                Lobe::Specular => "specular",
+            };
+            push(
+                StepKind::LtcTransformed { k },
+                format!("{l} lobe: LTC-transformed (line 14)"),
+            );
+            push(
+                StepKind::LtcClipped { k },
+                format!("{l} lobe: clipped again (line 15)"),
+            );
+        }
+        push(StepKind::Integral, "integral (line 16)".into());
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::inspect::probe;
+    use crate::render::RenderContext;
+    use crate::scene::scene_file;
+    use crate::shading::Method;
+
+    /// The steps of a recorded penumbra point follow Alg. 1's order for every light and
+    /// include the GH phases when they were recorded.
+    #[test]
+    fn steps_follow_the_pipeline() {
+        let scene = scene_file::load_embedded("fig4").unwrap();
+        let ctx = RenderContext::new(&scene);
+        let cam = scene.camera.unwrap();
+        // Scan for a pixel whose recording has a set difference.
+        let mut found = None;
+        'scan: for y in (20..60).step_by(4) {
+            for x in (0..64).step_by(4) {
+                let p = probe(
+                    &ctx,
+                    "fig4",
+                    &cam,
+                    (64, 64),
+                    (x as f64, y as f64),
+                    Method::Analytic,
+                    true,
+                )
+                .unwrap();
+                if p.recording
+                    .lights
+                    .iter()
+                    .any(|l| !l.set_differences.is_empty())
+                {
+                    found = Some(p);
+                    break 'scan;
+                }
+            }
+        }
+        let p = found.expect("fig4 has penumbra pixels");
+        let s = steps(&p.recording, |i| format!("#{i}"));
+        let gh = s
+            .iter()
+            .position(|x| {
+                matches!(
+                    x.kind,
+                    StepKind::SetDifference {
+                        phase: Some(GhPhase::Traversal),
+                        ..
+                    }
+                )
+            })
+            .unwrap();
+        // Within the light record of that set difference: silhouette < GH phases < visible.
+        let rec = s[gh].record;
+        let first = |k: StepKind| s.iter().position(|x| x.record == rec && x.kind == k);
+        let sil = first(StepKind::LightSilhouette).unwrap();
+        let vis = first(StepKind::Visible).unwrap();
+        assert!(sil < gh && gh < vis, "{sil} {gh} {vis}");
+        assert_eq!(s.last().unwrap().kind, StepKind::Integral);
+        assert_eq!(
+            s.iter().filter(|x| x.kind == StepKind::Integral).count(),
+            p.recording.lights.len()
+        );
+    }
+}

@@ -1,0 +1,178 @@
+//! The viewport's render thread: progressive renders of the current view, restarted (and the
+//! old one cancelled between tiles) whenever the camera, scene or settings change. The UI
+//! thread never renders; it only uploads the latest frame as a texture.
+
+use super::tonemap::{Aov, ToneMap, aov_values, display};
+use crate::render::progressive::{ProgressiveFrame, render_progressive};
+use crate::render::{RenderContext, RenderSettings};
+use crate::scene::Camera;
+use egui::{Color32, ColorImage};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, Sender, channel};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+
+/// What to render.
+#[derive(Clone)]
+pub struct RenderJob {
+    pub generation: u64,
+    pub ctx: Arc<RenderContext>,
+    pub camera: Camera,
+    pub settings: RenderSettings,
+    pub max_passes: u32,
+    pub cancel: Arc<AtomicBool>,
+}
+
+/// A progressive step of the current job, ready to show.
+pub struct ViewFrame {
+    pub generation: u64,
+    pub camera: Camera,
+    pub settings: RenderSettings,
+    pub frame: ProgressiveFrame,
+}
+
+/// The render thread and what it shares with the UI.
+pub struct RenderWorker {
+    tx: Option<Sender<RenderJob>>,
+    handle: Option<JoinHandle<()>>,
+    latest: Arc<Mutex<Option<Arc<ViewFrame>>>>,
+    cancel: Arc<AtomicBool>,
+    generation: u64,
+    /// Generation of the job the thread is working on (0: idle).
+    working: Arc<AtomicU64>,
+}
+
+impl RenderWorker {
+    /// Starts the thread; `repaint` is called whenever a new frame is ready.
+    pub fn start(repaint: impl Fn() + Send + 'static) -> Self {
+        let (tx, rx): (Sender<RenderJob>, Receiver<RenderJob>) = channel();
+        let latest: Arc<Mutex<Option<Arc<ViewFrame>>>> = Arc::new(Mutex::new(None));
+        let working = Arc::new(AtomicU64::new(0));
+        let (l2, w2) = (latest.clone(), working.clone());
+        let handle = std::thread::Builder::new()
+            .name("penumbra-render".into())
+            .spawn(move || {
+                while let Ok(mut job) = rx.recv() {
+                    // Only the newest request matters.
+                    while let Ok(newer) = rx.try_recv() {
+                        job = newer;
+                    }
+                    if job.cancel.load(Ordering::Relaxed) {
+                        continue;
+                    }
+                    w2.store(job.generation, Ordering::Relaxed);
+                    let result = render_progressive(
+                        &job.ctx,
+                        &job.camera,
+                        &job.settings,
+                        job.max_passes,
+                        &job.cancel,
+                        |f| {
+                            if !job.cancel.load(Ordering::Relaxed) {
+                                *l2.lock().unwrap_or_else(|e| e.into_inner()) =
+                                    Some(Arc::new(ViewFrame {
+                                        generation: job.generation,
+                                        camera: job.camera,
+                                        settings: job.settings,
+                                        frame: f.clone(),
+                                    }));
+                                repaint();
+                            }
+                        },
+                    );
+                    if let Err(e) = result {
+                        eprintln!("render failed: {e}");
+                    }
+                    w2.store(0, Ordering::Relaxed);
+                    repaint();
+                }
+            })
+            .expect("spawning the render thread");
+        RenderWorker {
+            tx: Some(tx),
+            handle: Some(handle),
+            latest,
+            cancel: Arc::new(AtomicBool::new(false)),
+            generation: 0,
+            working,
+        }
+    }
+
+    /// Cancels the running render and starts a new one; returns its generation.
+    pub fn request(
+        &mut self,
+        ctx: Arc<RenderContext>,
+        camera: Camera,
+        settings: RenderSettings,
+        max_passes: u32,
+    ) -> u64 {
+        self.cancel.store(true, Ordering::Relaxed);
+        self.cancel = Arc::new(AtomicBool::new(false));
+        self.generation += 1;
+        let job = RenderJob {
+            generation: self.generation,
+            ctx,
+            camera,
+            settings,
+            max_passes,
+            cancel: self.cancel.clone(),
+        };
+        if let Some(tx) = &self.tx {
+            let _ = tx.send(job);
+        }
+        self.generation
+    }
+
+    /// The generation of the last request.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// The newest frame of the newest job, if any has arrived.
+    pub fn latest(&self) -> Option<Arc<ViewFrame>> {
+        self.latest
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+            .filter(|f| f.generation == self.generation)
+    }
+
+    /// Whether the thread is still rendering the newest job.
+    pub fn is_busy(&self) -> bool {
+        self.working.load(Ordering::Relaxed) == self.generation
+    }
+}
+
+impl Drop for RenderWorker {
+    fn drop(&mut self) {
+        self.cancel.store(true, Ordering::Relaxed);
+        self.tx = None; // closes the channel: the thread's loop ends
+        if let Some(h) = self.handle.take() {
+            let _ = h.join();
+        }
+    }
+}
+
+/// The display image of a frame for an AOV; `None` when the method did not compute it.
+pub fn frame_image(
+    frame: &ProgressiveFrame,
+    aov: Aov,
+    exposure: f64,
+    tonemap: ToneMap,
+) -> Option<(ColorImage, Option<(f64, f64)>)> {
+    let out = &frame.output;
+    let values = aov_values(out, aov)?;
+    let (w, h) = (out.image.width as usize, out.image.height as usize);
+    let (pixels, range): (Vec<Color32>, _) = display(&values, exposure, tonemap);
+    if pixels.len() != w * h {
+        return None;
+    }
+    Some((
+        ColorImage {
+            size: [w, h],
+            source_size: egui::vec2(w as f32, h as f32),
+            pixels,
+        },
+        range,
+    ))
+}

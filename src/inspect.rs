@@ -1,0 +1,221 @@
+//! One pixel under the microscope: the shading point a camera ray hits, shaded by the same
+//! `shade` call as the renderer with a [`StageRecording`] attached, plus the per-light numbers
+//! the workbench shows. `penumbra probe` writes a [`Probe`] as the JSON debug dump; the
+//! workbench reads it back and replays the sphere view without the scene.
+
+use crate::accel::Ray;
+use crate::math::Pcg32;
+use crate::render::RenderContext;
+use crate::scene::{Camera, Material};
+use crate::shading::{
+    Method, NoRecorder, ShadingPoint, ShadingScratch, ShadingStats, Stage, StageRecording, shade,
+};
+use crate::stochastic::{EstimatorScratch, LightSampling, direct_samples};
+use glam::DVec3;
+
+/// Numbers of one light at the probed point.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct LightSummary {
+    /// Index into the prepared scene's lights.
+    pub light: usize,
+    pub name: String,
+    /// Analytic value without occluders (003's U for this light).
+    pub unshadowed: DVec3,
+    /// Analytic value with occluders (what the pixel gets from this light).
+    pub shadowed: DVec3,
+    /// Solid angle of the horizon-clipped light polygon(s), summed over pieces.
+    pub solid_angle: f64,
+    /// Solid angle of the visible polygon(s) after the set differences.
+    pub visible_solid_angle: f64,
+}
+
+impl LightSummary {
+    /// Visible share of the light's solid angle above the horizon.
+    pub fn visible_fraction(&self) -> f64 {
+        if self.solid_angle > 0.0 {
+            self.visible_solid_angle / self.solid_angle
+        } else {
+            0.0
+        }
+    }
+}
+
+/// A Monte Carlo estimate of the shadowed direct lighting at the point (the `mc` method's
+/// estimator), with its standard error.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct MonteCarloEstimate {
+    pub samples: u32,
+    pub mean: DVec3,
+    pub stderr: DVec3,
+}
+
+/// Everything known about one probed pixel: the debug dump.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct Probe {
+    pub scene: String,
+    pub method: Option<Method>,
+    /// Pixel position; the ray goes through (x + 0.5, y + 0.5).
+    pub pixel: (f64, f64),
+    pub size: (u32, u32),
+    pub camera: Option<Camera>,
+    pub point: Option<ShadingPoint>,
+    pub object_name: Option<String>,
+    pub material: Option<Material>,
+    /// Shading frame: the normal (z), the tangent toward the view (x), and the view and mirror
+    /// directions, in world space.
+    pub frame_x: DVec3,
+    pub frame_y: DVec3,
+    pub frame_z: DVec3,
+    pub emitted: DVec3,
+    /// emitted + the shaded value: equals the pixel of an `--aa 1` render bit for bit.
+    pub radiance: DVec3,
+    pub stats: ShadingStats,
+    pub lights: Vec<LightSummary>,
+    /// Names of the prepared scene's occluders, by index.
+    pub occluder_names: Vec<String>,
+    pub recording: StageRecording,
+    pub monte_carlo: Option<MonteCarloEstimate>,
+}
+
+/// The camera ray through pixel (x, y) (centre at x + 0.5, y + 0.5).
+pub fn pixel_ray(camera: &Camera, size: (u32, u32), pixel: (f64, f64)) -> Result<Ray, String> {
+    let basis = camera.basis()?;
+    Ok(Ray {
+        origin: basis.eye,
+        dir: basis.direction(pixel.0 + 0.5, pixel.1 + 0.5, size.0, size.1),
+    })
+}
+
+/// Probes pixel `pixel` of a `size` image seen by `camera`: the same `primary_hit` and
+/// `shade` as the renderer, recorded. `gh_steps` also records the Greiner–Hormann phases.
+pub fn probe(
+    ctx: &RenderContext,
+    scene_name: &str,
+    camera: &Camera,
+    size: (u32, u32),
+    pixel: (f64, f64),
+    method: Method,
+    gh_steps: bool,
+) -> Result<Probe, String> {
+    let ray = pixel_ray(camera, size, pixel)?;
+    let mut probe = Probe {
+        scene: scene_name.into(),
+        method: Some(method),
+        pixel,
+        size,
+        camera: Some(*camera),
+        occluder_names: ctx
+            .prepared
+            .occluders
+            .iter()
+            .map(|&o| ctx.prepared.objects[o as usize].name.clone())
+            .collect(),
+        ..Probe::default()
+    };
+    let Some(hit) = ctx.primary_hit(&ray) else {
+        return Ok(probe);
+    };
+    let sp = hit.point;
+    let object = sp.object.unwrap_or(0) as usize;
+    probe.point = Some(sp);
+    probe.object_name = ctx.scene.objects.get(object).map(|o| o.name.clone());
+    probe.emitted = hit.emitted;
+    probe.radiance = hit.emitted;
+    let frame = crate::math::Frame::from_normal_and_view(sp.normal, sp.view);
+    probe.frame_x = frame.to_world(DVec3::X);
+    probe.frame_y = frame.to_world(DVec3::Y);
+    probe.frame_z = frame.to_world(DVec3::Z);
+    if !hit.receiver {
+        return Ok(probe);
+    }
+    let material = ctx.prepared.materials[object].clone();
+    let mut scratch = ShadingScratch::default();
+    let mut recording = StageRecording::new(gh_steps);
+    // The pixel's value: exactly what `RenderContext::radiance` computes.
+    probe.radiance = ctx.radiance(&ray, method, &mut scratch, &mut recording);
+    probe.stats = scratch.stats;
+    let mut unshadowed = StageRecording::new(false);
+    shade(
+        &ctx.prepared,
+        &sp,
+        &material,
+        Method::Unshadowed,
+        &mut scratch,
+        &mut unshadowed,
+    );
+    probe.lights = ctx
+        .prepared
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(l, &(id, _))| {
+            let mut s = LightSummary {
+                light: l,
+                name: ctx.prepared.objects[id as usize].name.clone(),
+                ..LightSummary::default()
+            };
+            for r in recording.lights.iter().filter(|r| r.light == l) {
+                s.shadowed += r.diffuse + r.specular;
+                for (stage, poly) in &r.polygons {
+                    match stage {
+                        Stage::HorizonClipped => s.solid_angle += poly.signed_solid_angle(),
+                        Stage::Visible => s.visible_solid_angle += poly.signed_solid_angle(),
+                        _ => {}
+                    }
+                }
+            }
+            for r in unshadowed.lights.iter().filter(|r| r.light == l) {
+                s.unshadowed += r.diffuse + r.specular;
+            }
+            s
+        })
+        .collect();
+    probe.material = Some(material);
+    probe.recording = recording;
+    Ok(probe)
+}
+
+/// The `mc` method's estimator at the probed point with `samples` samples: an independent
+/// check of the analytic value, with its standard error.
+pub fn monte_carlo(
+    ctx: &RenderContext,
+    point: &ShadingPoint,
+    material: &Material,
+    samples: u32,
+    seed: u64,
+) -> MonteCarloEstimate {
+    let mut rng = Pcg32::new(seed, 0);
+    let mut scratch = EstimatorScratch::default();
+    let sums = direct_samples(
+        ctx,
+        point,
+        material,
+        samples,
+        LightSampling::SolidAngle,
+        &mut rng,
+        &mut scratch,
+    );
+    MonteCarloEstimate {
+        samples,
+        mean: sums.s_n(),
+        stderr: sums.s_variance_of_mean().map(f64::sqrt),
+    }
+}
+
+/// Shades `point` without recording (used by tests to check that recording changes nothing).
+pub fn shade_plain(
+    ctx: &RenderContext,
+    point: &ShadingPoint,
+    material: &Material,
+    method: Method,
+) -> DVec3 {
+    let mut scratch = ShadingScratch::default();
+    shade(
+        &ctx.prepared,
+        point,
+        material,
+        method,
+        &mut scratch,
+        &mut NoRecorder,
+    )
+}
