@@ -102,6 +102,10 @@ enum Command {
         /// With --screenshot: take it after at most this many seconds.
         #[arg(long, default_value_t = 30.0)]
         after: f64,
+        /// Measure responsiveness (time to the first image after a camera change, UI frame
+        /// intervals while rendering), write it here as JSON, then quit.
+        #[arg(long)]
+        measure: Option<PathBuf>,
     },
 }
 
@@ -565,13 +569,19 @@ fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> 
 fn main() -> Result<()> {
     let cli = Cli::parse();
     match cli.command {
-        None => penumbra::app::run(None, None).map_err(|e| anyhow::anyhow!("{e}")),
+        None => penumbra::app::run(Default::default()).map_err(|e| anyhow::anyhow!("{e}")),
         Some(Command::Gui {
             scene,
             screenshot,
             after,
-        }) => penumbra::app::run(scene, screenshot.map(|p| (p, after)))
-            .map_err(|e| anyhow::anyhow!("{e}")),
+            measure,
+        }) => penumbra::app::run(penumbra::app::RunOptions {
+            scene,
+            screenshot,
+            after,
+            measure,
+        })
+        .map_err(|e| anyhow::anyhow!("{e}")),
         Some(Command::Render(args)) => render(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::Reference { render, samples }) => reference(&render, samples, render.seed),

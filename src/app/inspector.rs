@@ -154,7 +154,7 @@ impl Inspector {
     pub fn stepper_ui(&mut self, ui: &mut Ui) {
         ui.horizontal(|ui| {
             if ui
-                .button("⏮ all")
+                .button("all stages")
                 .on_hover_text("Show every stage (Home)")
                 .clicked()
             {
@@ -162,24 +162,20 @@ impl Inspector {
                 self.playing = false;
             }
             if ui
-                .button("◀ previous")
+                .button("< previous")
                 .on_hover_text("Previous stage (←)")
                 .clicked()
             {
                 self.previous();
             }
             if ui
-                .button("next ▶")
+                .button("next >")
                 .on_hover_text("Next stage (→)")
                 .clicked()
             {
                 self.next();
             }
-            let play = if self.playing {
-                "⏸ pause"
-            } else {
-                "⏵ play"
-            };
+            let play = if self.playing { "pause" } else { "play" };
             if ui
                 .button(play)
                 .on_hover_text("Step automatically (P)")

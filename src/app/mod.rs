@@ -106,6 +106,8 @@ pub struct WorkbenchApp {
     frame_ms: f64,
     pending_screenshot: Option<(PathBuf, Option<egui::Rect>)>,
     sphere_rect: Option<egui::Rect>,
+    /// Where the viewport was drawn in the last frame (points).
+    pub viewport_rect: Option<egui::Rect>,
 }
 
 /// Keyboard shortcuts, listed in the help panel.
@@ -126,7 +128,7 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
 
 impl WorkbenchApp {
     /// A workbench on `state.scene`; `repaint` wakes the UI when a frame is ready.
-    pub fn new(state: Persisted, repaint: impl Fn() + Send + 'static) -> Self {
+    pub fn new(state: Persisted, repaint: impl Fn() + Send + Sync + 'static) -> Self {
         let mut app = WorkbenchApp {
             orbit: OrbitCamera {
                 target: glam::DVec3::ZERO,
@@ -155,6 +157,7 @@ impl WorkbenchApp {
             frame_ms: 0.0,
             pending_screenshot: None,
             sphere_rect: None,
+            viewport_rect: None,
             state,
         };
         let scene = app.state.scene.clone();
@@ -702,7 +705,11 @@ impl WorkbenchApp {
         );
         self.render_size = size;
         let (resp, painter) = ui.allocate_painter(avail, Sense::click_and_drag());
+        resp.widget_info(|| {
+            egui::WidgetInfo::labeled(egui::Role::Canvas, true, "viewport: click to pick a pixel")
+        });
         let rect = resp.rect;
+        self.viewport_rect = Some(rect);
         if let Some(t) = &self.texture {
             painter.image(
                 t.id(),
@@ -819,7 +826,7 @@ impl WorkbenchApp {
             }
         });
         if let Some(r) = &self.bench {
-            ui.label(format!("{}: log₁₀ time (s) against log₁₀ RMSE", r.scene));
+            ui.label(format!("{}: log10 time (s) against log10 RMSE", r.scene));
             Plot::new("bench_plot")
                 .legend(Legend::default())
                 .height(220.0)
@@ -854,7 +861,7 @@ impl WorkbenchApp {
                 .map(|&(t, e)| [t, e.log10()])
                 .collect();
             Plot::new("trace_plot").height(180.0).show(ui, |plot| {
-                plot.line(Line::new("log₁₀ RMSE", PlotPoints::from(pts)));
+                plot.line(Line::new("log10 RMSE", PlotPoints::from(pts)));
             });
         }
     }
@@ -948,13 +955,32 @@ impl eframe::App for WorkbenchApp {
     }
 }
 
+/// What `penumbra gui` does besides showing the window.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    pub scene: Option<String>,
+    /// Save a screenshot here once the render has finished (or after `after` seconds), then quit.
+    pub screenshot: Option<PathBuf>,
+    pub after: f64,
+    /// Measure responsiveness (see [`Measurement`]), write it here as JSON, then quit.
+    pub measure: Option<PathBuf>,
+}
+
 /// Opens the workbench window.
-pub fn run(initial_scene: Option<String>, screenshot: Option<(PathBuf, f64)>) -> eframe::Result {
+pub fn run(opts: RunOptions) -> eframe::Result {
+    // The glow (OpenGL) painter by default: on machines without a GPU (Mesa llvmpipe) it
+    // paints a 1280×800 window several times faster than wgpu's GL backend (measured with
+    // `penumbra gui --measure`, docs/workbench.md). PENUMBRA_RENDERER=wgpu picks wgpu.
+    let renderer = match std::env::var("PENUMBRA_RENDERER").as_deref() {
+        Ok("wgpu") => eframe::Renderer::Wgpu,
+        _ => eframe::Renderer::Glow,
+    };
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("penumbra")
             .with_inner_size([1280.0, 800.0])
             .with_drag_and_drop(true),
+        renderer,
         ..Default::default()
     };
     eframe::run_native(
@@ -962,18 +988,27 @@ pub fn run(initial_scene: Option<String>, screenshot: Option<(PathBuf, f64)>) ->
         options,
         Box::new(move |cc| {
             let mut app = WorkbenchApp::from_creation_context(cc);
-            if let Some(s) = &initial_scene {
+            if let Some(s) = &opts.scene {
                 app.load_scene(s);
             }
-            Ok(match screenshot {
-                Some((path, after)) => Box::new(AutoScreenshot {
+            Ok(if let Some(path) = opts.measure.clone() {
+                Box::new(Measure {
                     app,
                     path,
-                    after,
+                    phase: MeasurePhase::Warmup(Instant::now()),
+                    result: Measurement::default(),
+                    last: None,
+                }) as Box<dyn eframe::App>
+            } else if let Some(path) = opts.screenshot.clone() {
+                Box::new(AutoScreenshot {
+                    app,
+                    path,
+                    after: opts.after,
                     start: Instant::now(),
                     state: 0,
-                }) as Box<dyn eframe::App>,
-                None => Box::new(app),
+                })
+            } else {
+                Box::new(app)
             })
         }),
     )
@@ -1004,5 +1039,146 @@ impl eframe::App for AutoScreenshot {
             _ => {}
         }
         ui.ctx().request_repaint();
+    }
+}
+
+/// Responsiveness of the workbench, measured in the real window while it renders.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct Measurement {
+    pub window: (f32, f32),
+    pub render_size: (u32, u32),
+    pub method: String,
+    /// Seconds from a camera change to the first (coarse) image of the new view, per change.
+    pub first_image_seconds: Vec<f64>,
+    /// Intervals between UI frames (ms) while a render was running, repainting continuously.
+    pub frame_ms: Vec<f64>,
+    pub frame_ms_mean: f64,
+    pub frame_ms_p95: f64,
+    pub frame_ms_max: f64,
+    pub first_image_max_seconds: f64,
+    /// Time spent in the workbench's own UI code per frame while rendering (ms): layout,
+    /// texture updates; the rest of a frame is egui's tessellation and the GL painting.
+    pub ui_code_ms_mean: f64,
+    pub ui_code_ms_max: f64,
+    /// Frame intervals (ms) with no render running, for comparison (the cost of painting the
+    /// window on this machine's GL).
+    pub idle_frame_ms_mean: f64,
+    #[serde(skip)]
+    ui_code_ms: Vec<f64>,
+    #[serde(skip)]
+    idle_ms: Vec<f64>,
+}
+
+enum MeasurePhase {
+    Warmup(Instant),
+    /// Change k was made at the instant; waiting for its first image.
+    Waiting(u32, Instant, u64),
+    /// Change k's first image arrived; timing frames while the render runs.
+    Rendering(u32, Instant),
+    Done(u32),
+}
+
+/// `penumbra gui --measure FILE`: after the first render finishes, turns the camera 12 times;
+/// for each change records the time to the first coarse image and the UI frame intervals
+/// while the new render runs; writes the figures as JSON and quits.
+struct Measure {
+    app: WorkbenchApp,
+    path: PathBuf,
+    phase: MeasurePhase,
+    result: Measurement,
+    last: Option<Instant>,
+}
+
+impl eframe::App for Measure {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        let now = Instant::now();
+        self.app.ui(ui, frame);
+        let code_ms = now.elapsed().as_secs_f64() * 1e3;
+        ui.ctx().request_repaint();
+        let busy = self.app.worker.is_busy();
+        if let Some(prev) = self.last {
+            if busy {
+                self.result.ui_code_ms.push(code_ms);
+            } else {
+                self.result.idle_ms.push((now - prev).as_secs_f64() * 1e3);
+            }
+        }
+        match self.phase {
+            MeasurePhase::Warmup(t0) => {
+                if self.app.render_finished() || t0.elapsed().as_secs_f64() > 60.0 {
+                    self.app.orbit.orbit(15.0, 0.0);
+                    self.phase = MeasurePhase::Waiting(0, now, self.app.worker.generation());
+                }
+            }
+            MeasurePhase::Waiting(k, t0, generation) => {
+                // The request goes out at the end of the frame that changed the camera.
+                let newest = self.app.worker.generation();
+                if newest > generation && self.app.worker.latest().is_some() {
+                    self.result
+                        .first_image_seconds
+                        .push(t0.elapsed().as_secs_f64());
+                    self.phase = MeasurePhase::Rendering(k, now);
+                }
+            }
+            MeasurePhase::Rendering(k, t0) => {
+                if let Some(prev) = self.last
+                    && busy
+                {
+                    self.result.frame_ms.push((now - prev).as_secs_f64() * 1e3);
+                }
+                if !busy || t0.elapsed().as_secs_f64() > 3.0 {
+                    if k + 1 == 12 {
+                        self.phase = MeasurePhase::Done(0);
+                    } else {
+                        self.app.orbit.orbit(15.0, 0.0);
+                        self.phase =
+                            MeasurePhase::Waiting(k + 1, now, self.app.worker.generation());
+                    }
+                }
+            }
+            MeasurePhase::Done(n) => {
+                if n == 0 {
+                    let r = &mut self.result;
+                    r.window = (
+                        ui.ctx().content_rect().width(),
+                        ui.ctx().content_rect().height(),
+                    );
+                    r.render_size = self.app.render_size;
+                    r.method = self.app.state.method.name().into();
+                    let mut v = r.frame_ms.clone();
+                    v.sort_by(f64::total_cmp);
+                    if !v.is_empty() {
+                        r.frame_ms_mean = v.iter().sum::<f64>() / v.len() as f64;
+                        r.frame_ms_p95 = v[(v.len() * 95 / 100).min(v.len() - 1)];
+                        r.frame_ms_max = *v.last().unwrap_or(&0.0);
+                    }
+                    r.first_image_max_seconds =
+                        r.first_image_seconds.iter().copied().fold(0.0, f64::max);
+                    let mean = |v: &[f64]| {
+                        if v.is_empty() {
+                            0.0
+                        } else {
+                            v.iter().sum::<f64>() / v.len() as f64
+                        }
+                    };
+                    r.ui_code_ms_mean = mean(&r.ui_code_ms);
+                    r.ui_code_ms_max = r.ui_code_ms.iter().copied().fold(0.0, f64::max);
+                    r.idle_frame_ms_mean = mean(&r.idle_ms);
+                    match serde_json::to_string_pretty(r) {
+                        Ok(s) => {
+                            if let Err(e) = std::fs::write(&self.path, s) {
+                                eprintln!("{}: {e}", self.path.display());
+                            }
+                        }
+                        Err(e) => eprintln!("{e}"),
+                    }
+                }
+                if n > 2 {
+                    ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+                }
+                self.phase = MeasurePhase::Done(n + 1);
+            }
+        }
+        self.last = Some(now);
     }
 }

@@ -273,6 +273,9 @@ impl SphereView {
         ui.horizontal(|ui| {
             // 3D sphere.
             let (resp, painter) = ui.allocate_painter(Vec2::splat(side), Sense::drag());
+            resp.widget_info(|| {
+                egui::WidgetInfo::labeled(egui::Role::Canvas, true, "unit sphere (drag to rotate)")
+            });
             if resp.dragged() {
                 let d = resp.drag_delta();
                 self.yaw -= d.x * 0.01;
@@ -325,6 +328,13 @@ impl SphereView {
 
             // Flat hemisphere, seen from above the normal.
             let (resp2, painter2) = ui.allocate_painter(Vec2::splat(side), Sense::hover());
+            resp2.widget_info(|| {
+                egui::WidgetInfo::labeled(
+                    egui::Role::Canvas,
+                    true,
+                    "hemisphere seen from the normal",
+                )
+            });
             let rect2: Rect = resp2.rect;
             let c2 = rect2.center();
             painter2.rect_filled(rect2, 4.0, bg);

@@ -44,7 +44,7 @@ pub struct RenderWorker {
 
 impl RenderWorker {
     /// Starts the thread; `repaint` is called whenever a new frame is ready.
-    pub fn start(repaint: impl Fn() + Send + 'static) -> Self {
+    pub fn start(repaint: impl Fn() + Send + Sync + 'static) -> Self {
         let (tx, rx): (Sender<RenderJob>, Receiver<RenderJob>) = channel();
         let latest: Arc<Mutex<Option<Arc<ViewFrame>>>> = Arc::new(Mutex::new(None));
         let working = Arc::new(AtomicU64::new(0));
@@ -52,6 +52,20 @@ impl RenderWorker {
         let handle = std::thread::Builder::new()
             .name("penumbra-render".into())
             .spawn(move || {
+                // Render threads run at a lower priority than the UI thread, so that the
+                // window stays responsive while every core renders.
+                lower_priority();
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .thread_name(|i| format!("penumbra-render-{i}"))
+                    .start_handler(|_| lower_priority())
+                    .build();
+                let pool = match pool {
+                    Ok(p) => p,
+                    Err(e) => {
+                        eprintln!("render thread pool: {e}");
+                        return;
+                    }
+                };
                 while let Ok(mut job) = rx.recv() {
                     // Only the newest request matters.
                     while let Ok(newer) = rx.try_recv() {
@@ -61,25 +75,27 @@ impl RenderWorker {
                         continue;
                     }
                     w2.store(job.generation, Ordering::Relaxed);
-                    let result = render_progressive(
-                        &job.ctx,
-                        &job.camera,
-                        &job.settings,
-                        job.max_passes,
-                        &job.cancel,
-                        |f| {
-                            if !job.cancel.load(Ordering::Relaxed) {
-                                *l2.lock().unwrap_or_else(|e| e.into_inner()) =
-                                    Some(Arc::new(ViewFrame {
-                                        generation: job.generation,
-                                        camera: job.camera,
-                                        settings: job.settings,
-                                        frame: f.clone(),
-                                    }));
-                                repaint();
-                            }
-                        },
-                    );
+                    let result = pool.install(|| {
+                        render_progressive(
+                            &job.ctx,
+                            &job.camera,
+                            &job.settings,
+                            job.max_passes,
+                            &job.cancel,
+                            |f| {
+                                if !job.cancel.load(Ordering::Relaxed) {
+                                    *l2.lock().unwrap_or_else(|e| e.into_inner()) =
+                                        Some(Arc::new(ViewFrame {
+                                            generation: job.generation,
+                                            camera: job.camera,
+                                            settings: job.settings,
+                                            frame: f.clone(),
+                                        }));
+                                    repaint();
+                                }
+                            },
+                        )
+                    });
                     if let Err(e) = result {
                         eprintln!("render failed: {e}");
                     }
@@ -175,4 +191,14 @@ pub fn frame_image(
         },
         range,
     ))
+}
+
+/// Lowers the calling thread's scheduling priority (nice 10) where the platform allows it.
+fn lower_priority() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: setpriority only reads its integer arguments; on Linux, PRIO_PROCESS with
+    // who = 0 applies to the calling thread.
+    unsafe {
+        libc::setpriority(libc::PRIO_PROCESS, 0, 10);
+    }
 }

@@ -1,0 +1,201 @@
+//! The workbench driven headlessly with egui_kittest (no window, no GPU needed for the logic):
+//! it starts on the default scene, renders, a click picks a pixel, the stages step, and a
+//! debug dump replays without the scene.
+
+use egui::{Event, PointerButton, Pos2};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use penumbra::app::stages::StepKind;
+use penumbra::app::{Persisted, WorkbenchApp};
+use penumbra::inspect::probe;
+use penumbra::shading::Method;
+use std::time::{Duration, Instant};
+
+fn harness(state: Persisted) -> Harness<'static, WorkbenchApp> {
+    let app = WorkbenchApp::new(state, || {});
+    Harness::builder()
+        .with_size((1280.0, 800.0))
+        .build_ui_state(|ui, app: &mut WorkbenchApp| app.frame_ui(ui), app)
+}
+
+/// Steps the UI until the viewport's render has finished.
+fn wait_for_render(h: &mut Harness<'static, WorkbenchApp>) {
+    let start = Instant::now();
+    loop {
+        h.step();
+        if h.state().render_finished() {
+            return;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the render did not finish"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn click(h: &mut Harness<'static, WorkbenchApp>, pos: Pos2) {
+    h.event(Event::PointerMoved(pos));
+    h.step();
+    for pressed in [true, false] {
+        h.event(Event::PointerButton {
+            pos,
+            button: PointerButton::Primary,
+            pressed,
+            modifiers: Default::default(),
+        });
+        h.step();
+    }
+}
+
+#[test]
+fn pick_a_penumbra_pixel_and_step_through_its_stages() {
+    let mut h = harness(Persisted::default());
+    wait_for_render(&mut h);
+    let frame = h.state().latest_frame().expect("a frame");
+    let img = frame.frame.output.image.clone();
+    let size = (img.width, img.height);
+    assert_eq!(frame.frame.scale, 1);
+
+    // Find a pixel in a penumbra (a light partly hidden) with the library, away from edges.
+    let scene = penumbra::scene::scene_file::load_embedded("default").unwrap();
+    let ctx = penumbra::render::RenderContext::new(&scene);
+    let mut target = None;
+    'scan: for y in (size.1 / 2..size.1 - 4).step_by(7) {
+        for x in (4..size.0 - 4).step_by(7) {
+            let p = probe(
+                &ctx,
+                "default",
+                &frame.camera,
+                size,
+                (x as f64, y as f64),
+                Method::Analytic,
+                false,
+            )
+            .unwrap();
+            if p.lights.iter().any(|l| {
+                let f = l.visible_fraction();
+                f > 0.1 && f < 0.9
+            }) {
+                target = Some((x, y));
+                break 'scan;
+            }
+        }
+    }
+    let (x, y) = target.expect("the default scene has penumbra pixels");
+
+    // Click it in the viewport.
+    let rect = h.state().viewport_rect.expect("viewport drawn");
+    let pos = Pos2::new(
+        rect.min.x + (x as f32 + 0.5) / size.0 as f32 * rect.width(),
+        rect.min.y + (y as f32 + 0.5) / size.1 as f32 * rect.height(),
+    );
+    click(&mut h, pos);
+    let ins = h
+        .state()
+        .inspector
+        .as_ref()
+        .expect("the click picked a point");
+    assert_eq!(ins.probe.pixel, (x as f64, y as f64));
+    // The same numbers, because it is the same code: the recorded point's radiance is the
+    // rendered pixel, bit for bit, and the recorded per-light integrals add up to it.
+    let pixel = img.at(x, y);
+    assert_eq!(ins.probe.radiance, pixel);
+    let sum: glam::DVec3 = ins
+        .probe
+        .lights
+        .iter()
+        .map(|l| l.shadowed)
+        .sum::<glam::DVec3>()
+        + ins.probe.emitted;
+    assert!((sum - pixel).length() <= 1e-12 * pixel.length().max(1e-300));
+    let n_steps = ins.steps.len();
+    assert!(n_steps > 5);
+
+    // The panel shows the point's numbers and the stepper.
+    // The panel is drawn before the viewport that handled the click: one more frame.
+    h.step();
+    h.get_by_label("radiance");
+    h.get_by_label("next >").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(h.state().inspector.as_ref().unwrap().step, Some(0));
+    let first = h.state().inspector.as_ref().unwrap().steps[0].label.clone();
+    // Shown as the current stage and in the list.
+    assert_eq!(h.query_all_by_label(&first).count(), 2);
+    // Walk with the keyboard to the first set difference, then through its GH phases.
+    let sd = h
+        .state()
+        .inspector
+        .as_ref()
+        .unwrap()
+        .steps
+        .iter()
+        .position(|s| matches!(s.kind, StepKind::SetDifference { .. }))
+        .expect("a penumbra point has a set difference");
+    for _ in 0..sd {
+        h.key_press(egui::Key::ArrowRight);
+        h.step();
+    }
+    let ins = h.state().inspector.as_ref().unwrap();
+    assert_eq!(ins.step, Some(sd));
+    assert!(matches!(
+        ins.current().unwrap().kind,
+        StepKind::SetDifference { .. }
+    ));
+    assert_eq!(
+        h.query_all_by_label(&ins.current().unwrap().label.clone())
+            .count(),
+        2
+    );
+    for _ in 0..3 {
+        h.key_press(egui::Key::ArrowRight);
+        h.step();
+    }
+    h.key_press(egui::Key::Home);
+    h.step();
+    assert_eq!(h.state().inspector.as_ref().unwrap().step, None);
+}
+
+#[test]
+fn a_debug_dump_replays_without_the_scene() {
+    let scene = penumbra::scene::scene_file::load_embedded("fig4").unwrap();
+    let ctx = penumbra::render::RenderContext::new(&scene);
+    let cam = scene.camera.unwrap();
+    let p = probe(
+        &ctx,
+        "fig4",
+        &cam,
+        (64, 64),
+        (30.0, 44.0),
+        Method::Analytic,
+        true,
+    )
+    .unwrap();
+    let dir = std::env::temp_dir().join(format!("penumbra-dump-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("probe.json");
+    penumbra::app::files::save_dump(&p, &path).unwrap();
+
+    // A workbench whose scene does not exist: it shows the error and still replays the dump.
+    let state = Persisted {
+        scene: "no-such-scene.toml".into(),
+        ..Persisted::default()
+    };
+    let mut h = harness(state);
+    h.step();
+    h.state_mut().open_path(&path);
+    h.step();
+    let ins = h.state().inspector.as_ref().expect("the dump is open");
+    assert_eq!(ins.probe.radiance, p.radiance);
+    assert_eq!(
+        serde_json::to_string(&ins.probe.recording).unwrap(),
+        serde_json::to_string(&p.recording).unwrap()
+    );
+    let n = ins.steps.len();
+    for _ in 0..n {
+        h.key_press(egui::Key::ArrowRight);
+        h.step();
+    }
+    assert_eq!(h.state().inspector.as_ref().unwrap().step, Some(n - 1));
+    std::fs::remove_dir_all(&dir).ok();
+}
