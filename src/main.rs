@@ -106,6 +106,19 @@ enum Command {
         /// intervals while rendering), write it here as JSON, then quit.
         #[arg(long)]
         measure: Option<PathBuf>,
+        /// With --screenshot: first pick the pixel at these fractions of the viewport, e.g.
+        /// 0.5,0.7.
+        #[arg(long, value_parser = parse_vec2)]
+        pick: Option<(f64, f64)>,
+        /// With --pick: step to this stage (gh, labels, visible, ltc, or a number).
+        #[arg(long)]
+        step: Option<String>,
+        /// Open these files at start (bench JSON, reference PFM, debug dump).
+        #[arg(long)]
+        open: Vec<PathBuf>,
+        /// Render method at start.
+        #[arg(long, value_enum)]
+        method: Option<RenderMethod>,
     },
 }
 
@@ -575,11 +588,19 @@ fn main() -> Result<()> {
             screenshot,
             after,
             measure,
+            pick,
+            step,
+            open,
+            method,
         }) => penumbra::app::run(penumbra::app::RunOptions {
             scene,
             screenshot,
             after,
             measure,
+            pick,
+            step,
+            open,
+            method,
         })
         .map_err(|e| anyhow::anyhow!("{e}")),
         Some(Command::Render(args)) => render(&args),

@@ -234,7 +234,7 @@ impl Inspector {
                 .get(sd.occluder)
                 .cloned()
                 .unwrap_or_default();
-            planar_ui(ui, sd, &name, phase);
+            planar_ui(ui, sd, &name, phase, sphere.width);
             return;
         }
         sphere.ui(ui, &self.probe, step.as_ref());

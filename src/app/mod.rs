@@ -837,7 +837,10 @@ impl WorkbenchApp {
                             methods.push(&row.method);
                         }
                     }
-                    for m in methods {
+                    for (i, m) in methods.into_iter().enumerate() {
+                        let [cr, cg, cb] =
+                            crate::bench::plot::PALETTE[i % crate::bench::plot::PALETTE.len()];
+                        let colour = Color32::from_rgb(cr, cg, cb);
                         let pts: Vec<[f64; 2]> = r
                             .rows
                             .iter()
@@ -845,9 +848,16 @@ impl WorkbenchApp {
                             .map(|x| [x.seconds.log10(), x.rmse.log10()])
                             .collect();
                         if pts.len() > 1 {
-                            plot.line(Line::new(m.to_string(), PlotPoints::from(pts.clone())));
+                            plot.line(
+                                Line::new(m.to_string(), PlotPoints::from(pts.clone()))
+                                    .color(colour),
+                            );
                         }
-                        plot.points(Points::new(m.to_string(), PlotPoints::from(pts)).radius(3.0));
+                        plot.points(
+                            Points::new(m.to_string(), PlotPoints::from(pts))
+                                .radius(3.0)
+                                .color(colour),
+                        );
                     }
                 });
         }
@@ -897,8 +907,12 @@ impl WorkbenchApp {
         egui::Panel::right("inspector")
             .resizable(true)
             .default_size(560.0)
+            .min_size(460.0)
             .show(ui, |ui| {
-                egui::ScrollArea::vertical()
+                self.state.sphere.width = ui.available_width();
+                // Scrolling both ways keeps wide tables from widening the panel (which would
+                // resize the viewport and restart the render).
+                egui::ScrollArea::both()
                     .id_salt("inspector_scroll")
                     .show(ui, |ui| {
                         ui.heading("Picked point");
@@ -964,6 +978,15 @@ pub struct RunOptions {
     pub after: f64,
     /// Measure responsiveness (see [`Measurement`]), write it here as JSON, then quit.
     pub measure: Option<PathBuf>,
+    /// Before the screenshot: pick the pixel at these fractions of the viewport (0..1).
+    pub pick: Option<(f64, f64)>,
+    /// Before the screenshot: step to this stage ("gh" for the first GH traversal, "visible",
+    /// "ltc", or a stage number).
+    pub step: Option<String>,
+    /// Files to open at start (bench report, reference, dump).
+    pub open: Vec<PathBuf>,
+    /// Render method at start.
+    pub method: Option<RenderMethod>,
 }
 
 /// Opens the workbench window.
@@ -991,6 +1014,12 @@ pub fn run(opts: RunOptions) -> eframe::Result {
             if let Some(s) = &opts.scene {
                 app.load_scene(s);
             }
+            if let Some(m) = opts.method {
+                app.state.method = m;
+            }
+            for p in &opts.open {
+                app.open_path(p);
+            }
             Ok(if let Some(path) = opts.measure.clone() {
                 Box::new(Measure {
                     app,
@@ -1006,6 +1035,8 @@ pub fn run(opts: RunOptions) -> eframe::Result {
                     after: opts.after,
                     start: Instant::now(),
                     state: 0,
+                    pick: opts.pick,
+                    step: opts.step.clone(),
                 })
             } else {
                 Box::new(app)
@@ -1023,6 +1054,48 @@ struct AutoScreenshot {
     after: f64,
     start: Instant,
     state: u32,
+    pick: Option<(f64, f64)>,
+    step: Option<String>,
+}
+
+impl AutoScreenshot {
+    /// Applies `--pick` and `--step`.
+    fn prepare(&mut self) {
+        if let Some((fx, fy)) = self.pick {
+            let (w, h) = self.app.render_size;
+            self.app
+                .pick((fx * w as f64).floor(), (fy * h as f64).floor());
+        }
+        let (Some(step), Some(ins)) = (&self.step, &mut self.app.inspector) else {
+            return;
+        };
+        let find =
+            |f: &dyn Fn(&stages::StepKind) -> bool| ins.steps.iter().position(|s| f(&s.kind));
+        ins.step = match step.as_str() {
+            "gh" => find(&|k| {
+                matches!(
+                    k,
+                    stages::StepKind::SetDifference {
+                        phase: Some(stages::GhPhase::Traversal),
+                        ..
+                    }
+                )
+            })
+            .or_else(|| find(&|k| matches!(k, stages::StepKind::SetDifference { .. }))),
+            "labels" => find(&|k| {
+                matches!(
+                    k,
+                    stages::StepKind::SetDifference {
+                        phase: Some(stages::GhPhase::Labels),
+                        ..
+                    }
+                )
+            }),
+            "visible" => find(&|k| *k == stages::StepKind::Visible),
+            "ltc" => find(&|k| matches!(k, stages::StepKind::LtcClipped { .. })),
+            n => n.parse::<usize>().ok().filter(|&i| i < ins.steps.len()),
+        };
+    }
 }
 
 impl eframe::App for AutoScreenshot {
@@ -1031,11 +1104,19 @@ impl eframe::App for AutoScreenshot {
         let t = self.start.elapsed().as_secs_f64();
         match self.state {
             0 if self.app.render_finished() || t > self.after => {
-                self.app.screenshot_to(self.path.clone(), None);
+                self.prepare();
                 self.state = 1;
             }
-            1..=10 => self.state += 1,
-            11 => ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close),
+            // A few frames for the panels to lay out what was picked, and the render of the
+            // (possibly resized) viewport to finish again.
+            1..=4 => self.state += 1,
+            5 if !self.app.render_finished() && t < self.after + 60.0 => {}
+            5 => {
+                self.app.screenshot_to(self.path.clone(), None);
+                self.state = 6;
+            }
+            6..=15 => self.state += 1,
+            16 => ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close),
             _ => {}
         }
         ui.ctx().request_repaint();

@@ -12,42 +12,37 @@ use egui::{Color32, Ui};
 use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoint, PlotPoints, Points, Text};
 use glam::DVec3;
 
-/// Where a homogeneous point is drawn: finite points at (x/w, y/w); points at (or near)
-/// infinity at `far` along their direction.
-fn to_plane(p: DVec3, far: f64) -> [f64; 2] {
-    let d = (p.x * p.x + p.y * p.y).sqrt();
-    if p.z.abs() * far > d && p.z != 0.0 {
-        [p.x / p.z, p.y / p.z]
-    } else if d > 0.0 {
-        [p.x / d * far, p.y / d * far]
+/// Where a homogeneous point (x, y, w), w ≥ 0, is drawn: the plane point q = (x/w, y/w)
+/// compressed radially to q / (1 + |q|), i.e. (x, y) / (w + |(x, y)|). The whole plane fits in
+/// the unit disk, points at infinity (horizon vertices, w = 0) land on its rim, and the map is
+/// one-to-one, so crossings, containment and orientation read exactly as in the plane.
+fn warp(p: DVec3) -> [f64; 2] {
+    let d = p.x.hypot(p.y);
+    let den = p.z.abs() + d;
+    if den > 0.0 {
+        [p.x / den, p.y / den]
     } else {
         [0.0, 0.0]
     }
 }
 
-/// A radius beyond every finite vertex of the polygons, for points at infinity.
-fn far_radius(polys: &[&PlanarPolygon]) -> f64 {
-    let mut r: f64 = 1.0;
-    for p in polys {
-        for v in p.vertices() {
-            if v.z != 0.0 {
-                r = r.max((v.x / v.z).hypot(v.y / v.z));
-            }
-        }
+/// Points along the segment a→b of the plane (a projective segment: the convex combination of
+/// the homogeneous vectors), warped; `a` included.
+fn segment(a: DVec3, b: DVec3, out: &mut Vec<[f64; 2]>) {
+    let n = 24;
+    for i in 0..n {
+        let t = i as f64 / n as f64;
+        out.push(warp(a * (1.0 - t) + b * t));
     }
-    3.0 * r
 }
 
-fn loop_lines(
-    poly: &PlanarPolygon,
-    far: f64,
-    name: &str,
-    colour: Color32,
-    width: f32,
-) -> Vec<Line<'static>> {
+fn loop_lines(poly: &PlanarPolygon, name: &str, colour: Color32, width: f32) -> Vec<Line<'static>> {
     poly.loops()
         .map(|lp| {
-            let mut pts: Vec<[f64; 2]> = lp.iter().map(|&v| to_plane(v, far)).collect();
+            let mut pts = Vec::new();
+            for k in 0..lp.len() {
+                segment(lp[k], lp[(k + 1) % lp.len()], &mut pts);
+            }
             if let Some(&first) = pts.first() {
                 pts.push(first);
             }
@@ -59,26 +54,26 @@ fn loop_lines(
 }
 
 /// Draws one recorded set difference, or one of its GH phases.
-pub fn planar_ui(ui: &mut Ui, sd: &SetDifferenceRecord, occluder: &str, phase: Option<GhPhase>) {
-    let far = far_radius(&[&sd.before, &sd.clip, &sd.after]);
+pub fn planar_ui(
+    ui: &mut Ui,
+    sd: &SetDifferenceRecord,
+    occluder: &str,
+    phase: Option<GhPhase>,
+    width: f32,
+) {
     let steps: Option<&GreinerHormannSteps> = sd.steps.as_ref();
+    ui.small("The projection plane, compressed radially (q ↦ q/(1+|q|)): the rim is the horizon.");
     Plot::new("planar_view")
         .data_aspect(1.0)
+        .width(width.max(200.0))
         .legend(Legend::default())
         .height(ui.available_height().max(200.0))
         .show(ui, |plot| {
-            for l in loop_lines(
-                &sd.before,
-                far,
-                "light (subject)",
-                colours::LIGHT_CLIPPED,
-                2.0,
-            ) {
+            for l in loop_lines(&sd.before, "light (subject)", colours::LIGHT_CLIPPED, 2.0) {
                 plot.line(l);
             }
             for l in loop_lines(
                 &sd.clip,
-                far,
                 &format!("occluder {occluder} (clip)"),
                 colours::OCCLUDER,
                 2.0,
@@ -87,7 +82,7 @@ pub fn planar_ui(ui: &mut Ui, sd: &SetDifferenceRecord, occluder: &str, phase: O
             }
             let show_result = phase.is_none() || phase == Some(GhPhase::Traversal);
             if show_result {
-                for l in loop_lines(&sd.after, far, "result", colours::VISIBLE, 3.5) {
+                for l in loop_lines(&sd.after, "result", colours::VISIBLE, 3.5) {
                     plot.line(l);
                 }
             }
@@ -96,11 +91,8 @@ pub fn planar_ui(ui: &mut Ui, sd: &SetDifferenceRecord, occluder: &str, phase: O
             };
             match phase {
                 Some(GhPhase::Intersections) | None => {
-                    let pts: Vec<[f64; 2]> = st
-                        .intersections
-                        .iter()
-                        .map(|i| to_plane(i.position, far))
-                        .collect();
+                    let pts: Vec<[f64; 2]> =
+                        st.intersections.iter().map(|i| warp(i.position)).collect();
                     plot.points(
                         Points::new("intersections", PlotPoints::from(pts))
                             .shape(MarkerShape::Circle)
@@ -108,7 +100,7 @@ pub fn planar_ui(ui: &mut Ui, sd: &SetDifferenceRecord, occluder: &str, phase: O
                             .color(Color32::WHITE),
                     );
                     for (k, i) in st.intersections.iter().enumerate() {
-                        let [x, y] = to_plane(i.position, far);
+                        let [x, y] = warp(i.position);
                         plot.text(Text::new(
                             "intersections",
                             PlotPoint::new(x, y),
@@ -136,7 +128,7 @@ pub fn planar_ui(ui: &mut Ui, sd: &SetDifferenceRecord, occluder: &str, phase: O
                             .labels
                             .iter()
                             .filter(|l| l.transition == want)
-                            .map(|l| to_plane(l.position, far))
+                            .map(|l| warp(l.position))
                             .collect();
                         plot.points(
                             Points::new(name, PlotPoints::from(pts))
@@ -146,7 +138,7 @@ pub fn planar_ui(ui: &mut Ui, sd: &SetDifferenceRecord, occluder: &str, phase: O
                         );
                     }
                     for l in &st.labels {
-                        let [x, y] = to_plane(l.position, far);
+                        let [x, y] = warp(l.position);
                         let side = match l.operand {
                             Operand::Subject => "S",
                             Operand::Clip => "C",
@@ -161,14 +153,16 @@ pub fn planar_ui(ui: &mut Ui, sd: &SetDifferenceRecord, occluder: &str, phase: O
                 Some(GhPhase::Traversal) => {
                     for (k, lp) in st.traversal.iter().enumerate() {
                         for (j, s) in lp.steps.iter().enumerate() {
-                            let a = to_plane(s.from, far);
-                            let b = to_plane(s.to, far);
+                            let mut pts = Vec::new();
+                            segment(s.from, s.to, &mut pts);
+                            pts.push(warp(s.to));
+                            let (a, b) = (pts[0], pts[pts.len() - 1]);
                             let colour = match s.operand {
                                 Operand::Subject => colours::LIGHT,
                                 Operand::Clip => colours::OCCLUDER_CLIPPED,
                             };
                             plot.line(
-                                Line::new(format!("output loop {k}"), PlotPoints::from(vec![a, b]))
+                                Line::new(format!("output loop {k}"), PlotPoints::from(pts))
                                     .color(colour)
                                     .width(4.0),
                             );

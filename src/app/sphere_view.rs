@@ -57,6 +57,9 @@ pub struct SphereView {
     pub layers: Layers,
     #[serde(skip)]
     pub hovered: Option<String>,
+    /// Width available to the two views (points): the panel's, set by the caller.
+    #[serde(skip)]
+    pub width: f32,
 }
 
 impl Default for SphereView {
@@ -66,6 +69,7 @@ impl Default for SphereView {
             pitch: 0.45,
             layers: Layers::default(),
             hovered: None,
+            width: 480.0,
         }
     }
 }
@@ -267,8 +271,7 @@ impl SphereView {
             }
         }
 
-        let avail = ui.available_size();
-        let side = (avail.x / 2.0).min(avail.y).max(120.0);
+        let side = ((self.width - 12.0) / 2.0).clamp(120.0, 420.0);
         self.hovered = None;
         ui.horizontal(|ui| {
             // 3D sphere.
