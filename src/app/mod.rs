@@ -8,8 +8,10 @@
 //! * [`inspector`], [`stages`], [`sphere_view`], [`planar_view`]: the picked point.
 //! * [`files`]: scenes, dumps, bench reports, images, the CLI command.
 
+pub mod bench_job;
 pub mod files;
 pub mod inspector;
+pub mod light_view;
 pub mod orbit;
 pub mod planar_view;
 pub mod sphere_view;
@@ -108,6 +110,11 @@ pub struct WorkbenchApp {
     sphere_rect: Option<egui::Rect>,
     /// Where the viewport was drawn in the last frame (points).
     pub viewport_rect: Option<egui::Rect>,
+    bench_job: Option<bench_job::BenchJob>,
+    bench_size: (u32, u32),
+    /// The light whose polyhedron the structure view shows (index into the prepared lights).
+    selected_light: Option<usize>,
+    light_view: light_view::LightView,
 }
 
 /// Keyboard shortcuts, listed in the help panel.
@@ -158,6 +165,10 @@ impl WorkbenchApp {
             pending_screenshot: None,
             sphere_rect: None,
             viewport_rect: None,
+            bench_job: None,
+            bench_size: (160, 120),
+            selected_light: None,
+            light_view: light_view::LightView::default(),
             state,
         };
         let scene = app.state.scene.clone();
@@ -347,20 +358,22 @@ impl WorkbenchApp {
         if self.shown.as_ref() == Some(&key) {
             return;
         }
-        let shown = frame_image(
-            &frame.frame,
-            self.state.aov,
-            self.state.exposure,
-            self.state.tonemap,
-        )
-        .or_else(|| {
-            frame_image(
-                &frame.frame,
-                Aov::Final,
-                self.state.exposure,
-                self.state.tonemap,
-            )
-        });
+        let want = viewport::Display {
+            aov: self.state.aov,
+            exposure: self.state.exposure,
+            tonemap: self.state.tonemap,
+        };
+        *self
+            .worker
+            .display
+            .lock()
+            .unwrap_or_else(|e| e.into_inner()) = want;
+        // Mapped on the render thread when the settings match; here only after a change.
+        let shown = match &frame.display {
+            Some((d, img, range)) if *d == want => Some((img.clone(), *range)),
+            _ => frame_image(&frame.frame, want.aov, want.exposure, want.tonemap)
+                .or_else(|| frame_image(&frame.frame, Aov::Final, want.exposure, want.tonemap)),
+        };
         if let Some((img, range)) = shown {
             let opts = if frame.frame.scale > 1 {
                 TextureOptions::NEAREST
@@ -693,6 +706,37 @@ impl WorkbenchApp {
         for w in ctx.scene.warnings.iter().chain(&ctx.prepared.notes) {
             ui.small(w);
         }
+        ui.separator();
+        ui.heading("Light structure");
+        let names: Vec<String> = ctx
+            .prepared
+            .lights
+            .iter()
+            .map(|&(id, _)| ctx.prepared.objects[id as usize].name.clone())
+            .collect();
+        egui::ComboBox::from_label("light")
+            .selected_text(
+                self.selected_light
+                    .and_then(|l| names.get(l).cloned())
+                    .unwrap_or_else(|| "none".into()),
+            )
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut self.selected_light, None, "none");
+                for (i, n) in names.iter().enumerate() {
+                    ui.selectable_value(&mut self.selected_light, Some(i), n);
+                }
+            });
+        if let Some(l) = self.selected_light
+            && let Some(&(id, _)) = ctx.prepared.lights.get(l)
+        {
+            let poly = &ctx.prepared.objects[id as usize].poly;
+            let point = self
+                .inspector
+                .as_ref()
+                .and_then(|i| i.probe.point)
+                .map(|p| p.position);
+            self.light_view.ui(ui, poly, point);
+        }
     }
 
     fn viewport_ui(&mut self, ui: &mut Ui) {
@@ -825,6 +869,63 @@ impl WorkbenchApp {
                 self.open_dialog();
             }
         });
+        // penumbra bench on the current view, in the background.
+        match &self.bench_job {
+            None => {
+                ui.horizontal(|ui| {
+                    ui.add(
+                        egui::DragValue::new(&mut self.bench_size.0)
+                            .range(32..=1920)
+                            .prefix("w "),
+                    );
+                    ui.add(
+                        egui::DragValue::new(&mut self.bench_size.1)
+                            .range(32..=1080)
+                            .prefix("h "),
+                    );
+                    if ui.button("Run bench on this view").clicked()
+                        && let Some(ctx) = self.ctx.clone()
+                    {
+                        self.bench_job = Some(bench_job::BenchJob::start(
+                            ctx,
+                            self.state.scene.clone(),
+                            self.orbit.camera(),
+                            self.bench_size.0,
+                            self.bench_size.1,
+                        ));
+                    }
+                });
+            }
+            Some(job) => {
+                let (frac, label, result) = job.poll();
+                match result {
+                    None => {
+                        ui.add(
+                            egui::ProgressBar::new(frac)
+                                .show_percentage()
+                                .text(format!("bench: {label}")),
+                        );
+                        ui.ctx()
+                            .request_repaint_after(std::time::Duration::from_millis(200));
+                    }
+                    Some(Ok((report, files))) => {
+                        self.status = format!(
+                            "bench done: {}",
+                            files
+                                .first()
+                                .map(|f| f.display().to_string())
+                                .unwrap_or_default()
+                        );
+                        self.bench = Some(report);
+                        self.bench_job = None;
+                    }
+                    Some(Err(e)) => {
+                        self.status = format!("bench failed: {e}");
+                        self.bench_job = None;
+                    }
+                }
+            }
+        }
         if let Some(r) = &self.bench {
             ui.label(format!("{}: log10 time (s) against log10 RMSE", r.scene));
             Plot::new("bench_plot")

@@ -62,7 +62,7 @@ pub fn planar_ui(
     width: f32,
 ) {
     let steps: Option<&GreinerHormannSteps> = sd.steps.as_ref();
-    ui.small("The projection plane, compressed radially (q ↦ q/(1+|q|)): the rim is the horizon.");
+    ui.small("The projection plane, compressed radially (q -> q/(1+|q|)): the rim is the horizon.");
     Plot::new("planar_view")
         .data_aspect(1.0)
         .width(width.max(200.0))

@@ -29,10 +29,26 @@ pub struct ViewFrame {
     pub camera: Camera,
     pub settings: RenderSettings,
     pub frame: ProgressiveFrame,
+    /// The display image, mapped on the render thread with the display settings current when
+    /// the frame was finished (so the UI thread only uploads it).
+    pub display: Option<MappedFrame>,
+}
+
+/// A frame mapped to display colours: the settings used, the image, the scalar range.
+pub type MappedFrame = (Display, ColorImage, Option<(f64, f64)>);
+
+/// How frames are mapped to display colours.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Display {
+    pub aov: Aov,
+    pub exposure: f64,
+    pub tonemap: ToneMap,
 }
 
 /// The render thread and what it shares with the UI.
 pub struct RenderWorker {
+    /// Display settings the render thread maps new frames with.
+    pub display: Arc<Mutex<Display>>,
     tx: Option<Sender<RenderJob>>,
     handle: Option<JoinHandle<()>>,
     latest: Arc<Mutex<Option<Arc<ViewFrame>>>>,
@@ -45,6 +61,12 @@ pub struct RenderWorker {
 impl RenderWorker {
     /// Starts the thread; `repaint` is called whenever a new frame is ready.
     pub fn start(repaint: impl Fn() + Send + Sync + 'static) -> Self {
+        let display = Arc::new(Mutex::new(Display {
+            aov: Aov::Final,
+            exposure: 0.0,
+            tonemap: ToneMap::Clamp,
+        }));
+        let d2 = display.clone();
         let (tx, rx): (Sender<RenderJob>, Receiver<RenderJob>) = channel();
         let latest: Arc<Mutex<Option<Arc<ViewFrame>>>> = Arc::new(Mutex::new(None));
         let working = Arc::new(AtomicU64::new(0));
@@ -84,12 +106,16 @@ impl RenderWorker {
                             &job.cancel,
                             |f| {
                                 if !job.cancel.load(Ordering::Relaxed) {
+                                    let d = *d2.lock().unwrap_or_else(|e| e.into_inner());
+                                    let display = frame_image(f, d.aov, d.exposure, d.tonemap)
+                                        .map(|(img, range)| (d, img, range));
                                     *l2.lock().unwrap_or_else(|e| e.into_inner()) =
                                         Some(Arc::new(ViewFrame {
                                             generation: job.generation,
                                             camera: job.camera,
                                             settings: job.settings,
                                             frame: f.clone(),
+                                            display,
                                         }));
                                     repaint();
                                 }
@@ -105,6 +131,7 @@ impl RenderWorker {
             })
             .expect("spawning the render thread");
         RenderWorker {
+            display,
             tx: Some(tx),
             handle: Some(handle),
             latest,
@@ -194,7 +221,7 @@ pub fn frame_image(
 }
 
 /// Lowers the calling thread's scheduling priority (nice 10) where the platform allows it.
-fn lower_priority() {
+pub(crate) fn lower_priority() {
     #[cfg(target_os = "linux")]
     // SAFETY: setpriority only reads its integer arguments; on Linux, PRIO_PROCESS with
     // who = 0 applies to the calling thread.
