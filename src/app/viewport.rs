@@ -220,12 +220,18 @@ pub fn frame_image(
     ))
 }
 
-/// Lowers the calling thread's scheduling priority (nice 10) where the platform allows it.
+/// Nice value of the render threads: low enough that the UI thread wins the CPU when it needs
+/// it, high enough that a continuously repainting UI does not starve the render (measured with
+/// `penumbra gui --measure`, docs/workbench.md).
+const RENDER_NICE: i32 = 5;
+
+/// Lowers the calling thread's scheduling priority (to [`RENDER_NICE`]) where the platform
+/// allows it.
 pub(crate) fn lower_priority() {
     #[cfg(target_os = "linux")]
     // SAFETY: setpriority only reads its integer arguments; on Linux, PRIO_PROCESS with
     // who = 0 applies to the calling thread.
     unsafe {
-        libc::setpriority(libc::PRIO_PROCESS, 0, 10);
+        libc::setpriority(libc::PRIO_PROCESS, 0, RENDER_NICE);
     }
 }

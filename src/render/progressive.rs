@@ -4,7 +4,7 @@
 //! is done; `cancel` stops the work between tiles.
 
 use super::stochastic::{StochasticBuffers, compose, render_buffers};
-use super::{RenderContext, RenderOutput, RenderSettings};
+use super::{RenderContext, RenderMethod, RenderOutput, RenderSettings};
 use crate::scene::Camera;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -97,6 +97,17 @@ pub fn render_progressive(
             break;
         }
         acc.accumulate(&next, pass);
+        // Denoising the whole image cannot be interrupted; for the denoised methods compose
+        // only after passes 2, 4, 8, … and the last, so that a change of view rarely waits
+        // for it (the other estimators are per pixel and cheap).
+        let denoised = matches!(
+            settings.method,
+            RenderMethod::RatioDenoised | RenderMethod::RatioBilateral
+        );
+        let last_pass = pass + 1 == max_passes;
+        if denoised && !(pass + 1).is_power_of_two() && !last_pass {
+            continue;
+        }
         let mut output = compose(settings.method, &acc);
         output.buffers = Some(acc.clone());
         let frame = ProgressiveFrame {
@@ -116,7 +127,6 @@ pub fn render_progressive(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::RenderMethod;
     use crate::scene::scene_file;
 
     #[test]

@@ -170,6 +170,13 @@ pub fn render(
     cancel: Option<&AtomicBool>,
 ) -> RenderOutput {
     let buffers = render_buffers(ctx, basis, settings, cancel);
+    if cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed)) {
+        // Cancelled: the buffers are partial; skip the (uninterruptible) denoiser.
+        return RenderOutput {
+            image: Image::new(settings.width, settings.height),
+            ..RenderOutput::default()
+        };
+    }
     let mut out = compose(settings.method, &buffers);
     out.buffers = Some(buffers);
     out
