@@ -3,7 +3,7 @@
 //! thread never renders; it only uploads the latest frame as a texture.
 
 use super::tonemap::{Aov, ToneMap, aov_values, display};
-use crate::render::progressive::{ProgressiveFrame, render_progressive};
+use crate::render::progressive::{ProgressiveFrame, render_progressive_with};
 use crate::render::{RenderContext, RenderSettings};
 use crate::scene::Camera;
 use egui::{Color32, ColorImage};
@@ -45,12 +45,59 @@ pub struct Display {
     pub tonemap: ToneMap,
 }
 
+/// A frame waiting for the denoiser on the compose thread.
+struct Pending {
+    generation: u64,
+    camera: Camera,
+    settings: RenderSettings,
+    cancel: Arc<AtomicBool>,
+    frame: ProgressiveFrame,
+}
+
+/// Publishes finished frames to the UI: maps them to display colours (on the calling thread,
+/// never the UI's) and wakes the UI.
+#[derive(Clone)]
+struct Publisher {
+    latest: Arc<Mutex<Option<Arc<ViewFrame>>>>,
+    display: Arc<Mutex<Display>>,
+    repaint: Arc<dyn Fn() + Send + Sync>,
+}
+
+impl Publisher {
+    fn publish(
+        &self,
+        generation: u64,
+        camera: Camera,
+        settings: RenderSettings,
+        frame: ProgressiveFrame,
+    ) {
+        let d = *self.display.lock().unwrap_or_else(|e| e.into_inner());
+        let display =
+            frame_image(&frame, d.aov, d.exposure, d.tonemap).map(|(img, range)| (d, img, range));
+        let mut latest = self.latest.lock().unwrap_or_else(|e| e.into_inner());
+        // A late frame of an older view never replaces a newer one.
+        if latest.as_ref().is_some_and(|f| f.generation > generation) {
+            return;
+        }
+        *latest = Some(Arc::new(ViewFrame {
+            generation,
+            camera,
+            settings,
+            frame,
+            display,
+        }));
+        drop(latest);
+        (self.repaint)();
+    }
+}
+
 /// The render thread and what it shares with the UI.
 pub struct RenderWorker {
     /// Display settings the render thread maps new frames with.
     pub display: Arc<Mutex<Display>>,
     tx: Option<Sender<RenderJob>>,
     handle: Option<JoinHandle<()>>,
+    compose_handle: Option<JoinHandle<()>>,
     latest: Arc<Mutex<Option<Arc<ViewFrame>>>>,
     cancel: Arc<AtomicBool>,
     generation: u64,
@@ -59,34 +106,67 @@ pub struct RenderWorker {
 }
 
 impl RenderWorker {
-    /// Starts the thread; `repaint` is called whenever a new frame is ready.
+    /// Starts the render thread and the compose thread; `repaint` is called whenever a new
+    /// frame is ready.
+    ///
+    /// The render thread never runs the whole-image denoiser (it cannot be interrupted): it
+    /// hands frames of the denoised methods to the compose thread, which denoises the newest
+    /// one still current and publishes it. A change of view therefore waits for one tile.
     pub fn start(repaint: impl Fn() + Send + Sync + 'static) -> Self {
+        let repaint: Arc<dyn Fn() + Send + Sync> = Arc::new(repaint);
         let display = Arc::new(Mutex::new(Display {
             aov: Aov::Final,
             exposure: 0.0,
             tonemap: ToneMap::Clamp,
         }));
-        let d2 = display.clone();
         let (tx, rx): (Sender<RenderJob>, Receiver<RenderJob>) = channel();
+        let (ctx_tx, ctx_rx): (Sender<Pending>, Receiver<Pending>) = channel();
         let latest: Arc<Mutex<Option<Arc<ViewFrame>>>> = Arc::new(Mutex::new(None));
         let working = Arc::new(AtomicU64::new(0));
-        let (l2, w2) = (latest.clone(), working.clone());
+        // Render threads run at a lower priority than the UI thread, so that the window stays
+        // responsive while every core renders.
+        let pool = rayon::ThreadPoolBuilder::new()
+            .thread_name(|i| format!("penumbra-render-{i}"))
+            .start_handler(|_| lower_priority())
+            .build()
+            .map(Arc::new)
+            .map_err(|e| eprintln!("render thread pool: {e}"))
+            .ok();
+        let publisher = Publisher {
+            latest: latest.clone(),
+            display: display.clone(),
+            repaint: repaint.clone(),
+        };
+        let (p2, pool2) = (publisher.clone(), pool.clone());
+        let compose_handle = std::thread::Builder::new()
+            .name("penumbra-compose".into())
+            .spawn(move || {
+                lower_priority();
+                while let Ok(mut item) = ctx_rx.recv() {
+                    while let Ok(newer) = ctx_rx.try_recv() {
+                        item = newer;
+                    }
+                    if item.cancel.load(Ordering::Relaxed) {
+                        continue;
+                    }
+                    let method = item.settings.method;
+                    match &pool2 {
+                        Some(pool) => pool.install(|| item.frame.compose(method)),
+                        None => item.frame.compose(method),
+                    }
+                    if !item.cancel.load(Ordering::Relaxed) {
+                        p2.publish(item.generation, item.camera, item.settings, item.frame);
+                    }
+                }
+            })
+            .ok();
+        let w2 = working.clone();
         let handle = std::thread::Builder::new()
             .name("penumbra-render".into())
             .spawn(move || {
-                // Render threads run at a lower priority than the UI thread, so that the
-                // window stays responsive while every core renders.
                 lower_priority();
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .thread_name(|i| format!("penumbra-render-{i}"))
-                    .start_handler(|_| lower_priority())
-                    .build();
-                let pool = match pool {
-                    Ok(p) => p,
-                    Err(e) => {
-                        eprintln!("render thread pool: {e}");
-                        return;
-                    }
+                let Some(pool) = pool else {
+                    return;
                 };
                 while let Ok(mut job) = rx.recv() {
                     // Only the newest request matters.
@@ -98,26 +178,32 @@ impl RenderWorker {
                     }
                     w2.store(job.generation, Ordering::Relaxed);
                     let result = pool.install(|| {
-                        render_progressive(
+                        render_progressive_with(
                             &job.ctx,
                             &job.camera,
                             &job.settings,
                             job.max_passes,
                             &job.cancel,
+                            true,
                             |f| {
-                                if !job.cancel.load(Ordering::Relaxed) {
-                                    let d = *d2.lock().unwrap_or_else(|e| e.into_inner());
-                                    let display = frame_image(f, d.aov, d.exposure, d.tonemap)
-                                        .map(|(img, range)| (d, img, range));
-                                    *l2.lock().unwrap_or_else(|e| e.into_inner()) =
-                                        Some(Arc::new(ViewFrame {
-                                            generation: job.generation,
-                                            camera: job.camera,
-                                            settings: job.settings,
-                                            frame: f.clone(),
-                                            display,
-                                        }));
-                                    repaint();
+                                if job.cancel.load(Ordering::Relaxed) {
+                                    return;
+                                }
+                                if f.composed {
+                                    publisher.publish(
+                                        job.generation,
+                                        job.camera,
+                                        job.settings,
+                                        f.clone(),
+                                    );
+                                } else {
+                                    let _ = ctx_tx.send(Pending {
+                                        generation: job.generation,
+                                        camera: job.camera,
+                                        settings: job.settings,
+                                        cancel: job.cancel.clone(),
+                                        frame: f.clone(),
+                                    });
                                 }
                             },
                         )
@@ -126,14 +212,16 @@ impl RenderWorker {
                         eprintln!("render failed: {e}");
                     }
                     w2.store(0, Ordering::Relaxed);
-                    repaint();
+                    (publisher.repaint)();
                 }
+                drop(ctx_tx); // ends the compose thread
             })
             .expect("spawning the render thread");
         RenderWorker {
             display,
             tx: Some(tx),
             handle: Some(handle),
+            compose_handle,
             latest,
             cancel: Arc::new(AtomicBool::new(false)),
             generation: 0,
@@ -191,6 +279,9 @@ impl Drop for RenderWorker {
         self.cancel.store(true, Ordering::Relaxed);
         self.tx = None; // closes the channel: the thread's loop ends
         if let Some(h) = self.handle.take() {
+            let _ = h.join();
+        }
+        if let Some(h) = self.compose_handle.take() {
             let _ = h.join();
         }
     }

@@ -23,6 +23,25 @@ pub struct ProgressiveFrame {
     pub elapsed: f64,
     /// No more steps will follow.
     pub finished: bool,
+    /// False when `output` holds only the stochastic buffers and the estimator (the denoiser)
+    /// is still to be applied with [`ProgressiveFrame::compose`].
+    pub composed: bool,
+}
+
+impl ProgressiveFrame {
+    /// Applies the estimator of `method` if it was deferred (see `defer_denoise`).
+    pub fn compose(&mut self, method: RenderMethod) {
+        if self.composed {
+            return;
+        }
+        if let Some(buffers) = self.output.buffers.take() {
+            let mut out = compose(method, &buffers);
+            out.buffers = Some(buffers);
+            out.stats = self.output.stats;
+            self.output = out;
+        }
+        self.composed = true;
+    }
 }
 
 /// Coarse-to-fine scales for a `width`×`height` target: 8, 4, 2, 1, skipping those that would
@@ -44,8 +63,28 @@ pub fn render_progressive(
     settings: &RenderSettings,
     max_passes: u32,
     cancel: &AtomicBool,
+    emit: impl FnMut(&ProgressiveFrame),
+) -> Result<Option<ProgressiveFrame>, String> {
+    render_progressive_with(ctx, camera, settings, max_passes, cancel, false, emit)
+}
+
+/// [`render_progressive`], optionally leaving the whole-image denoiser of the denoised methods
+/// to the caller (`defer_denoise`): frames then come with `composed == false`, and the render
+/// loop never blocks on the denoiser, so a cancelled render stops within one tile.
+pub fn render_progressive_with(
+    ctx: &RenderContext,
+    camera: &Camera,
+    settings: &RenderSettings,
+    max_passes: u32,
+    cancel: &AtomicBool,
+    defer_denoise: bool,
     mut emit: impl FnMut(&ProgressiveFrame),
 ) -> Result<Option<ProgressiveFrame>, String> {
+    let denoised = matches!(
+        settings.method,
+        RenderMethod::RatioDenoised | RenderMethod::RatioBilateral
+    );
+    let defer = defer_denoise && denoised;
     let start = Instant::now();
     let stop = || cancel.load(Ordering::Relaxed);
     let mut last = None;
@@ -59,7 +98,17 @@ pub fn render_progressive(
             height: (settings.height / scale).max(1),
             ..*settings
         };
-        let output = ctx.render_full(camera, &s, Some(cancel))?;
+        // Coarse levels are small enough to denoise at once: only full resolution is deferred.
+        let defer_level = defer && scale == 1;
+        let output = if defer_level {
+            let basis = camera.basis()?;
+            RenderOutput {
+                buffers: Some(render_buffers(ctx, &basis, &s, Some(cancel))),
+                ..RenderOutput::default()
+            }
+        } else {
+            ctx.render_full(camera, &s, Some(cancel))?
+        };
         if stop() {
             return Ok(last);
         }
@@ -71,6 +120,7 @@ pub fn render_progressive(
             output,
             elapsed: start.elapsed().as_secs_f64(),
             finished: full && (!settings.method.is_stochastic() || max_passes <= 1),
+            composed: !defer_level,
         };
         emit(&frame);
         last = Some(frame);
@@ -97,19 +147,23 @@ pub fn render_progressive(
             break;
         }
         acc.accumulate(&next, pass);
-        // Denoising the whole image cannot be interrupted; for the denoised methods compose
-        // only after passes 2, 4, 8, … and the last, so that a change of view rarely waits
-        // for it (the other estimators are per pixel and cheap).
-        let denoised = matches!(
-            settings.method,
-            RenderMethod::RatioDenoised | RenderMethod::RatioBilateral
-        );
+        // Denoising the whole image cannot be interrupted: unless the caller takes it over,
+        // compose the denoised methods only after passes 2, 4, 8, … and the last, so that a
+        // change of view rarely waits for it (the other estimators are per pixel and cheap).
         let last_pass = pass + 1 == max_passes;
-        if denoised && !(pass + 1).is_power_of_two() && !last_pass {
+        if denoised && !defer && !(pass + 1).is_power_of_two() && !last_pass {
             continue;
         }
-        let mut output = compose(settings.method, &acc);
-        output.buffers = Some(acc.clone());
+        let output = if defer {
+            RenderOutput {
+                buffers: Some(acc.clone()),
+                ..RenderOutput::default()
+            }
+        } else {
+            let mut output = compose(settings.method, &acc);
+            output.buffers = Some(acc.clone());
+            output
+        };
         let frame = ProgressiveFrame {
             scale: 1,
             passes: pass + 1,
@@ -117,6 +171,7 @@ pub fn render_progressive(
             output,
             elapsed: start.elapsed().as_secs_f64(),
             finished: pass + 1 == max_passes,
+            composed: !defer,
         };
         emit(&frame);
         last = Some(frame);
@@ -150,6 +205,33 @@ mod tests {
         let direct = ctx.render(&cam, &settings, None).unwrap().0;
         assert_eq!(last.output.image.pixels, direct.pixels);
         assert!(last.finished);
+    }
+
+    /// Deferring the denoiser changes nothing but who runs it: composing a deferred frame gives
+    /// the same image, bit for bit.
+    #[test]
+    fn deferred_denoising_composes_to_the_same_image() {
+        let scene = scene_file::load_embedded("default").unwrap();
+        let ctx = RenderContext::new(&scene);
+        let cam = scene.camera.unwrap();
+        let settings = RenderSettings {
+            width: 64,
+            height: 48,
+            method: RenderMethod::RatioDenoised,
+            spp: 2,
+            ..RenderSettings::default()
+        };
+        let cancel = AtomicBool::new(false);
+        let direct = render_progressive(&ctx, &cam, &settings, 4, &cancel, |_| {})
+            .unwrap()
+            .unwrap();
+        let mut deferred = render_progressive_with(&ctx, &cam, &settings, 4, &cancel, true, |f| {
+            assert_eq!(f.composed, f.scale > 1)
+        })
+        .unwrap()
+        .unwrap();
+        deferred.compose(settings.method);
+        assert_eq!(deferred.output.image.pixels, direct.output.image.pixels);
     }
 
     /// Averaging passes with independent seeds is the same estimator with more samples: the
