@@ -99,7 +99,7 @@ fn mse(b: &StochasticBuffers, est: &[DVec3], exact: &[DVec3]) -> f64 {
     let mut sum = 0.0;
     let mut n = 0;
     for i in 0..est.len() {
-        if b.valid[i] {
+        if b.gbuffer.valid[i] {
             let d = est[i] - exact[i];
             sum += d.length_squared();
             n += 3;
@@ -176,7 +176,7 @@ fn estimators_converge_to_the_analytic_result_like_one_over_sqrt_n() {
             let mut var = 0.0;
             let mut count = 0;
             for i in 0..ests[0].len() {
-                if !runs[0].valid[i] {
+                if !runs[0].gbuffer.valid[i] {
                     continue;
                 }
                 let mean: DVec3 = ests.iter().map(|x| x[i]).sum::<DVec3>() / k as f64;

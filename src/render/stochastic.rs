@@ -28,25 +28,9 @@ pub struct StochasticBuffers {
     /// Variance of the pixel's S_N (of the mean over all its samples).
     pub s_variance: Image,
     /// Primary hit at the pixel centre: position, normal toward the viewer, world size of one
-    /// pixel there, and whether it is a receiver (false: background or not shaded).
-    pub position: Vec<DVec3>,
-    pub normal: Vec<DVec3>,
-    pub footprint: Vec<f64>,
-    pub valid: Vec<bool>,
-}
-
-impl StochasticBuffers {
-    /// The G-buffer the denoiser reads.
-    pub fn gbuffer(&self) -> GBuffer {
-        GBuffer {
-            width: self.emitted.width,
-            height: self.emitted.height,
-            position: self.position.clone(),
-            normal: self.normal.clone(),
-            footprint: self.footprint.clone(),
-            valid: self.valid.clone(),
-        }
-    }
+    /// pixel there, and whether it is a receiver (false: background or not shaded); what the
+    /// denoiser's joint-bilateral weights read.
+    pub gbuffer: GBuffer,
 }
 
 /// Width (standard deviation, pixels) of the fixed bilateral filter of `ratio-bilateral`:
@@ -155,10 +139,14 @@ pub fn render_buffers(
         s_n: image(&|p| p.s_n),
         u_n: image(&|p| p.u_n),
         s_variance: image(&|p| p.s_var),
-        position: values.iter().map(|p| p.position).collect(),
-        normal: values.iter().map(|p| p.normal).collect(),
-        footprint: values.iter().map(|p| p.footprint).collect(),
-        valid: values.iter().map(|p| p.valid).collect(),
+        gbuffer: GBuffer {
+            width: w,
+            height: h,
+            position: values.iter().map(|p| p.position).collect(),
+            normal: values.iter().map(|p| p.normal).collect(),
+            footprint: values.iter().map(|p| p.footprint).collect(),
+            valid: values.iter().map(|p| p.valid).collect(),
+        },
     }
 }
 
@@ -224,16 +212,16 @@ pub fn compose(method: RenderMethod, buffers: &StochasticBuffers) -> RenderOutpu
         RenderMethod::Ratio => out.image = per_pixel(Estimator::Ratio),
         RenderMethod::RatioGray => out.image = per_pixel(Estimator::RatioGray),
         RenderMethod::RatioDenoised | RenderMethod::RatioBilateral => {
-            let g = buffers.gbuffer();
+            let g = &buffers.gbuffer;
             let denoise = DenoiseSettings::default();
             let (shading, aovs) = if method == RenderMethod::RatioDenoised {
-                ratio_denoised(&buffers.u, &buffers.s_n, &buffers.u_n, &g, &denoise)
+                ratio_denoised(&buffers.u, &buffers.s_n, &buffers.u_n, g, &denoise)
             } else {
                 ratio_bilateral(
                     &buffers.u,
                     &buffers.s_n,
                     &buffers.u_n,
-                    &g,
+                    g,
                     BILATERAL_SIGMA_PX,
                     &denoise,
                 )

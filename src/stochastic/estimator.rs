@@ -151,8 +151,6 @@ fn solid_angle_samples(
     let q_b = 0.5 * brdf.specular_probability;
     let q_l = 1.0 - q_b;
     let x = sp.position;
-    let objects = &ctx.scene.objects;
-    let own = |o: u32, f: u32| Some(o) == sp.object && Some(f) == sp.face;
     let t_min_unit = RAY_EPS * (1.0 + x.abs().max_element());
 
     for _ in 0..spp {
@@ -176,21 +174,14 @@ fn solid_angle_samples(
                         origin: x,
                         dir: wd * t,
                     };
-                    let lo = run.object;
-                    let blocked = ctx.bvh.occluded(&ray, RAY_EPS, 1.0 - RAY_EPS, |o, fo| {
-                        objects[o as usize].flags.occluder
-                            && !own(o, fo)
-                            && if face == SILHOUETTE {
-                                o != lo
-                            } else {
-                                !(o == lo && fo == face)
-                            }
-                    });
-                    let self_visible = !blocked
-                        || !run.self_occluding
-                        || !ctx.bvh.occluded(&ray, RAY_EPS, 1.0 - RAY_EPS, |o, fo| {
-                            o == lo && fo != face && objects[o as usize].flags.occluder
-                        });
+                    let (blocked, self_visible) = light_sample_visibility(
+                        ctx,
+                        sp,
+                        &ray,
+                        run.object,
+                        face,
+                        run.self_occluding,
+                    );
                     if self_visible {
                         unshadowed = contribution;
                     }
@@ -231,6 +222,38 @@ fn solid_angle_samples(
         sums.s_sq += value * value;
     }
     sums
+}
+
+/// Visibility of a light sample along `ray` (the sample at t = 1): `blocked` when an occluder
+/// other than the shading point's own face and the sampled light face (the whole light for a
+/// silhouette fan, [`SILHOUETTE`]) lies in between, which zeroes S; and `self_visible` unless
+/// another face of the same (self-occluding) light hides the sample, which zeroes U too. The
+/// second ray is cast only when the first was blocked.
+fn light_sample_visibility(
+    ctx: &RenderContext,
+    sp: &ShadingPoint,
+    ray: &Ray,
+    light_object: u32,
+    face: u32,
+    self_occluding: bool,
+) -> (bool, bool) {
+    let objects = &ctx.scene.objects;
+    let own = |o: u32, f: u32| Some(o) == sp.object && Some(f) == sp.face;
+    let blocked = ctx.bvh.occluded(ray, RAY_EPS, 1.0 - RAY_EPS, |o, f| {
+        objects[o as usize].flags.occluder
+            && !own(o, f)
+            && if face == SILHOUETTE {
+                o != light_object
+            } else {
+                !(o == light_object && f == face)
+            }
+    });
+    let self_visible = !blocked
+        || !self_occluding
+        || !ctx.bvh.occluded(ray, RAY_EPS, 1.0 - RAY_EPS, |o, f| {
+            o == light_object && f != face && objects[o as usize].flags.occluder
+        });
+    (blocked, self_visible)
 }
 
 /// The light run whose front face a BRDF ray from `sp` along `wd` reaches first, if that light
@@ -304,7 +327,6 @@ fn area_samples(
     let area = &ctx.area_lights;
     let v = frame.to_local(sp.view);
     let x = sp.position;
-    let objects = &ctx.scene.objects;
     for _ in 0..spp {
         let Some((k, prob)) = area.pick(rng.next_f64()) else {
             return sums;
@@ -326,17 +348,8 @@ fn area_samples(
         let contribution =
             light.radiance * eval_cos(material, v, w) * (light.area * cos_y / (r2 * prob));
         let ray = Ray { origin: x, dir: d };
-        let lo = light.object;
-        let own = |o: u32, f: u32| Some(o) == sp.object && Some(f) == sp.face;
-        let blocked = ctx.bvh.occluded(&ray, RAY_EPS, 1.0 - RAY_EPS, |o, f| {
-            objects[o as usize].flags.occluder && !own(o, f) && !(o == lo && f == face)
-        });
-        let general = area.self_occluding[k];
-        let self_visible = !blocked
-            || !general
-            || !ctx.bvh.occluded(&ray, RAY_EPS, 1.0 - RAY_EPS, |o, f| {
-                o == lo && f != face && objects[o as usize].flags.occluder
-            });
+        let (blocked, self_visible) =
+            light_sample_visibility(ctx, sp, &ray, light.object, face, area.self_occluding[k]);
         if self_visible {
             sums.u += contribution;
         }
