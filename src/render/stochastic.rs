@@ -74,8 +74,16 @@ pub fn render_buffers(
     let values = render_tiles(w, h, cancel, Scratch::default, |scratch, x, y| {
         let mut rng = Pcg32::new(settings.seed, y as u64 * w as u64 + x as u64);
         let mut px = PixelValues::default();
-        for ray in subpixel_rays(basis, x, y, aa, w, h) {
-            let Some(hit) = ctx.primary_hit(&ray) else {
+        // With an odd `aa` the middle sub-pixel ray is the pixel-centre ray: its hit is the
+        // G-buffer's (no second traversal).
+        let centre_index = (aa % 2 == 1).then_some((aa * aa) / 2);
+        let mut centre_hit = None;
+        for (i, ray) in subpixel_rays(basis, x, y, aa, w, h).enumerate() {
+            let hit = ctx.primary_hit(&ray);
+            if Some(i as u32) == centre_index {
+                centre_hit = Some(hit);
+            }
+            let Some(hit) = hit else {
                 continue;
             };
             px.emitted += hit.emitted;
@@ -114,11 +122,13 @@ pub fn render_buffers(
         // G-buffer at the pixel centre, with the size of one pixel at the hit.
         let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
         let d0 = basis.direction(cx, cy, w, h);
-        let centre = Ray {
-            origin: basis.eye,
-            dir: d0,
-        };
-        if let Some(hit) = ctx.primary_hit(&centre) {
+        let hit = centre_hit.unwrap_or_else(|| {
+            ctx.primary_hit(&Ray {
+                origin: basis.eye,
+                dir: d0,
+            })
+        });
+        if let Some(hit) = hit {
             let d1 = basis.direction(cx + 1.0, cy, w, h);
             let dist = (hit.point.position - basis.eye).length();
             px.position = hit.point.position;
