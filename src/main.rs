@@ -252,17 +252,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 fn load_scene(name: &str) -> Result<Scene> {
-    let path = Path::new(name);
-    let scene = if path.exists() {
-        scene_file::load_scene(path)?
-    } else if scene_file::embedded_scene_names().contains(&name) {
-        scene_file::load_embedded(name)?
-    } else {
-        bail!(
-            "{name}: no such file, and not an embedded scene (embedded: {})",
-            scene_file::embedded_scene_names().join(", ")
-        );
-    };
+    let scene = penumbra::app::files::load_scene(name)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
@@ -514,16 +504,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
     let reference = match &args.reference {
         Some(path) => {
             let read = |p: &Path| -> Result<Image> {
-                let (w, h, px) =
-                    image_io::read_pfm(p).with_context(|| format!("{}", p.display()))?;
-                Ok(Image {
-                    width: w,
-                    height: h,
-                    pixels: px
-                        .iter()
-                        .map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
-                        .collect(),
-                })
+                image_io::read_pfm_image(p).with_context(|| format!("{}", p.display()))
             };
             runner::ReferenceImage {
                 image: read(path)?,

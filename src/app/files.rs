@@ -24,7 +24,10 @@ pub fn load_scene(name: &str) -> Result<Scene> {
     } else if scene_file::embedded_scene_names().contains(&name) {
         Ok(scene_file::load_embedded(name)?)
     } else {
-        anyhow::bail!("{name}: no such file, and not an embedded scene")
+        anyhow::bail!(
+            "{name}: no such file, and not an embedded scene (embedded: {})",
+            scene_file::embedded_scene_names().join(", ")
+        )
     }
 }
 
@@ -38,17 +41,9 @@ pub fn open(path: &Path) -> Result<Opened> {
     let name = path.display().to_string();
     match ext.as_str() {
         "toml" | "obj" => Ok(Opened::Scene(name.clone(), load_scene(&name)?)),
-        "pfm" => {
-            let (w, h, px) = image_io::read_pfm(path).with_context(|| name.clone())?;
-            Ok(Opened::Reference(Image {
-                width: w,
-                height: h,
-                pixels: px
-                    .iter()
-                    .map(|c| glam::DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
-                    .collect(),
-            }))
-        }
+        "pfm" => Ok(Opened::Reference(
+            image_io::read_pfm_image(path).with_context(|| name.clone())?,
+        )),
         "json" => {
             let text = std::fs::read_to_string(path).with_context(|| name.clone())?;
             let value: serde_json::Value =

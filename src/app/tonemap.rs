@@ -1,6 +1,7 @@
 //! What the viewport shows of a render: the AOV (an image or a per-pixel quantity) and how
 //! it is mapped to display colours. Pure functions, tested without a window.
 
+use crate::render::image_io::srgb_oetf;
 use crate::render::{Image, RenderOutput};
 use crate::shading::brdf::luminance;
 use egui::Color32;
@@ -115,16 +116,6 @@ pub fn aov_values(out: &RenderOutput, aov: Aov) -> Option<AovValues> {
     }
 }
 
-/// The sRGB transfer function.
-#[inline]
-fn srgb(x: f64) -> f64 {
-    if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
-}
-
 /// One radiance value to a display colour.
 #[inline]
 pub fn tonemap(c: DVec3, exposure: f64, op: ToneMap) -> Color32 {
@@ -139,7 +130,7 @@ pub fn tonemap(c: DVec3, exposure: f64, op: ToneMap) -> Color32 {
             ToneMap::Clamp => x.min(1.0),
             ToneMap::Reinhard => x / (1.0 + x),
         };
-        (srgb(y) * 255.0).round().clamp(0.0, 255.0) as u8
+        (srgb_oetf(y) * 255.0).round().clamp(0.0, 255.0) as u8
     };
     Color32::from_rgb(f(c.x), f(c.y), f(c.z))
 }

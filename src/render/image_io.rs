@@ -210,3 +210,16 @@ pub fn write_png(
     )
     .with_context(|| format!("{}: writing PNG", path.display()))
 }
+
+/// Reads a PFM file as a linear [`Image`](super::Image).
+pub fn read_pfm_image(path: &Path) -> io::Result<super::Image> {
+    let (width, height, px) = read_pfm(path)?;
+    Ok(super::Image {
+        width,
+        height,
+        pixels: px
+            .iter()
+            .map(|c| glam::DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64))
+            .collect(),
+    })
+}
