@@ -122,18 +122,26 @@ enum Command {
     },
 }
 
-#[derive(Args, Clone)]
-struct BenchArgs {
-    /// A scene file or embedded scene name (not needed with --scaling).
-    scene: Option<String>,
+/// The camera flags shared by every command that renders (default: the scene's camera).
+#[derive(Args, Clone, Default)]
+struct CameraArgs {
     #[arg(long, value_parser = parse_vec3)]
     eye: Option<DVec3>,
     #[arg(long, value_parser = parse_vec3)]
     target: Option<DVec3>,
     #[arg(long, value_parser = parse_vec3)]
     up: Option<DVec3>,
+    /// Vertical field of view in degrees.
     #[arg(long)]
     fov: Option<f64>,
+}
+
+#[derive(Args, Clone)]
+struct BenchArgs {
+    /// A scene file or embedded scene name (not needed with --scaling).
+    scene: Option<String>,
+    #[command(flatten)]
+    camera: CameraArgs,
     #[arg(long, default_value = "320x240", value_parser = parse_size)]
     size: (u32, u32),
     #[arg(long, default_value_t = 1)]
@@ -185,15 +193,8 @@ struct BenchArgs {
 struct RenderArgs {
     /// A scene file (.toml or .obj) or the name of an embedded scene (see `penumbra scenes`).
     scene: String,
-    #[arg(long, value_parser = parse_vec3)]
-    eye: Option<DVec3>,
-    #[arg(long, value_parser = parse_vec3)]
-    target: Option<DVec3>,
-    #[arg(long, value_parser = parse_vec3)]
-    up: Option<DVec3>,
-    /// Vertical field of view in degrees.
-    #[arg(long)]
-    fov: Option<f64>,
+    #[command(flatten)]
+    camera: CameraArgs,
     /// Image size WxH.
     #[arg(long, default_value = "512x512", value_parser = parse_size)]
     size: (u32, u32),
@@ -259,7 +260,7 @@ fn load_scene(name: &str) -> Result<Scene> {
     Ok(scene)
 }
 
-fn camera(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
+fn camera(args: &CameraArgs, scene: &Scene) -> Result<Camera> {
     let base = scene.camera;
     let pick = |v: Option<DVec3>, f: fn(&Camera) -> DVec3, what: &str| -> Result<DVec3> {
         v.or(base.as_ref().map(f))
@@ -319,7 +320,7 @@ fn settings(args: &RenderArgs) -> RenderSettings {
 
 fn render(args: &RenderArgs) -> Result<()> {
     let scene = load_scene(&args.scene)?;
-    let cam = camera(args, &scene)?;
+    let cam = camera(&args.camera, &scene)?;
     let ctx = RenderContext::new(&scene);
     for n in &ctx.prepared.notes {
         eprintln!("note: {n}");
@@ -358,7 +359,7 @@ fn render(args: &RenderArgs) -> Result<()> {
 
 fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
     let scene = load_scene(&args.scene)?;
-    let cam = camera(args, &scene)?;
+    let cam = camera(&args.camera, &scene)?;
     let ctx = RenderContext::new(&scene);
     let settings = settings(args);
     let start = std::time::Instant::now();
@@ -381,7 +382,7 @@ fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
 /// Writes the debug dump of one shading point (`penumbra probe`).
 fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> Result<()> {
     let scene = load_scene(&args.scene)?;
-    let cam = camera(args, &scene)?;
+    let cam = camera(&args.camera, &scene)?;
     let ctx = RenderContext::new(&scene);
     let Some(method) = args.method.analytic() else {
         bail!(
@@ -466,23 +467,8 @@ fn bench(args: &BenchArgs) -> Result<()> {
     let Some(scene_name) = args.scene.clone() else {
         bail!("bench needs a SCENE (or --scaling)");
     };
-    let rargs = RenderArgs {
-        scene: scene_name.clone(),
-        eye: args.eye,
-        target: args.target,
-        up: args.up,
-        fov: args.fov,
-        size: args.size,
-        aa: args.aa,
-        method: RenderMethod::Analytic,
-        spp: 1,
-        seed: args.seed,
-        light_sampling: LightSampling::SolidAngle,
-        out: PathBuf::new(),
-        exposure: args.exposure,
-    };
     let scene = load_scene(&scene_name)?;
-    let cam = camera(&rargs, &scene)?;
+    let cam = camera(&args.camera, &scene)?;
     let ctx = RenderContext::new(&scene);
     let label = Path::new(&scene_name)
         .file_stem()
