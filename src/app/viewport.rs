@@ -150,9 +150,12 @@ impl RenderWorker {
                         continue;
                     }
                     let method = item.settings.method;
+                    let cancel = Some(&*item.cancel);
                     match &pool2 {
-                        Some(pool) => pool.install(|| item.frame.compose(method)),
-                        None => item.frame.compose(method),
+                        Some(pool) => {
+                            pool.install(|| item.frame.compose_cancellable(method, cancel))
+                        }
+                        None => item.frame.compose_cancellable(method, cancel),
                     }
                     if !item.cancel.load(Ordering::Relaxed) {
                         p2.publish(item.generation, item.camera, item.settings, item.frame);

@@ -6,6 +6,7 @@ use super::{DenoiseSettings, GBuffer};
 use crate::render::Image;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Largest kernel radius in pixels: the radius is min(⌈3σ⌉, this).
 pub const MAX_KERNEL_RADIUS: u32 = 64;
@@ -40,6 +41,19 @@ pub fn joint_bilateral(
     sigma: &[f64],
     settings: &DenoiseSettings,
 ) -> (Image, Image) {
+    joint_bilateral_cancellable(s_n, u_n, g, sigma, settings, None)
+}
+
+/// [`joint_bilateral`] that stops early (leaving rows unfiltered, the result to be discarded)
+/// once `cancel` is set: checked at the start of every row of both passes.
+pub fn joint_bilateral_cancellable(
+    s_n: &Image,
+    u_n: &Image,
+    g: &GBuffer,
+    sigma: &[f64],
+    settings: &DenoiseSettings,
+    cancel: Option<&AtomicBool>,
+) -> (Image, Image) {
     g.check();
     check_image(s_n, g, "S_N");
     check_image(u_n, g, "U_N");
@@ -68,6 +82,7 @@ pub fn joint_bilateral(
         Axis::Horizontal,
         &mut s1,
         &mut u1,
+        cancel,
     );
     let (mut s2, mut u2) = (s0, u0);
     pass(
@@ -79,6 +94,7 @@ pub fn joint_bilateral(
         Axis::Vertical,
         &mut s2,
         &mut u2,
+        cancel,
     );
 
     let unscale = 1.0 / scale;
@@ -167,6 +183,7 @@ fn pass(
     axis: Axis,
     dst_s: &mut [DVec3],
     dst_u: &mut [DVec3],
+    cancel: Option<&AtomicBool>,
 ) {
     if g.is_empty() {
         return;
@@ -177,6 +194,9 @@ fn pass(
         .zip(dst_u.par_chunks_mut(width))
         .enumerate()
         .for_each(|(y, (row_s, row_u))| {
+            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                return;
+            }
             for x in 0..width {
                 let c = y * width + x;
                 let sc = sigma[c];

@@ -32,10 +32,10 @@ pub mod settings;
 mod test_util;
 
 pub use gbuffer::{GBuffer, Surface};
-pub use joint_bilateral::{MAX_KERNEL_RADIUS, joint_bilateral};
+pub use joint_bilateral::{MAX_KERNEL_RADIUS, joint_bilateral, joint_bilateral_cancellable};
 pub use noise_estimate::{box_filter_3x3, line_total_variation, noise_estimate};
 pub use ratio::{
-    DenoiseAovs, luminance, ratio_bilateral, ratio_combine, ratio_denoised, scalar_image,
-    weighted_shadow,
+    DenoiseAovs, luminance, ratio_bilateral, ratio_bilateral_cancellable, ratio_combine,
+    ratio_denoised, ratio_denoised_cancellable, scalar_image, weighted_shadow,
 };
 pub use settings::DenoiseSettings;

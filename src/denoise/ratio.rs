@@ -1,10 +1,12 @@
 //! The ratio-denoised image of 003 (Eq. 23–27) and the two pipelines that produce it.
 
+use super::joint_bilateral::joint_bilateral_cancellable;
 use super::joint_bilateral::{check_image, sanitize};
-use super::{DenoiseSettings, GBuffer, joint_bilateral, noise_estimate};
+use super::{DenoiseSettings, GBuffer, noise_estimate};
 use crate::render::Image;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::atomic::AtomicBool;
 
 /// The intermediate images of a denoise call, for a debugger to show. Scalar images are
 /// row-major with one value per pixel; [`scalar_image`] turns them into gray images.
@@ -114,6 +116,19 @@ pub fn ratio_denoised(
     g: &GBuffer,
     settings: &DenoiseSettings,
 ) -> (Image, DenoiseAovs) {
+    ratio_denoised_cancellable(u, s_n, u_n, g, settings, None)
+}
+
+/// [`ratio_denoised`] whose filter stops early once `cancel` is set (the result is then
+/// incomplete and must be discarded).
+pub fn ratio_denoised_cancellable(
+    u: &Image,
+    s_n: &Image,
+    u_n: &Image,
+    g: &GBuffer,
+    settings: &DenoiseSettings,
+    cancel: Option<&AtomicBool>,
+) -> (Image, DenoiseAovs) {
     check_image(u, g, "U");
     let w_n = weighted_shadow(s_n, u_n, g);
     let noise = noise_estimate(&w_n, g, settings);
@@ -121,7 +136,7 @@ pub fn ratio_denoised(
         .iter()
         .map(|&e| applied_sigma((settings.sigma_gain * e).min(settings.sigma_max), settings))
         .collect();
-    finish(u, s_n, u_n, g, w_n, noise, sigma, settings)
+    finish(u, s_n, u_n, g, w_n, noise, sigma, settings, cancel)
 }
 
 /// The plain bilateral of paper 000's comparison (000 Sect. 5: S_N and U_N each denoised with a
@@ -137,6 +152,19 @@ pub fn ratio_bilateral(
     sigma_px: f64,
     settings: &DenoiseSettings,
 ) -> (Image, DenoiseAovs) {
+    ratio_bilateral_cancellable(u, s_n, u_n, g, sigma_px, settings, None)
+}
+
+/// [`ratio_bilateral`] whose filter stops early once `cancel` is set.
+pub fn ratio_bilateral_cancellable(
+    u: &Image,
+    s_n: &Image,
+    u_n: &Image,
+    g: &GBuffer,
+    sigma_px: f64,
+    settings: &DenoiseSettings,
+    cancel: Option<&AtomicBool>,
+) -> (Image, DenoiseAovs) {
     check_image(u, g, "U");
     let w_n = weighted_shadow(s_n, u_n, g);
     let sigma_px = applied_sigma(sigma_px, settings);
@@ -146,7 +174,7 @@ pub fn ratio_bilateral(
         .map(|&v| if v { sigma_px } else { 0.0 })
         .collect();
     let noise = vec![0.0; g.len()];
-    finish(u, s_n, u_n, g, w_n, noise, sigma, settings)
+    finish(u, s_n, u_n, g, w_n, noise, sigma, settings, cancel)
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -159,8 +187,10 @@ fn finish(
     noise: Vec<f64>,
     sigma: Vec<f64>,
     settings: &DenoiseSettings,
+    cancel: Option<&AtomicBool>,
 ) -> (Image, DenoiseAovs) {
-    let (s_denoised, u_denoised) = joint_bilateral(s_n, u_n, g, &sigma, settings);
+    let (s_denoised, u_denoised) =
+        joint_bilateral_cancellable(s_n, u_n, g, &sigma, settings, cancel);
     let out = ratio_combine(u, &s_denoised, &u_denoised);
     (
         out,

@@ -3,7 +3,7 @@
 //! passes with new seeds averaged into the buffers. Each step is handed to `emit` as soon as it
 //! is done; `cancel` stops the work between tiles.
 
-use super::stochastic::{StochasticBuffers, compose, render_buffers};
+use super::stochastic::{StochasticBuffers, compose, compose_cancellable, render_buffers};
 use super::{RenderContext, RenderMethod, RenderOutput, RenderSettings};
 use crate::scene::Camera;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -31,11 +31,17 @@ pub struct ProgressiveFrame {
 impl ProgressiveFrame {
     /// Applies the estimator of `method` if it was deferred (see `defer_denoise`).
     pub fn compose(&mut self, method: RenderMethod) {
+        self.compose_cancellable(method, None)
+    }
+
+    /// [`ProgressiveFrame::compose`] that gives up once `cancel` is set (the frame is then
+    /// incomplete and must not be shown).
+    pub fn compose_cancellable(&mut self, method: RenderMethod, cancel: Option<&AtomicBool>) {
         if self.composed {
             return;
         }
         if let Some(buffers) = self.output.buffers.take() {
-            let mut out = compose(method, &buffers);
+            let mut out = compose_cancellable(method, &buffers, cancel);
             out.buffers = Some(buffers);
             out.stats = self.output.stats;
             self.output = out;

@@ -7,7 +7,9 @@ use super::{
     Image, RenderContext, RenderMethod, RenderOutput, RenderSettings, render_tiles, subpixel_rays,
 };
 use crate::accel::Ray;
-use crate::denoise::{DenoiseSettings, GBuffer, ratio_bilateral, ratio_denoised};
+use crate::denoise::{
+    DenoiseSettings, GBuffer, ratio_bilateral_cancellable, ratio_denoised_cancellable,
+};
 use crate::math::Pcg32;
 use crate::scene::camera::CameraBasis;
 use crate::shading::{Method, NoRecorder, ShadingScratch, shade};
@@ -183,6 +185,16 @@ pub fn render(
 /// Applies the estimator of `method` to the buffers: per pixel, or over the whole image for the
 /// denoised methods. Progressive rendering calls it again on buffers averaged over passes.
 pub fn compose(method: RenderMethod, buffers: &StochasticBuffers) -> RenderOutput {
+    compose_cancellable(method, buffers, None)
+}
+
+/// [`compose`] whose denoiser stops early once `cancel` is set (the output is then incomplete
+/// and must be discarded).
+pub fn compose_cancellable(
+    method: RenderMethod,
+    buffers: &StochasticBuffers,
+    cancel: Option<&AtomicBool>,
+) -> RenderOutput {
     let (w, h) = (buffers.emitted.width, buffers.emitted.height);
     let per_pixel = |e: Estimator| {
         let pixels = (0..buffers.emitted.pixels.len())
@@ -225,15 +237,23 @@ pub fn compose(method: RenderMethod, buffers: &StochasticBuffers) -> RenderOutpu
             let g = &buffers.gbuffer;
             let denoise = DenoiseSettings::default();
             let (shading, aovs) = if method == RenderMethod::RatioDenoised {
-                ratio_denoised(&buffers.u, &buffers.s_n, &buffers.u_n, g, &denoise)
+                ratio_denoised_cancellable(
+                    &buffers.u,
+                    &buffers.s_n,
+                    &buffers.u_n,
+                    g,
+                    &denoise,
+                    cancel,
+                )
             } else {
-                ratio_bilateral(
+                ratio_bilateral_cancellable(
                     &buffers.u,
                     &buffers.s_n,
                     &buffers.u_n,
                     g,
                     BILATERAL_SIGMA_PX,
                     &denoise,
+                    cancel,
                 )
             };
             let mut image = shading;
