@@ -93,33 +93,7 @@ enum Command {
     /// List the embedded scenes.
     Scenes,
     /// Open the workbench window (what `penumbra` without arguments does).
-    Gui {
-        /// A scene file or embedded scene name (default: the last one used).
-        scene: Option<String>,
-        /// Save a screenshot of the window here once the render has finished, then quit.
-        #[arg(long)]
-        screenshot: Option<PathBuf>,
-        /// With --screenshot: take it after at most this many seconds.
-        #[arg(long, default_value_t = 30.0)]
-        after: f64,
-        /// Measure responsiveness (time to the first image after a camera change, UI frame
-        /// intervals while rendering), write it here as JSON, then quit.
-        #[arg(long)]
-        measure: Option<PathBuf>,
-        /// With --screenshot: first pick the pixel at these fractions of the viewport, e.g.
-        /// 0.5,0.7.
-        #[arg(long, value_parser = parse_vec2)]
-        pick: Option<(f64, f64)>,
-        /// With --pick: step to this stage (gh, labels, visible, ltc, or a number).
-        #[arg(long)]
-        step: Option<String>,
-        /// Open these files at start (bench JSON, reference PFM, debug dump).
-        #[arg(long)]
-        open: Vec<PathBuf>,
-        /// Render method at start.
-        #[arg(long, value_enum)]
-        method: Option<RenderMethod>,
-    },
+    Gui(penumbra::app::RunOptions),
 }
 
 /// The camera flags shared by every command that renders (default: the scene's camera).
@@ -232,12 +206,7 @@ fn parse_vec3(s: &str) -> Result<DVec3, String> {
 }
 
 fn parse_vec2(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s
-        .split_once(',')
-        .ok_or_else(|| format!("expected X,Y, got '{s}'"))?;
-    let a: f64 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
-    let b: f64 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
-    Ok((a, b))
+    penumbra::app::parse_pair(s)
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -550,26 +519,7 @@ fn main() -> Result<()> {
     let cli = Cli::parse();
     match cli.command {
         None => penumbra::app::run(Default::default()).map_err(|e| anyhow::anyhow!("{e}")),
-        Some(Command::Gui {
-            scene,
-            screenshot,
-            after,
-            measure,
-            pick,
-            step,
-            open,
-            method,
-        }) => penumbra::app::run(penumbra::app::RunOptions {
-            scene,
-            screenshot,
-            after,
-            measure,
-            pick,
-            step,
-            open,
-            method,
-        })
-        .map_err(|e| anyhow::anyhow!("{e}")),
+        Some(Command::Gui(opts)) => penumbra::app::run(opts).map_err(|e| anyhow::anyhow!("{e}")),
         Some(Command::Render(args)) => render(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::Reference { render, samples }) => reference(&render, samples, render.seed),

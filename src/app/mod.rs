@@ -1070,24 +1070,43 @@ impl eframe::App for WorkbenchApp {
     }
 }
 
-/// What `penumbra gui` does besides showing the window.
-#[derive(Clone, Debug, Default)]
+/// What `penumbra gui` does besides showing the window (its command-line flags).
+#[derive(Clone, Debug, Default, clap::Args)]
 pub struct RunOptions {
+    /// A scene file or embedded scene name (default: the last one used).
     pub scene: Option<String>,
-    /// Save a screenshot here once the render has finished (or after `after` seconds), then quit.
+    /// Save a screenshot of the window here once the render has finished, then quit.
+    #[arg(long)]
     pub screenshot: Option<PathBuf>,
+    /// With --screenshot: take it after at most this many seconds.
+    #[arg(long, default_value_t = 30.0)]
     pub after: f64,
-    /// Measure responsiveness (see [`Measurement`]), write it here as JSON, then quit.
+    /// Measure responsiveness (time to the first image after a camera change, UI frame
+    /// intervals while rendering, as a `Measurement`), write it here as JSON, then quit.
+    #[arg(long)]
     pub measure: Option<PathBuf>,
-    /// Before the screenshot: pick the pixel at these fractions of the viewport (0..1).
+    /// With --screenshot: first pick the pixel at these fractions of the viewport, e.g. 0.5,0.7.
+    #[arg(long, value_parser = parse_pair)]
     pub pick: Option<(f64, f64)>,
-    /// Before the screenshot: step to this stage ("gh" for the first GH traversal, "visible",
-    /// "ltc", or a stage number).
+    /// With --pick: step to this stage (gh, labels, visible, ltc, or a stage number).
+    #[arg(long)]
     pub step: Option<String>,
-    /// Files to open at start (bench report, reference, dump).
+    /// Open these files at start (bench JSON, reference PFM, debug dump).
+    #[arg(long)]
     pub open: Vec<PathBuf>,
     /// Render method at start.
+    #[arg(long, value_enum)]
     pub method: Option<RenderMethod>,
+}
+
+/// Parses "X,Y" into two numbers (command-line flags).
+pub fn parse_pair(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected X,Y, got '{s}'"))?;
+    let a: f64 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
+    let b: f64 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
+    Ok((a, b))
 }
 
 /// Opens the workbench window.
