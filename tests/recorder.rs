@@ -59,3 +59,48 @@ fn recorded_stages_reproduce_the_rendered_pixels() {
     }
     assert!(checked > 50);
 }
+
+/// The recorded contour edges are what the silhouette stage chained: for every whole light (a
+/// convex or flat mesh) there are as many contour edges as silhouette vertices, and every arc
+/// of the recorded silhouette loops is one of the recorded edges, with the same orientation.
+#[test]
+fn recorded_contour_edges_chain_into_the_recorded_silhouette() {
+    let scene = scene_file::load_embedded("fig4").unwrap();
+    let ctx = RenderContext::new(&scene);
+    let cam = scene.camera.unwrap();
+    let basis = cam.basis().unwrap();
+    let (w, h) = (16, 12);
+    let mut scratch = ShadingScratch::default();
+    let mut checked = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let ray = subpixel_rays(&basis, x, y, 1, w, h).next().unwrap();
+            let mut rec = StageRecording::new(false);
+            ctx.radiance(&ray, Method::Analytic, &mut scratch, &mut rec);
+            for l in rec.lights.iter().filter(|l| l.piece.is_none()) {
+                let (_, edges) = l.contours.iter().find(|(o, _)| o.is_none()).unwrap();
+                let (_, sil) = l
+                    .polygons
+                    .iter()
+                    .find(|(s, _)| *s == Stage::Silhouette)
+                    .unwrap();
+                let verts: usize = sil.loops().map(|lp| lp.len()).sum();
+                assert_eq!(edges.len(), verts);
+                // Each silhouette arc (v_k, v_k+1) is one recorded contour edge.
+                for lp in sil.loops() {
+                    for k in 0..lp.len() {
+                        let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
+                        assert!(
+                            edges.iter().any(
+                                |[p, q]| (*p - a).length() < 1e-12 && (*q - b).length() < 1e-12
+                            ),
+                            "silhouette arc {a} → {b} is not a contour edge"
+                        );
+                    }
+                }
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 100, "{checked} light records checked");
+}

@@ -25,7 +25,7 @@ fn settings(method: RenderMethod, w: u32, h: u32, spp: u32, seed: u64) -> Render
 
 fn buffers(ctx: &RenderContext, s: &RenderSettings) -> StochasticBuffers {
     let cam = ctx.scene.camera.unwrap();
-    ctx.render_full(&cam, s, None).unwrap().buffers.unwrap()
+    std::sync::Arc::unwrap_or_clone(ctx.render_full(&cam, s, None).unwrap().buffers.unwrap())
 }
 
 /// 003: "noise-free in lit regions". Wherever every sample of a pixel is unshadowed

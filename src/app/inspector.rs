@@ -208,6 +208,7 @@ impl Inspector {
     pub fn views_ui(&mut self, ui: &mut Ui, sphere: &mut SphereView) {
         ui.horizontal_wrapped(|ui| {
             let l = &mut sphere.layers;
+            ui.checkbox(&mut l.contours, "contour edges");
             ui.checkbox(&mut l.light_silhouette, "light silhouette");
             ui.checkbox(&mut l.light_clipped, "clipped");
             ui.checkbox(&mut l.occluders, "occluders");

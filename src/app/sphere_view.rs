@@ -13,6 +13,9 @@ use glam::DVec3;
 /// Which recorded polygons are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Layers {
+    /// Contour edges (001 Eq. 4.2) of the light and the occluders, each drawn on its own.
+    #[serde(default = "yes")]
+    pub contours: bool,
     pub light_silhouette: bool,
     pub light_clipped: bool,
     pub occluders: bool,
@@ -21,9 +24,14 @@ pub struct Layers {
     pub directions: bool,
 }
 
+fn yes() -> bool {
+    true
+}
+
 impl Default for Layers {
     fn default() -> Self {
         Layers {
+            contours: true,
             light_silhouette: true,
             light_clipped: true,
             occluders: true,
@@ -37,6 +45,7 @@ impl Default for Layers {
 /// Colours of the layers (also used by the legend and the planar view).
 pub mod colours {
     use egui::Color32;
+    pub const CONTOUR: Color32 = Color32::from_rgb(235, 235, 245);
     pub const LIGHT: Color32 = Color32::from_rgb(240, 200, 40);
     pub const LIGHT_CLIPPED: Color32 = Color32::from_rgb(250, 140, 30);
     pub const OCCLUDER: Color32 = Color32::from_rgb(220, 60, 60);
@@ -145,6 +154,36 @@ fn curves_of(
         StepKind::Integral => 7,
     };
     let upto = step.map_or(7, |s| rank(&s.kind));
+    if layers.contours {
+        // The light's contour with its silhouette; an occluder's from its first step on. They
+        // are drawn edge by edge, as the stage sees them, before they are chained into loops.
+        for (who, edges) in &rec.contours {
+            let (from, label) = match who {
+                None => (0, "light contour edge".to_string()),
+                Some(oi) => (3, format!("occluder {} contour edge", occluder_name(*oi))),
+            };
+            if upto < from {
+                continue;
+            }
+            let colour = if upto >= 5 || (who.is_none() && upto >= 3) {
+                colours::CONTOUR.gamma_multiply(0.3)
+            } else {
+                colours::CONTOUR
+            };
+            for [a, b] in edges {
+                let mut points = Vec::new();
+                arc(*a, *b, &mut points);
+                points.push(*b);
+                out.push(Curve {
+                    points,
+                    colour,
+                    width: 1.0,
+                    closed: false,
+                    label: label.clone(),
+                });
+            }
+        }
+    }
     for (stage, poly) in &rec.polygons {
         let (show, colour, width, name, r) = match stage {
             Stage::Silhouette => (

@@ -69,7 +69,14 @@ pub fn steps(rec: &StageRecording, occluder_name: impl Fn(usize) -> String) -> V
                 label: format!("{who}: {what}"),
             })
         };
-        push(StepKind::LightSilhouette, "silhouette (line 4)".into());
+        let contour = match lr.contours.iter().find(|(o, _)| o.is_none()) {
+            Some((_, edges)) => format!(", from {} contour edges", edges.len()),
+            None => String::new(),
+        };
+        push(
+            StepKind::LightSilhouette,
+            format!("silhouette (line 4{contour})"),
+        );
         push(
             StepKind::LightClipped,
             "clipped to the horizon (line 5)".into(),

@@ -124,24 +124,33 @@ impl RenderWorker {
         let latest: Arc<Mutex<Option<Arc<ViewFrame>>>> = Arc::new(Mutex::new(None));
         let working = Arc::new(AtomicU64::new(0));
         // Render threads run at a lower priority than the UI thread, so that the window stays
-        // responsive while every core renders.
-        let pool = rayon::ThreadPoolBuilder::new()
-            .thread_name(|i| format!("penumbra-render-{i}"))
-            .start_handler(|_| lower_priority())
-            .build()
-            .map(Arc::new)
-            .map_err(|e| eprintln!("render thread pool: {e}"))
-            .ok();
+        // responsive while every core renders. The denoiser gets a pool of its own: a rayon
+        // worker that waits inside a job steals other jobs of its pool, so with one shared
+        // pool a render job could not return (and the next view not start) until a whole
+        // denoising pass it had stolen was done.
+        let make_pool = |name: &'static str, nice: i32, threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .thread_name(move |i| format!("penumbra-{name}-{i}"))
+                .start_handler(move |_| set_nice(nice))
+                .build()
+                .map(Arc::new)
+                .map_err(|e| eprintln!("{name} thread pool: {e}"))
+                .ok()
+        };
+        let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+        let pool = make_pool("render", RENDER_NICE, cores);
+        let pool2 = make_pool("denoise", DENOISE_NICE, (cores / 2).max(1));
         let publisher = Publisher {
             latest: latest.clone(),
             display: display.clone(),
             repaint: repaint.clone(),
         };
-        let (p2, pool2) = (publisher.clone(), pool.clone());
+        let p2 = publisher.clone();
         let compose_handle = std::thread::Builder::new()
             .name("penumbra-compose".into())
             .spawn(move || {
-                lower_priority();
+                set_nice(DENOISE_NICE);
                 while let Ok(mut item) = ctx_rx.recv() {
                     while let Ok(newer) = ctx_rx.try_recv() {
                         item = newer;
@@ -319,13 +328,24 @@ pub fn frame_image(
 /// `penumbra gui --measure`, docs/workbench.md).
 const RENDER_NICE: i32 = 5;
 
+/// Nice value of the denoiser's threads: below the render's, so that the first tiles of a new
+/// view (and the UI) win the CPU over denoising an image that may already be out of date.
+const DENOISE_NICE: i32 = 8;
+
 /// Lowers the calling thread's scheduling priority (to [`RENDER_NICE`]) where the platform
 /// allows it.
 pub(crate) fn lower_priority() {
+    set_nice(RENDER_NICE)
+}
+
+/// Sets the calling thread's nice value where the platform allows it.
+fn set_nice(nice: i32) {
     #[cfg(target_os = "linux")]
     // SAFETY: setpriority only reads its integer arguments; on Linux, PRIO_PROCESS with
     // who = 0 applies to the calling thread.
     unsafe {
-        libc::setpriority(libc::PRIO_PROCESS, 0, RENDER_NICE);
+        libc::setpriority(libc::PRIO_PROCESS, 0, nice);
     }
+    #[cfg(not(target_os = "linux"))]
+    let _ = nice;
 }

@@ -3,6 +3,7 @@
 
 use super::{DenoiseSettings, GBuffer};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Directions (dx, dy) of the n = 4 lines of the asterisk: 0°, 45°, 90° and 135°.
 const DIRECTIONS: [(i64, i64); 4] = [(1, 0), (1, -1), (0, 1), (1, 1)];
@@ -16,7 +17,18 @@ const DIRECTIONS: [(i64, i64); 4] = [(1, 0), (1, -1), (0, 1), (1, 1)];
 ///
 /// Panics if `w.len()` is not the number of pixels of `g`.
 pub fn noise_estimate(w: &[f64], g: &GBuffer, settings: &DenoiseSettings) -> Vec<f64> {
-    let raw = line_total_variation(w, g, settings);
+    noise_estimate_cancellable(w, g, settings, None)
+}
+
+/// [`noise_estimate`](fn@noise_estimate) that stops early once `cancel` is set (checked at the
+/// start of every row; the result is then incomplete and must be discarded).
+pub fn noise_estimate_cancellable(
+    w: &[f64],
+    g: &GBuffer,
+    settings: &DenoiseSettings,
+    cancel: Option<&AtomicBool>,
+) -> Vec<f64> {
+    let raw = line_total_variation_cancellable(w, g, settings, cancel);
     box_filter_3x3(&raw, g)
 }
 
@@ -41,6 +53,15 @@ pub fn noise_estimate(w: &[f64], g: &GBuffer, settings: &DenoiseSettings) -> Vec
 /// tap: an iid W of standard deviation s gives E ≈ (2L−1)·√(12/π)·s (Gaussian) and, on
 /// average, exactly 2L−1 for fair 0/1 coin flips.
 pub fn line_total_variation(w: &[f64], g: &GBuffer, settings: &DenoiseSettings) -> Vec<f64> {
+    line_total_variation_cancellable(w, g, settings, None)
+}
+
+fn line_total_variation_cancellable(
+    w: &[f64],
+    g: &GBuffer,
+    settings: &DenoiseSettings,
+    cancel: Option<&AtomicBool>,
+) -> Vec<f64> {
     g.check();
     assert_eq!(w.len(), g.len(), "W must have one value per G-buffer pixel");
     let mut out = vec![0.0; g.len()];
@@ -54,6 +75,9 @@ pub fn line_total_variation(w: &[f64], g: &GBuffer, settings: &DenoiseSettings) 
     out.par_chunks_mut(g.width as usize)
         .enumerate()
         .for_each(|(y, row)| {
+            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                return;
+            }
             let y = y as i64;
             for (x, e) in row.iter_mut().enumerate() {
                 let x = x as i64;

@@ -2,7 +2,8 @@
 
 use super::joint_bilateral::joint_bilateral_cancellable;
 use super::joint_bilateral::{check_image, sanitize};
-use super::{DenoiseSettings, GBuffer, noise_estimate};
+use super::noise_estimate::noise_estimate_cancellable;
+use super::{DenoiseSettings, GBuffer};
 use crate::render::Image;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -131,7 +132,7 @@ pub fn ratio_denoised_cancellable(
 ) -> (Image, DenoiseAovs) {
     check_image(u, g, "U");
     let w_n = weighted_shadow(s_n, u_n, g);
-    let noise = noise_estimate(&w_n, g, settings);
+    let noise = noise_estimate_cancellable(&w_n, g, settings, cancel);
     let sigma: Vec<f64> = noise
         .iter()
         .map(|&e| applied_sigma((settings.sigma_gain * e).min(settings.sigma_max), settings))

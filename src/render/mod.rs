@@ -378,6 +378,10 @@ impl RenderContext {
             }
             (sum * inv, stats)
         });
+        let Some(pixels) = pixels else {
+            // Cancelled: whatever is returned is discarded; do not assemble a full image.
+            return RenderOutput::default();
+        };
         let image = Image {
             width: w,
             height: h,
@@ -398,7 +402,9 @@ pub struct RenderOutput {
     /// Per-pixel standard error of the image (the reference method).
     pub stderr: Option<Image>,
     /// U, S_N, U_N and the G-buffer (stochastic methods).
-    pub buffers: Option<stochastic::StochasticBuffers>,
+    /// Shared, not copied: a progressive render hands the same buffers to the viewport, the
+    /// denoiser thread and its next pass (tens of MB at full resolution).
+    pub buffers: Option<std::sync::Arc<stochastic::StochasticBuffers>>,
     /// The denoiser's intermediate images: W_N, E, σ, denoised S_N and U_N.
     pub denoise: Option<crate::denoise::DenoiseAovs>,
     /// Per-pixel work counters and time (deterministic methods, with `collect_stats`).
@@ -407,15 +413,16 @@ pub struct RenderOutput {
 }
 
 /// Evaluates `pixel(scratch, x, y)` for every pixel in 16×16 tiles spread over rayon's
-/// threads (one scratch per worker), and returns the values in row-major order. Tiles not yet
-/// started when `cancel` becomes true are left at `T::default()`.
+/// threads (one scratch per worker), and returns the values in row-major order; `None` once
+/// `cancel` has been set (the tiles not yet started are skipped, and nothing is assembled: a
+/// cancelled view must give way to the next one at once).
 pub fn render_tiles<T, S>(
     width: u32,
     height: u32,
     cancel: Option<&AtomicBool>,
     init: impl Fn() -> S + Sync + Send,
     pixel: impl Fn(&mut S, u32, u32) -> T + Sync + Send,
-) -> Vec<T>
+) -> Option<Vec<T>>
 where
     T: Default + Clone + Send,
 {
@@ -442,6 +449,9 @@ where
             (t, out)
         })
         .collect();
+    if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+        return None;
+    }
     let mut pixels = vec![T::default(); w as usize * h as usize];
     for (t, px) in tiles {
         let (tx, ty) = (t % tiles_x, t / tiles_x);
@@ -453,5 +463,5 @@ where
             pixels[(y * w + x) as usize] = p;
         }
     }
-    pixels
+    Some(pixels)
 }

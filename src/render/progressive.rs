@@ -3,9 +3,12 @@
 //! passes with new seeds averaged into the buffers. Each step is handed to `emit` as soon as it
 //! is done; `cancel` stops the work between tiles.
 
-use super::stochastic::{StochasticBuffers, compose, compose_cancellable, render_buffers};
+use super::stochastic::{
+    StochasticBuffers, compose, compose_cancellable, render_buffers, render_buffers_with,
+};
 use super::{RenderContext, RenderMethod, RenderOutput, RenderSettings};
 use crate::scene::Camera;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -108,8 +111,11 @@ pub fn render_progressive_with(
         let defer_level = defer && scale == 1;
         let output = if defer_level {
             let basis = camera.basis()?;
+            let Some(buffers) = render_buffers(ctx, &basis, &s, Some(cancel)) else {
+                return Ok(last);
+            };
             RenderOutput {
-                buffers: Some(render_buffers(ctx, &basis, &s, Some(cancel))),
+                buffers: Some(Arc::new(buffers)),
                 ..RenderOutput::default()
             }
         } else {
@@ -135,7 +141,7 @@ pub fn render_progressive_with(
         return Ok(last);
     }
     let basis = camera.basis()?;
-    let Some(mut acc): Option<StochasticBuffers> =
+    let Some(mut acc): Option<Arc<StochasticBuffers>> =
         last.as_ref().and_then(|f| f.output.buffers.clone())
     else {
         return Ok(last);
@@ -148,11 +154,12 @@ pub fn render_progressive_with(
             seed: settings.seed.wrapping_add(pass as u64 * 0x9e37_79b9),
             ..*settings
         };
-        let next = render_buffers(ctx, &basis, &s, Some(cancel));
-        if stop() {
+        // U is deterministic: the first pass computed it, the others take it from there.
+        let Some(mut next) = render_buffers_with(ctx, &basis, &s, Some(cancel), false) else {
             break;
-        }
-        acc.accumulate(&next, pass);
+        };
+        next.accumulate_onto(&acc, pass);
+        acc = Arc::new(next);
         // Denoising the whole image cannot be interrupted: unless the caller takes it over,
         // compose the denoised methods only after passes 2, 4, 8, … and the last, so that a
         // change of view rarely waits for it (the other estimators are per pixel and cheap).
@@ -238,6 +245,36 @@ mod tests {
         .unwrap();
         deferred.compose(settings.method);
         assert_eq!(deferred.output.image.pixels, direct.output.image.pixels);
+    }
+
+    /// Later passes take U from the first (it is deterministic) instead of computing it again:
+    /// after several passes U is still, bit for bit, the U of a one-shot render, and a
+    /// cancelled render returns at once with nothing assembled.
+    #[test]
+    fn later_passes_keep_the_first_pass_u() {
+        let scene = scene_file::load_embedded("default").unwrap();
+        let ctx = RenderContext::new(&scene);
+        let cam = scene.camera.unwrap();
+        let settings = RenderSettings {
+            width: 40,
+            height: 30,
+            method: RenderMethod::Ratio,
+            spp: 2,
+            ..RenderSettings::default()
+        };
+        let cancel = AtomicBool::new(false);
+        let last = render_progressive(&ctx, &cam, &settings, 5, &cancel, |_| {})
+            .unwrap()
+            .unwrap();
+        assert_eq!(last.passes, 5);
+        let one_shot = ctx.render_full(&cam, &settings, None).unwrap();
+        let (a, b) = (last.output.buffers.unwrap(), one_shot.buffers.unwrap());
+        assert!(a.u.pixels.iter().any(|p| p.max_element() > 0.0));
+        assert_eq!(a.u.pixels, b.u.pixels);
+
+        cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        let basis = cam.basis().unwrap();
+        assert!(render_buffers(&ctx, &basis, &settings, Some(&cancel)).is_none());
     }
 
     /// Averaging passes with independent seeds is the same estimator with more samples: the

@@ -63,15 +63,26 @@ fn needs_u(method: RenderMethod) -> bool {
     !matches!(method, RenderMethod::Mc | RenderMethod::Reference)
 }
 
-/// Renders the per-pixel buffers of a stochastic method.
+/// Renders the per-pixel buffers of a stochastic method; `None` if `cancel` was set.
 pub fn render_buffers(
     ctx: &RenderContext,
     basis: &CameraBasis,
     settings: &RenderSettings,
     cancel: Option<&AtomicBool>,
-) -> StochasticBuffers {
+) -> Option<StochasticBuffers> {
+    render_buffers_with(ctx, basis, settings, cancel, needs_u(settings.method))
+}
+
+/// [`render_buffers`], computing the analytic U only if `with_u` (it is deterministic, so the
+/// later passes of a progressive render take it from the first; U is then left at zero).
+pub fn render_buffers_with(
+    ctx: &RenderContext,
+    basis: &CameraBasis,
+    settings: &RenderSettings,
+    cancel: Option<&AtomicBool>,
+    with_u: bool,
+) -> Option<StochasticBuffers> {
     let (w, h, aa) = (settings.width, settings.height, settings.aa);
-    let with_u = needs_u(settings.method);
     let k = (aa * aa) as f64;
     let values = render_tiles(w, h, cancel, Scratch::default, |scratch, x, y| {
         let mut rng = Pcg32::new(settings.seed, y as u64 * w as u64 + x as u64);
@@ -139,13 +150,13 @@ pub fn render_buffers(
             px.valid = hit.receiver;
         }
         px
-    });
+    })?;
     let image = |f: &dyn Fn(&PixelValues) -> DVec3| Image {
         width: w,
         height: h,
         pixels: values.iter().map(f).collect(),
     };
-    StochasticBuffers {
+    Some(StochasticBuffers {
         emitted: image(&|p| p.emitted),
         u: image(&|p| p.u),
         s_n: image(&|p| p.s_n),
@@ -159,7 +170,7 @@ pub fn render_buffers(
             footprint: values.iter().map(|p| p.footprint).collect(),
             valid: values.iter().map(|p| p.valid).collect(),
         },
-    }
+    })
 }
 
 /// Renders a stochastic method: the buffers, then its estimator.
@@ -169,16 +180,15 @@ pub fn render(
     settings: &RenderSettings,
     cancel: Option<&AtomicBool>,
 ) -> RenderOutput {
-    let buffers = render_buffers(ctx, basis, settings, cancel);
-    if cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed)) {
-        // Cancelled: the buffers are partial; skip the (uninterruptible) denoiser.
+    let Some(buffers) = render_buffers(ctx, basis, settings, cancel) else {
+        // Cancelled: the result is discarded; skip the (uninterruptible) denoiser.
         return RenderOutput {
             image: Image::new(settings.width, settings.height),
             ..RenderOutput::default()
         };
-    }
+    };
     let mut out = compose(settings.method, &buffers);
-    out.buffers = Some(buffers);
+    out.buffers = Some(std::sync::Arc::new(buffers));
     out
 }
 
@@ -282,23 +292,28 @@ impl StochasticBuffers {
     /// Folds `next` (another pass with an independent seed and the same sample count) into
     /// `self`, which holds the mean of `passes` passes: S_N, U_N become the mean over all
     /// passes, the variance of S_N that of the mean.
-    pub fn accumulate(&mut self, next: &StochasticBuffers, passes: u32) {
+    /// Makes this pass, the (k+1)-th, the running mean of all passes so far, `previous` being
+    /// the mean of the first k: S_N, U_N and their variance are averaged; U is taken from
+    /// `previous` (deterministic: computed by the first pass only). The fresh pass is turned
+    /// into the accumulator, so no buffer of the previous frame (still shown) is copied but U.
+    pub fn accumulate_onto(&mut self, previous: &StochasticBuffers, passes: u32) {
         let k = passes as f64;
-        let mean = |a: &mut Image, b: &Image| {
-            for (x, y) in a.pixels.iter_mut().zip(&b.pixels) {
-                *x = (*x * k + *y) / (k + 1.0);
+        let mean = |a: &mut Image, prev: &Image| {
+            for (x, p) in a.pixels.iter_mut().zip(&prev.pixels) {
+                *x = (*p * k + *x) / (k + 1.0);
             }
         };
-        mean(&mut self.s_n, &next.s_n);
-        mean(&mut self.u_n, &next.u_n);
+        mean(&mut self.s_n, &previous.s_n);
+        mean(&mut self.u_n, &previous.u_n);
         // Var(mean of k+1 passes) = (k² Var_k + Var_1) / (k+1)².
-        for (x, y) in self
+        for (x, p) in self
             .s_variance
             .pixels
             .iter_mut()
-            .zip(&next.s_variance.pixels)
+            .zip(&previous.s_variance.pixels)
         {
-            *x = (*x * (k * k) + *y) / ((k + 1.0) * (k + 1.0));
+            *x = (*p * (k * k) + *x) / ((k + 1.0) * (k + 1.0));
         }
+        self.u.pixels.clone_from(&previous.u.pixels);
     }
 }

@@ -22,9 +22,9 @@ use super::get_between::get_between;
 use super::recorder::{Lobe, Recorder, Stage};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::{
-    HorizonScratch, Overlap, PlanarPolygon, Plane, ProjectionPlane, SetDifference, Sidedness,
-    SilhouetteScratch, SphericalPolygon, classify_overlap, clip_to_horizon, face_polygon,
-    silhouette,
+    HorizonScratch, Overlap, PlanarPolygon, Plane, Polyhedron, ProjectionPlane, SetDifference,
+    Sidedness, SilhouetteScratch, SphericalPolygon, classify_overlap, clip_to_horizon,
+    contour_edges, face_polygon, silhouette,
 };
 use crate::ltc::{LtcEntry, form_factor};
 use crate::math::Frame;
@@ -124,6 +124,7 @@ pub fn shade<R: Recorder>(
                 continue;
             }
             rec.begin_light(l, None);
+            record_contour(rec, None, &light.poly, sp.position, &frame);
             silhouette(
                 &light.poly,
                 sp.position,
@@ -161,6 +162,7 @@ pub fn shade<R: Recorder>(
                     )),
                 };
                 rec.begin_light(l, Some(f));
+                record_contour(rec, None, &light.poly, sp.position, &frame);
                 face_polygon(
                     &light.poly,
                     f,
@@ -178,6 +180,29 @@ pub fn shade<R: Recorder>(
         }
     }
     total
+}
+
+/// Hands the contour edges of `poly` seen from `x` (the predicate the silhouette stage chains
+/// by, `contour_edges`) to a recorder that keeps them; nothing at all for [`super::NoRecorder`].
+fn record_contour<R: Recorder>(
+    rec: &mut R,
+    occluder: Option<usize>,
+    poly: &Polyhedron,
+    x: DVec3,
+    frame: &Frame,
+) {
+    if !R::ENABLED {
+        return;
+    }
+    let dir = |i: u32| {
+        frame
+            .to_local(poly.vertices[i as usize] - x)
+            .normalize_or_zero()
+    };
+    let edges: Vec<[DVec3; 2]> = contour_edges(poly, x)
+        .map(|[a, b]| [dir(a), dir(b)])
+        .collect();
+    rec.contour(occluder, &edges);
 }
 
 /// Is face `f` of `obj` the face the shading point lies on, or coplanar with it?
@@ -297,6 +322,7 @@ fn subtract_occluder<R: Recorder>(
         }
     }
     let cut = cut.as_ref();
+    record_contour(rec, Some(oi), &occ.poly, sp.position, frame);
     let skip_face = if own_mesh {
         piece.face.map(|(f, _)| f)
     } else {

@@ -38,6 +38,11 @@ pub trait Recorder {
         _poly: &SphericalPolygon,
     ) {
     }
+    /// The contour edges (001 Eq. 4.2) of the light (`occluder == None`) or of an occluder,
+    /// seen from the shading point: each edge as its two endpoint directions in the shading
+    /// frame, oriented counter-clockwise around its front-facing face. The silhouette stage
+    /// chains exactly these edges (convex and flat meshes) or cuts its loops out of them.
+    fn contour(&mut self, _occluder: Option<usize>, _edges: &[[DVec3; 2]]) {}
     fn culled_occluders(&mut self, _kept: &[usize]) {}
     /// One `SetDifference` of Alg. 1 line 12 (its Greiner–Hormann phases, if recorded, were
     /// written into [`Recorder::gh_steps`] by the call itself).
@@ -96,6 +101,9 @@ pub struct LightRecord {
     pub piece: Option<usize>,
     pub polygons: Vec<(Stage, SphericalPolygon)>,
     pub occluders_kept: Vec<usize>,
+    /// Contour edges of the light (`None`) and of the occluders met, as unit directions.
+    #[serde(default)]
+    pub contours: Vec<(Option<usize>, Vec<[DVec3; 2]>)>,
     pub occluder_polygons: Vec<(usize, Option<usize>, Stage, SphericalPolygon)>,
     pub set_differences: Vec<SetDifferenceRecord>,
     pub lobes: Vec<(Lobe, SphericalPolygon, SphericalPolygon, f64)>,
@@ -152,6 +160,12 @@ impl Recorder for StageRecording {
         self.current()
             .occluder_polygons
             .push((occluder, piece, stage, poly.clone()));
+    }
+    fn contour(&mut self, occluder: Option<usize>, edges: &[[DVec3; 2]]) {
+        let cur = self.current();
+        if !cur.contours.iter().any(|(o, _)| *o == occluder) {
+            cur.contours.push((occluder, edges.to_vec()));
+        }
     }
     fn culled_occluders(&mut self, kept: &[usize]) {
         self.current().occluders_kept = kept.to_vec();
