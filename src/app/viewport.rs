@@ -326,11 +326,11 @@ pub fn frame_image(
 /// Nice value of the render threads: low enough that the UI thread wins the CPU when it needs
 /// it, high enough that a continuously repainting UI does not starve the render (measured with
 /// `penumbra gui --measure`, docs/workbench.md).
-const RENDER_NICE: i32 = 5;
+const RENDER_NICE: i32 = 10;
 
 /// Nice value of the denoiser's threads: below the render's, so that the first tiles of a new
 /// view (and the UI) win the CPU over denoising an image that may already be out of date.
-const DENOISE_NICE: i32 = 8;
+const DENOISE_NICE: i32 = 13;
 
 /// Lowers the calling thread's scheduling priority (to [`RENDER_NICE`]) where the platform
 /// allows it.

@@ -53,6 +53,10 @@ impl ProgressiveFrame {
     }
 }
 
+/// Levels at least this coarse are previews: one sample per camera ray for the stochastic
+/// methods.
+pub const PREVIEW_SCALE: u32 = 4;
+
 /// Coarse-to-fine scales for a `width`×`height` target: 8, 4, 2, 1, skipping those that would
 /// leave fewer than 32 pixels across.
 pub fn scales(width: u32, height: u32) -> Vec<u32> {
@@ -102,9 +106,17 @@ pub fn render_progressive_with(
         if stop() {
             return Ok(last);
         }
+        // The coarsest previews of a stochastic method take one sample per camera ray: what
+        // matters there is how soon the new view appears (the status bar shows the spp).
+        let spp = if scale >= PREVIEW_SCALE {
+            1
+        } else {
+            settings.spp
+        };
         let s = RenderSettings {
             width: (settings.width / scale).max(1),
             height: (settings.height / scale).max(1),
+            spp,
             ..*settings
         };
         // Coarse levels are small enough to denoise at once: only full resolution is deferred.
@@ -128,7 +140,7 @@ pub fn render_progressive_with(
         let frame = ProgressiveFrame {
             scale,
             passes: 1,
-            spp: settings.spp,
+            spp: s.spp,
             output,
             elapsed: start.elapsed().as_secs_f64(),
             finished: full && (!settings.method.is_stochastic() || max_passes <= 1),
