@@ -13,6 +13,7 @@ use penumbra::scene::shapes::{
     capped_icosahedron, cuboid, cylinder, icosphere, l_shape, quad, truncated_cone, u_shape,
     uv_ellipsoid,
 };
+use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use penumbra::scene::{Camera, Mesh};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -280,6 +281,45 @@ fn nonconvex_scene() -> SceneDef {
     }
 }
 
+/// The nine polyhedra of 001 Table 7.1 as lights (0.3 m across, 0.6 m above a glossy floor,
+/// on a 3 × 3 grid in the table's order, each turned a little so that no face is parallel to
+/// the floor's grid of shading points), with a box occluder in the middle of the grid.
+fn polyhedra_scene() -> SceneDef {
+    let tints = [[1.0, 0.85, 0.7], [0.7, 0.85, 1.0], [1.0, 1.0, 1.0]];
+    let mut objects = vec![floor(&glossy("floor", [0.6, 0.6, 0.6], 0.04, 0.6))];
+    for (i, row) in TABLE_7_1.iter().enumerate() {
+        let (gx, gz) = ((i % 3) as f64 - 1.0, (i / 3) as f64 - 1.0);
+        let mesh = thesis_polyhedron(row.name)
+            .expect("a Table 7.1 name")
+            .transformed(
+                &(DAffine3::from_translation(DVec3::new(0.9 * gx, 0.75, 0.9 * gz))
+                    * DAffine3::from_rotation_y(0.35 + 0.2 * i as f64)
+                    * DAffine3::from_rotation_x(0.15)
+                    * DAffine3::from_scale(DVec3::splat(0.3))),
+            );
+        objects.push(object(
+            row.name,
+            mesh,
+            &emitter(row.name, tints[i % 3], 1.0 / 9.0),
+        ));
+    }
+    objects.push(object(
+        "pillar",
+        cuboid(DVec3::new(0.45, 0.3, 0.45), DVec3::new(0.06, 0.3, 0.06)),
+        &diffuse("pillar", [0.5, 0.5, 0.55]),
+    ));
+    SceneDef {
+        name: "polyhedra",
+        description: "The nine test polyhedra of 001 Table 7.1 (cube, cone, cylinder, \
+                      icosahedron, sphere, corner, extruded cube, hole, bowl) as lights over a \
+                      glossy floor, with a box pillar casting shadows.",
+        camera: camera([0.0, 2.6, 3.0], [0.0, 0.3, 0.0], 45.0),
+        calibration_point: DVec3::ZERO,
+        target: 1.0,
+        objects,
+    }
+}
+
 /// Snaps values within 1e-12 of a multiple of 1e-9 onto it (0.47000000000000003 -> 0.47,
 /// 6e-17 -> 0), so the files are readable; the shapes move by less than 1e-12.
 fn clean(v: f64) -> f64 {
@@ -408,6 +448,7 @@ fn main() -> anyhow::Result<()> {
         fig4_scene(),
         chair_scene(),
         nonconvex_scene(),
+        polyhedra_scene(),
     ] {
         write_scene(&dir, &def)?;
         // Read the files back through the loader and report.

@@ -34,7 +34,7 @@ fn highest(o: &SceneObject) -> f64 {
 fn every_embedded_scene_loads_cleanly_and_matches_the_files() {
     assert_eq!(
         embedded_scene_names(),
-        ["default", "fig4", "chair", "nonconvex"]
+        ["default", "fig4", "chair", "nonconvex", "polyhedra"]
     );
     for &name in embedded_scene_names() {
         let s = load_embedded(name).unwrap();

@@ -149,3 +149,43 @@ fn nearly_parallel_edges_ending_at_the_line_tolerance() {
     ];
     check(&subject, &clip);
 }
+
+#[test]
+fn sliver_loop_touching_a_thin_occluder_face() {
+    // `polyhedra` scene, pixel (72, 142) at 480×360: the light `hole` shaded face by face, its
+    // face 18 minus earlier faces of itself left a 7-vertex loop and a 3-vertex sliver (edges
+    // of 1e-5 rad); its face 8, nearly edge-on, is the clip. It made phase 2 follow a missing
+    // successor link (an index out of bounds: a panic in the renderer).
+    let outer = [
+        DVec3::new(0.9064229452922438, 0.08579667788207847, 0.4135654413900332),
+        DVec3::new(0.8992500696425583, 0.019240724118670376, 0.4370115636722252),
+        DVec3::new(
+            0.9086181069513091,
+            0.0014116404509723548,
+            0.4176256014559651,
+        ),
+        DVec3::new(
+            0.9086181069794543,
+            0.0014116406433427424,
+            0.4176256013940799,
+        ),
+        DVec3::new(
+            0.9086181069788919,
+            0.0014116406426228267,
+            0.41762560139530597,
+        ),
+        DVec3::new(0.91387390903951, 0.044502049308761886, 0.4035517884784626),
+        DVec3::new(0.9185654020625471, 0.11627274978679449, 0.37778069007122156),
+    ];
+    let sliver = [
+        DVec3::new(0.9186634379394653, 0.11654189736789755, 0.37745923482030863),
+        DVec3::new(0.9186090304054716, 0.11639247192306561, 0.3776377122814373),
+        DVec3::new(0.9186589504184918, 0.1163806156722092, 0.3775199135300712),
+    ];
+    let clip = [
+        DVec3::new(0.9186634379390526, 0.11654189736728582, 0.37745923482150134),
+        DVec3::new(0.9185690304295301, 0.11640196813140032, 0.3777320719119436),
+        DVec3::new(0.9374872110374862, 0.11146162095600523, 0.3296877859354445),
+    ];
+    check_loops(&[&outer, &sliver], &clip);
+}

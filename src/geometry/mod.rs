@@ -1,7 +1,9 @@
 //! The geometry of one shading point: polyhedra, contours and silhouettes, spherical polygons,
 //! horizon clipping, the planar projection and the set difference (000 Alg. 1–3, 001 Sect. 4).
 
+pub mod convex_cell;
 pub mod horizon;
+pub mod kernel;
 pub mod overlap;
 mod polygon_loops;
 pub mod polyhedron;
@@ -13,10 +15,12 @@ pub mod spherical_polygon;
 #[cfg(test)]
 pub(crate) mod test_util;
 
+pub use convex_cell::{CellSide, ConvexCell};
 pub use horizon::{HorizonScratch, clip_to_horizon};
+pub use kernel::{kernel, star_centre};
 pub use overlap::{Overlap, classify as classify_overlap};
 pub use polygon_loops::PolygonLoops;
-pub use polyhedron::{Edge, MeshDiagnostics, Plane, Polyhedron};
+pub use polyhedron::{Edge, FeatureCounts, MeshDiagnostics, Plane, Polyhedron};
 pub use projection::{PlanarPolygon, ProjectionPlane};
 pub use separation::separating_plane;
 pub use set_difference::{GreinerHormannSteps, SetDifference};

@@ -55,6 +55,14 @@ pub struct MeshDiagnostics {
     pub welded_vertices: u32,
 }
 
+/// Counts of [`Polyhedron::feature_counts`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct FeatureCounts {
+    pub vertices: usize,
+    pub edges: usize,
+    pub faces: usize,
+}
+
 /// A polygon mesh prepared for silhouette extraction: welded vertices, face planes (Newell
 /// normals), the edge list with face adjacency, a bounding sphere and diagnostics.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -249,6 +257,52 @@ impl Polyhedron {
     /// flat (single-plane) meshes. Other meshes take the per-face path.
     pub fn has_simple_silhouette(&self) -> bool {
         self.diagnostics.convex || self.diagnostics.planar
+    }
+
+    /// Vertices, edges and faces counted as a modeller would (001 Table 7.1): adjacent faces in
+    /// one plane with one orientation are one face (a non-convex face or one with holes, stored
+    /// as convex pieces), an edge between two such pieces is no edge, and a vertex only inside
+    /// such a face is no vertex.
+    pub fn feature_counts(&self) -> FeatureCounts {
+        let nf = self.face_count();
+        let mut parent: Vec<usize> = (0..nf).collect();
+        fn find(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        let tol = 1e-9 * self.radius.max(f64::MIN_POSITIVE);
+        let coplanar =
+            |a: &Plane, b: &Plane| a.n.dot(b.n) > 1.0 - 1e-12 && (a.d - b.d).abs() <= tol;
+        for e in &self.edges {
+            if e.is_boundary() {
+                continue;
+            }
+            let (f0, f1) = (e.faces[0] as usize, e.faces[1] as usize);
+            if coplanar(&self.face_planes[f0], &self.face_planes[f1]) {
+                let (r0, r1) = (find(&mut parent, f0), find(&mut parent, f1));
+                parent[r0] = r1;
+            }
+        }
+        let mut used = vec![false; self.vertices.len()];
+        let mut edges = 0;
+        for e in &self.edges {
+            let feature = e.is_boundary()
+                || find(&mut parent, e.faces[0] as usize) != find(&mut parent, e.faces[1] as usize);
+            if feature {
+                edges += 1;
+                used[e.v[0] as usize] = true;
+                used[e.v[1] as usize] = true;
+            }
+        }
+        let faces = (0..nf).filter(|&f| find(&mut parent, f) == f).count();
+        FeatureCounts {
+            vertices: used.iter().filter(|&&u| u).count(),
+            edges,
+            faces,
+        }
     }
 
     /// Volume enclosed by a closed mesh (positive when faces are counter-clockwise outward).

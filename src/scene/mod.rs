@@ -10,6 +10,7 @@ pub mod camera;
 pub mod obj;
 pub mod scene_file;
 pub mod shapes;
+pub mod thesis_polyhedra;
 
 pub use camera::Camera;
 

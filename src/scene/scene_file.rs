@@ -56,9 +56,21 @@ const EMBEDDED_FILES: &[(&str, &str)] = &[
         "nonconvex.mtl",
         include_str!("../../assets/scenes/nonconvex.mtl"),
     ),
+    (
+        "polyhedra.toml",
+        include_str!("../../assets/scenes/polyhedra.toml"),
+    ),
+    (
+        "polyhedra.obj",
+        include_str!("../../assets/scenes/polyhedra.obj"),
+    ),
+    (
+        "polyhedra.mtl",
+        include_str!("../../assets/scenes/polyhedra.mtl"),
+    ),
 ];
 
-const EMBEDDED_SCENES: &[&str] = &["default", "fig4", "chair", "nonconvex"];
+const EMBEDDED_SCENES: &[&str] = &["default", "fig4", "chair", "nonconvex", "polyhedra"];
 
 /// Names of the scenes compiled into the binary (`load_embedded` takes these).
 pub fn embedded_scene_names() -> &'static [&'static str] {

@@ -134,8 +134,14 @@ impl SetDifference {
                     Status::Outside
                 };
                 let lp = self.loops[slot];
-                for node in &mut self.nodes[lp.first as usize..(lp.first + lp.len) as usize] {
+                let mut n = lp.first;
+                loop {
+                    let node = &mut self.nodes[n as usize];
                     node.status = side;
+                    n = node.next;
+                    if n == lp.first {
+                        break;
+                    }
                 }
                 if let Some(s) = steps.as_deref_mut() {
                     s.untouched_loops.push(UntouchedLoop {
@@ -182,7 +188,7 @@ impl SetDifference {
     /// other boundary (it would be an intersection), so the test is unambiguous.
     fn loop_inside_other(&self, slot: usize) -> bool {
         let lp = self.loops[slot];
-        let range = lp.first as usize..(lp.first + lp.len) as usize;
+        let range = lp.input_first as usize..(lp.input_first + lp.len) as usize;
         let mut p = self.nodes[range.start].dir;
         for node in &self.nodes[range] {
             if node.dir.z > p.z {
@@ -202,7 +208,8 @@ impl SetDifference {
         let mut winding = 0;
         for slot in self.loop_range(operand) {
             let lp = self.loops[slot];
-            for i in lp.first..lp.first + lp.len {
+            // The input edges, as loaded: phase 1 folds nodes only within the tolerances.
+            for i in lp.input_first..lp.input_first + lp.len {
                 let a = &self.nodes[i as usize];
                 let b = &self.nodes[a.orig_next as usize];
                 winding += ray.winding_contribution(a.dir, b.dir);

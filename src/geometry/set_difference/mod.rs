@@ -137,10 +137,13 @@ struct Node {
     removed: bool,
 }
 
-/// A loop of one operand: original nodes `first..first + len`.
+/// A loop of one operand: original nodes `input_first..input_first + len`, linked through
+/// `orig_next` as loaded; `first` is a live node of the loop for traversal (phase 1 may fold
+/// the original first node into a cluster node outside that range).
 #[derive(Clone, Copy, Debug)]
 struct LoopInfo {
     first: u32,
+    input_first: u32,
     len: u32,
     /// Index of the loop in the input polygon.
     input_loop: u32,
@@ -315,6 +318,7 @@ impl SetDifference {
             }
             self.loops.push(LoopInfo {
                 first: first as u32,
+                input_first: first as u32,
                 len: len as u32,
                 input_loop: input_loop as u32,
             });
