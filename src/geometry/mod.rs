@@ -2,6 +2,7 @@
 //! horizon clipping, the planar projection and the set difference (000 Alg. 1–3, 001 Sect. 4).
 
 pub mod convex_cell;
+pub mod exact_silhouette;
 pub mod horizon;
 pub mod kernel;
 pub mod overlap;
@@ -16,6 +17,9 @@ pub mod spherical_polygon;
 pub(crate) mod test_util;
 
 pub use convex_cell::{CellSide, ConvexCell};
+pub use exact_silhouette::{
+    Degenerate, ExactSilhouetteScratch, ExactSilhouetteStats, exact_silhouette,
+};
 pub use horizon::{HorizonScratch, clip_to_horizon};
 pub use kernel::{kernel, star_centre};
 pub use overlap::{Overlap, classify as classify_overlap};

@@ -1,0 +1,274 @@
+//! The exact silhouette of any closed polyhedron seen from a point (001 Sect. 4.3): the
+//! contour edges (Eq. 4.2), cut at their apparent intersections (Eq. 4.4), keeping the pieces
+//! whose midpoint ray meets no other part of the mesh, chained into loops. The result may have
+//! several loops and holes; each loop is positively oriented around the region the mesh covers
+//! (see [`SphericalPolygon`]), so holes come out negatively oriented.
+//!
+//! This is the on-the-fly method: quadratic in the contour edges plus one ray test per piece.
+//! It is the oracle and the leaf generator of the precomputed (BSP) silhouettes.
+//!
+//! Degenerate configurations are detected, never nudged: a face plane through the point, an
+//! apparent intersection at (or within rounding of) an edge's end, or pieces that do not close
+//! into loops return [`Degenerate`]; the caller then takes the face-by-face path, which is
+//! exact there.
+
+use super::SphericalPolygon;
+use super::polyhedron::{NO_FACE, Polyhedron};
+use super::silhouette::is_front_facing;
+use crate::accel::{PreparedRay, Ray, is_degenerate};
+use crate::math::Frame;
+use glam::DVec3;
+
+/// Why no exact silhouette was produced at a point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Degenerate {
+    /// The point lies (within rounding) in the plane of a face.
+    CoplanarFace,
+    /// Two contour edges appear to meet at, or within rounding of, the end of one of them.
+    CrossingAtEnd,
+    /// The kept pieces do not close into loops.
+    OpenChain,
+}
+
+/// Where a piece of a contour edge starts or ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum End {
+    Vertex(u32),
+    Crossing(u32),
+}
+
+#[derive(Clone, Copy, Debug)]
+struct ContourEdge {
+    v: [u32; 2],
+    faces: [u32; 2],
+    /// Unit directions from the point to the (oriented) ends.
+    a: DVec3,
+    b: DVec3,
+    /// Unit normal of the arc's great circle, a × b normalised.
+    n: DVec3,
+    /// Arc length.
+    len: f64,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    edge: u32,
+    start: End,
+    end: End,
+    from: DVec3,
+    to: DVec3,
+    used: bool,
+}
+
+/// Reusable buffers of [`exact_silhouette`].
+#[derive(Clone, Debug, Default)]
+pub struct ExactSilhouetteScratch {
+    edges: Vec<ContourEdge>,
+    /// (edge, arc parameter, crossing id) of every apparent intersection, twice each.
+    cuts: Vec<(u32, f64, u32)>,
+    crossings: Vec<DVec3>,
+    pieces: Vec<Piece>,
+    /// Pieces kept, as indices into `pieces`.
+    kept: Vec<u32>,
+}
+
+/// What [`exact_silhouette`] found, for statistics and the debugger.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ExactSilhouetteStats {
+    pub contour_edges: u32,
+    pub apparent_intersections: u32,
+    pub pieces: u32,
+    pub kept: u32,
+}
+
+/// Angular tolerance (radians) below which an apparent intersection is taken to be at an end.
+const END_TOLERANCE: f64 = 1e-10;
+
+/// The silhouette of the closed mesh `poly` seen from `x`, in `frame`, as positively oriented
+/// loops in `out` (cleared first). `x` must lie outside the mesh.
+pub fn exact_silhouette(
+    poly: &Polyhedron,
+    x: DVec3,
+    frame: &Frame,
+    out: &mut SphericalPolygon,
+    scratch: &mut ExactSilhouetteScratch,
+) -> Result<ExactSilhouetteStats, Degenerate> {
+    out.clear();
+    let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
+    if poly.face_planes.iter().any(|p| p.eval(x).abs() <= tol) {
+        return Err(Degenerate::CoplanarFace);
+    }
+    let mut stats = ExactSilhouetteStats::default();
+
+    // 1. Contour edges, oriented so that the mesh lies to their left on the sphere.
+    scratch.edges.clear();
+    for e in &poly.edges {
+        let f0 = is_front_facing(poly, e.faces[0] as usize, x);
+        let f1 = e.faces[1] != NO_FACE && is_front_facing(poly, e.faces[1] as usize, x);
+        // The orientation of `contour_edges`: the mesh to the left on the sphere.
+        let [i, j] = match (f0, f1) {
+            (true, false) => [e.v[1], e.v[0]],
+            (false, true) => [e.v[0], e.v[1]],
+            _ => continue,
+        };
+        let a = (poly.vertices[i as usize] - x).normalize();
+        let b = (poly.vertices[j as usize] - x).normalize();
+        let c = a.cross(b);
+        let len = c.length().atan2(a.dot(b));
+        let Some(n) = c.try_normalize() else {
+            // An edge seen end-on: zero length, no area; it cannot bound anything.
+            continue;
+        };
+        scratch.edges.push(ContourEdge {
+            v: [i, j],
+            faces: e.faces,
+            a,
+            b,
+            n,
+            len,
+        });
+    }
+    stats.contour_edges = scratch.edges.len() as u32;
+
+    // 2. Apparent intersections of pairs of contour edges without a common vertex (Eq. 4.4:
+    //    the line through x shared by the two arcs' planes).
+    scratch.cuts.clear();
+    scratch.crossings.clear();
+    let edges = &scratch.edges;
+    for i in 0..edges.len() {
+        for j in i + 1..edges.len() {
+            let (e, g) = (&edges[i], &edges[j]);
+            if e.v.iter().any(|v| g.v.contains(v)) {
+                continue;
+            }
+            let Some(mut p) = e.n.cross(g.n).try_normalize() else {
+                continue; // arcs on one great circle: they overlap or miss, never cross
+            };
+            if p.dot(e.a + e.b) < 0.0 {
+                p = -p;
+            }
+            let (te, tg) = (arc_parameter(e, p), arc_parameter(g, p));
+            let strictly = |t: f64, len: f64| t > END_TOLERANCE && t < len - END_TOLERANCE;
+            let near = |t: f64, len: f64| t > -END_TOLERANCE && t < len + END_TOLERANCE;
+            if strictly(te, e.len) && strictly(tg, g.len) {
+                let id = scratch.crossings.len() as u32;
+                scratch.crossings.push(p);
+                scratch.cuts.push((i as u32, te, id));
+                scratch.cuts.push((j as u32, tg, id));
+            } else if near(te, e.len) && near(tg, g.len) {
+                return Err(Degenerate::CrossingAtEnd);
+            }
+        }
+    }
+    stats.apparent_intersections = scratch.crossings.len() as u32;
+
+    // 3. Pieces between consecutive cuts along each edge.
+    scratch
+        .cuts
+        .sort_unstable_by(|p, q| p.0.cmp(&q.0).then(p.1.total_cmp(&q.1)));
+    scratch.pieces.clear();
+    let mut k = 0;
+    for (i, e) in scratch.edges.iter().enumerate() {
+        let mut start = End::Vertex(e.v[0]);
+        let mut from = e.a;
+        while k < scratch.cuts.len() && scratch.cuts[k].0 == i as u32 {
+            let id = scratch.cuts[k].2;
+            let to = scratch.crossings[id as usize];
+            scratch.pieces.push(Piece {
+                edge: i as u32,
+                start,
+                end: End::Crossing(id),
+                from,
+                to,
+                used: false,
+            });
+            start = End::Crossing(id);
+            from = to;
+            k += 1;
+        }
+        scratch.pieces.push(Piece {
+            edge: i as u32,
+            start,
+            end: End::Vertex(e.v[1]),
+            from,
+            to: e.b,
+            used: false,
+        });
+    }
+    stats.pieces = scratch.pieces.len() as u32;
+
+    // 4. Keep the pieces whose midpoint ray meets no face but the edge's own two.
+    scratch.kept.clear();
+    for (pi, piece) in scratch.pieces.iter().enumerate() {
+        let mid = (piece.from + piece.to).normalize();
+        if !blocked(poly, x, mid, scratch.edges[piece.edge as usize].faces) {
+            scratch.kept.push(pi as u32);
+        }
+    }
+    stats.kept = scratch.kept.len() as u32;
+
+    // 5. Chain the kept pieces into loops through their shared ends.
+    for s in 0..scratch.kept.len() {
+        let first = scratch.kept[s] as usize;
+        if scratch.pieces[first].used {
+            continue;
+        }
+        let start = scratch.pieces[first].start;
+        let mut cur = first;
+        loop {
+            scratch.pieces[cur].used = true;
+            out.push_vertex(frame.to_local(scratch.pieces[cur].from));
+            let end = scratch.pieces[cur].end;
+            if end == start {
+                break;
+            }
+            let next = scratch
+                .kept
+                .iter()
+                .map(|&q| q as usize)
+                .find(|&q| !scratch.pieces[q].used && scratch.pieces[q].start == end);
+            match next {
+                Some(q) => cur = q,
+                None => {
+                    out.clear();
+                    return Err(Degenerate::OpenChain);
+                }
+            }
+        }
+        out.close_loop();
+    }
+    Ok(stats)
+}
+
+/// Angle from the arc's start to the direction p, measured in the arc's plane.
+#[inline]
+fn arc_parameter(e: &ContourEdge, p: DVec3) -> f64 {
+    e.a.cross(p).dot(e.n).atan2(e.a.dot(p))
+}
+
+/// Does the ray from `x` along `dir` meet a face of `poly` other than `skip`, the two faces of
+/// the piece's edge? Hits before and beyond the edge both count: a piece with part of the mesh
+/// in front of it or directly behind it separates nothing from the background.
+fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2]) -> bool {
+    let t_min = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
+    let ray = PreparedRay::new(&Ray::new(x, dir));
+    for f in 0..poly.face_count() {
+        if skip.contains(&(f as u32)) {
+            continue;
+        }
+        let idx = poly.face(f);
+        let v0 = poly.vertices[idx[0] as usize];
+        for k in 1..idx.len() - 1 {
+            let (v1, v2) = (
+                poly.vertices[idx[k] as usize],
+                poly.vertices[idx[k + 1] as usize],
+            );
+            if !is_degenerate(v0, v1, v2)
+                && ray.intersect(v0, v1, v2, t_min, f64::INFINITY).is_some()
+            {
+                return true;
+            }
+        }
+    }
+    false
+}
