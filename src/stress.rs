@@ -11,6 +11,7 @@
 use crate::accel::{Bvh, Ray};
 use crate::math::{Frame, Pcg32};
 use crate::scene::shapes::{cuboid, cylinder, icosahedron, quad};
+use crate::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use crate::scene::{Material, Mesh, ObjectFlags, Scene, SceneObject};
 use crate::shading::{Lobe, Method, PreparedScene, Recorder, ShadingPoint, ShadingScratch, shade};
 use glam::{DAffine3, DMat3, DVec3};
@@ -36,9 +37,12 @@ pub enum CaseKind {
     /// Several boxes separated by tiny gaps (a chair of boxes), so that their silhouettes have
     /// nearly coincident corners and nearly collinear edges.
     NearlyTouchingBoxes,
+    /// A random polyhedron of 001 Table 7.1 (convex or not, with tunnels and pits) as the light
+    /// and others as occluders: exact silhouettes with several loops and holes.
+    NonConvex,
 }
 
-const KINDS: [CaseKind; 8] = [
+const KINDS: [CaseKind; 9] = [
     CaseKind::Random,
     CaseKind::CoplanarWithLightFace,
     CaseKind::LightVerticesOnHorizon,
@@ -47,6 +51,7 @@ const KINDS: [CaseKind; 8] = [
     CaseKind::CoincidentVertices,
     CaseKind::CoveringOrInside,
     CaseKind::NearlyTouchingBoxes,
+    CaseKind::NonConvex,
 ];
 
 /// One generated configuration.
@@ -82,7 +87,7 @@ pub struct StressReport {
     /// Cases whose error exceeds 6 standard deviations of the estimate plus 1/rays.
     pub beyond_6_sigma: u64,
     /// The same, per kind of case (in the order of `CaseKind`).
-    pub beyond_6_sigma_by_kind: [u64; 8],
+    pub beyond_6_sigma_by_kind: [u64; KINDS.len()],
     pub worst_abs: WorstCase,
     pub worst_sigma: WorstCase,
     pub seconds: f64,
@@ -120,6 +125,14 @@ fn random_convex(rng: &mut Pcg32, center: DVec3, size: f64) -> Mesh {
         ),
     };
     m.transformed(&DAffine3::from_mat3_translation(rot, center))
+}
+
+/// A Table 7.1 polyhedron, turned at random, `size` across.
+fn random_thesis_polyhedron(rng: &mut Pcg32, center: DVec3, size: f64) -> Mesh {
+    let rot = rotation(rng);
+    let name = TABLE_7_1[rng.below(TABLE_7_1.len() as u32) as usize].name;
+    let m = thesis_polyhedron(name).unwrap_or_default();
+    m.transformed(&DAffine3::from_mat3_translation(rot * size, center))
 }
 
 fn object(name: &str, mesh: Mesh, light: bool) -> SceneObject {
@@ -344,6 +357,30 @@ pub fn generate(seed: u64, index: u64) -> Case {
                 false,
             ));
             n = DVec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), 1.0).normalize();
+        }
+        CaseKind::NonConvex => {
+            n = rng.unit_vector();
+            let up = Frame::from_z(n);
+            let lc = up.to_world(DVec3::new(
+                rng.range(-1.5, 1.5),
+                rng.range(-1.5, 1.5),
+                rng.range(0.0, 2.5),
+            ));
+            let size = rng.range(0.4, 1.2);
+            objects.push(object(
+                "light",
+                random_thesis_polyhedron(&mut rng, lc, size),
+                true,
+            ));
+            for k in 0..rng.below(4) {
+                let t = rng.range(0.2, 0.8);
+                let c = lc * t + rng.unit_vector() * rng.range(0.0, 0.6);
+                let occ_size = rng.range(0.1, 0.6) * t;
+                let mesh = random_thesis_polyhedron(&mut rng, c, occ_size);
+                if !spheres_overlap(&objects[0].mesh, &mesh) {
+                    objects.push(object(&format!("occluder{k}"), mesh, false));
+                }
+            }
         }
         CaseKind::CoveringOrInside => {
             let lc = DVec3::new(

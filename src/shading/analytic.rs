@@ -22,9 +22,9 @@ use super::get_between::get_between;
 use super::recorder::{Lobe, Recorder, Stage};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::{
-    HorizonScratch, Overlap, PlanarPolygon, Plane, Polyhedron, ProjectionPlane, SetDifference,
-    Sidedness, SilhouetteScratch, SphericalPolygon, classify_overlap, clip_to_horizon,
-    contour_edges, face_polygon, silhouette,
+    ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, Polyhedron,
+    ProjectionPlane, SetDifference, Sidedness, SilhouetteScratch, SphericalPolygon,
+    classify_overlap, clip_to_horizon, contour_edges, exact_silhouette, face_polygon, silhouette,
 };
 use crate::ltc::{LtcEntry, form_factor};
 use crate::math::Frame;
@@ -47,6 +47,7 @@ pub struct ShadingStats {
 #[derive(Default)]
 pub struct ShadingScratch {
     silhouette: SilhouetteScratch,
+    exact: ExactSilhouetteScratch,
     horizon: HorizonScratch,
     difference: SetDifference,
     light_sph: SphericalPolygon,
@@ -118,6 +119,10 @@ pub fn shade<R: Recorder>(
         let (light_id, radiance) = scene.lights[l];
         let light = &scene.objects[light_id as usize];
         let on_light = sp.object == Some(light.object);
+        let whole = LightPiece {
+            light: l,
+            face: None,
+        };
         if light.simple && method != Method::PerTriangle {
             // A convex or flat light does not light points on itself.
             if on_light {
@@ -133,12 +138,25 @@ pub fn shade<R: Recorder>(
                 &mut scratch.light_sph,
                 &mut scratch.silhouette,
             );
-            let piece = LightPiece {
-                light: l,
-                face: None,
-            };
             total += shade_light_piece(
-                scene, &piece, sp, &frame, &lobes, radiance, method, scratch, rec,
+                scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
+            );
+        } else if uses_exact_silhouette(light, method, on_light)
+            && exact_silhouette(
+                &light.poly,
+                sp.position,
+                &frame,
+                &mut scratch.light_sph,
+                &mut scratch.exact,
+            )
+            .is_ok()
+        {
+            // A closed non-convex light as a whole: its exact silhouette already accounts for
+            // the faces it hides of itself (001 Fig. 4.1), so its own mesh is not subtracted.
+            rec.begin_light(l, None);
+            record_contour(rec, None, &light.poly, sp.position, &frame);
+            total += shade_light_piece(
+                scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
             );
         } else {
             for f in 0..light.poly.face_count() {
@@ -180,6 +198,14 @@ pub fn shade<R: Recorder>(
         }
     }
     total
+}
+
+/// Whether a non-convex mesh is taken whole, through its exact silhouette: closed meshes under
+/// the analytic method, except at points on the mesh itself (whose own face lies in the
+/// tangent plane there; the face-by-face path skips it exactly).
+#[inline]
+fn uses_exact_silhouette(obj: &PreparedObject, method: Method, on_it: bool) -> bool {
+    method == Method::Analytic && !on_it && obj.poly.diagnostics.closed_manifold
 }
 
 /// Hands the contour edges of `poly` seen from `x` (the predicate the silhouette stage chains
@@ -330,6 +356,38 @@ fn subtract_occluder<R: Recorder>(
     };
     let on_this = sp.object == Some(occ.object);
     let closed = occ.poly.diagnostics.closed_manifold;
+    let exact = !occ.simple
+        && cut.is_none()
+        && skip_face.is_none()
+        && uses_exact_silhouette(occ, method, on_this);
+    if exact {
+        // A closed non-convex occluder as a whole (its silhouette may have several loops and
+        // holes); the per-shading-point cache as for convex ones. Degenerate points fall back
+        // to the faces below.
+        let cache_hit = !R::ENABLED && scratch.occluder_cache[oi].stamp == scratch.stamp;
+        let ok = cache_hit
+            || exact_silhouette(
+                &occ.poly,
+                sp.position,
+                frame,
+                &mut scratch.occ_sph,
+                &mut scratch.exact,
+            )
+            .is_ok();
+        if ok {
+            if cache_hit {
+                std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
+            } else {
+                clip_and_project(oi, None, scratch, rec);
+            }
+            subtract_planar(oi, scratch, rec);
+            if !R::ENABLED {
+                std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
+                scratch.occluder_cache[oi].stamp = scratch.stamp;
+            }
+            return;
+        }
+    }
     if occ.simple && method != Method::PerTriangle && cut.is_none() {
         // An occluder's projected silhouette depends on the shading point and frame only, not
         // on the light: computed once per shading point and kept for the next lights. (With a
