@@ -1,6 +1,7 @@
 //! The geometry of one shading point: polyhedra, contours and silhouettes, spherical polygons,
 //! horizon clipping, the planar projection and the set difference (000 Alg. 1–3, 001 Sect. 4).
 
+pub mod bsp;
 pub mod convex_cell;
 pub mod exact_silhouette;
 pub mod horizon;
@@ -16,6 +17,7 @@ pub mod spherical_polygon;
 #[cfg(test)]
 pub(crate) mod test_util;
 
+pub use bsp::{BspNode, BspStats, SilhouetteBsp};
 pub use convex_cell::{CellSide, ConvexCell};
 pub use exact_silhouette::{
     Degenerate, ExactSilhouetteScratch, ExactSilhouetteStats, exact_silhouette,

@@ -130,8 +130,8 @@ pub fn shade<R: Recorder>(
             }
             rec.begin_light(l, None);
             record_contour(rec, None, &light.poly, sp.position, &frame);
-            silhouette(
-                &light.poly,
+            convex_silhouette(
+                light,
                 sp.position,
                 &frame,
                 Sidedness::FrontOnly,
@@ -198,6 +198,26 @@ pub fn shade<R: Recorder>(
         }
     }
     total
+}
+
+/// `SphPolySilhouette` of a convex or flat mesh: read from its BSP tree of precomputed
+/// silhouettes where it has one (001 Sect. 5.1), else chained from the contour edges.
+#[inline]
+fn convex_silhouette(
+    obj: &PreparedObject,
+    x: DVec3,
+    frame: &Frame,
+    sidedness: Sidedness,
+    out: &mut SphericalPolygon,
+    scratch: &mut SilhouetteScratch,
+) {
+    let from_tree = obj
+        .bsp
+        .as_ref()
+        .is_some_and(|t| t.silhouette(&obj.poly, x, frame, out));
+    if !from_tree {
+        silhouette(&obj.poly, x, frame, sidedness, out, scratch);
+    }
 }
 
 /// Whether a non-convex mesh is taken whole, through its exact silhouette: closed meshes under
@@ -396,8 +416,8 @@ fn subtract_occluder<R: Recorder>(
         if cache_hit {
             std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
         } else {
-            silhouette(
-                &occ.poly,
+            convex_silhouette(
+                occ,
                 sp.position,
                 frame,
                 Sidedness::TwoSided,

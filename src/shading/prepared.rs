@@ -1,7 +1,7 @@
 //! The scene as the shading stages need it, computed once per scene: polyhedra with adjacency,
 //! which path each mesh takes, separating planes of light/occluder pairs, the LTC table.
 
-use crate::geometry::{Plane, Polyhedron, separating_plane};
+use crate::geometry::{Plane, Polyhedron, SilhouetteBsp, separating_plane};
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
 use glam::DVec3;
@@ -15,7 +15,13 @@ pub struct PreparedObject {
     pub poly: Polyhedron,
     /// Takes the silhouette path (convex closed or flat); otherwise per face.
     pub simple: bool,
+    /// Precomputed silhouettes of a convex mesh over the scene's bounds (001 Sect. 5.1).
+    pub bsp: Option<SilhouetteBsp>,
 }
+
+/// Convex meshes whose face planes cut the scene into more cells than this keep computing
+/// their silhouette on the fly (the count grows with the cube of the face count).
+pub const MAX_BSP_CELLS: usize = 50_000;
 
 /// Everything the shading stages read, shared by all threads.
 #[derive(Clone, Debug)]
@@ -45,6 +51,13 @@ impl PreparedScene {
         let mut lights = Vec::new();
         let mut occluders = Vec::new();
         let mut notes = Vec::new();
+        // Every shading point lies on a surface of the scene: its bounds, with a margin.
+        let scene_box = scene.objects.iter().filter_map(|o| o.mesh.bounds()).fold(
+            (DVec3::INFINITY, DVec3::NEG_INFINITY),
+            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+        );
+        let margin = 1e-3 * (scene_box.1 - scene_box.0).max_element().max(1e-9);
+        let scene_box = (scene_box.0 - margin, scene_box.1 + margin);
         for (i, obj) in scene.objects.iter().enumerate() {
             let is_light = obj.flags.light && obj.material.is_emissive();
             if !is_light && !obj.flags.occluder {
@@ -61,18 +74,39 @@ impl PreparedScene {
             let simple = poly.has_simple_silhouette();
             if !simple {
                 let d = &poly.diagnostics;
+                let how = if d.closed_manifold {
+                    "its exact silhouette is computed at each point (face by face where that \
+                     is degenerate)"
+                } else {
+                    "it is handled face by face"
+                };
                 notes.push(format!(
                     "object '{}' is not convex (closed manifold: {}, boundary edges: {}, non-manifold edges: {}): \
-                     it is handled face by face",
+                     {how}",
                     obj.name, d.closed_manifold, d.boundary_edges, d.nonmanifold_edges
                 ));
             }
+            let bsp = poly
+                .diagnostics
+                .convex
+                .then(|| {
+                    let (lo, hi) = scene_box;
+                    SilhouetteBsp::build_convex_limited(
+                        &poly,
+                        lo.min(poly.center - poly.radius),
+                        hi.max(poly.center + poly.radius),
+                        MAX_BSP_CELLS,
+                    )
+                    .map(|(t, _)| t)
+                })
+                .flatten();
             let id = objects.len() as u32;
             objects.push(PreparedObject {
                 object: i as u32,
                 name: obj.name.clone(),
                 poly,
                 simple,
+                bsp,
             });
             if is_light {
                 lights.push((id, obj.material.ke));

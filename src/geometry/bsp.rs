@@ -1,0 +1,308 @@
+//! Precomputed silhouettes in a BSP tree (001 Sect. 5): space around a mesh is cut by a set of
+//! planes into convex cells in each of which the silhouette has the same structure; each leaf
+//! stores that structure, and shading only walks the tree and reads it.
+//!
+//! Convex meshes (Sect. 5.1): the planes are the face planes, because the contour changes only
+//! where a face turns from front to back; a leaf stores the silhouette as an ordered loop of
+//! vertex indices, already oriented (no flips, each vertex transformed once).
+//!
+//! The build (Sect. 5.3) runs twice. The first pass splits the cell of each node (a
+//! [`ConvexCell`] inside a bounding box) by a plane that cuts it, down to cells no plane cuts,
+//! and takes a representative point in each (its centroid). The final cells do not depend on
+//! the order of the planes, so the second pass builds the tree actually used over those points
+//! alone, each node taking the plane that splits its points most evenly: a balanced tree over
+//! the same cells. Every point of a cell has the sign vector of its representative, so it
+//! reaches that representative's leaf.
+
+use super::convex_cell::{CellSide, ConvexCell};
+use super::polyhedron::NO_FACE;
+use super::silhouette::is_front_facing;
+use super::{Plane, Polyhedron, SphericalPolygon};
+use crate::math::Frame;
+use glam::DVec3;
+
+/// A node of the tree: an inner node tests `planes[plane]` (front: `eval > 0`), a leaf holds
+/// `loops[first..first + count]` of the leaf data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum BspNode {
+    Inner { plane: u32, back: u32, front: u32 },
+    Leaf { first: u32, count: u32 },
+}
+
+/// The BSP tree of precomputed silhouettes of one convex mesh, in the mesh's coordinates.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct SilhouetteBsp {
+    pub planes: Vec<Plane>,
+    pub nodes: Vec<BspNode>,
+    /// Leaf data: silhouette loops as vertex indices, each loop ended by `LOOP_END`.
+    pub data: Vec<u32>,
+    /// The box the tree partitions; outside it the tree does not answer.
+    pub lo: DVec3,
+    pub hi: DVec3,
+}
+
+/// Ends a loop in [`SilhouetteBsp::data`].
+pub const LOOP_END: u32 = u32::MAX;
+
+/// What a build produced (001 Table 7.4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BspStats {
+    pub seconds: f64,
+    pub nodes: usize,
+    pub leaves: usize,
+    pub depth: usize,
+    /// Silhouette vertices over all leaves.
+    pub silhouette_vertices: usize,
+    /// Size of the two buffers at 20 bytes per node and 4 per vertex, as in Table 7.4.
+    pub table_7_4_bytes: usize,
+}
+
+impl SilhouetteBsp {
+    /// Builds the tree of a convex mesh over the box `[lo, hi]` (which should hold every point
+    /// that will be shaded). Returns `None` for a mesh that is not convex.
+    pub fn build_convex(poly: &Polyhedron, lo: DVec3, hi: DVec3) -> Option<(Self, BspStats)> {
+        Self::build_convex_limited(poly, lo, hi, usize::MAX)
+    }
+
+    /// [`SilhouetteBsp::build_convex`] that gives up (`None`) once the face planes cut the box
+    /// into more than `max_cells` cells (their number grows with the cube of the face count).
+    pub fn build_convex_limited(
+        poly: &Polyhedron,
+        lo: DVec3,
+        hi: DVec3,
+        max_cells: usize,
+    ) -> Option<(Self, BspStats)> {
+        if !poly.diagnostics.convex {
+            return None;
+        }
+        let start = std::time::Instant::now();
+        let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
+        let planes = distinct_planes(&poly.face_planes, tol);
+        // Pass 1: the cells and a point in each.
+        let mut points = Vec::new();
+        let all: Vec<u32> = (0..planes.len() as u32).collect();
+        if !enumerate_cells(
+            ConvexCell::cuboid(lo, hi),
+            &planes,
+            &all,
+            tol,
+            max_cells,
+            &mut points,
+        ) {
+            return None;
+        }
+        // Pass 2: a balanced tree over the points.
+        let mut tree = SilhouetteBsp {
+            planes,
+            nodes: Vec::new(),
+            data: Vec::new(),
+            lo,
+            hi,
+        };
+        let mut depth = 0;
+        let mut idx: Vec<u32> = (0..points.len() as u32).collect();
+        tree.build_balanced(poly, &points, &mut idx, 0, &mut depth);
+        let leaves = tree
+            .nodes
+            .iter()
+            .filter(|n| matches!(n, BspNode::Leaf { .. }))
+            .count();
+        let silhouette_vertices = tree.data.iter().filter(|&&v| v != LOOP_END).count();
+        let stats = BspStats {
+            seconds: start.elapsed().as_secs_f64(),
+            nodes: tree.nodes.len(),
+            leaves,
+            depth,
+            silhouette_vertices,
+            table_7_4_bytes: 20 * tree.nodes.len() + 4 * silhouette_vertices,
+        };
+        Some((tree, stats))
+    }
+
+    /// Builds the subtree over `idx` (indices into `points`) and returns its node index.
+    fn build_balanced(
+        &mut self,
+        poly: &Polyhedron,
+        points: &[DVec3],
+        idx: &mut [u32],
+        depth: usize,
+        max_depth: &mut usize,
+    ) -> u32 {
+        *max_depth = (*max_depth).max(depth);
+        let me = self.nodes.len() as u32;
+        self.nodes.push(BspNode::Leaf { first: 0, count: 0 });
+        // The plane with the most even split of the points (ties: the lowest index).
+        let mut best: Option<(usize, u32)> = None;
+        if idx.len() > 1 {
+            for (k, pl) in self.planes.iter().enumerate() {
+                let front = idx
+                    .iter()
+                    .filter(|&&i| pl.eval(points[i as usize]) > 0.0)
+                    .count();
+                if front == 0 || front == idx.len() {
+                    continue;
+                }
+                let imbalance = front.abs_diff(idx.len() - front);
+                if best.is_none_or(|(b, _)| imbalance < b) {
+                    best = Some((imbalance, k as u32));
+                }
+            }
+        }
+        match best {
+            None => {
+                // One cell (several points only if they lie in one cell: the same structure).
+                let first = self.data.len() as u32;
+                contour_loops(poly, points[idx[0] as usize], &mut self.data);
+                let count = self.data.len() as u32 - first;
+                self.nodes[me as usize] = BspNode::Leaf { first, count };
+            }
+            Some((_, k)) => {
+                let pl = self.planes[k as usize];
+                // Partition in place: back points first.
+                let mut split = 0;
+                for j in 0..idx.len() {
+                    if pl.eval(points[idx[j] as usize]) <= 0.0 {
+                        idx.swap(j, split);
+                        split += 1;
+                    }
+                }
+                let (back_idx, front_idx) = idx.split_at_mut(split);
+                let back = self.build_balanced(poly, points, back_idx, depth + 1, max_depth);
+                let front = self.build_balanced(poly, points, front_idx, depth + 1, max_depth);
+                self.nodes[me as usize] = BspNode::Inner {
+                    plane: k,
+                    back,
+                    front,
+                };
+            }
+        }
+        me
+    }
+
+    /// The leaf data (loops of vertex indices, each ended by `LOOP_END`) of the cell of `x`, or
+    /// `None` outside the box.
+    #[inline]
+    pub fn lookup(&self, x: DVec3) -> Option<&[u32]> {
+        if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
+            return None;
+        }
+        let mut n = 0usize;
+        loop {
+            match self.nodes[n] {
+                BspNode::Inner { plane, back, front } => {
+                    n = if self.planes[plane as usize].eval(x) > 0.0 {
+                        front as usize
+                    } else {
+                        back as usize
+                    };
+                }
+                BspNode::Leaf { first, count } => {
+                    return Some(&self.data[first as usize..(first + count) as usize]);
+                }
+            }
+        }
+    }
+
+    /// The silhouette of `poly` (the mesh the tree was built for) from `x` as a spherical
+    /// polygon in `frame`, read from the tree: the same loops as
+    /// [`super::silhouette`](fn@super::silhouette) computes. `false` (and `out` untouched)
+    /// outside the box.
+    pub fn silhouette(
+        &self,
+        poly: &Polyhedron,
+        x: DVec3,
+        frame: &Frame,
+        out: &mut SphericalPolygon,
+    ) -> bool {
+        let Some(data) = self.lookup(x) else {
+            return false;
+        };
+        out.clear();
+        for &v in data {
+            if v == LOOP_END {
+                out.close_loop();
+            } else if let Some(d) = frame
+                .to_local(poly.vertices[v as usize] - x)
+                .try_normalize()
+            {
+                out.push_vertex(d);
+            }
+        }
+        true
+    }
+}
+
+/// The face planes without repeats (split faces share a plane).
+fn distinct_planes(planes: &[Plane], tol: f64) -> Vec<Plane> {
+    let mut out: Vec<Plane> = Vec::with_capacity(planes.len());
+    for p in planes {
+        if !out
+            .iter()
+            .any(|q| q.n.dot(p.n) > 1.0 - 1e-12 && (q.d - p.d).abs() <= tol)
+        {
+            out.push(*p);
+        }
+    }
+    out
+}
+
+/// Pass 1: splits `cell` by the first of `candidates` that cuts it, recursively, and pushes
+/// the centroid of every final cell; `false` once there are more than `max_cells`.
+fn enumerate_cells(
+    cell: ConvexCell,
+    planes: &[Plane],
+    candidates: &[u32],
+    tol: f64,
+    max_cells: usize,
+    points: &mut Vec<DVec3>,
+) -> bool {
+    // Planes that miss this cell miss all its sub-cells: drop them for the subtree.
+    let cutting: Vec<u32> = candidates
+        .iter()
+        .copied()
+        .filter(|&k| cell.side(&planes[k as usize], tol) == CellSide::Straddles)
+        .collect();
+    let Some((&k, rest)) = cutting.split_first() else {
+        points.push(cell.centroid());
+        return points.len() <= max_cells;
+    };
+    let (back, front) = cell.split(&planes[k as usize], tol);
+    for part in [back, front] {
+        if !part.is_empty() && !enumerate_cells(part, planes, rest, tol, max_cells, points) {
+            return false;
+        }
+    }
+    true
+}
+
+/// The silhouette loops of a convex mesh from `x` as vertex indices (the contour edges of 001
+/// Eq. 4.2 chained through shared vertices, oriented as `contour_edges`), each loop followed
+/// by `LOOP_END`.
+fn contour_loops(poly: &Polyhedron, x: DVec3, out: &mut Vec<u32>) {
+    let mut next = vec![NO_FACE; poly.vertices.len()];
+    let mut starts = Vec::new();
+    for e in &poly.edges {
+        let f0 = is_front_facing(poly, e.faces[0] as usize, x);
+        let f1 = e.faces[1] != NO_FACE && is_front_facing(poly, e.faces[1] as usize, x);
+        let (a, b) = match (f0, f1) {
+            (true, false) => (e.v[1], e.v[0]),
+            (false, true) => (e.v[0], e.v[1]),
+            _ => continue,
+        };
+        next[a as usize] = b;
+        starts.push(a);
+    }
+    let mut used = vec![false; poly.vertices.len()];
+    for s in starts {
+        if used[s as usize] {
+            continue;
+        }
+        let mut v = s;
+        while !used[v as usize] && next[v as usize] != NO_FACE {
+            used[v as usize] = true;
+            out.push(v);
+            v = next[v as usize];
+        }
+        out.push(LOOP_END);
+    }
+}

@@ -1,0 +1,86 @@
+//! BSP trees of precomputed silhouettes (001 Sect. 5) against closed forms (the cells of the
+//! cube's and the tetrahedron's face planes, 001 Fig. 5.1) and against the silhouette computed
+//! on the fly at thousands of random points of every cell.
+
+use glam::DVec3;
+use penumbra::geometry::{
+    Polyhedron, Sidedness, SilhouetteBsp, SilhouetteScratch, SphericalPolygon, silhouette,
+};
+use penumbra::math::{Frame, Pcg32};
+use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
+
+fn polyhedron(name: &str) -> Polyhedron {
+    let m = thesis_polyhedron(name).unwrap();
+    Polyhedron::new(&m.positions, &m.faces)
+}
+
+fn boxed(p: &Polyhedron, k: f64) -> (DVec3, DVec3) {
+    (
+        p.center - DVec3::splat(k * p.radius),
+        p.center + DVec3::splat(k * p.radius),
+    )
+}
+
+/// 001 Fig. 5.1: the face planes of a cube cut space into 27 cells, those of a tetrahedron
+/// into 15 (one of them the solid itself); a balanced tree over n leaves has 2n − 1 nodes.
+#[test]
+fn cells_of_the_cube_and_the_tetrahedron() {
+    let cube = polyhedron("cube");
+    let (lo, hi) = boxed(&cube, 8.0);
+    let (_, stats) = SilhouetteBsp::build_convex(&cube, lo, hi).unwrap();
+    assert_eq!(stats.leaves, 27);
+    assert_eq!(stats.nodes, 2 * 27 - 1);
+    let v = [
+        DVec3::new(1.0, 1.0, 1.0),
+        DVec3::new(1.0, -1.0, -1.0),
+        DVec3::new(-1.0, 1.0, -1.0),
+        DVec3::new(-1.0, -1.0, 1.0),
+    ];
+    let faces = vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]];
+    let mut tet = Polyhedron::new(&v, &faces);
+    if tet.signed_volume() < 0.0 {
+        let flipped: Vec<Vec<u32>> = faces
+            .iter()
+            .map(|f| f.iter().rev().copied().collect())
+            .collect();
+        tet = Polyhedron::new(&v, &flipped);
+    }
+    assert!(tet.diagnostics.convex);
+    let (lo, hi) = boxed(&tet, 40.0);
+    let (_, stats) = SilhouetteBsp::build_convex(&tet, lo, hi).unwrap();
+    assert_eq!(stats.leaves, 15);
+}
+
+/// Solid angle about the mean direction (the silhouettes here are smaller than a hemisphere).
+fn solid_angle(p: &SphericalPolygon) -> f64 {
+    p.signed_solid_angle()
+}
+
+#[test]
+fn bsp_silhouettes_equal_the_silhouette_on_the_fly() {
+    let mut rng = Pcg32::new(99, 2);
+    let frame = Frame::from_z(DVec3::new(0.1, -0.3, 0.95).normalize());
+    let (mut a, mut b) = (SphericalPolygon::new(), SphericalPolygon::new());
+    let mut scratch = SilhouetteScratch::default();
+    for row in TABLE_7_1.iter().filter(|r| r.convex) {
+        let poly = polyhedron(row.name);
+        let (lo, hi) = boxed(&poly, 6.0);
+        let (bsp, stats) = SilhouetteBsp::build_convex(&poly, lo, hi).unwrap();
+        eprintln!("{}: {stats:?}", row.name);
+        let mut n = 0;
+        while n < 4000 {
+            let x = lo + (hi - lo) * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+            if poly.face_planes.iter().all(|p| p.eval(x) < 0.0) {
+                continue;
+            }
+            assert!(bsp.silhouette(&poly, x, &frame, &mut a));
+            silhouette(&poly, x, &frame, Sidedness::FrontOnly, &mut b, &mut scratch);
+            assert_eq!(a.vertex_count(), b.vertex_count(), "{} at {x}", row.name);
+            let (sa, sb) = (solid_angle(&a), solid_angle(&b));
+            assert!((sa - sb).abs() < 1e-12, "{} at {x}: {sa} vs {sb}", row.name);
+            n += 1;
+        }
+        // Outside its box the tree does not answer.
+        assert!(!bsp.silhouette(&poly, hi * 2.0, &frame, &mut a));
+    }
+}
