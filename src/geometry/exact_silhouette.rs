@@ -67,9 +67,13 @@ pub struct ExactSilhouetteScratch {
     /// (edge, arc parameter, crossing id) of every apparent intersection, twice each.
     cuts: Vec<(u32, f64, u32)>,
     crossings: Vec<DVec3>,
+    /// The two contour edges (indices into `edges`) of each crossing.
+    crossing_edges: Vec<(u32, u32)>,
     pieces: Vec<Piece>,
     /// Pieces kept, as indices into `pieces`.
     kept: Vec<u32>,
+    /// The kept pieces in loop order, with whether the piece closes its loop.
+    chain: Vec<(u32, bool)>,
 }
 
 /// What [`exact_silhouette`] found, for statistics and the debugger.
@@ -134,6 +138,7 @@ pub fn exact_silhouette(
     //    the line through x shared by the two arcs' planes).
     scratch.cuts.clear();
     scratch.crossings.clear();
+    scratch.crossing_edges.clear();
     let edges = &scratch.edges;
     for i in 0..edges.len() {
         for j in i + 1..edges.len() {
@@ -153,6 +158,7 @@ pub fn exact_silhouette(
             if strictly(te, e.len) && strictly(tg, g.len) {
                 let id = scratch.crossings.len() as u32;
                 scratch.crossings.push(p);
+                scratch.crossing_edges.push((i as u32, j as u32));
                 scratch.cuts.push((i as u32, te, id));
                 scratch.cuts.push((j as u32, tg, id));
             } else if near(te, e.len) && near(tg, g.len) {
@@ -208,6 +214,7 @@ pub fn exact_silhouette(
     stats.kept = scratch.kept.len() as u32;
 
     // 5. Chain the kept pieces into loops through their shared ends.
+    scratch.chain.clear();
     for s in 0..scratch.kept.len() {
         let first = scratch.kept[s] as usize;
         if scratch.pieces[first].used {
@@ -219,6 +226,7 @@ pub fn exact_silhouette(
             scratch.pieces[cur].used = true;
             out.push_vertex(frame.to_local(scratch.pieces[cur].from));
             let end = scratch.pieces[cur].end;
+            scratch.chain.push((cur as u32, end == start));
             if end == start {
                 break;
             }
@@ -238,6 +246,52 @@ pub fn exact_silhouette(
         out.close_loop();
     }
     Ok(stats)
+}
+
+/// A vertex of a silhouette loop as the mesh defines it, valid wherever the structure of the
+/// silhouette stays the same (a BSP cell, 001 Sect. 5.2): a mesh vertex, or the apparent
+/// intersection of two mesh edges given by their end vertices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum SilhouettePoint {
+    Vertex(u32),
+    Crossing([u32; 2], [u32; 2]),
+}
+
+impl SilhouettePoint {
+    /// The unit direction of the point seen from `x` (Eq. 4.4 for a crossing: the line shared
+    /// by the planes of the two arcs, on the side of the first arc).
+    #[inline]
+    pub fn direction(&self, poly: &Polyhedron, x: DVec3) -> Option<DVec3> {
+        let dir = |v: u32| (poly.vertices[v as usize] - x).try_normalize();
+        match *self {
+            SilhouettePoint::Vertex(v) => dir(v),
+            SilhouettePoint::Crossing([a1, a2], [b1, b2]) => {
+                let (a1, a2) = (dir(a1)?, dir(a2)?);
+                let (b1, b2) = (dir(b1)?, dir(b2)?);
+                let p = a1.cross(a2).cross(b1.cross(b2)).try_normalize()?;
+                Some(if p.dot(a1 + a2) < 0.0 { -p } else { p })
+            }
+        }
+    }
+}
+
+/// The loops of the last successful [`exact_silhouette`] call made with `scratch`, as
+/// [`SilhouettePoint`]s; each loop is followed by `None`.
+pub fn symbolic_loops(scratch: &ExactSilhouetteScratch, out: &mut Vec<Option<SilhouettePoint>>) {
+    out.clear();
+    for &(piece, closes) in &scratch.chain {
+        let p = &scratch.pieces[piece as usize];
+        out.push(Some(match p.start {
+            End::Vertex(v) => SilhouettePoint::Vertex(v),
+            End::Crossing(id) => {
+                let (i, j) = scratch.crossing_edges[id as usize];
+                SilhouettePoint::Crossing(scratch.edges[i as usize].v, scratch.edges[j as usize].v)
+            }
+        }));
+        if closes {
+            out.push(None);
+        }
+    }
 }
 
 /// Angle from the arc's start to the direction p, measured in the arc's plane.

@@ -2,6 +2,7 @@
 //! horizon clipping, the planar projection and the set difference (000 Alg. 1–3, 001 Sect. 4).
 
 pub mod bsp;
+pub mod bsp_nonconvex;
 pub mod convex_cell;
 pub mod exact_silhouette;
 pub mod horizon;
@@ -18,9 +19,11 @@ pub mod spherical_polygon;
 pub(crate) mod test_util;
 
 pub use bsp::{BspNode, BspStats, SilhouetteBsp};
+pub use bsp_nonconvex::{ExactBspLimits, ExactBspStats, ExactSilhouetteBsp};
 pub use convex_cell::{CellSide, ConvexCell};
 pub use exact_silhouette::{
-    Degenerate, ExactSilhouetteScratch, ExactSilhouetteStats, exact_silhouette,
+    Degenerate, ExactSilhouetteScratch, ExactSilhouetteStats, SilhouettePoint, exact_silhouette,
+    symbolic_loops,
 };
 pub use horizon::{HorizonScratch, clip_to_horizon};
 pub use kernel::{kernel, star_centre};

@@ -1,0 +1,457 @@
+//! BSP trees of precomputed exact silhouettes for closed non-convex meshes (001 Sect. 5.2).
+//!
+//! Within a cell of the face planes the contour edges stay the same; what still changes is
+//! which pairs of them appear to cross. Two edges begin to appear to cross where an end of one
+//! appears to lie on the other: on the plane through that edge and that end (001 Fig. 5.3).
+//! So each cell of the face planes is cut further by the "three-endpoint" planes of the pairs
+//! of *its* contour edges (the thesis' second reduction: pairs that are not both contour edges
+//! there are irrelevant; the first, removing duplicates, is implicit since only planes that cut
+//! the cell are used). A leaf stores the silhouette found at a point of its cell, as loops of
+//! [`SilhouettePoint`]s (mesh vertices and apparent intersections of two edges).
+//!
+//! The thesis stops there. Yet the order in which two edges cross a third can still swap
+//! inside such a cell (three edges appearing concurrent is not a plane event), and so can
+//! visibility behind a third edge; a leaf's structure is therefore *validated* at the corners
+//! of its cell (pulled 10 % toward the centroid) against the silhouette computed on the fly.
+//! A cell that fails is split through its centroid across its longest side and validated
+//! again, to a depth limit; what still fails is marked so that shading computes it on the fly.
+//! This is a validation on samples, not a proof: `tests/bsp_nonconvex.rs` measures how often a
+//! random point meets a wrong leaf.
+
+use super::bsp::BspNode;
+use super::convex_cell::{CellSide, ConvexCell};
+use super::exact_silhouette::{
+    ExactSilhouetteScratch, SilhouettePoint, exact_silhouette, symbolic_loops,
+};
+use super::polyhedron::NO_FACE;
+use super::silhouette::is_front_facing;
+use super::{Plane, Polyhedron, SphericalPolygon};
+use crate::accel::{PreparedRay, Ray, is_degenerate};
+use crate::math::Frame;
+use glam::DVec3;
+
+/// Marks a leaf whose silhouette is computed on the fly (`BspNode::Leaf::count`).
+pub const ON_THE_FLY: u32 = u32::MAX;
+
+/// Precomputed exact silhouettes of a closed non-convex mesh, in the mesh's coordinates.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct ExactSilhouetteBsp {
+    pub planes: Vec<Plane>,
+    pub nodes: Vec<BspNode>,
+    /// Leaf data: loops as ranges of `points`; a leaf holds `loops[first..first + count]`.
+    pub loops: Vec<[u32; 2]>,
+    pub points: Vec<SilhouettePoint>,
+    pub lo: DVec3,
+    pub hi: DVec3,
+}
+
+/// What a build produced (001 Table 7.4, and the validation of this implementation).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ExactBspStats {
+    pub seconds: f64,
+    pub nodes: usize,
+    pub leaves: usize,
+    pub depth: usize,
+    /// Distinct planes: the face planes and the three-endpoint planes used.
+    pub planes: usize,
+    /// Silhouette edges over all leaves (one per loop vertex).
+    pub silhouette_edges: usize,
+    /// Splits made because a leaf failed validation, and leaves left to the on-the-fly path.
+    pub validation_splits: usize,
+    pub on_the_fly_leaves: usize,
+    /// Size at 20 bytes per node and 8 per edge (two 32-bit points), as in Table 7.4.
+    pub table_7_4_bytes: usize,
+}
+
+/// Limits of a build.
+#[derive(Clone, Copy, Debug)]
+pub struct ExactBspLimits {
+    pub max_leaves: usize,
+    /// Depth of the splits made for validation, below a cell of the mesh's own planes.
+    pub max_validation_depth: u32,
+}
+
+impl Default for ExactBspLimits {
+    fn default() -> Self {
+        ExactBspLimits {
+            max_leaves: 200_000,
+            max_validation_depth: 6,
+        }
+    }
+}
+
+struct Builder<'a> {
+    poly: &'a Polyhedron,
+    tree: ExactSilhouetteBsp,
+    stats: ExactBspStats,
+    tol: f64,
+    limits: ExactBspLimits,
+    scratch: ExactSilhouetteScratch,
+    symbolic: Vec<Option<SilhouettePoint>>,
+    sph: SphericalPolygon,
+    failed: bool,
+}
+
+impl ExactSilhouetteBsp {
+    /// Builds the tree of a closed mesh over the box `[lo, hi]`; `None` for an open mesh or
+    /// when the limits are exceeded.
+    pub fn build(
+        poly: &Polyhedron,
+        lo: DVec3,
+        hi: DVec3,
+        limits: ExactBspLimits,
+    ) -> Option<(Self, ExactBspStats)> {
+        if !poly.diagnostics.closed_manifold {
+            return None;
+        }
+        let start = std::time::Instant::now();
+        let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
+        let mut b = Builder {
+            poly,
+            tree: ExactSilhouetteBsp {
+                lo,
+                hi,
+                ..Default::default()
+            },
+            stats: ExactBspStats::default(),
+            tol,
+            limits,
+            scratch: ExactSilhouetteScratch::default(),
+            symbolic: Vec::new(),
+            sph: SphericalPolygon::new(),
+            failed: false,
+        };
+        let faces: Vec<Plane> = poly.face_planes.clone();
+        b.face_cells(ConvexCell::cuboid(lo, hi), &faces, 0);
+        if b.failed {
+            return None;
+        }
+        let mut stats = b.stats;
+        stats.seconds = start.elapsed().as_secs_f64();
+        stats.nodes = b.tree.nodes.len();
+        stats.planes = b.tree.planes.len();
+        stats.silhouette_edges = b.tree.points.len();
+        stats.table_7_4_bytes = 20 * stats.nodes + 8 * stats.silhouette_edges;
+        Some((b.tree, stats))
+    }
+
+    /// The silhouette from `x` read from the tree, as positively oriented loops in `frame`;
+    /// `false` outside the box or in a leaf left to the on-the-fly path.
+    pub fn silhouette(
+        &self,
+        poly: &Polyhedron,
+        x: DVec3,
+        frame: &Frame,
+        out: &mut SphericalPolygon,
+    ) -> bool {
+        if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
+            return false;
+        }
+        let mut n = 0usize;
+        let (first, count) = loop {
+            match self.nodes[n] {
+                BspNode::Inner { plane, back, front } => {
+                    n = if self.planes[plane as usize].eval(x) > 0.0 {
+                        front as usize
+                    } else {
+                        back as usize
+                    };
+                }
+                BspNode::Leaf { first, count } => break (first, count),
+            }
+        };
+        if count == ON_THE_FLY {
+            return false;
+        }
+        out.clear();
+        for lp in &self.loops[first as usize..(first + count) as usize] {
+            for p in &self.points[lp[0] as usize..lp[1] as usize] {
+                if let Some(d) = p.direction(poly, x) {
+                    out.push_vertex(frame.to_local(d));
+                }
+            }
+            out.close_loop();
+        }
+        true
+    }
+}
+
+impl Builder<'_> {
+    fn push_plane(&mut self, p: Plane) -> u32 {
+        let found = self
+            .tree
+            .planes
+            .iter()
+            .position(|q| q.n.dot(p.n) > 1.0 - 1e-12 && (q.d - p.d).abs() <= self.tol);
+        match found {
+            Some(k) => k as u32,
+            None => {
+                self.tree.planes.push(p);
+                (self.tree.planes.len() - 1) as u32
+            }
+        }
+    }
+
+    /// Splits `cell` by `plane`, building both children with `f`; returns the node index.
+    fn split(
+        &mut self,
+        cell: &ConvexCell,
+        plane: Plane,
+        depth: usize,
+        mut f: impl FnMut(&mut Self, ConvexCell, usize) -> u32,
+    ) -> u32 {
+        let me = self.tree.nodes.len() as u32;
+        self.tree.nodes.push(BspNode::Leaf { first: 0, count: 0 });
+        let k = self.push_plane(plane);
+        let (back, front) = cell.split(&plane, self.tol);
+        let b = f(self, back, depth + 1);
+        let fr = f(self, front, depth + 1);
+        self.tree.nodes[me as usize] = BspNode::Inner {
+            plane: k,
+            back: b,
+            front: fr,
+        };
+        me
+    }
+
+    /// Stage 1: the cells of the face planes.
+    fn face_cells(&mut self, cell: ConvexCell, faces: &[Plane], depth: usize) -> u32 {
+        let cutting: Vec<Plane> = faces
+            .iter()
+            .copied()
+            .filter(|p| cell.side(p, self.tol) == CellSide::Straddles)
+            .collect();
+        match cutting.split_first() {
+            Some((&p, rest)) => {
+                let rest = rest.to_vec();
+                self.split(&cell, p, depth, |b, c, d| b.face_cells(c, &rest, d))
+            }
+            None => {
+                // The contour is fixed in this cell: the three-endpoint planes of its pairs.
+                let ev = self.endpoint_planes(cell.centroid());
+                self.endpoint_cells(cell, &ev, depth)
+            }
+        }
+    }
+
+    /// The three-endpoint planes of the pairs of contour edges from `c` that share no vertex:
+    /// `[e+g₁, e+g₂, g+e₁, g+e₂]` per pair (the plane through edge e and end g₁ of g, …). The
+    /// sign of `e+g₁` at x is the side of g₁ relative to the plane of e's arc seen from x.
+    fn endpoint_planes(&self, c: DVec3) -> Vec<[Option<Plane>; 4]> {
+        let poly = self.poly;
+        let contour: Vec<[u32; 2]> = poly
+            .edges
+            .iter()
+            .filter(|e| {
+                let f0 = is_front_facing(poly, e.faces[0] as usize, c);
+                let f1 = e.faces[1] != NO_FACE && is_front_facing(poly, e.faces[1] as usize, c);
+                f0 != f1
+            })
+            .map(|e| e.v)
+            .collect();
+        let v = |i: u32| poly.vertices[i as usize];
+        let plane = |edge: &[u32; 2], end: u32| {
+            let (a, b, p) = (v(edge[0]), v(edge[1]), v(end));
+            (b - a)
+                .cross(p - a)
+                .try_normalize()
+                .map(|n| Plane { n, d: n.dot(a) })
+        };
+        let mut out = Vec::new();
+        for (i, e) in contour.iter().enumerate() {
+            for g in &contour[i + 1..] {
+                if e.iter().any(|a| g.contains(a)) {
+                    continue;
+                }
+                out.push([
+                    plane(e, g[0]),
+                    plane(e, g[1]),
+                    plane(g, e[0]),
+                    plane(g, e[1]),
+                ]);
+            }
+        }
+        out
+    }
+
+    /// Stage 2: the cells of the three-endpoint planes inside a cell of the face planes. A
+    /// pair's planes matter only where its arcs can cross: where each arc's great circle can
+    /// separate the other's ends (the two signs of the pair of planes differ somewhere in the
+    /// cell); elsewhere the pair is dropped for the whole subtree, an exact reduction.
+    fn endpoint_cells(
+        &mut self,
+        cell: ConvexCell,
+        pairs: &[[Option<Plane>; 4]],
+        depth: usize,
+    ) -> u32 {
+        let c = cell.centroid();
+        let tol = self.tol;
+        let cuts = |p: &Option<Plane>| p.is_some_and(|p| cell.side(&p, tol) == CellSide::Straddles);
+        let sign = |p: &Option<Plane>| p.is_some_and(|p| p.eval(c) > 0.0);
+        let can_separate = |p: &Option<Plane>, q: &Option<Plane>| {
+            p.is_none() || q.is_none() || cuts(p) || cuts(q) || sign(p) != sign(q)
+        };
+        let live: Vec<[Option<Plane>; 4]> = pairs
+            .iter()
+            .copied()
+            .filter(|q| can_separate(&q[0], &q[1]) && can_separate(&q[2], &q[3]))
+            .filter(|q| q.iter().any(&cuts))
+            .collect();
+        let first_cut = live
+            .first()
+            .and_then(|q| q.iter().find(|p| cuts(p)).copied().flatten());
+        match first_cut {
+            Some(p) => self.split(&cell, p, depth, |b, c, d| b.endpoint_cells(c, &live, d)),
+            None => self.leaf(cell, depth, 0),
+        }
+    }
+
+    /// A leaf for `cell`: the silhouette at its centroid, validated at its corners; split
+    /// across its longest side when that fails.
+    fn leaf(&mut self, cell: ConvexCell, depth: usize, validation_depth: u32) -> u32 {
+        self.stats.depth = self.stats.depth.max(depth);
+        let me = self.tree.nodes.len() as u32;
+        if self.stats.leaves >= self.limits.max_leaves {
+            self.failed = true;
+        }
+        let c = cell.centroid();
+        if inside(self.poly, c) {
+            // Inside the solid: never shaded.
+            self.stats.leaves += 1;
+            self.tree.nodes.push(BspNode::Leaf {
+                first: 0,
+                count: ON_THE_FLY,
+            });
+            return me;
+        }
+        let frame = Frame::from_z(DVec3::Z);
+        let ok = exact_silhouette(self.poly, c, &frame, &mut self.sph, &mut self.scratch).is_ok();
+        if ok {
+            symbolic_loops(&self.scratch, &mut self.symbolic);
+        }
+        let valid = ok && self.validate(&cell);
+        if !valid && validation_depth < self.limits.max_validation_depth && !self.failed {
+            self.stats.validation_splits += 1;
+            let (lo, hi) = cell
+                .vertices()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p), hi.max(p))
+                });
+            let ext = hi - lo;
+            let axis = if ext.x >= ext.y && ext.x >= ext.z {
+                DVec3::X
+            } else if ext.y >= ext.z {
+                DVec3::Y
+            } else {
+                DVec3::Z
+            };
+            let plane = Plane {
+                n: axis,
+                d: axis.dot(c),
+            };
+            return self.split(&cell, plane, depth, |b, c, d| {
+                b.leaf(c, d, validation_depth + 1)
+            });
+        }
+        self.stats.leaves += 1;
+        if !valid {
+            self.stats.on_the_fly_leaves += 1;
+            self.tree.nodes.push(BspNode::Leaf {
+                first: 0,
+                count: ON_THE_FLY,
+            });
+            return me;
+        }
+        let first = self.tree.loops.len() as u32;
+        let mut start = self.tree.points.len() as u32;
+        for p in &self.symbolic {
+            match p {
+                Some(p) => self.tree.points.push(*p),
+                None => {
+                    let end = self.tree.points.len() as u32;
+                    self.tree.loops.push([start, end]);
+                    start = end;
+                }
+            }
+        }
+        let count = self.tree.loops.len() as u32 - first;
+        self.tree.nodes.push(BspNode::Leaf { first, count });
+        me
+    }
+
+    /// Does the structure in `self.symbolic` give the silhouette computed on the fly at points
+    /// of `cell` (its corners pulled 10 % toward the centroid)?
+    fn validate(&mut self, cell: &ConvexCell) -> bool {
+        let c = cell.centroid();
+        let frame = Frame::from_z(DVec3::Z);
+        let mut corners: Vec<DVec3> = Vec::new();
+        for p in cell.vertices() {
+            if !corners.iter().any(|q| q.distance(p) <= self.tol) {
+                corners.push(p);
+            }
+        }
+        let mut from_leaf = SphericalPolygon::new();
+        for p in corners {
+            let q = c + (p - c) * 0.9;
+            if exact_silhouette(self.poly, q, &frame, &mut self.sph, &mut self.scratch).is_err() {
+                continue;
+            }
+            from_leaf.clear();
+            for s in &self.symbolic {
+                match s {
+                    Some(s) => match s.direction(self.poly, q) {
+                        Some(d) => {
+                            from_leaf.push_vertex(d);
+                        }
+                        None => return false,
+                    },
+                    None => {
+                        from_leaf.close_loop();
+                    }
+                }
+            }
+            let (a, b) = (area(&from_leaf), area(&self.sph));
+            if (a - b).abs() > 1e-9 {
+                return false;
+            }
+        }
+        true
+    }
+}
+
+/// Whether `x` lies inside the closed mesh: an odd number of crossings along a fixed ray.
+fn inside(poly: &Polyhedron, x: DVec3) -> bool {
+    let ray = PreparedRay::new(&Ray::new(x, DVec3::new(0.5773, 0.5774, 0.5775)));
+    let mut crossings = 0;
+    for f in 0..poly.face_count() {
+        let idx = poly.face(f);
+        let v0 = poly.vertices[idx[0] as usize];
+        for k in 1..idx.len() - 1 {
+            let (v1, v2) = (
+                poly.vertices[idx[k] as usize],
+                poly.vertices[idx[k + 1] as usize],
+            );
+            if !is_degenerate(v0, v1, v2) && ray.intersect(v0, v1, v2, 0.0, f64::INFINITY).is_some()
+            {
+                crossings += 1;
+            }
+        }
+    }
+    crossings % 2 == 1
+}
+
+/// Solid angle of a region of any size (fan about a fixed direction with the full-range
+/// atan2 form of Van Oosterom–Strackee, modulo 4π).
+fn area(p: &SphericalPolygon) -> f64 {
+    let c = DVec3::new(0.267, -0.534, 0.802).normalize();
+    let mut total = 0.0;
+    for lp in p.loops() {
+        for k in 0..lp.len() {
+            let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
+            total += 2.0
+                * c.dot(a.cross(b))
+                    .atan2(1.0 + c.dot(a) + a.dot(b) + b.dot(c));
+        }
+    }
+    total.rem_euclid(4.0 * std::f64::consts::PI)
+}

@@ -1,0 +1,92 @@
+//! BSP trees of precomputed exact silhouettes of the non-convex Table 7.1 polyhedra (001 Sect.
+//! 5.2) against the exact silhouette computed on the fly at random points: how often a random
+//! point reads a wrong silhouette from its leaf (the failure rate the validation leaves).
+
+use glam::DVec3;
+use penumbra::accel::{Ray, intersect_triangle};
+use penumbra::geometry::{
+    ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, Polyhedron, SphericalPolygon,
+    exact_silhouette,
+};
+use penumbra::math::{Frame, Pcg32};
+use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
+use std::f64::consts::PI;
+
+fn area(p: &SphericalPolygon) -> f64 {
+    let c = DVec3::new(-0.61, 0.33, 0.72).normalize();
+    let mut total = 0.0;
+    for lp in p.loops() {
+        for k in 0..lp.len() {
+            let (a, b) = (lp[k].normalize(), lp[(k + 1) % lp.len()].normalize());
+            total += 2.0
+                * c.dot(a.cross(b))
+                    .atan2(1.0 + c.dot(a) + a.dot(b) + b.dot(c));
+        }
+    }
+    total.rem_euclid(4.0 * PI)
+}
+
+#[test]
+fn bsp_exact_silhouettes_equal_the_silhouette_on_the_fly() {
+    let mut rng = Pcg32::new(5, 8);
+    let frame = Frame::from_z(DVec3::new(0.2, 0.5, -0.84).normalize());
+    let (mut a, mut b) = (SphericalPolygon::new(), SphericalPolygon::new());
+    let mut scratch = ExactSilhouetteScratch::default();
+    for row in TABLE_7_1.iter().filter(|r| !r.convex) {
+        let m = thesis_polyhedron(row.name).unwrap();
+        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let tris: Vec<[DVec3; 3]> = (0..poly.face_count())
+            .flat_map(|f| {
+                let idx = poly.face(f).to_vec();
+                let v = poly.vertices.clone();
+                (1..idx.len() - 1).map(move |k| {
+                    [
+                        v[idx[0] as usize],
+                        v[idx[k] as usize],
+                        v[idx[k + 1] as usize],
+                    ]
+                })
+            })
+            .collect();
+        let (lo, hi) = (
+            poly.center - DVec3::splat(3.0 * poly.radius),
+            poly.center + DVec3::splat(3.0 * poly.radius),
+        );
+        let (bsp, stats) =
+            ExactSilhouetteBsp::build(&poly, lo, hi, ExactBspLimits::default()).unwrap();
+        eprintln!("{}: {stats:?}", row.name);
+        let (mut checked, mut from_tree, mut wrong) = (0, 0, 0);
+        while checked < 3000 {
+            let x = lo + (hi - lo) * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+            let ray = Ray::new(x, DVec3::new(0.5773, 0.5774, 0.5775));
+            let crossings = tris
+                .iter()
+                .filter(|t| {
+                    intersect_triangle(&ray, t[0], t[1], t[2], 0.0, f64::INFINITY).is_some()
+                })
+                .count();
+            if crossings % 2 == 1
+                || exact_silhouette(&poly, x, &frame, &mut b, &mut scratch).is_err()
+            {
+                continue;
+            }
+            checked += 1;
+            if bsp.silhouette(&poly, x, &frame, &mut a) {
+                from_tree += 1;
+                if (area(&a) - area(&b)).abs() > 1e-9 {
+                    wrong += 1;
+                }
+            }
+        }
+        eprintln!(
+            "{}: {from_tree} of {checked} points read from the tree, {wrong} wrong",
+            row.name
+        );
+        assert!(
+            from_tree * 10 >= checked * 9,
+            "{}: the tree answers too rarely",
+            row.name
+        );
+        assert_eq!(wrong, 0, "{}: wrong silhouettes from the tree", row.name);
+    }
+}
