@@ -151,6 +151,10 @@ struct BenchArgs {
     /// Run the scaling study instead (000 Figs. 5 and 7).
     #[arg(long)]
     scaling: bool,
+    /// Measure 001 Tables 7.2 and 7.4 on the nine polyhedra of Table 7.1 instead: shading
+    /// face by face, with silhouettes on the fly and from BSP trees; tree precomputation.
+    #[arg(long)]
+    polyhedra: bool,
     /// Render nothing: read a bench.json written by an earlier run and write its tables and
     /// chart again (into --out-dir, default beside the JSON).
     #[arg(long)]
@@ -408,6 +412,34 @@ fn bench(args: &BenchArgs) -> Result<()> {
         say!("{}", output::equal_time_markdown(&report));
         for f in output::write_bench_files(&report, &[], &dir, args.exposure)? {
             say!("wrote {}", f.display());
+        }
+        return Ok(());
+    }
+    if args.polyhedra {
+        let report = penumbra::bench::polyhedra::run_polyhedra(
+            args.size.0,
+            args.size.1,
+            args.repeats,
+            |m| eprintln!("{m}"),
+        )
+        .map_err(anyhow::Error::msg)?;
+        let dir = args
+            .out_dir
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out/bench/polyhedra"));
+        std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+        let md = penumbra::bench::polyhedra::polyhedra_markdown(&report);
+        say!("{md}");
+        let files = [
+            (dir.join("polyhedra.md"), md),
+            (
+                dir.join("polyhedra.json"),
+                serde_json::to_string_pretty(&report)?,
+            ),
+        ];
+        for (path, text) in files {
+            std::fs::write(&path, text).with_context(|| format!("{}", path.display()))?;
+            say!("wrote {}", path.display());
         }
         return Ok(());
     }

@@ -9,6 +9,7 @@
 //! * [`fit`]: least-squares lines and power laws for scaling plots (000 Figs. 5 and 7).
 //! * [`runner`]: the driver: reference, ladder, timing, comparison.
 //! * [`scaling`]: run time against vertex counts (000 Figs. 5 and 7).
+//! * [`polyhedra`]: 001 Tables 7.2 and 7.4 on the nine polyhedra of Table 7.1.
 //! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].
 
 pub mod equal_time;
@@ -16,6 +17,7 @@ pub mod fit;
 pub mod font;
 pub mod output;
 pub mod plot;
+pub mod polyhedra;
 pub mod runner;
 pub mod scaling;
 pub mod table;

@@ -30,6 +30,9 @@ use crate::accel::{PreparedRay, Ray, is_degenerate};
 use crate::math::Frame;
 use glam::DVec3;
 
+/// Corners of a cell at which its leaf is validated.
+pub const VALIDATION_CORNERS: usize = 6;
+
 /// Marks a leaf whose silhouette is computed on the fly (`BspNode::Leaf::count`).
 pub const ON_THE_FLY: u32 = u32::MAX;
 
@@ -214,8 +217,22 @@ impl Builder<'_> {
         me
     }
 
+    /// Once over the limits, the rest of the build is skipped (the tree is discarded).
+    fn abandoned(&mut self) -> Option<u32> {
+        self.failed.then(|| {
+            self.tree.nodes.push(BspNode::Leaf {
+                first: 0,
+                count: ON_THE_FLY,
+            });
+            (self.tree.nodes.len() - 1) as u32
+        })
+    }
+
     /// Stage 1: the cells of the face planes.
     fn face_cells(&mut self, cell: ConvexCell, faces: &[Plane], depth: usize) -> u32 {
+        if let Some(n) = self.abandoned() {
+            return n;
+        }
         let cutting: Vec<Plane> = faces
             .iter()
             .copied()
@@ -284,6 +301,9 @@ impl Builder<'_> {
         pairs: &[[Option<Plane>; 4]],
         depth: usize,
     ) -> u32 {
+        if let Some(n) = self.abandoned() {
+            return n;
+        }
         let c = cell.centroid();
         let tol = self.tol;
         let cuts = |p: &Option<Plane>| p.is_some_and(|p| cell.side(&p, tol) == CellSide::Straddles);
@@ -310,10 +330,13 @@ impl Builder<'_> {
     /// across its longest side when that fails.
     fn leaf(&mut self, cell: ConvexCell, depth: usize, validation_depth: u32) -> u32 {
         self.stats.depth = self.stats.depth.max(depth);
-        let me = self.tree.nodes.len() as u32;
         if self.stats.leaves >= self.limits.max_leaves {
             self.failed = true;
         }
+        if let Some(n) = self.abandoned() {
+            return n;
+        }
+        let me = self.tree.nodes.len() as u32;
         let c = cell.centroid();
         if inside(self.poly, c) {
             // Inside the solid: never shaded.
@@ -391,7 +414,9 @@ impl Builder<'_> {
             }
         }
         let mut from_leaf = SphericalPolygon::new();
-        for p in corners {
+        // A few corners suffice to catch a structure that changes inside the cell (the
+        // validation's cost bounds the build's).
+        for p in corners.into_iter().take(VALIDATION_CORNERS) {
             let q = c + (p - c) * 0.9;
             if exact_silhouette(self.poly, q, &frame, &mut self.sph, &mut self.scratch).is_err() {
                 continue;

@@ -142,14 +142,13 @@ pub fn shade<R: Recorder>(
                 scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
             );
         } else if uses_exact_silhouette(light, method, on_light)
-            && exact_silhouette(
-                &light.poly,
+            && nonconvex_silhouette(
+                light,
                 sp.position,
                 &frame,
                 &mut scratch.light_sph,
                 &mut scratch.exact,
             )
-            .is_ok()
         {
             // A closed non-convex light as a whole: its exact silhouette already accounts for
             // the faces it hides of itself (001 Fig. 4.1), so its own mesh is not subtracted.
@@ -218,6 +217,22 @@ fn convex_silhouette(
     if !from_tree {
         silhouette(&obj.poly, x, frame, sidedness, out, scratch);
     }
+}
+
+/// The exact silhouette of a closed non-convex mesh: read from its BSP tree where it has one
+/// (001 Sect. 5.2), else computed on the fly (001 Sect. 4.3); `false` at degenerate points.
+#[inline]
+fn nonconvex_silhouette(
+    obj: &PreparedObject,
+    x: DVec3,
+    frame: &Frame,
+    out: &mut SphericalPolygon,
+    scratch: &mut ExactSilhouetteScratch,
+) -> bool {
+    obj.exact_bsp
+        .as_ref()
+        .is_some_and(|t| t.silhouette(&obj.poly, x, frame, out))
+        || exact_silhouette(&obj.poly, x, frame, out, scratch).is_ok()
 }
 
 /// Whether a non-convex mesh is taken whole, through its exact silhouette: closed meshes under
@@ -386,14 +401,13 @@ fn subtract_occluder<R: Recorder>(
         // to the faces below.
         let cache_hit = !R::ENABLED && scratch.occluder_cache[oi].stamp == scratch.stamp;
         let ok = cache_hit
-            || exact_silhouette(
-                &occ.poly,
+            || nonconvex_silhouette(
+                occ,
                 sp.position,
                 frame,
                 &mut scratch.occ_sph,
                 &mut scratch.exact,
-            )
-            .is_ok();
+            );
         if ok {
             if cache_hit {
                 std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);

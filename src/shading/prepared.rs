@@ -1,10 +1,13 @@
 //! The scene as the shading stages need it, computed once per scene: polyhedra with adjacency,
 //! which path each mesh takes, separating planes of light/occluder pairs, the LTC table.
 
-use crate::geometry::{Plane, Polyhedron, SilhouetteBsp, separating_plane};
+use crate::geometry::{
+    ExactBspLimits, ExactSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp, separating_plane,
+};
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// A light or occluder mesh.
 #[derive(Clone, Debug)]
@@ -17,7 +20,13 @@ pub struct PreparedObject {
     pub simple: bool,
     /// Precomputed silhouettes of a convex mesh over the scene's bounds (001 Sect. 5.1).
     pub bsp: Option<SilhouetteBsp>,
+    /// Precomputed exact silhouettes of a closed non-convex mesh (001 Sect. 5.2).
+    pub exact_bsp: Option<ExactSilhouetteBsp>,
 }
+
+/// Non-convex meshes whose tree would have more leaves than this keep computing their exact
+/// silhouette on the fly.
+pub const MAX_EXACT_BSP_LEAVES: usize = 10_000;
 
 /// Convex meshes whose face planes cut the scene into more cells than this keep computing
 /// their silhouette on the fly (the count grows with the cube of the face count).
@@ -75,8 +84,8 @@ impl PreparedScene {
             if !simple {
                 let d = &poly.diagnostics;
                 let how = if d.closed_manifold {
-                    "its exact silhouette is computed at each point (face by face where that \
-                     is degenerate)"
+                    "it takes its exact silhouette (read from a BSP tree, else computed at the point; \
+                     face by face where that is degenerate)"
                 } else {
                     "it is handled face by face"
                 };
@@ -86,33 +95,54 @@ impl PreparedScene {
                     obj.name, d.closed_manifold, d.boundary_edges, d.nonmanifold_edges
                 ));
             }
-            let bsp = poly
-                .diagnostics
-                .convex
-                .then(|| {
-                    let (lo, hi) = scene_box;
-                    SilhouetteBsp::build_convex_limited(
-                        &poly,
-                        lo.min(poly.center - poly.radius),
-                        hi.max(poly.center + poly.radius),
-                        MAX_BSP_CELLS,
-                    )
-                    .map(|(t, _)| t)
-                })
-                .flatten();
             let id = objects.len() as u32;
             objects.push(PreparedObject {
                 object: i as u32,
                 name: obj.name.clone(),
                 poly,
                 simple,
-                bsp,
+                bsp: None,
+                exact_bsp: None,
             });
             if is_light {
                 lights.push((id, obj.material.ke));
             }
             if obj.flags.occluder {
                 occluders.push(id);
+            }
+        }
+        // The trees of precomputed silhouettes, one mesh per task.
+        objects.par_iter_mut().for_each(|o| {
+            let (lo, hi) = scene_box;
+            let (lo, hi) = (
+                lo.min(o.poly.center - o.poly.radius),
+                hi.max(o.poly.center + o.poly.radius),
+            );
+            if o.poly.diagnostics.convex {
+                o.bsp = SilhouetteBsp::build_convex_limited(&o.poly, lo, hi, MAX_BSP_CELLS)
+                    .map(|(t, _)| t);
+            } else if o.poly.diagnostics.closed_manifold {
+                let limits = ExactBspLimits {
+                    max_leaves: MAX_EXACT_BSP_LEAVES,
+                    ..ExactBspLimits::default()
+                };
+                o.exact_bsp = ExactSilhouetteBsp::build(&o.poly, lo, hi, limits).map(|(t, _)| t);
+            }
+        });
+        for o in &objects {
+            let d = &o.poly.diagnostics;
+            if d.convex && o.bsp.is_none() {
+                notes.push(format!(
+                    "object '{}': its face planes cut the scene into more than {MAX_BSP_CELLS} \
+                     cells; its silhouette is computed at each point instead of read from a tree",
+                    o.name
+                ));
+            } else if !d.convex && d.closed_manifold && o.exact_bsp.is_none() {
+                notes.push(format!(
+                    "object '{}': its tree of precomputed silhouettes would have more than \
+                     {MAX_EXACT_BSP_LEAVES} leaves; its exact silhouette is computed at each point",
+                    o.name
+                ));
             }
         }
         let mut separations = Vec::with_capacity(lights.len() * occluders.len());
@@ -143,6 +173,15 @@ impl PreparedScene {
             separations,
             ltc,
             notes,
+        }
+    }
+
+    /// Forgets the trees of precomputed silhouettes: every silhouette is then computed on the
+    /// fly (for benchmarks comparing the two).
+    pub fn drop_silhouette_trees(&mut self) {
+        for o in &mut self.objects {
+            o.bsp = None;
+            o.exact_bsp = None;
         }
     }
 

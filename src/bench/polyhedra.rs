@@ -1,0 +1,328 @@
+//! `penumbra bench --polyhedra`: the measurements of 001 Tables 7.2 and 7.4 on the nine
+//! polyhedra of Table 7.1, with the thesis' figures beside ours.
+//!
+//! * Shading (Table 7.2): each polyhedron alone as a light above a glossy floor (Lambertian
+//!   and GGX lobes, as the thesis shades), rendered analytically face by face (000 Sect. 4.4:
+//!   each face a light, the others of the mesh subtracted from it), with silhouettes computed
+//!   on the fly (001 Sect. 4.2, 4.3), and with silhouettes read from the BSP trees (Sect. 5).
+//!   The thesis times a GPU shading pass at 1024×768; we time the whole CPU render of the
+//!   image, so only the ratios compare.
+//! * Precomputation (Table 7.4): build time (one core), nodes, silhouette vertices or edges,
+//!   and the size at the thesis' 20 bytes per node and 4 bytes per vertex / 8 per edge.
+
+use crate::geometry::{ExactBspLimits, ExactSilhouetteBsp, Polyhedron, SilhouetteBsp};
+use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
+use crate::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
+use crate::scene::{Camera, Material, ObjectFlags, Scene, SceneObject, shapes};
+use glam::{DAffine3, DVec3};
+use std::time::Instant;
+
+/// The thesis' figures for one polyhedron (Tables 7.2 and 7.4).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct ThesisFigures {
+    /// Shading times (ms): individual faces, silhouettes on the fly (`None`: not implemented
+    /// for non-convex meshes), precomputed silhouettes.
+    pub faces_ms: f64,
+    pub on_the_fly_ms: Option<f64>,
+    pub bsp_ms: f64,
+    /// Precomputation: seconds, nodes, silhouette vertices (convex) or edges, kB.
+    pub build_s: f64,
+    pub nodes: usize,
+    pub elements: usize,
+    pub kb: f64,
+}
+
+const THESIS: [ThesisFigures; 9] = [
+    fig(0.79, Some(0.38), 0.36, 0.0034, 53, 138, 1.6),
+    fig(1.49, Some(0.64), 0.51, 0.025, 418, 1_838, 15.0),
+    fig(2.23, Some(0.89), 0.70, 0.0016, 436, 2_674, 19.0),
+    fig(1.85, Some(0.67), 0.46, 0.027, 1_828, 6_245, 62.0),
+    fig(7.16, Some(2.45), 0.80, 3.7, 147_660, 947_142, 6_700.0),
+    fig(1.18, None, 0.89, 0.023, 332, 1_165, 16.0),
+    fig(3.47, None, 1.93, 0.92, 5_232, 44_569, 460.0),
+    fig(1.42, None, 1.00, 0.022, 414, 1_215, 18.0),
+    fig(1.53, None, 0.71, 0.010, 198, 407, 7.2),
+];
+
+const fn fig(
+    faces_ms: f64,
+    on_the_fly_ms: Option<f64>,
+    bsp_ms: f64,
+    build_s: f64,
+    nodes: usize,
+    elements: usize,
+    kb: f64,
+) -> ThesisFigures {
+    ThesisFigures {
+        faces_ms,
+        on_the_fly_ms,
+        bsp_ms,
+        build_s,
+        nodes,
+        elements,
+        kb,
+    }
+}
+
+/// Our measurements for one polyhedron.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PolyhedronRow {
+    pub name: String,
+    pub convex: bool,
+    /// Render times (s) of the whole image, best of the repeats.
+    pub faces_s: f64,
+    pub on_the_fly_s: f64,
+    pub bsp_s: f64,
+    /// Largest difference of the BSP image from the face-by-face one (relative to the image's
+    /// largest value): the same integral by two paths.
+    pub bsp_vs_faces_max_rel: f64,
+    /// The tree over the box of ±`box_radii` radii around the mesh.
+    pub build_s: f64,
+    pub nodes: usize,
+    pub leaves: usize,
+    pub elements: usize,
+    pub bytes: usize,
+    pub thesis: ThesisFigures,
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PolyhedraReport {
+    pub width: u32,
+    pub height: u32,
+    pub repeats: u32,
+    pub box_radii: f64,
+    pub rows: Vec<PolyhedronRow>,
+}
+
+/// Box (in mesh radii around the mesh's centre) of the trees of the precomputation table.
+pub const BOX_RADII: f64 = 4.0;
+
+/// The polyhedron `name` as the only light, 0.5 m across, 0.6 m above a 4 m glossy floor.
+pub fn light_scene(name: &str) -> Option<Scene> {
+    let mesh = thesis_polyhedron(name)?.transformed(
+        &(DAffine3::from_translation(DVec3::new(0.0, 0.85, 0.0))
+            * DAffine3::from_rotation_y(0.4)
+            * DAffine3::from_rotation_x(0.3)
+            * DAffine3::from_scale(DVec3::splat(0.5))),
+    );
+    let floor = SceneObject {
+        name: "floor".into(),
+        mesh: shapes::quad(
+            DVec3::ZERO,
+            DVec3::new(0.0, 0.0, 2.0),
+            DVec3::new(2.0, 0.0, 0.0),
+        ),
+        material: Material {
+            name: "floor".into(),
+            kd: DVec3::splat(0.5),
+            ks: DVec3::splat(0.5),
+            alpha: 0.3,
+            ke: DVec3::ZERO,
+        },
+        flags: ObjectFlags {
+            light: false,
+            occluder: false,
+            receiver: true,
+        },
+    };
+    let light = SceneObject {
+        name: name.into(),
+        mesh,
+        material: Material {
+            name: "emitter".into(),
+            kd: DVec3::ZERO,
+            ks: DVec3::ZERO,
+            alpha: 1.0,
+            ke: DVec3::splat(3.0),
+        },
+        flags: ObjectFlags {
+            light: true,
+            occluder: true,
+            receiver: false,
+        },
+    };
+    Some(Scene {
+        objects: vec![floor, light],
+        camera: Some(Camera {
+            eye: DVec3::new(0.0, 2.2, 2.4),
+            target: DVec3::new(0.0, 0.2, 0.0),
+            up: DVec3::Y,
+            fov_deg: 50.0,
+        }),
+        ..Scene::default()
+    })
+}
+
+fn best_render(
+    ctx: &RenderContext,
+    cam: &Camera,
+    settings: &RenderSettings,
+    repeats: u32,
+) -> Result<(Image, f64), String> {
+    let mut best = f64::INFINITY;
+    let mut img = None;
+    for _ in 0..repeats.max(1) {
+        let t = Instant::now();
+        let (i, _) = ctx.render(cam, settings, None)?;
+        best = best.min(t.elapsed().as_secs_f64());
+        img = Some(i);
+    }
+    Ok((img.expect("at least one render"), best))
+}
+
+/// Runs the measurements; `progress` receives a line per step.
+pub fn run_polyhedra(
+    width: u32,
+    height: u32,
+    repeats: u32,
+    progress: impl Fn(&str),
+) -> Result<PolyhedraReport, String> {
+    let mut rows = Vec::new();
+    for (row, thesis) in TABLE_7_1.iter().zip(THESIS) {
+        progress(&format!("{}: rendering", row.name));
+        let scene = light_scene(row.name).ok_or("unknown polyhedron")?;
+        let cam = scene.camera.ok_or("no camera")?;
+        let with_trees = RenderContext::new(&scene);
+        let mut on_the_fly = RenderContext::new(&scene);
+        on_the_fly.prepared.drop_silhouette_trees();
+        let settings = |method: RenderMethod| RenderSettings {
+            width,
+            height,
+            method,
+            ..RenderSettings::default()
+        };
+        let (faces_img, faces_s) = best_render(
+            &with_trees,
+            &cam,
+            &settings(RenderMethod::PerTriangle),
+            repeats,
+        )?;
+        let (_, on_the_fly_s) = best_render(
+            &on_the_fly,
+            &cam,
+            &settings(RenderMethod::Analytic),
+            repeats,
+        )?;
+        let (bsp_img, bsp_s) = best_render(
+            &with_trees,
+            &cam,
+            &settings(RenderMethod::Analytic),
+            repeats,
+        )?;
+        let peak = faces_img
+            .pixels
+            .iter()
+            .map(|p| p.max_element())
+            .fold(0.0, f64::max)
+            .max(1e-12);
+        let bsp_vs_faces_max_rel = bsp_img
+            .pixels
+            .iter()
+            .zip(&faces_img.pixels)
+            .map(|(a, b)| (*a - *b).abs().max_element())
+            .fold(0.0, f64::max)
+            / peak;
+
+        progress(&format!("{}: building the tree", row.name));
+        let m = thesis_polyhedron(row.name).ok_or("unknown polyhedron")?;
+        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let (lo, hi) = (
+            poly.center - DVec3::splat(BOX_RADII * poly.radius),
+            poly.center + DVec3::splat(BOX_RADII * poly.radius),
+        );
+        let (build_s, nodes, leaves, elements, bytes) = if row.convex {
+            let (_, s) = SilhouetteBsp::build_convex(&poly, lo, hi).ok_or("not convex")?;
+            (
+                s.seconds,
+                s.nodes,
+                s.leaves,
+                s.silhouette_vertices,
+                s.table_7_4_bytes,
+            )
+        } else {
+            let (_, s) = ExactSilhouetteBsp::build(&poly, lo, hi, ExactBspLimits::default())
+                .ok_or("tree over the limits")?;
+            (
+                s.seconds,
+                s.nodes,
+                s.leaves,
+                s.silhouette_edges,
+                s.table_7_4_bytes,
+            )
+        };
+        rows.push(PolyhedronRow {
+            name: row.name.into(),
+            convex: row.convex,
+            faces_s,
+            on_the_fly_s,
+            bsp_s,
+            bsp_vs_faces_max_rel,
+            build_s,
+            nodes,
+            leaves,
+            elements,
+            bytes,
+            thesis,
+        });
+    }
+    Ok(PolyhedraReport {
+        width,
+        height,
+        repeats,
+        box_radii: BOX_RADII,
+        rows,
+    })
+}
+
+/// The two tables in Markdown, the thesis' figures beside ours.
+pub fn polyhedra_markdown(r: &PolyhedraReport) -> String {
+    let mut s = format!(
+        "Shading (001 Table 7.2): one light, {}×{} CPU render (best of {}), analytic, \
+         s; the thesis: GPU shading pass at 1024×768, ms. Ratios are to the face-by-face time.\n\n\
+         | polyhedron | faces | on the fly | BSP | on the fly / faces | BSP / faces | thesis faces | thesis on the fly | thesis BSP | thesis BSP / faces | BSP − faces (max rel.) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
+        r.width, r.height, r.repeats
+    );
+    for row in &r.rows {
+        let t = &row.thesis;
+        s += &format!(
+            "| {} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {:.1e} |\n",
+            row.name,
+            row.faces_s,
+            row.on_the_fly_s,
+            row.bsp_s,
+            row.on_the_fly_s / row.faces_s,
+            row.bsp_s / row.faces_s,
+            t.faces_ms,
+            t.on_the_fly_ms.map_or("–".into(), |v| format!("{v:.2}")),
+            t.bsp_ms,
+            t.bsp_ms / t.faces_ms,
+            row.bsp_vs_faces_max_rel,
+        );
+    }
+    s += &format!(
+        "\nPrecomputation (001 Table 7.4): tree over ±{} radii, one core; the thesis: C# on one \
+         core of a Ryzen 5 3600. Elements: silhouette vertices (convex) or edges (non-convex).\n\n\
+         | polyhedron | time (s) | nodes | leaves | elements | size (kB) | thesis time (s) | thesis nodes | thesis elements | thesis size (kB) | speed-up |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
+        r.box_radii
+    );
+    for row in &r.rows {
+        let t = &row.thesis;
+        s += &format!(
+            "| {} | {:.4} | {} | {} | {} | {:.1} | {} | {} | {} | {} | {:.0}× |\n",
+            row.name,
+            row.build_s,
+            row.nodes,
+            row.leaves,
+            row.elements,
+            row.bytes as f64 / 1000.0,
+            t.build_s,
+            t.nodes,
+            t.elements,
+            t.kb,
+            t.build_s / row.build_s.max(1e-9),
+        );
+    }
+    s
+}
