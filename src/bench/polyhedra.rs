@@ -182,7 +182,12 @@ pub fn run_polyhedra(
         progress(&format!("{}: rendering", row.name));
         let scene = light_scene(row.name).ok_or("unknown polyhedron")?;
         let cam = scene.camera.ok_or("no camera")?;
-        let with_trees = RenderContext::new(&scene);
+        // The trees whatever their size (the renderer's limits would leave the larger ones to
+        // the on-the-fly path, which the middle column measures).
+        let mut with_trees = RenderContext::new(&scene);
+        with_trees
+            .prepared
+            .rebuild_silhouette_trees(usize::MAX, usize::MAX);
         let mut on_the_fly = RenderContext::new(&scene);
         on_the_fly.prepared.drop_silhouette_trees();
         let settings = |method: RenderMethod| RenderSettings {

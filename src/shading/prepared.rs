@@ -48,6 +48,35 @@ pub struct PreparedScene {
     pub ltc: &'static LtcTable,
     /// Notes for the user (meshes that fell back to the per-face path, intersecting pairs).
     pub notes: Vec<String>,
+    /// The scene's bounds with a margin: the box the silhouette trees partition.
+    pub bounds: (DVec3, DVec3),
+}
+
+/// The trees of precomputed silhouettes of every convex or closed mesh, over `bounds` (and
+/// the mesh's own), one mesh per task; meshes over the limits get none.
+fn build_silhouette_trees(
+    objects: &mut [PreparedObject],
+    bounds: (DVec3, DVec3),
+    max_cells: usize,
+    max_leaves: usize,
+) {
+    objects.par_iter_mut().for_each(|o| {
+        let (lo, hi) = (
+            bounds.0.min(o.poly.center - o.poly.radius),
+            bounds.1.max(o.poly.center + o.poly.radius),
+        );
+        o.bsp = None;
+        o.exact_bsp = None;
+        if o.poly.diagnostics.convex {
+            o.bsp = SilhouetteBsp::build_convex_limited(&o.poly, lo, hi, max_cells).map(|(t, _)| t);
+        } else if o.poly.diagnostics.closed_manifold {
+            let limits = ExactBspLimits {
+                max_leaves,
+                ..ExactBspLimits::default()
+            };
+            o.exact_bsp = ExactSilhouetteBsp::build(&o.poly, lo, hi, limits).map(|(t, _)| t);
+        }
+    });
 }
 
 impl PreparedScene {
@@ -111,24 +140,7 @@ impl PreparedScene {
                 occluders.push(id);
             }
         }
-        // The trees of precomputed silhouettes, one mesh per task.
-        objects.par_iter_mut().for_each(|o| {
-            let (lo, hi) = scene_box;
-            let (lo, hi) = (
-                lo.min(o.poly.center - o.poly.radius),
-                hi.max(o.poly.center + o.poly.radius),
-            );
-            if o.poly.diagnostics.convex {
-                o.bsp = SilhouetteBsp::build_convex_limited(&o.poly, lo, hi, MAX_BSP_CELLS)
-                    .map(|(t, _)| t);
-            } else if o.poly.diagnostics.closed_manifold {
-                let limits = ExactBspLimits {
-                    max_leaves: MAX_EXACT_BSP_LEAVES,
-                    ..ExactBspLimits::default()
-                };
-                o.exact_bsp = ExactSilhouetteBsp::build(&o.poly, lo, hi, limits).map(|(t, _)| t);
-            }
-        });
+        build_silhouette_trees(&mut objects, scene_box, MAX_BSP_CELLS, MAX_EXACT_BSP_LEAVES);
         for o in &objects {
             let d = &o.poly.diagnostics;
             if d.convex && o.bsp.is_none() {
@@ -173,7 +185,13 @@ impl PreparedScene {
             separations,
             ltc,
             notes,
+            bounds: scene_box,
         }
+    }
+
+    /// Builds the trees of precomputed silhouettes again with other size limits (benchmarks).
+    pub fn rebuild_silhouette_trees(&mut self, max_cells: usize, max_leaves: usize) {
+        build_silhouette_trees(&mut self.objects, self.bounds, max_cells, max_leaves);
     }
 
     /// Forgets the trees of precomputed silhouettes: every silhouette is then computed on the
