@@ -222,7 +222,7 @@ fn convex_silhouette(
 /// The exact silhouette of a closed non-convex mesh: read from its BSP tree where it has one
 /// (001 Sect. 5.2), else computed on the fly (001 Sect. 4.3); `false` at degenerate points.
 #[inline]
-fn nonconvex_silhouette(
+pub fn nonconvex_silhouette(
     obj: &PreparedObject,
     x: DVec3,
     frame: &Frame,

@@ -3,6 +3,7 @@
 
 use crate::geometry::{
     ExactBspLimits, ExactSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp, separating_plane,
+    star_centre,
 };
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
@@ -22,6 +23,9 @@ pub struct PreparedObject {
     pub bsp: Option<SilhouetteBsp>,
     /// Precomputed exact silhouettes of a closed non-convex mesh (001 Sect. 5.2).
     pub exact_bsp: Option<ExactSilhouetteBsp>,
+    /// A point strictly inside the kernel of a star-shaped non-convex mesh: its silhouettes
+    /// are fanned from there for sampling (001 Sect. 6.1).
+    pub star_centre: Option<DVec3>,
 }
 
 /// Non-convex meshes whose tree would have more leaves than this keep computing their exact
@@ -75,6 +79,7 @@ fn build_silhouette_trees(
                 ..ExactBspLimits::default()
             };
             o.exact_bsp = ExactSilhouetteBsp::build(&o.poly, lo, hi, limits).map(|(t, _)| t);
+            o.star_centre = star_centre(&o.poly);
         }
     });
 }
@@ -132,6 +137,7 @@ impl PreparedScene {
                 simple,
                 bsp: None,
                 exact_bsp: None,
+                star_centre: None,
             });
             if is_light {
                 lights.push((id, obj.material.ke));

@@ -6,20 +6,29 @@
 //!   polygon clipped to a hemisphere stays convex, so the fan around any vertex is valid.
 //! * A flat light: its front faces, each clipped and fanned (faces are convex). Faces in one
 //!   plane never overlap in direction.
-//! * Any other light (until the BSP issue brings triangulated silhouettes of non-convex
-//!   meshes): its front faces, each clipped and fanned. Faces may overlap in direction; a
-//!   sample on a face that another face of the same light hides is rejected by a ray test
+//! * A star-shaped closed light (001 Sect. 6.1): its exact silhouette (the analytic path's,
+//!   from the BSP tree or on the fly) fanned from the direction of a kernel point c. Every
+//!   segment from c to the surface lies in the mesh, so every arc from c's direction to the
+//!   silhouette lies in its projection: the fan covers it exactly once. Each fan triangle is
+//!   clipped to the horizon (a triangle cut by a half-space stays convex) and fanned again.
+//!   Where the fan would hold a triangle that is not positively oriented (degenerate points),
+//!   the light takes the face path below.
+//! * Any other light (until the per-cell triangulations of non-star-shaped meshes): its front
+//!   faces, each clipped and fanned. Faces may overlap in direction; a sample on a face that
+//!   another face of the same light hides is rejected by a ray test
 //!   ([`LightRun::self_occluding`]).
 //!
 //! Each light's triangles share one density 1/Ω, Ω the sum of their solid angles, so that the
 //! multiple-importance weights need only Ω (see `estimator.rs`).
 
+use crate::geometry::ExactSilhouetteScratch;
 use crate::geometry::{
     HorizonScratch, Sidedness, SilhouetteScratch, SphericalPolygon, clip_to_horizon, face_polygon,
     orient, silhouette,
 };
 use crate::math::Frame;
 use crate::sampling::SphericalTriangle;
+use crate::shading::analytic::nonconvex_silhouette;
 use crate::shading::{PreparedObject, PreparedScene, ShadingPoint};
 use glam::DVec3;
 
@@ -49,6 +58,8 @@ pub struct LightRun {
 #[derive(Default)]
 pub struct LightSetScratch {
     silhouette: SilhouetteScratch,
+    exact: ExactSilhouetteScratch,
+    triangle: SphericalPolygon,
     horizon: HorizonScratch,
     sph: SphericalPolygon,
     clipped: SphericalPolygon,
@@ -74,6 +85,7 @@ pub struct LightSet {
 pub enum LightShape {
     Convex,
     Flat,
+    StarShaped,
     General,
 }
 
@@ -83,6 +95,8 @@ pub fn light_shape(obj: &PreparedObject) -> LightShape {
         LightShape::Flat
     } else if d.convex {
         LightShape::Convex
+    } else if obj.star_centre.is_some() {
+        LightShape::StarShaped
     } else {
         LightShape::General
     }
@@ -108,7 +122,21 @@ impl LightSet {
             let shape = light_shape(light);
             let start = self.tris.len();
             let mut total = 0.0;
+            let mut shape = shape;
+            if shape == LightShape::StarShaped {
+                match (!on_light)
+                    .then(|| self.star_fan(light, x, frame))
+                    .flatten()
+                {
+                    Some(t) => total = t,
+                    None => {
+                        self.truncate(start);
+                        shape = LightShape::General;
+                    }
+                }
+            }
             match shape {
+                LightShape::StarShaped => {}
                 LightShape::Convex => {
                     if on_light {
                         continue; // a convex light does not light itself
@@ -178,10 +206,7 @@ impl LightSet {
                     probability: 0.0,
                 });
             } else {
-                self.tris.truncate(start);
-                self.corners.truncate(start);
-                self.faces.truncate(start);
-                self.cdf.truncate(start);
+                self.truncate(start);
             }
         }
         let weight =
@@ -192,6 +217,60 @@ impl LightSet {
                 r.probability = weight(r) / sum;
             }
         }
+    }
+
+    fn truncate(&mut self, start: usize) {
+        self.tris.truncate(start);
+        self.corners.truncate(start);
+        self.faces.truncate(start);
+        self.cdf.truncate(start);
+    }
+
+    /// The fan of a star-shaped light's silhouette from its centre's direction, each triangle
+    /// clipped to the horizon and fanned; its total solid angle, or `None` (degenerate point:
+    /// no single silhouette loop, or a fan triangle not positively oriented).
+    fn star_fan(&mut self, light: &PreparedObject, x: DVec3, frame: &Frame) -> Option<f64> {
+        let centre = light.star_centre?;
+        let c = frame.to_local(centre - x).try_normalize()?;
+        let LightSetScratch {
+            exact,
+            triangle,
+            horizon,
+            sph,
+            clipped,
+            ..
+        } = &mut self.scratch;
+        if !nonconvex_silhouette(light, x, frame, sph, exact) {
+            return None;
+        }
+        let mut loops = sph.loops();
+        let (Some(lp), None) = (loops.next(), loops.next()) else {
+            return None; // a star-shaped mesh's silhouette is one loop
+        };
+        let mut total = 0.0;
+        for k in 0..lp.len() {
+            let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
+            let o = orient(c, a, b);
+            if o < 0.0 {
+                return None;
+            }
+            if o == 0.0 {
+                continue;
+            }
+            triangle.clear();
+            triangle.push_loop([c, a, b]);
+            clip_to_horizon(triangle, clipped, horizon);
+            total += push_fans(
+                clipped,
+                SILHOUETTE,
+                &mut self.tris,
+                &mut self.corners,
+                &mut self.faces,
+                &mut self.cdf,
+                total,
+            );
+        }
+        Some(total)
     }
 
     /// True when no light can be sampled.
