@@ -84,3 +84,35 @@ fn bsp_silhouettes_equal_the_silhouette_on_the_fly() {
         assert!(!bsp.silhouette(&poly, hi * 2.0, &frame, &mut a));
     }
 }
+
+/// The cell a point falls in (the tree's box cut by the planes on its path) contains the point,
+/// and the contour seen from anywhere in it is the contour seen from its centroid: the promise
+/// a leaf's precomputed silhouette rests on (001 Sect. 5.1), checked on the cells themselves.
+#[test]
+fn the_cell_of_a_point_contains_it_and_keeps_its_contour() {
+    use penumbra::geometry::{bsp_cell, bsp_path, contour_edges};
+    let mut rng = Pcg32::new(3, 4);
+    for name in ["cone", "icosahedron"] {
+        let poly = polyhedron(name);
+        let (lo, hi) = boxed(&poly, 5.0);
+        let (bsp, _) = SilhouetteBsp::build_convex(&poly, lo, hi).unwrap();
+        for _ in 0..300 {
+            let x = lo + (hi - lo) * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+            let path = bsp_path(&bsp.nodes, &bsp.planes, x).unwrap();
+            let cell = bsp_cell(&path, lo, hi, 1e-12);
+            assert!(!cell.is_empty());
+            for f in &cell.faces {
+                let n = (f[1] - f[0]).cross(f[2] - f[0]).normalize();
+                assert!(n.dot(x - f[0]) <= 1e-9, "{name}: {x} outside its cell");
+            }
+            let mut at_x: Vec<[u32; 2]> = contour_edges(&poly, x).collect();
+            let mut at_c: Vec<[u32; 2]> = contour_edges(&poly, cell.centroid()).collect();
+            at_x.sort();
+            at_c.sort();
+            assert_eq!(
+                at_x, at_c,
+                "{name}: the contour changes inside the cell of {x}"
+            );
+        }
+    }
+}

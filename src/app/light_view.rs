@@ -1,9 +1,12 @@
 //! A light's polyhedron as a wireframe, with the contour edges seen from the picked point
 //! (001 Eq. 4.2, `geometry::contour_edges`, the function the silhouette stage uses) drawn in
-//! the orientation that makes the silhouette loop positive, and front faces shaded.
+//! the orientation that makes the silhouette loop positive, and front faces shaded; and, for a
+//! mesh with a BSP tree of precomputed silhouettes (001 Sect. 5), the cell of the picked point
+//! (the tree's box cut by the planes on its path) with the tree's size and the path's depth.
 
 use crate::geometry::silhouette::is_front_facing;
-use crate::geometry::{Polyhedron, contour_edges};
+use crate::geometry::{bsp_cell, bsp_path, bsp_size, contour_edges};
+use crate::shading::PreparedObject;
 use egui::{Color32, Pos2, Sense, Stroke, Ui, Vec2};
 use glam::DVec3;
 
@@ -24,8 +27,10 @@ impl Default for LightView {
 }
 
 impl LightView {
-    /// Draws `poly`; with a picked point, its contour edges and front faces from there.
-    pub fn ui(&mut self, ui: &mut Ui, poly: &Polyhedron, point: Option<DVec3>) {
+    /// Draws the mesh of `obj`; with a picked point, its contour edges and front faces from
+    /// there, and the BSP cell of the point.
+    pub fn ui(&mut self, ui: &mut Ui, obj: &PreparedObject, point: Option<DVec3>) {
+        let poly = &obj.poly;
         let side = ui.available_width().clamp(160.0, 320.0);
         let (resp, painter) = ui.allocate_painter(Vec2::splat(side), Sense::drag());
         resp.widget_info(|| {
@@ -102,7 +107,38 @@ impl LightView {
                 n_contour += 1;
             }
         }
+        // The tree: the cell of the picked point.
+        let tree = match (&obj.bsp, &obj.exact_bsp) {
+            (Some(t), _) => Some((&t.nodes, &t.planes, t.lo, t.hi)),
+            (None, Some(t)) => Some((&t.nodes, &t.planes, t.lo, t.hi)),
+            _ => None,
+        };
+        let mut tree_line = "no BSP tree (silhouettes computed at each point)".to_string();
+        if let Some((nodes, planes, lo, hi)) = tree {
+            let (n, leaves, depth) = bsp_size(nodes);
+            tree_line = format!("BSP tree: {n} nodes, {leaves} leaves, depth {depth}");
+            if let Some(x) = point
+                && let Some(path) = bsp_path(nodes, planes, x)
+            {
+                let cell = bsp_cell(&path, lo, hi, 1e-9 * poly.radius.max(1e-12));
+                let cell_colour = Color32::from_rgb(90, 200, 255);
+                for f in &cell.faces {
+                    for k in 0..f.len() {
+                        let (a, b) = (project(f[k]), project(f[(k + 1) % f.len()]));
+                        painter.line_segment([a, b], Stroke::new(1.5, cell_colour));
+                    }
+                }
+                painter.circle_filled(project(x), 3.5, cell_colour);
+                tree_line += &format!(
+                    "; the picked point's cell (blue): leaf {} at depth {}, {} faces",
+                    path.leaf,
+                    path.steps.len(),
+                    cell.faces.len()
+                );
+            }
+        }
         let d = &poly.diagnostics;
+        ui.small(tree_line);
         ui.small(format!(
             "{} vertices, {} edges, {} faces; {}{}",
             poly.vertices.len(),

@@ -340,6 +340,20 @@ impl WorkbenchApp {
         }
     }
 
+    /// Shows the light named `name` in the light structure view (a status message if none).
+    pub fn select_light(&mut self, name: &str) {
+        let found = self.ctx.as_ref().and_then(|ctx| {
+            ctx.prepared
+                .lights
+                .iter()
+                .position(|&(id, _)| ctx.prepared.objects[id as usize].name == name)
+        });
+        match found {
+            Some(l) => self.selected_light = Some(l),
+            None => self.status = format!("no light named '{name}'"),
+        }
+    }
+
     /// Uploads the newest frame (or re-maps the shown one after a display change).
     fn update_texture(&mut self, ctx: &egui::Context) {
         let Some(frame) = self.worker.latest() else {
@@ -687,12 +701,17 @@ impl WorkbenchApp {
                                 .find(|p| p.object == i as u32)
                                 .map(|p| {
                                     let d = &p.poly.diagnostics;
+                                    let tree = p.bsp.is_some() || p.exact_bsp.is_some();
                                     if d.planar {
                                         "flat"
+                                    } else if d.convex && tree {
+                                        "convex, BSP"
                                     } else if d.convex {
                                         "convex"
+                                    } else if d.closed_manifold && tree {
+                                        "non-convex, BSP"
                                     } else if d.closed_manifold {
-                                        "non-convex (per face)"
+                                        "non-convex (exact)"
                                     } else {
                                         "open (per face)"
                                     }
@@ -729,13 +748,13 @@ impl WorkbenchApp {
         if let Some(l) = self.selected_light
             && let Some(&(id, _)) = ctx.prepared.lights.get(l)
         {
-            let poly = &ctx.prepared.objects[id as usize].poly;
+            let obj = &ctx.prepared.objects[id as usize];
             let point = self
                 .inspector
                 .as_ref()
                 .and_then(|i| i.probe.point)
                 .map(|p| p.position);
-            self.light_view.ui(ui, poly, point);
+            self.light_view.ui(ui, obj, point);
         }
     }
 
@@ -1097,6 +1116,9 @@ pub struct RunOptions {
     /// Render method at start.
     #[arg(long, value_enum)]
     pub method: Option<RenderMethod>,
+    /// Show this light (by object name) in the light structure view at start.
+    #[arg(long)]
+    pub light: Option<String>,
 }
 
 /// Parses "X,Y" into two numbers (command-line flags).
@@ -1136,6 +1158,9 @@ pub fn run(opts: RunOptions) -> eframe::Result {
             }
             if let Some(m) = opts.method {
                 app.state.method = m;
+            }
+            if let Some(name) = &opts.light {
+                app.select_light(name);
             }
             for p in &opts.open {
                 app.open_path(p);
