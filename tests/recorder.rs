@@ -104,3 +104,43 @@ fn recorded_contour_edges_chain_into_the_recorded_silhouette() {
     }
     assert!(checked > 100, "{checked} light records checked");
 }
+
+/// Non-convex lights and occluders: recording changes no value (bit for bit), and it says how
+/// each exact silhouette was found. With the trees the `nonconvex` scene reads them; with the
+/// trees dropped the silhouettes are computed on the fly and the recording holds the contour
+/// pieces the ray test rejected and the apparent intersections.
+#[test]
+fn exact_silhouettes_are_recorded_as_found() {
+    let scene = scene_file::load_embedded("nonconvex").unwrap();
+    let cam = scene.camera.unwrap();
+    let basis = cam.basis().unwrap();
+    let with_trees = RenderContext::new(&scene);
+    let mut on_the_fly = RenderContext::new(&scene);
+    on_the_fly.prepared.drop_silhouette_trees();
+    let (w, h) = (24, 18);
+    let mut scratch = ShadingScratch::default();
+    let (mut from_tree, mut rejected, mut crossings) = (0, 0, 0);
+    for (ctx, trees) in [(&with_trees, true), (&on_the_fly, false)] {
+        for y in 0..h {
+            for x in 0..w {
+                let ray = subpixel_rays(&basis, x, y, 1, w, h).next().unwrap();
+                let mut rec = StageRecording::new(false);
+                let recorded = ctx.radiance(&ray, Method::Analytic, &mut scratch, &mut rec);
+                let plain = ctx.radiance(&ray, Method::Analytic, &mut scratch, &mut NoRecorder);
+                assert_eq!(recorded, plain);
+                for e in rec.lights.iter().flat_map(|l| &l.exact) {
+                    assert_eq!(e.from_tree, trees);
+                    from_tree += e.from_tree as usize;
+                    rejected += e.rejected.len();
+                    crossings += e.crossings.len();
+                    assert!(e.crossings.iter().all(|c| (c.length() - 1.0).abs() < 1e-12));
+                }
+            }
+        }
+    }
+    assert!(from_tree > 100, "{from_tree} silhouettes read from trees");
+    assert!(
+        rejected > 0 && crossings > 0,
+        "{rejected} rejected pieces, {crossings} crossings"
+    );
+}

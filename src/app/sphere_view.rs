@@ -46,6 +46,8 @@ impl Default for Layers {
 pub mod colours {
     use egui::Color32;
     pub const CONTOUR: Color32 = Color32::from_rgb(235, 235, 245);
+    pub const REJECTED: Color32 = Color32::from_rgb(150, 70, 70);
+    pub const CROSSING: Color32 = Color32::from_rgb(255, 90, 220);
     pub const LIGHT: Color32 = Color32::from_rgb(240, 200, 40);
     pub const LIGHT_CLIPPED: Color32 = Color32::from_rgb(250, 140, 30);
     pub const OCCLUDER: Color32 = Color32::from_rgb(220, 60, 60);
@@ -184,6 +186,55 @@ fn curves_of(
             }
         }
     }
+    if layers.contours {
+        // Exact silhouettes of non-convex meshes: the contour pieces the ray test rejected
+        // (dim red) and the apparent intersections where pieces were cut (small loops).
+        for ex in &rec.exact {
+            let from = if ex.occluder.is_some() { 3 } else { 0 };
+            if upto < from {
+                continue;
+            }
+            let who = match ex.occluder {
+                None => "light".to_string(),
+                Some(oi) => format!("occluder {}", occluder_name(oi)),
+            };
+            for [a, b] in &ex.rejected {
+                let mut points = Vec::new();
+                arc(*a, *b, &mut points);
+                points.push(*b);
+                out.push(Curve {
+                    points,
+                    colour: colours::REJECTED,
+                    width: 1.0,
+                    closed: false,
+                    label: format!("{who}: contour piece rejected by the ray test"),
+                });
+            }
+            let source = if ex.from_tree {
+                "from the BSP tree"
+            } else {
+                "on the fly"
+            };
+            for &p in &ex.crossings {
+                // A small circle of 0.012 rad around the crossing.
+                let (u, v) = orthonormal(p);
+                // Drawn open (no orientation arrows), closed by repeating the first point.
+                let points = (0..=12)
+                    .map(|k| {
+                        let t = k as f64 / 12.0 * std::f64::consts::TAU;
+                        (p + (u * t.cos() + v * t.sin()) * 0.012).normalize()
+                    })
+                    .collect();
+                out.push(Curve {
+                    points,
+                    colour: colours::CROSSING,
+                    width: 1.5,
+                    closed: false,
+                    label: format!("{who}: apparent intersection (Eq. 4.4), silhouette {source}"),
+                });
+            }
+        }
+    }
     for (stage, poly) in &rec.polygons {
         let (show, colour, width, name, r) = match stage {
             Stage::Silhouette => (
@@ -260,6 +311,12 @@ fn curves_of(
             );
         }
     }
+}
+
+/// Two unit vectors orthogonal to the unit vector `p` and to each other.
+fn orthonormal(p: DVec3) -> (DVec3, DVec3) {
+    let u = p.any_orthonormal_vector();
+    (u, p.cross(u))
 }
 
 /// Orthographic eye basis: (right, up, toward the eye).

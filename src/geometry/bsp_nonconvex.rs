@@ -138,6 +138,22 @@ impl ExactSilhouetteBsp {
         Some((b.tree, stats))
     }
 
+    /// The points of the leaf of `x` (`None` outside the box or in an on-the-fly leaf).
+    pub fn leaf_points(&self, x: DVec3) -> Option<impl Iterator<Item = &SilhouettePoint>> {
+        if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
+            return None;
+        }
+        let path = super::bsp::bsp_path(&self.nodes, &self.planes, x)?;
+        match self.nodes[path.leaf] {
+            BspNode::Leaf { first, count } if count != ON_THE_FLY => Some(
+                self.loops[first as usize..(first + count) as usize]
+                    .iter()
+                    .flat_map(|lp| self.points[lp[0] as usize..lp[1] as usize].iter()),
+            ),
+            _ => None,
+        }
+    }
+
     /// The silhouette from `x` read from the tree, as positively oriented loops in `frame`;
     /// `false` outside the box or in a leaf left to the on-the-fly path.
     pub fn silhouette(

@@ -248,6 +248,23 @@ pub fn exact_silhouette(
     Ok(stats)
 }
 
+impl ExactSilhouetteScratch {
+    /// The apparent intersections found by the last call (unit directions from the point, in
+    /// world orientation), for the debugger.
+    pub fn crossings(&self) -> &[DVec3] {
+        &self.crossings
+    }
+
+    /// The pieces of contour edges the last successful call rejected (their midpoint ray met
+    /// the mesh), as (from, to) unit directions in world orientation, for the debugger.
+    pub fn rejected_pieces(&self) -> impl Iterator<Item = [DVec3; 2]> + '_ {
+        self.pieces
+            .iter()
+            .filter(|p| !p.used)
+            .map(|p| [p.from, p.to])
+    }
+}
+
 /// A vertex of a silhouette loop as the mesh defines it, valid wherever the structure of the
 /// silhouette stays the same (a BSP cell, 001 Sect. 5.2): a mesh vertex, or the apparent
 /// intersection of two mesh edges given by their end vertices.

@@ -19,12 +19,13 @@
 //! front of the light face's plane, so that faces of one mesh hiding each other are exact.
 
 use super::get_between::get_between;
-use super::recorder::{Lobe, Recorder, Stage};
+use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::{
     ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, Polyhedron,
-    ProjectionPlane, SetDifference, Sidedness, SilhouetteScratch, SphericalPolygon,
-    classify_overlap, clip_to_horizon, contour_edges, exact_silhouette, face_polygon, silhouette,
+    ProjectionPlane, SetDifference, Sidedness, SilhouettePoint, SilhouetteScratch,
+    SphericalPolygon, classify_overlap, clip_to_horizon, contour_edges, exact_silhouette,
+    face_polygon, silhouette,
 };
 use crate::ltc::{LtcEntry, form_factor};
 use crate::math::Frame;
@@ -142,18 +143,31 @@ pub fn shade<R: Recorder>(
                 scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
             );
         } else if uses_exact_silhouette(light, method, on_light)
-            && nonconvex_silhouette(
+            && nonconvex_silhouette_from(
                 light,
                 sp.position,
                 &frame,
                 &mut scratch.light_sph,
                 &mut scratch.exact,
             )
+            .is_some()
         {
             // A closed non-convex light as a whole: its exact silhouette already accounts for
             // the faces it hides of itself (001 Fig. 4.1), so its own mesh is not subtracted.
             rec.begin_light(l, None);
             record_contour(rec, None, &light.poly, sp.position, &frame);
+            if R::ENABLED {
+                // Once more, recorded (the same call, the same result).
+                recorded_nonconvex_silhouette(
+                    light,
+                    None,
+                    sp.position,
+                    &frame,
+                    &mut scratch.light_sph,
+                    &mut scratch.exact,
+                    rec,
+                );
+            }
             total += shade_light_piece(
                 scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
             );
@@ -229,10 +243,77 @@ pub fn nonconvex_silhouette(
     out: &mut SphericalPolygon,
     scratch: &mut ExactSilhouetteScratch,
 ) -> bool {
-    obj.exact_bsp
+    nonconvex_silhouette_from(obj, x, frame, out, scratch).is_some()
+}
+
+/// [`nonconvex_silhouette`], saying where it came from: `Some(true)` from the tree.
+#[inline]
+fn nonconvex_silhouette_from(
+    obj: &PreparedObject,
+    x: DVec3,
+    frame: &Frame,
+    out: &mut SphericalPolygon,
+    scratch: &mut ExactSilhouetteScratch,
+) -> Option<bool> {
+    if obj
+        .exact_bsp
         .as_ref()
         .is_some_and(|t| t.silhouette(&obj.poly, x, frame, out))
-        || exact_silhouette(&obj.poly, x, frame, out, scratch).is_ok()
+    {
+        return Some(true);
+    }
+    exact_silhouette(&obj.poly, x, frame, out, scratch)
+        .is_ok()
+        .then_some(false)
+}
+
+/// [`nonconvex_silhouette`] that tells a recorder how the silhouette was found.
+fn recorded_nonconvex_silhouette<R: Recorder>(
+    obj: &PreparedObject,
+    occluder: Option<usize>,
+    x: DVec3,
+    frame: &Frame,
+    out: &mut SphericalPolygon,
+    scratch: &mut ExactSilhouetteScratch,
+    rec: &mut R,
+) -> bool {
+    let Some(from_tree) = nonconvex_silhouette_from(obj, x, frame, out, scratch) else {
+        return false;
+    };
+    if R::ENABLED {
+        let local = |d: DVec3| frame.to_local(d);
+        let record = if from_tree {
+            let crossings = obj
+                .exact_bsp
+                .as_ref()
+                .and_then(|t| t.leaf_points(x))
+                .map(|pts| {
+                    pts.filter(|p| matches!(p, SilhouettePoint::Crossing(..)))
+                        .filter_map(|p| p.direction(&obj.poly, x))
+                        .map(local)
+                        .collect()
+                })
+                .unwrap_or_default();
+            ExactSilhouetteRecord {
+                occluder,
+                from_tree,
+                crossings,
+                rejected: Vec::new(),
+            }
+        } else {
+            ExactSilhouetteRecord {
+                occluder,
+                from_tree,
+                crossings: scratch.crossings().iter().map(|&d| local(d)).collect(),
+                rejected: scratch
+                    .rejected_pieces()
+                    .map(|[a, b]| [local(a), local(b)])
+                    .collect(),
+            }
+        };
+        rec.exact_silhouette(&record);
+    }
+    true
 }
 
 /// Whether a non-convex mesh is taken whole, through its exact silhouette: closed meshes under
@@ -401,12 +482,14 @@ fn subtract_occluder<R: Recorder>(
         // to the faces below.
         let cache_hit = !R::ENABLED && scratch.occluder_cache[oi].stamp == scratch.stamp;
         let ok = cache_hit
-            || nonconvex_silhouette(
+            || recorded_nonconvex_silhouette(
                 occ,
+                Some(oi),
                 sp.position,
                 frame,
                 &mut scratch.occ_sph,
                 &mut scratch.exact,
+                rec,
             );
         if ok {
             if cache_hit {

@@ -9,7 +9,8 @@ pub mod recorder;
 pub use analytic::{ShadingScratch, ShadingStats, shade};
 pub use prepared::{PreparedObject, PreparedScene};
 pub use recorder::{
-    LightRecord, Lobe, NoRecorder, Recorder, SetDifferenceRecord, Stage, StageRecording,
+    ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, Recorder, SetDifferenceRecord, Stage,
+    StageRecording,
 };
 
 use glam::DVec3;

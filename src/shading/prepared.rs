@@ -30,7 +30,7 @@ pub struct PreparedObject {
 
 /// Non-convex meshes whose tree would have more leaves than this keep computing their exact
 /// silhouette on the fly.
-pub const MAX_EXACT_BSP_LEAVES: usize = 10_000;
+pub const MAX_EXACT_BSP_LEAVES: usize = 20_000;
 
 /// Convex meshes whose face planes cut the scene into more cells than this keep computing
 /// their silhouette on the fly (the count grows with the cube of the face count).

@@ -43,6 +43,9 @@ pub trait Recorder {
     /// frame, oriented counter-clockwise around its front-facing face. The silhouette stage
     /// chains exactly these edges (convex and flat meshes) or cuts its loops out of them.
     fn contour(&mut self, _occluder: Option<usize>, _edges: &[[DVec3; 2]]) {}
+    /// How the exact silhouette of a closed non-convex light (`occluder == None`) or occluder
+    /// was found at this point (001 Sect. 4.3, 5.2).
+    fn exact_silhouette(&mut self, _record: &ExactSilhouetteRecord) {}
     fn culled_occluders(&mut self, _kept: &[usize]) {}
     /// One `SetDifference` of Alg. 1 line 12 (its Greiner–Hormann phases, if recorded, were
     /// written into [`Recorder::gh_steps`] by the call itself).
@@ -77,6 +80,17 @@ impl Recorder for NoRecorder {
     const ENABLED: bool = false;
 }
 
+/// How an exact silhouette was found, for the debugger: read from the mesh's BSP tree or
+/// computed on the fly; its apparent intersections, and (on the fly) the contour pieces the
+/// ray test rejected. Directions are in the shading frame.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ExactSilhouetteRecord {
+    pub occluder: Option<usize>,
+    pub from_tree: bool,
+    pub crossings: Vec<DVec3>,
+    pub rejected: Vec<[DVec3; 2]>,
+}
+
 /// Which BRDF lobe an integral belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Lobe {
@@ -104,6 +118,9 @@ pub struct LightRecord {
     /// Contour edges of the light (`None`) and of the occluders met, as unit directions.
     #[serde(default)]
     pub contours: Vec<(Option<usize>, Vec<[DVec3; 2]>)>,
+    /// How the exact silhouettes of non-convex meshes were found.
+    #[serde(default)]
+    pub exact: Vec<ExactSilhouetteRecord>,
     pub occluder_polygons: Vec<(usize, Option<usize>, Stage, SphericalPolygon)>,
     pub set_differences: Vec<SetDifferenceRecord>,
     pub lobes: Vec<(Lobe, SphericalPolygon, SphericalPolygon, f64)>,
@@ -166,6 +183,9 @@ impl Recorder for StageRecording {
         if !cur.contours.iter().any(|(o, _)| *o == occluder) {
             cur.contours.push((occluder, edges.to_vec()));
         }
+    }
+    fn exact_silhouette(&mut self, record: &ExactSilhouetteRecord) {
+        self.current().exact.push(record.clone());
     }
     fn culled_occluders(&mut self, kept: &[usize]) {
         self.current().occluders_kept = kept.to_vec();
