@@ -37,6 +37,24 @@ pub struct BspPath {
     pub leaf: usize,
 }
 
+/// The leaf `x` falls in: the index of the node reached from the root (front: `eval > 0`).
+#[inline]
+pub fn bsp_leaf(nodes: &[BspNode], planes: &[Plane], x: DVec3) -> usize {
+    let mut n = 0usize;
+    loop {
+        match nodes[n] {
+            BspNode::Inner { plane, back, front } => {
+                n = if planes[plane as usize].eval(x) > 0.0 {
+                    front as usize
+                } else {
+                    back as usize
+                };
+            }
+            BspNode::Leaf { .. } => return n,
+        }
+    }
+}
+
 /// The path of `x` from the root of `nodes`.
 pub fn bsp_path(nodes: &[BspNode], planes: &[Plane], x: DVec3) -> Option<BspPath> {
     if nodes.is_empty() {
@@ -248,20 +266,11 @@ impl SilhouetteBsp {
         if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
             return None;
         }
-        let mut n = 0usize;
-        loop {
-            match self.nodes[n] {
-                BspNode::Inner { plane, back, front } => {
-                    n = if self.planes[plane as usize].eval(x) > 0.0 {
-                        front as usize
-                    } else {
-                        back as usize
-                    };
-                }
-                BspNode::Leaf { first, count } => {
-                    return Some(&self.data[first as usize..(first + count) as usize]);
-                }
+        match self.nodes[bsp_leaf(&self.nodes, &self.planes, x)] {
+            BspNode::Leaf { first, count } => {
+                Some(&self.data[first as usize..(first + count) as usize])
             }
+            BspNode::Inner { .. } => None,
         }
     }
 

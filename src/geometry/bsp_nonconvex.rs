@@ -26,7 +26,7 @@ use super::exact_silhouette::{
 use super::polyhedron::NO_FACE;
 use super::silhouette::is_front_facing;
 use super::{Plane, Polyhedron, SphericalPolygon};
-use crate::accel::{PreparedRay, Ray, is_degenerate};
+use crate::accel::{PreparedRay, Ray};
 use crate::math::Frame;
 use glam::DVec3;
 
@@ -143,8 +143,7 @@ impl ExactSilhouetteBsp {
         if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
             return None;
         }
-        let path = super::bsp::bsp_path(&self.nodes, &self.planes, x)?;
-        match self.nodes[path.leaf] {
+        match self.nodes[super::bsp::bsp_leaf(&self.nodes, &self.planes, x)] {
             BspNode::Leaf { first, count } if count != ON_THE_FLY => Some(
                 self.loops[first as usize..(first + count) as usize]
                     .iter()
@@ -166,18 +165,10 @@ impl ExactSilhouetteBsp {
         if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
             return false;
         }
-        let mut n = 0usize;
-        let (first, count) = loop {
-            match self.nodes[n] {
-                BspNode::Inner { plane, back, front } => {
-                    n = if self.planes[plane as usize].eval(x) > 0.0 {
-                        front as usize
-                    } else {
-                        back as usize
-                    };
-                }
-                BspNode::Leaf { first, count } => break (first, count),
-            }
+        let BspNode::Leaf { first, count } =
+            self.nodes[super::bsp::bsp_leaf(&self.nodes, &self.planes, x)]
+        else {
+            return false;
         };
         if count == ON_THE_FLY {
             return false;
@@ -463,21 +454,10 @@ impl Builder<'_> {
 /// Whether `x` lies inside the closed mesh: an odd number of crossings along a fixed ray.
 fn inside(poly: &Polyhedron, x: DVec3) -> bool {
     let ray = PreparedRay::new(&Ray::new(x, DVec3::new(0.5773, 0.5774, 0.5775)));
-    let mut crossings = 0;
-    for f in 0..poly.face_count() {
-        let idx = poly.face(f);
-        let v0 = poly.vertices[idx[0] as usize];
-        for k in 1..idx.len() - 1 {
-            let (v1, v2) = (
-                poly.vertices[idx[k] as usize],
-                poly.vertices[idx[k + 1] as usize],
-            );
-            if !is_degenerate(v0, v1, v2) && ray.intersect(v0, v1, v2, 0.0, f64::INFINITY).is_some()
-            {
-                crossings += 1;
-            }
-        }
-    }
+    let crossings = poly
+        .fan_triangles()
+        .filter(|(_, [v0, v1, v2])| ray.intersect(*v0, *v1, *v2, 0.0, f64::INFINITY).is_some())
+        .count();
     crossings % 2 == 1
 }
 

@@ -323,6 +323,8 @@ fn arc_parameter(e: &ContourEdge, p: DVec3) -> f64 {
 fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2]) -> bool {
     let t_min = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
     let ray = PreparedRay::new(&Ray::new(x, dir));
+    // An explicit loop: this is the hot part of the on-the-fly silhouette and of the tree
+    // builds (`Polyhedron::fan_triangles` measured 20 % slower here).
     for f in 0..poly.face_count() {
         if skip.contains(&(f as u32)) {
             continue;

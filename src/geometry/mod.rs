@@ -18,7 +18,7 @@ pub mod spherical_polygon;
 #[cfg(test)]
 pub(crate) mod test_util;
 
-pub use bsp::{BspNode, BspPath, BspStats, SilhouetteBsp, bsp_cell, bsp_path, bsp_size};
+pub use bsp::{BspNode, BspPath, BspStats, SilhouetteBsp, bsp_cell, bsp_leaf, bsp_path, bsp_size};
 pub use bsp_nonconvex::{ExactBspLimits, ExactBspStats, ExactSilhouetteBsp};
 pub use convex_cell::{CellSide, ConvexCell};
 pub use exact_silhouette::{

@@ -305,6 +305,22 @@ impl Polyhedron {
         }
     }
 
+    /// Every face as a fan of triangles from its first vertex, with the face index; triangles
+    /// of zero area (`accel::is_degenerate`) are left out (no ray hits them).
+    pub fn fan_triangles(&self) -> impl Iterator<Item = (usize, [DVec3; 3])> + '_ {
+        (0..self.face_count()).flat_map(move |f| {
+            let idx = self.face(f);
+            let v0 = self.vertices[idx[0] as usize];
+            (1..idx.len().saturating_sub(1)).filter_map(move |k| {
+                let (v1, v2) = (
+                    self.vertices[idx[k] as usize],
+                    self.vertices[idx[k + 1] as usize],
+                );
+                (!crate::accel::is_degenerate(v0, v1, v2)).then_some((f, [v0, v1, v2]))
+            })
+        })
+    }
+
     /// Volume enclosed by a closed mesh (positive when faces are counter-clockwise outward).
     pub fn signed_volume(&self) -> f64 {
         let mut v = 0.0;
