@@ -116,3 +116,48 @@ fn the_cell_of_a_point_contains_it_and_keeps_its_contour() {
         }
     }
 }
+
+/// A tree read from disk is checked before use: out-of-range children, planes or vertex
+/// indices, and children that point backwards (a cycle), make it ill-formed.
+#[test]
+fn ill_formed_trees_are_recognised() {
+    use penumbra::geometry::BspNode;
+    let poly = polyhedron("cone");
+    let (lo, hi) = boxed(&poly, 4.0);
+    let (tree, _) = SilhouetteBsp::build_convex(&poly, lo, hi).unwrap();
+    assert!(tree.is_well_formed(poly.vertices.len()));
+    assert!(
+        !tree.is_well_formed(3),
+        "vertex indices beyond a 3-vertex mesh"
+    );
+    let inner = tree
+        .nodes
+        .iter()
+        .position(|n| matches!(n, BspNode::Inner { .. }))
+        .unwrap();
+    for bad in [
+        BspNode::Inner {
+            plane: 9999,
+            back: 1,
+            front: 2,
+        },
+        BspNode::Inner {
+            plane: 0,
+            back: 0,
+            front: 2,
+        },
+        BspNode::Inner {
+            plane: 0,
+            back: 1,
+            front: u32::MAX,
+        },
+        BspNode::Leaf {
+            first: u32::MAX,
+            count: 2,
+        },
+    ] {
+        let mut t = tree.clone();
+        t.nodes[inner] = bad;
+        assert!(!t.is_well_formed(poly.vertices.len()), "{bad:?}");
+    }
+}

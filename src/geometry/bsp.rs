@@ -88,6 +88,26 @@ pub fn bsp_cell(path: &BspPath, lo: DVec3, hi: DVec3, tol: f64) -> ConvexCell {
     cell
 }
 
+/// Every child, plane and leaf range of `nodes` in range (`leaf_ok` checks a leaf's range).
+pub(crate) fn nodes_well_formed(
+    nodes: &[BspNode],
+    planes: usize,
+    leaf_ok: impl Fn(u32, u32) -> bool,
+) -> bool {
+    !nodes.is_empty()
+        && nodes.iter().enumerate().all(|(i, n)| match *n {
+            // Children after their parent: no cycles, every walk ends in a leaf.
+            BspNode::Inner { plane, back, front } => {
+                (plane as usize) < planes
+                    && (back as usize) > i
+                    && (front as usize) > i
+                    && (back as usize) < nodes.len()
+                    && (front as usize) < nodes.len()
+            }
+            BspNode::Leaf { first, count } => leaf_ok(first, count),
+        })
+}
+
 /// Size of a tree, for the structure view: (nodes, leaves, depth).
 pub fn bsp_size(nodes: &[BspNode]) -> (usize, usize, usize) {
     fn depth(nodes: &[BspNode], n: usize) -> usize {
@@ -257,6 +277,20 @@ impl SilhouetteBsp {
             }
         }
         me
+    }
+
+    /// Whether every index in the tree is in range for a mesh of `vertices` vertices (a tree
+    /// read from a file is checked before use).
+    pub fn is_well_formed(&self, vertices: usize) -> bool {
+        let data = self.data.len();
+        nodes_well_formed(&self.nodes, self.planes.len(), |first, count| {
+            (first as usize)
+                .checked_add(count as usize)
+                .is_some_and(|e| e <= data)
+        }) && self
+            .data
+            .iter()
+            .all(|&v| v == LOOP_END || (v as usize) < vertices)
     }
 
     /// The leaf data (loops of vertex indices, each ended by `LOOP_END`) of the cell of `x`, or

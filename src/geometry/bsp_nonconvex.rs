@@ -138,6 +138,26 @@ impl ExactSilhouetteBsp {
         Some((b.tree, stats))
     }
 
+    /// Whether every index in the tree is in range for a mesh of `vertices` vertices (a tree
+    /// read from a file is checked before use).
+    pub fn is_well_formed(&self, vertices: usize) -> bool {
+        let (loops, points) = (self.loops.len(), self.points.len());
+        let v_ok = |v: u32| (v as usize) < vertices;
+        super::bsp::nodes_well_formed(&self.nodes, self.planes.len(), |first, count| {
+            count == ON_THE_FLY
+                || (first as usize)
+                    .checked_add(count as usize)
+                    .is_some_and(|e| e <= loops)
+        }) && self
+            .loops
+            .iter()
+            .all(|&[a, b]| a <= b && (b as usize) <= points)
+            && self.points.iter().all(|p| match *p {
+                SilhouettePoint::Vertex(v) => v_ok(v),
+                SilhouettePoint::Crossing(a, b) => a.iter().chain(&b).all(|&v| v_ok(v)),
+            })
+    }
+
     /// The points of the leaf of `x` (`None` outside the box or in an on-the-fly leaf).
     pub fn leaf_points(&self, x: DVec3) -> Option<impl Iterator<Item = &SilhouettePoint>> {
         if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {

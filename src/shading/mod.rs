@@ -5,6 +5,7 @@ pub mod brdf;
 pub mod get_between;
 pub mod prepared;
 pub mod recorder;
+pub mod tree_cache;
 
 pub use analytic::{ShadingScratch, ShadingStats, shade};
 pub use prepared::{PreparedObject, PreparedScene};

@@ -1,6 +1,7 @@
 //! The scene as the shading stages need it, computed once per scene: polyhedra with adjacency,
 //! which path each mesh takes, separating planes of light/occluder pairs, the LTC table.
 
+use super::tree_cache::{self, CachedTree, tree_key};
 use crate::geometry::{
     ExactBspLimits, ExactSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp, separating_plane,
     star_centre,
@@ -71,15 +72,34 @@ fn build_silhouette_trees(
         );
         o.bsp = None;
         o.exact_bsp = None;
-        if o.poly.diagnostics.convex {
-            o.bsp = SilhouetteBsp::build_convex_limited(&o.poly, lo, hi, max_cells).map(|(t, _)| t);
-        } else if o.poly.diagnostics.closed_manifold {
-            let limits = ExactBspLimits {
-                max_leaves,
-                ..ExactBspLimits::default()
-            };
-            o.exact_bsp = ExactSilhouetteBsp::build(&o.poly, lo, hi, limits).map(|(t, _)| t);
+        let d = o.poly.diagnostics;
+        if !d.convex && !d.closed_manifold {
+            return;
+        }
+        if !d.convex {
             o.star_centre = star_centre(&o.poly);
+        }
+        let limit = if d.convex { max_cells } else { max_leaves };
+        let key = tree_key(&o.poly, lo, hi, limit, d.convex);
+        let tree = tree_cache::load(key, &o.poly).unwrap_or_else(|| {
+            let tree = if d.convex {
+                SilhouetteBsp::build_convex_limited(&o.poly, lo, hi, max_cells)
+                    .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Convex(t))
+            } else {
+                let limits = ExactBspLimits {
+                    max_leaves,
+                    ..ExactBspLimits::default()
+                };
+                ExactSilhouetteBsp::build(&o.poly, lo, hi, limits)
+                    .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Exact(t))
+            };
+            tree_cache::store(key, &tree);
+            tree
+        });
+        match tree {
+            CachedTree::Convex(t) if d.convex => o.bsp = Some(t),
+            CachedTree::Exact(t) if !d.convex => o.exact_bsp = Some(t),
+            _ => {}
         }
     });
 }

@@ -1,0 +1,57 @@
+//! The disk cache of silhouette trees: a second preparation reads what the first stored and
+//! renders the same image bit for bit; a damaged file (bad JSON, or an index out of range) is
+//! ignored and the tree rebuilt, never trusted; `PENUMBRA_CACHE_DIR=off` disables it.
+//! (One test: the cache directory is process-wide state.)
+
+use penumbra::render::{RenderContext, RenderSettings};
+use penumbra::scene::scene_file;
+
+fn render(ctx: &RenderContext) -> Vec<glam::DVec3> {
+    let cam = ctx.scene.camera.unwrap();
+    let settings = RenderSettings {
+        width: 48,
+        height: 36,
+        ..RenderSettings::default()
+    };
+    ctx.render(&cam, &settings, None).unwrap().0.pixels
+}
+
+fn trees(ctx: &RenderContext) -> usize {
+    ctx.prepared
+        .objects
+        .iter()
+        .filter(|o| o.bsp.is_some() || o.exact_bsp.is_some())
+        .count()
+}
+
+#[test]
+fn trees_round_trip_through_the_cache_and_damaged_files_are_rebuilt() {
+    let dir = std::env::temp_dir().join(format!("penumbra-tree-cache-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    // SAFETY: this test binary has this one test; nothing else reads the environment
+    // concurrently.
+    unsafe { std::env::set_var("PENUMBRA_CACHE_DIR", &dir) };
+    let scene = scene_file::load_embedded("nonconvex").unwrap();
+    let built = RenderContext::new(&scene);
+    let files: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().collect();
+    assert_eq!(files.len(), 2, "one file per tree");
+    let read = RenderContext::new(&scene);
+    assert_eq!(trees(&read), 2);
+    assert_eq!(render(&built), render(&read));
+
+    // Damage: one file truncated, the other with an index far out of range.
+    let paths: Vec<_> = files.iter().map(|f| f.path()).collect();
+    let text = std::fs::read_to_string(&paths[0]).unwrap();
+    std::fs::write(&paths[0], &text[..text.len() / 2]).unwrap();
+    let text = std::fs::read_to_string(&paths[1]).unwrap();
+    let damaged = text.replacen("\"back\":", "\"back\":99999999,\"x\":", 1);
+    assert_ne!(damaged, text);
+    std::fs::write(&paths[1], damaged).unwrap();
+    let rebuilt = RenderContext::new(&scene);
+    assert_eq!(trees(&rebuilt), 2);
+    assert_eq!(render(&built), render(&rebuilt));
+
+    unsafe { std::env::set_var("PENUMBRA_CACHE_DIR", "off") };
+    assert!(penumbra::shading::tree_cache::cache_dir().is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}
