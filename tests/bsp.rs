@@ -161,3 +161,57 @@ fn ill_formed_trees_are_recognised() {
         assert!(!t.is_well_formed(poly.vertices.len()), "{bad:?}");
     }
 }
+
+/// 001 Sect. 8, counted twice: the edges stored "as high as they stay valid" by
+/// `hoisted_edge_counts` against a brute-force count over every node (the intersection of the
+/// edge sets of all the leaves below it, minus what its parent already holds).
+#[test]
+fn hoisted_edge_counts_match_a_brute_force_count() {
+    use penumbra::geometry::BspNode;
+    use std::collections::BTreeSet;
+    let poly = polyhedron("cone");
+    let (lo, hi) = boxed(&poly, 4.0);
+    let (tree, _) = SilhouetteBsp::build_convex(&poly, lo, hi).unwrap();
+    let leaf_set = |first: u32, count: u32| -> BTreeSet<(u32, u32)> {
+        let d = &tree.data[first as usize..(first + count) as usize];
+        d.split(|&v| v == u32::MAX)
+            .flat_map(|lp| (0..lp.len()).map(move |k| (lp[k], lp[(k + 1) % lp.len()])))
+            .collect()
+    };
+    // Edge set common to the leaves below node n (brute force over the subtree).
+    fn common(
+        nodes: &[BspNode],
+        n: usize,
+        leaf: &dyn Fn(u32, u32) -> BTreeSet<(u32, u32)>,
+    ) -> BTreeSet<(u32, u32)> {
+        match nodes[n] {
+            BspNode::Leaf { first, count } => leaf(first, count),
+            BspNode::Inner { back, front, .. } => {
+                let a = common(nodes, back as usize, leaf);
+                let b = common(nodes, front as usize, leaf);
+                a.intersection(&b).copied().collect()
+            }
+        }
+    }
+    let mut parent = vec![usize::MAX; tree.nodes.len()];
+    for (i, n) in tree.nodes.iter().enumerate() {
+        if let BspNode::Inner { back, front, .. } = n {
+            parent[*back as usize] = i;
+            parent[*front as usize] = i;
+        }
+    }
+    let mut total = 0;
+    let mut in_leaves = 0;
+    for n in 0..tree.nodes.len() {
+        let c = common(&tree.nodes, n, &leaf_set);
+        if let BspNode::Leaf { .. } = tree.nodes[n] {
+            in_leaves += c.len();
+        }
+        total += match parent[n] {
+            usize::MAX => c.len(),
+            p => c.difference(&common(&tree.nodes, p, &leaf_set)).count(),
+        };
+    }
+    assert_eq!(tree.hoisted_edge_counts(), (in_leaves, total));
+    assert!(total < in_leaves);
+}

@@ -108,6 +108,52 @@ pub(crate) fn nodes_well_formed(
         })
 }
 
+/// 001 Sect. 8's open question, measured: if each silhouette edge were stored at the highest
+/// node below which every leaf has it (valid for that node's whole cell), how many edges would
+/// the tree hold? `leaf_edges(first, count)` lists a leaf's edges (any encoding, sorted or
+/// not). Returns (edges stored in the leaves, edges stored as high as they stay valid).
+pub fn hoisted_edge_counts(
+    nodes: &[BspNode],
+    leaf_edges: &dyn Fn(u32, u32) -> Vec<(u64, u64)>,
+) -> (usize, usize) {
+    // The edges common to the subtree of `n`, and the edges stored within it below `n`.
+    fn walk(
+        nodes: &[BspNode],
+        n: usize,
+        leaf_edges: &dyn Fn(u32, u32) -> Vec<(u64, u64)>,
+        in_leaves: &mut usize,
+        below: &mut usize,
+    ) -> Vec<(u64, u64)> {
+        match nodes[n] {
+            BspNode::Leaf { first, count } => {
+                let mut e = leaf_edges(first, count);
+                e.sort_unstable();
+                e.dedup();
+                *in_leaves += e.len();
+                e
+            }
+            BspNode::Inner { back, front, .. } => {
+                let a = walk(nodes, back as usize, leaf_edges, in_leaves, below);
+                let b = walk(nodes, front as usize, leaf_edges, in_leaves, below);
+                let common: Vec<(u64, u64)> = a
+                    .iter()
+                    .filter(|e| b.binary_search(e).is_ok())
+                    .copied()
+                    .collect();
+                // What each child keeps that the parent does not is stored at the child.
+                *below += a.len() + b.len() - 2 * common.len();
+                common
+            }
+        }
+    }
+    if nodes.is_empty() {
+        return (0, 0);
+    }
+    let (mut in_leaves, mut below) = (0, 0);
+    let root = walk(nodes, 0, leaf_edges, &mut in_leaves, &mut below);
+    (in_leaves, below + root.len())
+}
+
 /// Size of a tree, for the structure view: (nodes, leaves, depth).
 pub fn bsp_size(nodes: &[BspNode]) -> (usize, usize, usize) {
     fn depth(nodes: &[BspNode], n: usize) -> usize {
@@ -277,6 +323,21 @@ impl SilhouetteBsp {
             }
         }
         me
+    }
+
+    /// [`hoisted_edge_counts`] of this tree (edges: consecutive vertices of the leaf loops).
+    pub fn hoisted_edge_counts(&self) -> (usize, usize) {
+        let edges = |first: u32, count: u32| {
+            let d = &self.data[first as usize..(first + count) as usize];
+            let mut out = Vec::new();
+            for lp in d.split(|&v| v == LOOP_END) {
+                for k in 0..lp.len() {
+                    out.push((lp[k] as u64, lp[(k + 1) % lp.len()] as u64));
+                }
+            }
+            out
+        };
+        hoisted_edge_counts(&self.nodes, &edges)
     }
 
     /// Whether every index in the tree is in range for a mesh of `vertices` vertices (a tree

@@ -138,6 +138,31 @@ impl ExactSilhouetteBsp {
         Some((b.tree, stats))
     }
 
+    /// [`super::bsp::hoisted_edge_counts`] of this tree (edges: consecutive points of the leaf
+    /// loops; on-the-fly leaves hold none).
+    pub fn hoisted_edge_counts(&self) -> (usize, usize) {
+        let code = |p: &SilhouettePoint| match *p {
+            SilhouettePoint::Vertex(v) => v as u64,
+            SilhouettePoint::Crossing([a, b], [c, d]) => {
+                1 << 63 | (a as u64) << 45 | (b as u64) << 30 | (c as u64) << 15 | d as u64
+            }
+        };
+        let edges = |first: u32, count: u32| {
+            let mut out = Vec::new();
+            if count == ON_THE_FLY {
+                return out;
+            }
+            for lp in &self.loops[first as usize..(first + count) as usize] {
+                let pts = &self.points[lp[0] as usize..lp[1] as usize];
+                for k in 0..pts.len() {
+                    out.push((code(&pts[k]), code(&pts[(k + 1) % pts.len()])));
+                }
+            }
+            out
+        };
+        super::bsp::hoisted_edge_counts(&self.nodes, &edges)
+    }
+
     /// Whether every index in the tree is in range for a mesh of `vertices` vertices (a tree
     /// read from a file is checked before use).
     pub fn is_well_formed(&self, vertices: usize) -> bool {
