@@ -202,12 +202,12 @@ fn hoisted_edge_counts_match_a_brute_force_count() {
     }
     let mut total = 0;
     let mut in_leaves = 0;
-    for n in 0..tree.nodes.len() {
+    for (n, &up) in parent.iter().enumerate() {
         let c = common(&tree.nodes, n, &leaf_set);
         if let BspNode::Leaf { .. } = tree.nodes[n] {
             in_leaves += c.len();
         }
-        total += match parent[n] {
+        total += match up {
             usize::MAX => c.len(),
             p => c.difference(&common(&tree.nodes, p, &leaf_set)).count(),
         };
