@@ -25,6 +25,9 @@ pub struct ThesisFigures {
     pub faces_ms: f64,
     pub on_the_fly_ms: Option<f64>,
     pub bsp_ms: f64,
+    /// Table 7.3 (ms): triangulated faces, triangulated silhouettes.
+    pub sample_faces_ms: f64,
+    pub sample_silhouette_ms: f64,
     /// Precomputation: seconds, nodes, silhouette vertices (convex) or edges, kB.
     pub build_s: f64,
     pub nodes: usize,
@@ -33,30 +36,64 @@ pub struct ThesisFigures {
 }
 
 const THESIS: [ThesisFigures; 9] = [
-    fig(0.79, Some(0.38), 0.36, 0.0034, 53, 138, 1.6),
-    fig(1.49, Some(0.64), 0.51, 0.025, 418, 1_838, 15.0),
-    fig(2.23, Some(0.89), 0.70, 0.0016, 436, 2_674, 19.0),
-    fig(1.85, Some(0.67), 0.46, 0.027, 1_828, 6_245, 62.0),
-    fig(7.16, Some(2.45), 0.80, 3.7, 147_660, 947_142, 6_700.0),
-    fig(1.18, None, 0.89, 0.023, 332, 1_165, 16.0),
-    fig(3.47, None, 1.93, 0.92, 5_232, 44_569, 460.0),
-    fig(1.42, None, 1.00, 0.022, 414, 1_215, 18.0),
-    fig(1.53, None, 0.71, 0.010, 198, 407, 7.2),
+    fig([0.79, 0.38, 0.36], [0.89, 0.72], 0.0034, 53, 138, 1.6),
+    fig([1.49, 0.64, 0.51], [1.34, 1.03], 0.025, 418, 1_838, 15.0),
+    fig([2.23, 0.89, 0.70], [2.66, 1.28], 0.0016, 436, 2_674, 19.0),
+    fig([1.85, 0.67, 0.46], [1.29, 0.86], 0.027, 1_828, 6_245, 62.0),
+    fig(
+        [7.16, 2.45, 0.80],
+        [5.03, 1.46],
+        3.7,
+        147_660,
+        947_142,
+        6_700.0,
+    ),
+    fig(
+        [1.18, f64::NAN, 0.89],
+        [1.44, 0.99],
+        0.023,
+        332,
+        1_165,
+        16.0,
+    ),
+    fig(
+        [3.47, f64::NAN, 1.93],
+        [3.71, 2.04],
+        0.92,
+        5_232,
+        44_569,
+        460.0,
+    ),
+    fig(
+        [1.42, f64::NAN, 1.00],
+        [2.04, 1.58],
+        0.022,
+        414,
+        1_215,
+        18.0,
+    ),
+    fig([1.53, f64::NAN, 0.71], [1.57, 0.84], 0.010, 198, 407, 7.2),
 ];
 
+/// Table 7.2's three times (NaN: not implemented in the thesis), Table 7.3's two, Table 7.4.
 const fn fig(
-    faces_ms: f64,
-    on_the_fly_ms: Option<f64>,
-    bsp_ms: f64,
+    shading: [f64; 3],
+    sampling: [f64; 2],
     build_s: f64,
     nodes: usize,
     elements: usize,
     kb: f64,
 ) -> ThesisFigures {
     ThesisFigures {
-        faces_ms,
-        on_the_fly_ms,
-        bsp_ms,
+        faces_ms: shading[0],
+        on_the_fly_ms: if shading[1].is_nan() {
+            None
+        } else {
+            Some(shading[1])
+        },
+        bsp_ms: shading[2],
+        sample_faces_ms: sampling[0],
+        sample_silhouette_ms: sampling[1],
         build_s,
         nodes,
         elements,
@@ -73,6 +110,13 @@ pub struct PolyhedronRow {
     pub faces_s: f64,
     pub on_the_fly_s: f64,
     pub bsp_s: f64,
+    /// 001 Table 7.3: time per shading point to triangulate the light and draw one sample by
+    /// solid angle (no ray traced), face by face and from the silhouette (ns).
+    pub sample_faces_ns: f64,
+    pub sample_silhouette_ns: f64,
+    /// Triangles per shading point, face by face and from the silhouette.
+    pub triangles_faces: f64,
+    pub triangles_silhouette: f64,
     /// Largest difference of the BSP image from the face-by-face one (relative to the image's
     /// largest value): the same integral by two paths.
     pub bsp_vs_faces_max_rel: f64,
@@ -173,6 +217,53 @@ fn best_render(
     Ok((img.expect("at least one render"), best))
 }
 
+/// Table 7.3: at the floor points seen by a 64×48 grid of camera rays, the time to triangulate
+/// the light (`LightSet::build_with`) and draw one sample direction by solid angle, best of
+/// three passes; and the triangles per point. No ray is traced, as in the thesis.
+fn sampling_cost(ctx: &RenderContext, faces_only: bool) -> (f64, f64) {
+    use crate::math::Frame;
+    use crate::stochastic::LightSet;
+    let Some(cam) = ctx.scene.camera else {
+        return (0.0, 0.0);
+    };
+    let Ok(basis) = cam.basis() else {
+        return (0.0, 0.0);
+    };
+    let mut points = Vec::new();
+    for y in 0..48 {
+        for x in 0..64 {
+            let ray = crate::accel::Ray {
+                origin: basis.eye,
+                dir: basis.direction(x as f64 + 0.5, y as f64 + 0.5, 64, 48),
+            };
+            if let Some(h) = ctx.primary_hit(&ray)
+                && h.receiver
+            {
+                points.push(h.point);
+            }
+        }
+    }
+    let mut set = LightSet::default();
+    let (mut best, mut tris, mut sink) = (f64::INFINITY, 0usize, 0.0);
+    for _ in 0..3 {
+        tris = 0;
+        let t = Instant::now();
+        for (i, sp) in points.iter().enumerate() {
+            let frame = Frame::from_normal_and_view(sp.normal, sp.view);
+            set.build_with(&ctx.prepared, sp, &frame, faces_only);
+            tris += set.tris.len();
+            if let Some(r) = set.pick_run(0.5) {
+                let u = (i as f64 * 0.618_033_988_75).fract();
+                sink += set.sample(r, u, 0.5, 0.25).0.z;
+            }
+        }
+        best = best.min(t.elapsed().as_secs_f64());
+    }
+    std::hint::black_box(sink);
+    let n = points.len().max(1) as f64;
+    (best / n * 1e9, tris as f64 / n)
+}
+
 /// Runs the measurements; `progress` receives a line per step.
 pub fn run_polyhedra(
     width: u32,
@@ -231,6 +322,10 @@ pub fn run_polyhedra(
             .fold(0.0, f64::max)
             / peak;
 
+        progress(&format!("{}: sampling", row.name));
+        let (sample_faces_ns, triangles_faces) = sampling_cost(&with_trees, true);
+        let (sample_silhouette_ns, triangles_silhouette) = sampling_cost(&with_trees, false);
+
         progress(&format!("{}: building the tree", row.name));
         let m = thesis_polyhedron(row.name).ok_or("unknown polyhedron")?;
         let poly = Polyhedron::new(&m.positions, &m.faces);
@@ -273,6 +368,10 @@ pub fn run_polyhedra(
             on_the_fly_s,
             bsp_s,
             bsp_vs_faces_max_rel,
+            sample_faces_ns,
+            sample_silhouette_ns,
+            triangles_faces,
+            triangles_silhouette,
             build_s,
             nodes,
             leaves,
@@ -340,6 +439,27 @@ pub fn polyhedra_markdown(r: &PolyhedraReport) -> String {
             t.elements,
             t.kb,
             t.build_s / row.build_s.max(1e-9),
+        );
+    }
+    s += "\nSampling (001 Table 7.3): per floor point, triangulating the light and drawing one \
+          sample by solid angle, no ray traced (ns); the thesis: GPU pass at 1024×768, 1 spp \
+          (ms). Hole and bowl are not star-shaped: their silhouettes are not triangulated yet, so \
+          both columns are faces.\n\n\
+          | polyhedron | faces (ns) | silhouette (ns) | silhouette / faces | triangles, faces | triangles, silhouette | thesis faces | thesis silhouette | thesis ratio |\n\
+          |---|---|---|---|---|---|---|---|---|\n";
+    for row in &r.rows {
+        let t = &row.thesis;
+        s += &format!(
+            "| {} | {:.0} | {:.0} | {:.2} | {:.1} | {:.1} | {:.2} | {:.2} | {:.2} |\n",
+            row.name,
+            row.sample_faces_ns,
+            row.sample_silhouette_ns,
+            row.sample_silhouette_ns / row.sample_faces_ns.max(1e-9),
+            row.triangles_faces,
+            row.triangles_silhouette,
+            t.sample_faces_ms,
+            t.sample_silhouette_ms,
+            t.sample_silhouette_ms / t.sample_faces_ms,
         );
     }
     s += "\nEdges stored as high in the tree as they stay valid (001 Sect. 8: an edge kept at the \

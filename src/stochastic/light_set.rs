@@ -110,6 +110,18 @@ impl LightSet {
     /// Triangulates every light seen from `sp` (shading frame `frame`) and sets the light
     /// selection probabilities proportional to luminance × Ω.
     pub fn build(&mut self, scene: &PreparedScene, sp: &ShadingPoint, frame: &Frame) {
+        self.build_with(scene, sp, frame, false)
+    }
+
+    /// [`LightSet::build`]; with `faces_only`, every light is triangulated face by face (the
+    /// baseline of 001 Table 7.3: triangulated faces instead of triangulated silhouettes).
+    pub fn build_with(
+        &mut self,
+        scene: &PreparedScene,
+        sp: &ShadingPoint,
+        frame: &Frame,
+        faces_only: bool,
+    ) {
         self.runs.clear();
         self.tris.clear();
         self.corners.clear();
@@ -119,7 +131,11 @@ impl LightSet {
         for (l, &(light_id, radiance)) in scene.lights.iter().enumerate() {
             let light = &scene.objects[light_id as usize];
             let on_light = sp.object == Some(light.object);
-            let shape = light_shape(light);
+            let shape = if faces_only {
+                LightShape::General
+            } else {
+                light_shape(light)
+            };
             let start = self.tris.len();
             let mut total = 0.0;
             let mut shape = shape;
