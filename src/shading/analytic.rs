@@ -14,9 +14,12 @@
 //!     I += AnalyticIntegrate(l_ltc, ρ)                form_factor
 //! ```
 //!
-//! Convex and flat meshes take the silhouette path; other meshes (and every mesh under
-//! [`Method::PerTriangle`]) go face by face, where an occluder face is first cut to the part in
-//! front of the light face's plane, so that faces of one mesh hiding each other are exact.
+//! Convex and flat meshes take the silhouette path (read from a BSP tree where they have one);
+//! closed non-convex meshes take their exact silhouette (001 Sect. 4.3, from a BSP tree where
+//! they have one, 001 Sect. 5.2). Open meshes, points on a non-convex mesh itself, degenerate
+//! points and every mesh under [`Method::PerTriangle`] go face by face, where an occluder face
+//! is first cut to the part in front of the light face's plane, so that faces of one mesh
+//! hiding each other are exact.
 
 use super::get_between::get_between;
 use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage};
