@@ -90,3 +90,43 @@ fn bsp_exact_silhouettes_equal_the_silhouette_on_the_fly() {
         assert_eq!(wrong, 0, "{}: wrong silhouettes from the tree", row.name);
     }
 }
+
+/// The 32-bit point encoding of 001 Sect. 5.4: every vertex and every crossing of four
+/// distinct indices below 256 decodes to itself; an index of 256 or more has no code; a
+/// 257-vertex mesh gets no tree.
+#[test]
+fn silhouette_points_pack_into_32_bits() {
+    use penumbra::geometry::SilhouettePoint;
+    let mut rng = Pcg32::new(1, 1);
+    for v in 0..256 {
+        let p = SilhouettePoint::Vertex(v);
+        assert_eq!(SilhouettePoint::unpack(p.pack().unwrap()), p);
+    }
+    for _ in 0..10_000 {
+        let mut i = [0u32; 4];
+        for k in 0..4 {
+            i[k] = loop {
+                let c = rng.below(256);
+                if !i[..k].contains(&c) {
+                    break c;
+                }
+            };
+        }
+        let p = SilhouettePoint::Crossing([i[0], i[1]], [i[2], i[3]]);
+        assert_eq!(SilhouettePoint::unpack(p.pack().unwrap()), p);
+    }
+    assert!(SilhouettePoint::Vertex(256).pack().is_none());
+    assert!(SilhouettePoint::Crossing([0, 1], [2, 300]).pack().is_none());
+    let big = penumbra::scene::shapes::uv_ellipsoid(DVec3::ZERO, DVec3::ONE, 20, 14);
+    let big = Polyhedron::new(&big.positions, &big.faces);
+    assert!(big.vertices.len() > 256);
+    assert!(
+        ExactSilhouetteBsp::build(
+            &big,
+            -DVec3::splat(3.0),
+            DVec3::splat(3.0),
+            ExactBspLimits::default()
+        )
+        .is_none()
+    );
+}

@@ -42,8 +42,9 @@ pub struct ExactSilhouetteBsp {
     pub planes: Vec<Plane>,
     pub nodes: Vec<BspNode>,
     /// Leaf data: loops as ranges of `points`; a leaf holds `loops[first..first + count]`.
+    /// Points in the 32-bit encoding of 001 Sect. 5.4 ([`SilhouettePoint::pack`]).
     pub loops: Vec<[u32; 2]>,
-    pub points: Vec<SilhouettePoint>,
+    pub points: Vec<u32>,
     pub lo: DVec3,
     pub hi: DVec3,
 }
@@ -104,7 +105,8 @@ impl ExactSilhouetteBsp {
         hi: DVec3,
         limits: ExactBspLimits,
     ) -> Option<(Self, ExactBspStats)> {
-        if !poly.diagnostics.closed_manifold {
+        // The leaves use 8-bit vertex indices (001 Sect. 5.4).
+        if !poly.diagnostics.closed_manifold || poly.vertices.len() > 256 {
             return None;
         }
         let start = std::time::Instant::now();
@@ -141,12 +143,6 @@ impl ExactSilhouetteBsp {
     /// [`super::bsp::hoisted_edge_counts`] of this tree (edges: consecutive points of the leaf
     /// loops; on-the-fly leaves hold none).
     pub fn hoisted_edge_counts(&self) -> (usize, usize) {
-        let code = |p: &SilhouettePoint| match *p {
-            SilhouettePoint::Vertex(v) => v as u64,
-            SilhouettePoint::Crossing([a, b], [c, d]) => {
-                1 << 63 | (a as u64) << 45 | (b as u64) << 30 | (c as u64) << 15 | d as u64
-            }
-        };
         let edges = |first: u32, count: u32| {
             let mut out = Vec::new();
             if count == ON_THE_FLY {
@@ -155,7 +151,7 @@ impl ExactSilhouetteBsp {
             for lp in &self.loops[first as usize..(first + count) as usize] {
                 let pts = &self.points[lp[0] as usize..lp[1] as usize];
                 for k in 0..pts.len() {
-                    out.push((code(&pts[k]), code(&pts[(k + 1) % pts.len()])));
+                    out.push((pts[k] as u64, pts[(k + 1) % pts.len()] as u64));
                 }
             }
             out
@@ -177,14 +173,17 @@ impl ExactSilhouetteBsp {
             .loops
             .iter()
             .all(|&[a, b]| a <= b && (b as usize) <= points)
-            && self.points.iter().all(|p| match *p {
-                SilhouettePoint::Vertex(v) => v_ok(v),
-                SilhouettePoint::Crossing(a, b) => a.iter().chain(&b).all(|&v| v_ok(v)),
-            })
+            && self
+                .points
+                .iter()
+                .all(|&p| match SilhouettePoint::unpack(p) {
+                    SilhouettePoint::Vertex(v) => v_ok(v),
+                    SilhouettePoint::Crossing(a, b) => a.iter().chain(&b).all(|&v| v_ok(v)),
+                })
     }
 
     /// The points of the leaf of `x` (`None` outside the box or in an on-the-fly leaf).
-    pub fn leaf_points(&self, x: DVec3) -> Option<impl Iterator<Item = &SilhouettePoint>> {
+    pub fn leaf_points(&self, x: DVec3) -> Option<impl Iterator<Item = SilhouettePoint> + '_> {
         if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
             return None;
         }
@@ -192,7 +191,8 @@ impl ExactSilhouetteBsp {
             BspNode::Leaf { first, count } if count != ON_THE_FLY => Some(
                 self.loops[first as usize..(first + count) as usize]
                     .iter()
-                    .flat_map(|lp| self.points[lp[0] as usize..lp[1] as usize].iter()),
+                    .flat_map(|lp| self.points[lp[0] as usize..lp[1] as usize].iter())
+                    .map(|&p| SilhouettePoint::unpack(p)),
             ),
             _ => None,
         }
@@ -220,8 +220,8 @@ impl ExactSilhouetteBsp {
         }
         out.clear();
         for lp in &self.loops[first as usize..(first + count) as usize] {
-            for p in &self.points[lp[0] as usize..lp[1] as usize] {
-                if let Some(d) = p.direction(poly, x) {
+            for &p in &self.points[lp[0] as usize..lp[1] as usize] {
+                if let Some(d) = SilhouettePoint::unpack(p).direction(poly, x) {
                     out.push_vertex(frame.to_local(d));
                 }
             }
@@ -441,7 +441,10 @@ impl Builder<'_> {
         let mut start = self.tree.points.len() as u32;
         for p in &self.symbolic {
             match p {
-                Some(p) => self.tree.points.push(*p),
+                Some(p) => match p.pack() {
+                    Some(code) => self.tree.points.push(code),
+                    None => self.failed = true, // excluded by the vertex count
+                },
                 None => {
                     let end = self.tree.points.len() as u32;
                     self.tree.loops.push([start, end]);

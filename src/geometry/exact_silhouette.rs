@@ -275,6 +275,32 @@ pub enum SilhouettePoint {
 }
 
 impl SilhouettePoint {
+    /// The 32-bit encoding of 001 Sect. 5.4: four 8-bit vertex indices, the ends of the two
+    /// edges of a crossing, or one vertex index four times. `None` if an index exceeds 255
+    /// (the encoding is for meshes of at most 256 vertices).
+    pub fn pack(&self) -> Option<u32> {
+        let [a, b, c, d] = match *self {
+            SilhouettePoint::Vertex(v) => [v; 4],
+            SilhouettePoint::Crossing([a, b], [c, d]) => [a, b, c, d],
+        };
+        [a, b, c, d]
+            .iter()
+            .all(|&i| i < 256)
+            .then(|| a | b << 8 | c << 16 | d << 24)
+    }
+
+    /// The point a [`SilhouettePoint::pack`] code stands for. Two edges of a crossing share no
+    /// vertex, so four equal indices can only be a vertex.
+    pub fn unpack(code: u32) -> SilhouettePoint {
+        let i = |k: u32| (code >> (8 * k)) & 0xff;
+        let (a, b, c, d) = (i(0), i(1), i(2), i(3));
+        if a == b && b == c && c == d {
+            SilhouettePoint::Vertex(a)
+        } else {
+            SilhouettePoint::Crossing([a, b], [c, d])
+        }
+    }
+
     /// The unit direction of the point seen from `x` (Eq. 4.4 for a crossing: the line shared
     /// by the planes of the two arcs, on the side of the first arc).
     #[inline]

@@ -14,7 +14,7 @@ use glam::DVec3;
 use std::path::PathBuf;
 
 /// Bump whenever a tree build changes what it produces.
-pub const FORMAT: u32 = 1;
+pub const FORMAT: u32 = 2;
 
 /// What is stored for one mesh.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
