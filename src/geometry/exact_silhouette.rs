@@ -286,7 +286,7 @@ impl SilhouettePoint {
         [a, b, c, d]
             .iter()
             .all(|&i| i < 256)
-            .then(|| a | b << 8 | c << 16 | d << 24)
+            .then_some(a | b << 8 | c << 16 | d << 24)
     }
 
     /// The point a [`SilhouettePoint::pack`] code stands for. Two edges of a crossing share no
