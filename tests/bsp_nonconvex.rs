@@ -35,19 +35,7 @@ fn bsp_exact_silhouettes_equal_the_silhouette_on_the_fly() {
     for row in TABLE_7_1.iter().filter(|r| !r.convex) {
         let m = thesis_polyhedron(row.name).unwrap();
         let poly = Polyhedron::new(&m.positions, &m.faces);
-        let tris: Vec<[DVec3; 3]> = (0..poly.face_count())
-            .flat_map(|f| {
-                let idx = poly.face(f).to_vec();
-                let v = poly.vertices.clone();
-                (1..idx.len() - 1).map(move |k| {
-                    [
-                        v[idx[0] as usize],
-                        v[idx[k] as usize],
-                        v[idx[k + 1] as usize],
-                    ]
-                })
-            })
-            .collect();
+        let tris: Vec<[DVec3; 3]> = poly.fan_triangles().map(|(_, t)| t).collect();
         let (lo, hi) = (
             poly.center - DVec3::splat(3.0 * poly.radius),
             poly.center + DVec3::splat(3.0 * poly.radius),

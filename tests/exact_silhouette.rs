@@ -19,14 +19,7 @@ fn polyhedron(name: &str) -> Polyhedron {
 }
 
 fn triangles(p: &Polyhedron) -> Vec<[DVec3; 3]> {
-    let mut out = Vec::new();
-    for f in 0..p.face_count() {
-        let idx = p.face(f);
-        for k in 1..idx.len() - 1 {
-            out.push([idx[0], idx[k], idx[k + 1]].map(|i| p.vertices[i as usize]));
-        }
-    }
-    out
+    p.fan_triangles().map(|(_, t)| t).collect()
 }
 
 fn hits(tris: &[[DVec3; 3]], ray: &Ray) -> usize {
