@@ -182,20 +182,29 @@ impl ExactSilhouetteBsp {
                 })
     }
 
-    /// The points of the leaf of `x` (`None` outside the box or in an on-the-fly leaf).
-    pub fn leaf_points(&self, x: DVec3) -> Option<impl Iterator<Item = SilhouettePoint> + '_> {
+    /// The loops (ranges of `points`) of the leaf of `x`; `None` outside the box or in a leaf
+    /// left to the on-the-fly path.
+    #[inline]
+    fn leaf_loops(&self, x: DVec3) -> Option<&[[u32; 2]]> {
         if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
             return None;
         }
         match self.nodes[super::bsp::bsp_leaf(&self.nodes, &self.planes, x)] {
-            BspNode::Leaf { first, count } if count != ON_THE_FLY => Some(
-                self.loops[first as usize..(first + count) as usize]
-                    .iter()
-                    .flat_map(|lp| self.points[lp[0] as usize..lp[1] as usize].iter())
-                    .map(|&p| SilhouettePoint::unpack(p)),
-            ),
+            BspNode::Leaf { first, count } if count != ON_THE_FLY => {
+                Some(&self.loops[first as usize..(first + count) as usize])
+            }
             _ => None,
         }
+    }
+
+    /// The points of the leaf of `x` (`None` outside the box or in an on-the-fly leaf).
+    pub fn leaf_points(&self, x: DVec3) -> Option<impl Iterator<Item = SilhouettePoint> + '_> {
+        Some(
+            self.leaf_loops(x)?
+                .iter()
+                .flat_map(|lp| self.points[lp[0] as usize..lp[1] as usize].iter())
+                .map(|&p| SilhouettePoint::unpack(p)),
+        )
     }
 
     /// The silhouette from `x` read from the tree, as positively oriented loops in `frame`;
@@ -207,19 +216,11 @@ impl ExactSilhouetteBsp {
         frame: &Frame,
         out: &mut SphericalPolygon,
     ) -> bool {
-        if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
-            return false;
-        }
-        let BspNode::Leaf { first, count } =
-            self.nodes[super::bsp::bsp_leaf(&self.nodes, &self.planes, x)]
-        else {
+        let Some(loops) = self.leaf_loops(x) else {
             return false;
         };
-        if count == ON_THE_FLY {
-            return false;
-        }
         out.clear();
-        for lp in &self.loops[first as usize..(first + count) as usize] {
+        for lp in loops {
             for &p in &self.points[lp[0] as usize..lp[1] as usize] {
                 if let Some(d) = SilhouettePoint::unpack(p).direction(poly, x) {
                     out.push_vertex(frame.to_local(d));

@@ -145,32 +145,31 @@ pub fn shade<R: Recorder>(
             total += shade_light_piece(
                 scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
             );
-        } else if uses_exact_silhouette(light, method, on_light)
-            && nonconvex_silhouette_from(
-                light,
-                sp.position,
-                &frame,
-                &mut scratch.light_sph,
-                &mut scratch.exact,
-            )
-            .is_some()
+        } else if let Some(from_tree) = uses_exact_silhouette(light, method, on_light)
+            .then(|| {
+                nonconvex_silhouette_from(
+                    light,
+                    sp.position,
+                    &frame,
+                    &mut scratch.light_sph,
+                    &mut scratch.exact,
+                )
+            })
+            .flatten()
         {
             // A closed non-convex light as a whole: its exact silhouette already accounts for
             // the faces it hides of itself (001 Fig. 4.1), so its own mesh is not subtracted.
             rec.begin_light(l, None);
             record_contour(rec, None, &light.poly, sp.position, &frame);
-            if R::ENABLED {
-                // Once more, recorded (the same call, the same result).
-                recorded_nonconvex_silhouette(
-                    light,
-                    None,
-                    sp.position,
-                    &frame,
-                    &mut scratch.light_sph,
-                    &mut scratch.exact,
-                    rec,
-                );
-            }
+            record_exact(
+                light,
+                None,
+                from_tree,
+                sp.position,
+                &frame,
+                &scratch.exact,
+                rec,
+            );
             total += shade_light_piece(
                 scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
             );
@@ -283,40 +282,55 @@ fn recorded_nonconvex_silhouette<R: Recorder>(
     let Some(from_tree) = nonconvex_silhouette_from(obj, x, frame, out, scratch) else {
         return false;
     };
-    if R::ENABLED {
-        let local = |d: DVec3| frame.to_local(d);
-        let record = if from_tree {
-            let crossings = obj
-                .exact_bsp
-                .as_ref()
-                .and_then(|t| t.leaf_points(x))
-                .map(|pts| {
-                    pts.filter(|p| matches!(p, SilhouettePoint::Crossing(..)))
-                        .filter_map(|p| p.direction(&obj.poly, x))
-                        .map(local)
-                        .collect()
-                })
-                .unwrap_or_default();
-            ExactSilhouetteRecord {
-                occluder,
-                from_tree,
-                crossings,
-                rejected: Vec::new(),
-            }
-        } else {
-            ExactSilhouetteRecord {
-                occluder,
-                from_tree,
-                crossings: scratch.crossings().iter().map(|&d| local(d)).collect(),
-                rejected: scratch
-                    .rejected_pieces()
-                    .map(|[a, b]| [local(a), local(b)])
-                    .collect(),
-            }
-        };
-        rec.exact_silhouette(&record);
-    }
+    record_exact(obj, occluder, from_tree, x, frame, scratch, rec);
     true
+}
+
+/// Tells a recorder how the exact silhouette just computed was found (read from the scratch of
+/// that same call, or from the tree's leaf); nothing at all for [`super::NoRecorder`].
+fn record_exact<R: Recorder>(
+    obj: &PreparedObject,
+    occluder: Option<usize>,
+    from_tree: bool,
+    x: DVec3,
+    frame: &Frame,
+    scratch: &ExactSilhouetteScratch,
+    rec: &mut R,
+) {
+    if !R::ENABLED {
+        return;
+    }
+    let local = |d: DVec3| frame.to_local(d);
+    let record = if from_tree {
+        let crossings = obj
+            .exact_bsp
+            .as_ref()
+            .and_then(|t| t.leaf_points(x))
+            .map(|pts| {
+                pts.filter(|p| matches!(p, SilhouettePoint::Crossing(..)))
+                    .filter_map(|p| p.direction(&obj.poly, x))
+                    .map(local)
+                    .collect()
+            })
+            .unwrap_or_default();
+        ExactSilhouetteRecord {
+            occluder,
+            from_tree,
+            crossings,
+            rejected: Vec::new(),
+        }
+    } else {
+        ExactSilhouetteRecord {
+            occluder,
+            from_tree,
+            crossings: scratch.crossings().iter().map(|&d| local(d)).collect(),
+            rejected: scratch
+                .rejected_pieces()
+                .map(|[a, b]| [local(a), local(b)])
+                .collect(),
+        }
+    };
+    rec.exact_silhouette(&record);
 }
 
 /// Whether a non-convex mesh is taken whole, through its exact silhouette: closed meshes under
