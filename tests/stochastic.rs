@@ -212,12 +212,13 @@ fn estimators_converge_to_the_analytic_result_like_one_over_sqrt_n() {
 /// The light sampler's triangles cover exactly the directions in which a ray from the shading
 /// point hits the light's front (ray casting against the light alone), for convex (silhouette
 /// fan), flat, star-shaped (the exact silhouette fanned from a kernel point: `polyhedra`'s
-/// corner and extruded cube) and other non-convex (per-face) lights; and the total solid angle
+/// corner and extruded cube), neither (the triangles precomputed for the point's cell:
+/// `polyhedra`'s hole and bowl) and other non-convex (per-face) lights; and the total solid angle
 /// of a light's triangles matches a Monte Carlo estimate of the directions its rays hit
 /// (per-face lights count overlapping faces once per face).
 #[test]
 fn light_triangles_cover_what_ray_casting_sees() {
-    let mut star_runs = 0;
+    let (mut star_runs, mut cell_runs) = (0, 0);
     for name in ["fig4", "nonconvex", "default", "polyhedra"] {
         let scene: Scene = scene_file::load_embedded(name).unwrap();
         let ctx = RenderContext::new(&scene);
@@ -281,6 +282,9 @@ fn light_triangles_cover_what_ray_casting_sees() {
                 if obj.star_centre.is_some() && !run.self_occluding {
                     star_runs += 1;
                 }
+                if obj.triangulation.is_some() && !run.self_occluding {
+                    cell_runs += 1;
+                }
                 if !run.self_occluding {
                     // Binomial σ under the hypothesis that Ω is right.
                     let tau = 2.0 * std::f64::consts::PI;
@@ -298,4 +302,5 @@ fn light_triangles_cover_what_ray_casting_sees() {
         assert!(checked > 20, "{name}: only {checked} lights checked");
     }
     assert!(star_runs > 20, "only {star_runs} star-shaped fans checked");
+    assert!(cell_runs > 20, "only {cell_runs} precomputed triangulations checked");
 }

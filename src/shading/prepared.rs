@@ -3,8 +3,8 @@
 
 use super::tree_cache::{self, CachedTree, tree_key};
 use crate::geometry::{
-    ExactBspLimits, ExactSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp, separating_plane,
-    star_centre,
+    ExactBspLimits, ExactSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp, SilhouetteTriangulation,
+    TriangulationLimits, separating_plane, star_centre,
 };
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
@@ -27,6 +27,9 @@ pub struct PreparedObject {
     /// A point strictly inside the kernel of a star-shaped non-convex mesh: its silhouettes
     /// are fanned from there for sampling (001 Sect. 6.1).
     pub star_centre: Option<DVec3>,
+    /// Precomputed triangulations of the exact silhouettes of a light that is neither convex
+    /// nor star-shaped, proved per cell (001 Sect. 6.2), for sampling.
+    pub triangulation: Option<SilhouetteTriangulation>,
 }
 
 /// Non-convex meshes whose tree would have more leaves than this keep computing their exact
@@ -61,6 +64,7 @@ pub struct PreparedScene {
 /// the mesh's own), one mesh per task; meshes over the limits get none.
 fn build_silhouette_trees(
     objects: &mut [PreparedObject],
+    lights: &[u32],
     bounds: (DVec3, DVec3),
     max_cells: usize,
     max_leaves: usize,
@@ -72,6 +76,7 @@ fn build_silhouette_trees(
         );
         o.bsp = None;
         o.exact_bsp = None;
+        o.triangulation = None;
         let d = o.poly.diagnostics;
         if !d.convex && !d.closed_manifold {
             return;
@@ -101,8 +106,26 @@ fn build_silhouette_trees(
             CachedTree::Exact(t) if !d.convex => o.exact_bsp = Some(t),
             _ => {}
         }
+        // A light that is not star-shaped is sampled through triangulated silhouettes.
+        if let (Some(exact), None, true) = (&o.exact_bsp, o.star_centre, lights.contains(&o.object)) {
+            let key = key ^ TRIANGULATION_KEY;
+            let cached = match tree_cache::load(key, &o.poly) {
+                Some(CachedTree::Triangulation(t)) => Some(t),
+                _ => None,
+            };
+            let t = cached.unwrap_or_else(|| {
+                let (t, _) =
+                    SilhouetteTriangulation::build(&o.poly, exact, TriangulationLimits::default());
+                tree_cache::store(key, &CachedTree::Triangulation(t.clone()));
+                t
+            });
+            o.triangulation = Some(t);
+        }
     });
 }
+
+/// Distinguishes the cache key of a mesh's triangulations from that of its silhouette tree.
+const TRIANGULATION_KEY: u64 = 0x7472_6961_6e67_6c65;
 
 impl PreparedScene {
     pub fn new(scene: &Scene) -> Self {
@@ -158,6 +181,7 @@ impl PreparedScene {
                 bsp: None,
                 exact_bsp: None,
                 star_centre: None,
+                triangulation: None,
             });
             if is_light {
                 lights.push((id, obj.material.ke));
@@ -166,7 +190,14 @@ impl PreparedScene {
                 occluders.push(id);
             }
         }
-        build_silhouette_trees(&mut objects, scene_box, MAX_BSP_CELLS, MAX_EXACT_BSP_LEAVES);
+        let light_objects: Vec<u32> = lights.iter().map(|&(l, _)| objects[l as usize].object).collect();
+        build_silhouette_trees(
+            &mut objects,
+            &light_objects,
+            scene_box,
+            MAX_BSP_CELLS,
+            MAX_EXACT_BSP_LEAVES,
+        );
         for o in &objects {
             let d = &o.poly.diagnostics;
             if d.convex && o.bsp.is_none() {
@@ -217,7 +248,12 @@ impl PreparedScene {
 
     /// Builds the trees of precomputed silhouettes again with other size limits (benchmarks).
     pub fn rebuild_silhouette_trees(&mut self, max_cells: usize, max_leaves: usize) {
-        build_silhouette_trees(&mut self.objects, self.bounds, max_cells, max_leaves);
+        let lights: Vec<u32> = self
+            .lights
+            .iter()
+            .map(|&(l, _)| self.objects[l as usize].object)
+            .collect();
+        build_silhouette_trees(&mut self.objects, &lights, self.bounds, max_cells, max_leaves);
     }
 
     /// Forgets the trees of precomputed silhouettes: every silhouette is then computed on the
@@ -226,6 +262,7 @@ impl PreparedScene {
         for o in &mut self.objects {
             o.bsp = None;
             o.exact_bsp = None;
+            o.triangulation = None;
         }
     }
 

@@ -9,18 +9,20 @@
 //! else is ignored and rebuilt. Writes go to a temporary file renamed into place. Failing to
 //! read or write the cache is never an error: the tree is then built in memory.
 
-use crate::geometry::{ExactSilhouetteBsp, Polyhedron, SilhouetteBsp};
+use crate::geometry::{ExactSilhouetteBsp, Polyhedron, SilhouetteBsp, SilhouetteTriangulation};
 use glam::DVec3;
 use std::path::PathBuf;
 
 /// Bump whenever a tree build changes what it produces.
-pub const FORMAT: u32 = 2;
+pub const FORMAT: u32 = 3;
 
 /// What is stored for one mesh.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub enum CachedTree {
     Convex(SilhouetteBsp),
     Exact(ExactSilhouetteBsp),
+    /// Triangulations of the silhouettes of an `Exact` tree (stored under a key of its own).
+    Triangulation(SilhouetteTriangulation),
     /// The tree would exceed its size limit.
     OverLimit,
 }
@@ -79,6 +81,7 @@ pub fn load(key: u64, poly: &Polyhedron) -> Option<CachedTree> {
     let ok = match &file.tree {
         CachedTree::Convex(t) => t.is_well_formed(nv),
         CachedTree::Exact(t) => t.is_well_formed(nv),
+        CachedTree::Triangulation(t) => t.is_well_formed(nv),
         CachedTree::OverLimit => true,
     };
     ok.then_some(file.tree)

@@ -31,7 +31,7 @@ impl AreaLights {
                     .objects
                     .iter()
                     .find(|p| p.object == l.object)
-                    .is_some_and(|p| light_shape(p) == LightShape::General)
+                    .is_some_and(|p| !matches!(light_shape(p), LightShape::Convex | LightShape::Flat))
             })
             .collect();
         AreaLights {

@@ -13,15 +13,17 @@
 //!   clipped to the horizon (a triangle cut by a half-space stays convex) and fanned again.
 //!   Where the fan would hold a triangle that is not positively oriented (degenerate points),
 //!   the light takes the face path below.
-//! * Any other light (until the per-cell triangulations of non-star-shaped meshes): its front
-//!   faces, each clipped and fanned. Faces may overlap in direction; a sample on a face that
-//!   another face of the same light hides is rejected by a ray test
-//!   ([`LightRun::self_occluding`]).
+//! * A closed light that is neither (001 Sect. 6.2): the triangles precomputed for the cell of
+//!   the shading point ([`crate::geometry::SilhouetteTriangulation`], proved to cover the
+//!   silhouette exactly once everywhere in the cell), each clipped to the horizon and fanned.
+//! * Any other light, and the cells where no triangulation was proved: its front faces, each
+//!   clipped and fanned. Faces may overlap in direction; a sample on a face that another face
+//!   of the same light hides is rejected by a ray test ([`LightRun::self_occluding`]).
 //!
 //! Each light's triangles share one density 1/Ω, Ω the sum of their solid angles, so that the
 //! multiple-importance weights need only Ω (see `estimator.rs`).
 
-use crate::geometry::ExactSilhouetteScratch;
+use crate::geometry::{ExactSilhouetteScratch, SilhouettePoint};
 use crate::geometry::{
     HorizonScratch, Sidedness, SilhouetteScratch, SphericalPolygon, clip_to_horizon, face_polygon,
     orient, silhouette,
@@ -86,6 +88,8 @@ pub enum LightShape {
     Convex,
     Flat,
     StarShaped,
+    /// Closed, neither convex nor star-shaped, with precomputed triangulations.
+    Triangulated,
     General,
 }
 
@@ -97,6 +101,8 @@ pub fn light_shape(obj: &PreparedObject) -> LightShape {
         LightShape::Convex
     } else if obj.star_centre.is_some() {
         LightShape::StarShaped
+    } else if obj.triangulation.is_some() {
+        LightShape::Triangulated
     } else {
         LightShape::General
     }
@@ -151,8 +157,20 @@ impl LightSet {
                     }
                 }
             }
+            if shape == LightShape::Triangulated {
+                match (!on_light)
+                    .then(|| self.cell_triangles(light, x, frame))
+                    .flatten()
+                {
+                    Some(t) => total = t,
+                    None => {
+                        self.truncate(start);
+                        shape = LightShape::General;
+                    }
+                }
+            }
             match shape {
-                LightShape::StarShaped => {}
+                LightShape::StarShaped | LightShape::Triangulated => {}
                 LightShape::Convex => {
                     if on_light {
                         continue; // a convex light does not light itself
@@ -275,6 +293,47 @@ impl LightSet {
             }
             triangle.clear();
             triangle.push_loop([c, a, b]);
+            clip_to_horizon(triangle, clipped, horizon);
+            total += push_fans(
+                clipped,
+                SILHOUETTE,
+                &mut self.tris,
+                &mut self.corners,
+                &mut self.faces,
+                &mut self.cdf,
+                total,
+            );
+        }
+        Some(total)
+    }
+
+    /// The precomputed triangles of the cell of `x` (001 Sect. 6.2), each clipped to the
+    /// horizon and fanned; their total solid angle, or `None` (no proved triangulation there,
+    /// or a triangle that rounding left not positively oriented).
+    fn cell_triangles(&mut self, light: &PreparedObject, x: DVec3, frame: &Frame) -> Option<f64> {
+        let cells = light.triangulation.as_ref()?;
+        let tris = cells.triangles(x)?;
+        let LightSetScratch {
+            triangle,
+            horizon,
+            clipped,
+            ..
+        } = &mut self.scratch;
+        let mut total = 0.0;
+        for t in tris {
+            let mut d = [DVec3::ZERO; 3];
+            for (dk, &p) in d.iter_mut().zip(t) {
+                *dk = frame.to_local(SilhouettePoint::unpack(p).direction(&light.poly, x)?);
+            }
+            let o = orient(d[0], d[1], d[2]);
+            if o < 0.0 {
+                return None;
+            }
+            if o == 0.0 {
+                continue; // degenerate on the cell's boundary: no area
+            }
+            triangle.clear();
+            triangle.push_loop(d);
             clip_to_horizon(triangle, clipped, horizon);
             total += push_fans(
                 clipped,
