@@ -3,6 +3,7 @@
 
 pub mod bsp;
 pub mod bsp_nonconvex;
+pub mod bsp_sections;
 pub mod convex_cell;
 pub mod exact_silhouette;
 pub mod horizon;
@@ -20,6 +21,7 @@ pub(crate) mod test_util;
 
 pub use bsp::{BspNode, BspPath, BspStats, SilhouetteBsp, bsp_cell, bsp_leaf, bsp_path, bsp_size};
 pub use bsp_nonconvex::{ExactBspLimits, ExactBspStats, ExactSilhouetteBsp};
+pub use bsp_sections::{PlaneSection, level_sections, path_sections};
 pub use convex_cell::{CellSide, ConvexCell};
 pub use exact_silhouette::{
     Degenerate, ExactSilhouetteScratch, ExactSilhouetteStats, SilhouettePoint, exact_silhouette,
