@@ -199,3 +199,51 @@ fn a_debug_dump_replays_without_the_scene() {
     assert_eq!(h.state().inspector.as_ref().unwrap().step, Some(n - 1));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn the_light_view_draws_the_bsp_planes_of_a_non_convex_light() {
+    use penumbra::app::light_view::LightView;
+    let scene = penumbra::scene::scene_file::load_embedded("nonconvex").unwrap();
+    let ctx = penumbra::render::RenderContext::new(&scene);
+    let obj = ctx
+        .prepared
+        .objects
+        .iter()
+        .find(|o| o.name == "u_light")
+        .expect("the U-shaped light")
+        .clone();
+    let tree = obj
+        .exact_bsp
+        .as_ref()
+        .expect("a closed non-convex light has a tree");
+    // A floor point under the light (the point of docs/images/workbench/bsp_cell.png).
+    let x = glam::DVec3::new(0.36331, 0.0, 0.66902);
+    let depth = penumbra::geometry::bsp_path(&tree.nodes, &tree.planes, x)
+        .unwrap()
+        .steps
+        .len();
+    assert!(depth > 0);
+
+    let shapes = |view: LightView| {
+        let mut h = Harness::new_ui_state(|ui, v: &mut LightView| v.ui(ui, &obj, Some(x)), view);
+        h.run();
+        let n = h.output().shapes.len();
+        (n, h.state().drawn.clone())
+    };
+    let (without, drawn) = shapes(LightView {
+        path_planes: false,
+        ..LightView::default()
+    });
+    assert_eq!(drawn.path_planes, 0);
+    assert_eq!(drawn.leaf_depth, Some(depth));
+    let (with_path, drawn) = shapes(LightView::default());
+    // Every plane on the path cuts its node's cell: one section each, a fill and an outline
+    // per section, and a depth label.
+    assert_eq!(drawn.path_planes, depth);
+    assert!(with_path >= without + 3 * depth, "{with_path} vs {without}");
+    let (_, drawn) = shapes(LightView {
+        levels: 2,
+        ..LightView::default()
+    });
+    assert!((1..=3).contains(&drawn.level_planes), "{drawn:?}");
+}

@@ -21,10 +21,18 @@ pub struct Inspector {
 
 impl Inspector {
     pub fn new(probe: Probe) -> Self {
-        let names = probe.occluder_names.clone();
-        let steps = steps(&probe.recording, |i| {
-            names.get(i).cloned().unwrap_or_else(|| format!("#{i}"))
-        });
+        let names = &probe.occluder_names;
+        let lights = &probe.lights;
+        let steps = steps(
+            &probe.recording,
+            |i| {
+                lights
+                    .iter()
+                    .find(|l| l.light == i)
+                    .map_or_else(|| i.to_string(), |l| l.name.clone())
+            },
+            |i| names.get(i).cloned().unwrap_or_else(|| format!("#{i}")),
+        );
         Inspector {
             probe,
             steps,
@@ -189,7 +197,13 @@ impl Inspector {
             });
         });
         if let Some(s) = self.current() {
-            ui.label(RichText::new(&s.label).strong());
+            // Wrapped at the visible edge: the panel scrolls sideways for its wide tables, and
+            // a long stage label would run out of sight.
+            let visible = ui.clip_rect().max.x - ui.cursor().min.x;
+            ui.scope(|ui| {
+                ui.set_max_width(visible);
+                ui.add(egui::Label::new(RichText::new(&s.label).strong()).wrap());
+            });
         }
         egui::ScrollArea::vertical()
             .id_salt("step_list")
@@ -215,6 +229,7 @@ impl Inspector {
             ui.checkbox(&mut l.visible, "visible");
             ui.checkbox(&mut l.ltc, "LTC space");
             ui.checkbox(&mut l.directions, "n, v, r");
+            ui.checkbox(&mut sphere.fit, "zoom the flat view to fit");
         });
         let step = self.current().cloned();
         if let Some(Step {

@@ -1,20 +1,50 @@
 //! A light's polyhedron as a wireframe, with the contour edges seen from the picked point
 //! (001 Eq. 4.2, `geometry::contour_edges`, the function the silhouette stage uses) drawn in
 //! the orientation that makes the silhouette loop positive, and front faces shaded; and, for a
-//! mesh with a BSP tree of precomputed silhouettes (001 Sect. 5), the cell of the picked point
-//! (the tree's box cut by the planes on its path) with the tree's size and the path's depth.
+//! mesh with a BSP tree of precomputed silhouettes (001 Sect. 5), how the tree carves space:
+//! the planes on the picked point's path, each cut to the cell of its node
+//! (`geometry::path_sections`), optionally every plane of the first levels
+//! (`geometry::level_sections`), and the leaf's cell (`geometry::bsp_cell`), with the tree's
+//! size and the leaf's depth.
 
 use crate::geometry::silhouette::is_front_facing;
-use crate::geometry::{bsp_cell, bsp_path, bsp_size, contour_edges};
+use crate::geometry::{
+    BspNode, Plane, PlaneSection, bsp_cell, bsp_path, bsp_size, contour_edges, level_sections,
+    path_sections,
+};
 use crate::shading::PreparedObject;
-use egui::{Color32, Pos2, Sense, Stroke, Ui, Vec2};
+use egui::{Color32, Pos2, Sense, Shape, Stroke, Ui, Vec2};
 use glam::DVec3;
 
-/// Orientation of the structure view.
-#[derive(Clone, Copy, Debug)]
+/// The colour of the picked point's leaf cell.
+const CELL: Color32 = Color32::from_rgb(90, 200, 255);
+/// The colour of the contour edges (the light's silhouette colour in the sphere view).
+const CONTOUR: Color32 = Color32::from_rgb(240, 200, 40);
+
+/// Orientation and layers of the structure view.
+#[derive(Clone, Debug)]
 pub struct LightView {
     pub yaw: f32,
     pub pitch: f32,
+    /// Magnification over the fit of the light and the picked point.
+    pub zoom: f32,
+    /// Draw the planes on the picked point's path, each cut to its node's cell.
+    pub path_planes: bool,
+    /// Also draw every plane of the tree's first `levels` levels (0: none).
+    pub levels: usize,
+    /// What the last frame drew.
+    pub drawn: Drawn,
+}
+
+/// What the structure view drew in its last frame (for the text under it, and for tests).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Drawn {
+    /// Plane sections of the picked point's path, and of the first levels.
+    pub path_planes: usize,
+    pub level_planes: usize,
+    /// Depth of the picked point's leaf, and the faces of its cell.
+    pub leaf_depth: Option<usize>,
+    pub cell_faces: usize,
 }
 
 impl Default for LightView {
@@ -22,15 +52,77 @@ impl Default for LightView {
         LightView {
             yaw: 0.6,
             pitch: 0.4,
+            zoom: 1.0,
+            path_planes: true,
+            levels: 0,
+            drawn: Drawn::default(),
         }
     }
 }
 
+/// The parts of either kind of tree the view needs.
+struct Tree<'a> {
+    kind: &'static str,
+    nodes: &'a [BspNode],
+    planes: &'a [Plane],
+    lo: DVec3,
+    hi: DVec3,
+    /// Bytes the tree takes in memory (nodes, planes and leaf data).
+    bytes: usize,
+}
+
+fn tree_of(obj: &PreparedObject) -> Option<Tree<'_>> {
+    use std::mem::size_of_val;
+    if let Some(t) = &obj.bsp {
+        return Some(Tree {
+            kind: "convex silhouettes, 001 Sect. 5.1",
+            nodes: &t.nodes,
+            planes: &t.planes,
+            lo: t.lo,
+            hi: t.hi,
+            bytes: size_of_val(&t.nodes[..])
+                + size_of_val(&t.planes[..])
+                + size_of_val(&t.data[..]),
+        });
+    }
+    obj.exact_bsp.as_ref().map(|t| Tree {
+        kind: "exact silhouettes, 001 Sect. 5.4",
+        nodes: &t.nodes,
+        planes: &t.planes,
+        lo: t.lo,
+        hi: t.hi,
+        bytes: size_of_val(&t.nodes[..])
+            + size_of_val(&t.planes[..])
+            + size_of_val(&t.loops[..])
+            + size_of_val(&t.points[..]),
+    })
+}
+
+/// The colour of a plane at `depth` in a tree of depth `max`: red at the root through the
+/// hues to violet at the deepest level.
+pub fn depth_colour(depth: usize, max: usize) -> Color32 {
+    let t = depth as f32 / max.max(1) as f32;
+    egui::ecolor::Hsva::new(0.8 * t, 0.75, 1.0, 1.0).into()
+}
+
 impl LightView {
     /// Draws the mesh of `obj`; with a picked point, its contour edges and front faces from
-    /// there, and the BSP cell of the point.
+    /// there, and the BSP planes and cell of the point.
     pub fn ui(&mut self, ui: &mut Ui, obj: &PreparedObject, point: Option<DVec3>) {
         let poly = &obj.poly;
+        let tree = tree_of(obj);
+        self.drawn = Drawn::default();
+        if tree.is_some() {
+            // One control a line: side by side they would widen the panel (and the viewport
+            // beside it would shrink and render again).
+            ui.checkbox(&mut self.path_planes, "planes on the path");
+            ui.add(egui::Slider::new(&mut self.levels, 0..=6).text("levels of planes"));
+        }
+        ui.add(
+            egui::Slider::new(&mut self.zoom, 0.1..=20.0)
+                .logarithmic(true)
+                .text("zoom"),
+        );
         let side = ui.available_width().clamp(160.0, 320.0);
         let (resp, painter) = ui.allocate_painter(Vec2::splat(side), Sense::drag());
         resp.widget_info(|| {
@@ -56,15 +148,74 @@ impl LightView {
         );
         let right = DVec3::Y.cross(e).try_normalize().unwrap_or(DVec3::X);
         let up = e.cross(right);
-        let scale = side as f64 * 0.42 / poly.radius.max(1e-12);
+        // Fit the light and the picked point: the point's cell and planes are what it is about.
+        let (centre, radius) = match point {
+            Some(x) => {
+                let lo = (poly.center - poly.radius).min(x);
+                let hi = (poly.center + poly.radius).max(x);
+                ((lo + hi) / 2.0, ((hi - lo) / 2.0).length())
+            }
+            None => (poly.center, poly.radius),
+        };
+        let scale = side as f64 * 0.45 * self.zoom as f64 / radius.max(1e-12);
         let c = rect.center();
         let project = |p: DVec3| {
-            let q = p - poly.center;
+            let q = p - centre;
             Pos2::new(
                 c.x + (q.dot(right) * scale) as f32,
                 c.y - (q.dot(up) * scale) as f32,
             )
         };
+
+        // The tree, under the mesh: planes, then the leaf's cell.
+        let tol = 1e-9 * poly.radius.max(1e-12);
+        let mut depth_labels = Vec::new();
+        if let Some(t) = &tree {
+            let (_, _, max_depth) = bsp_size(t.nodes);
+            let draw_section = |s: &PlaneSection, fill: u8, width: f32| {
+                let col = depth_colour(s.depth, max_depth);
+                let pts: Vec<Pos2> = s.polygon.iter().map(|&p| project(p)).collect();
+                painter.add(Shape::convex_polygon(
+                    pts.clone(),
+                    col.gamma_multiply_u8(fill),
+                    Stroke::NONE,
+                ));
+                painter.add(Shape::closed_line(pts, Stroke::new(width, col)));
+            };
+            if self.levels > 0 {
+                let sections = level_sections(t.nodes, t.planes, t.lo, t.hi, self.levels, tol);
+                for s in &sections {
+                    draw_section(s, 18, 0.8);
+                }
+                self.drawn.level_planes = sections.len();
+            }
+            if let Some(x) = point
+                && let Some(path) = bsp_path(t.nodes, t.planes, x)
+            {
+                if self.path_planes {
+                    let sections = path_sections(&path, t.lo, t.hi, tol);
+                    for s in &sections {
+                        draw_section(s, 30, 1.3);
+                        let mid = s.polygon.iter().sum::<DVec3>() / s.polygon.len() as f64;
+                        depth_labels.push((project(mid), s.depth, max_depth));
+                    }
+                    self.drawn.path_planes = sections.len();
+                }
+                let cell = bsp_cell(&path, t.lo, t.hi, tol);
+                for f in &cell.faces {
+                    let pts: Vec<Pos2> = f.iter().map(|&p| project(p)).collect();
+                    painter.add(Shape::convex_polygon(
+                        pts.clone(),
+                        CELL.gamma_multiply_u8(28),
+                        Stroke::NONE,
+                    ));
+                    painter.add(Shape::closed_line(pts, Stroke::new(2.0, CELL)));
+                }
+                self.drawn.leaf_depth = Some(path.steps.len());
+                self.drawn.cell_faces = cell.faces.len();
+            }
+        }
+
         // Front faces from the picked point, filled faintly.
         if let Some(x) = point {
             for f in 0..poly.face_count() {
@@ -74,7 +225,7 @@ impl LightView {
                         .iter()
                         .map(|&i| project(poly.vertices[i as usize]))
                         .collect();
-                    painter.add(egui::Shape::convex_polygon(
+                    painter.add(Shape::convex_polygon(
                         pts,
                         Color32::from_rgba_unmultiplied(240, 200, 40, 30),
                         Stroke::NONE,
@@ -93,52 +244,76 @@ impl LightView {
             for [i, j] in contour_edges(poly, x) {
                 let a = project(poly.vertices[i as usize]);
                 let b = project(poly.vertices[j as usize]);
-                painter.line_segment([a, b], Stroke::new(2.5, Color32::from_rgb(240, 200, 40)));
+                painter.line_segment([a, b], Stroke::new(2.5, CONTOUR));
                 let d = (b - a).normalized();
                 if d.is_finite() {
                     let n = Vec2::new(-d.y, d.x);
                     let m = a + (b - a) * 0.6;
-                    painter.add(egui::Shape::convex_polygon(
+                    painter.add(Shape::convex_polygon(
                         vec![m + d * 6.0, m - d * 4.0 + n * 4.0, m - d * 4.0 - n * 4.0],
-                        Color32::from_rgb(240, 200, 40),
+                        CONTOUR,
                         Stroke::NONE,
                     ));
                 }
                 n_contour += 1;
             }
+            painter.circle_filled(project(x), 4.0, CELL);
+            painter.circle_stroke(project(x), 4.0, Stroke::new(1.0, Color32::BLACK));
         }
-        // The tree: the cell of the picked point.
-        let tree = match (&obj.bsp, &obj.exact_bsp) {
-            (Some(t), _) => Some((&t.nodes, &t.planes, t.lo, t.hi)),
-            (None, Some(t)) => Some((&t.nodes, &t.planes, t.lo, t.hi)),
-            _ => None,
-        };
-        let mut tree_line = "no BSP tree (silhouettes computed at each point)".to_string();
-        if let Some((nodes, planes, lo, hi)) = tree {
-            let (n, leaves, depth) = bsp_size(nodes);
-            tree_line = format!("BSP tree: {n} nodes, {leaves} leaves, depth {depth}");
-            if let Some(x) = point
-                && let Some(path) = bsp_path(nodes, planes, x)
-            {
-                let cell = bsp_cell(&path, lo, hi, 1e-9 * poly.radius.max(1e-12));
-                let cell_colour = Color32::from_rgb(90, 200, 255);
-                for f in &cell.faces {
-                    for k in 0..f.len() {
-                        let (a, b) = (project(f[k]), project(f[(k + 1) % f.len()]));
-                        painter.line_segment([a, b], Stroke::new(1.5, cell_colour));
+        // Depth labels last, on top of everything; the root's plane is depth 0.
+        for (p, depth, max) in depth_labels {
+            painter.text(
+                p,
+                egui::Align2::CENTER_CENTER,
+                depth.to_string(),
+                egui::FontId::monospace(11.0),
+                depth_colour(depth, max),
+            );
+        }
+
+        // What was drawn, in words.
+        let d = &poly.diagnostics;
+        match &tree {
+            None => {
+                ui.small("no BSP tree (silhouettes computed at each point)");
+            }
+            Some(t) => {
+                let (n, leaves, depth) = bsp_size(t.nodes);
+                ui.small(format!(
+                    "BSP tree ({}): {n} nodes, {leaves} leaves, depth {depth}, {} planes, \
+                     {:.1} KiB in memory",
+                    t.kind,
+                    t.planes.len(),
+                    t.bytes as f64 / 1024.0
+                ));
+                let dr = &self.drawn;
+                match dr.leaf_depth {
+                    Some(leaf_depth) => {
+                        ui.small(format!(
+                            "the picked point (blue dot) is in a leaf at depth {leaf_depth}; \
+                             its cell (blue) has {} faces",
+                            dr.cell_faces
+                        ));
+                        if self.path_planes {
+                            ui.small(format!(
+                                "{} planes on its path, each cut to its node's cell, \
+                                 labelled and coloured by depth (root red … depth {depth} violet)",
+                                dr.path_planes
+                            ));
+                        }
+                    }
+                    None => {
+                        ui.small("pick a point to see its cell and the planes on its path");
                     }
                 }
-                painter.circle_filled(project(x), 3.5, cell_colour);
-                tree_line += &format!(
-                    "; the picked point's cell (blue): leaf {} at depth {}, {} faces",
-                    path.leaf,
-                    path.steps.len(),
-                    cell.faces.len()
-                );
+                if self.levels > 0 {
+                    ui.small(format!(
+                        "{} planes of the first {} levels (faint)",
+                        dr.level_planes, self.levels
+                    ));
+                }
             }
         }
-        let d = &poly.diagnostics;
-        ui.small(tree_line);
         ui.small(format!(
             "{} vertices, {} edges, {} faces; {}{}",
             poly.vertices.len(),
@@ -152,7 +327,7 @@ impl LightView {
                 "non-convex"
             },
             match point {
-                Some(_) => format!(", {n_contour} contour edges from the picked point"),
+                Some(_) => format!(", {n_contour} contour edges (yellow) from the picked point"),
                 None => ", pick a point to see its contour edges".into(),
             }
         ));

@@ -114,7 +114,16 @@ pub struct WorkbenchApp {
     bench_size: (u32, u32),
     /// The light whose polyhedron the structure view shows (index into the prepared lights).
     selected_light: Option<usize>,
-    light_view: light_view::LightView,
+    pub light_view: light_view::LightView,
+    /// Scroll the settings panel to the light structure view in the next frame (it sits at the
+    /// bottom of a long panel, out of sight in a window of ordinary height).
+    reveal_light: bool,
+    /// Scroll the inspector panel to the sphere (or planar) view in the next frame.
+    reveal_views: bool,
+    /// Read silhouettes from the BSP trees (as the renderer does by default); off, every
+    /// silhouette is computed at its point, and the recording then holds the contour pieces
+    /// the exact silhouette's ray test rejected there.
+    pub use_trees: bool,
 }
 
 /// Keyboard shortcuts, listed in the help panel.
@@ -169,6 +178,9 @@ impl WorkbenchApp {
             bench_size: (160, 120),
             selected_light: None,
             light_view: light_view::LightView::default(),
+            reveal_light: false,
+            reveal_views: false,
+            use_trees: true,
             state,
         };
         let scene = app.state.scene.clone();
@@ -224,7 +236,7 @@ impl WorkbenchApp {
                 format!(", {} warnings", scene.warnings.len())
             }
         );
-        self.ctx = Some(Arc::new(RenderContext::from_arc(Arc::new(scene))));
+        self.ctx = Some(self.context(Arc::new(scene)));
         self.scene_error = None;
         self.scene_generation += 1;
         self.inspector = None;
@@ -233,6 +245,33 @@ impl WorkbenchApp {
         self.state.recent.insert(0, name.clone());
         self.state.recent.truncate(8);
         self.state.scene = name;
+    }
+
+    /// The render context of `scene`, with or without its silhouette trees.
+    fn context(&self, scene: Arc<crate::scene::Scene>) -> Arc<RenderContext> {
+        let mut ctx = RenderContext::from_arc(scene);
+        if !self.use_trees {
+            ctx.prepared.drop_silhouette_trees();
+        }
+        Arc::new(ctx)
+    }
+
+    /// Switches the silhouette trees on or off: the scene is prepared again, rendered again,
+    /// and the picked pixel (if any) picked again.
+    pub fn set_use_trees(&mut self, on: bool) {
+        self.use_trees = on;
+        let Some(scene) = self.ctx.as_ref().map(|c| c.scene.clone()) else {
+            return;
+        };
+        self.ctx = Some(self.context(scene));
+        self.scene_generation += 1;
+        self.monte_carlo = None;
+        if let Some(ins) = &self.inspector
+            && ins.probe.scene == self.state.scene
+        {
+            let (x, y) = ins.probe.pixel;
+            self.pick(x, y);
+        }
     }
 
     /// The settings of the full-resolution render.
@@ -349,7 +388,10 @@ impl WorkbenchApp {
                 .position(|&(id, _)| ctx.prepared.objects[id as usize].name == name)
         });
         match found {
-            Some(l) => self.selected_light = Some(l),
+            Some(l) => {
+                self.selected_light = Some(l);
+                self.reveal_light = true;
+            }
             None => self.status = format!("no light named '{name}'"),
         }
     }
@@ -667,6 +709,16 @@ impl WorkbenchApp {
         if let Some(e) = &self.scene_error {
             ui.colored_label(Color32::LIGHT_RED, e);
         }
+        let mut use_trees = self.use_trees;
+        ui.checkbox(&mut use_trees, "silhouettes from BSP trees")
+            .on_hover_text(
+                "Off: every silhouette is computed at its point, and the sphere view can show \
+                 the contour pieces the exact silhouette's ray test rejected there (a tree \
+                 stores only the result).",
+            );
+        if use_trees != self.use_trees {
+            self.set_use_trees(use_trees);
+        }
         let Some(ctx) = &self.ctx else {
             return;
         };
@@ -755,6 +807,12 @@ impl WorkbenchApp {
                 .and_then(|i| i.probe.point)
                 .map(|p| p.position);
             self.light_view.ui(ui, obj, point);
+            if std::mem::take(&mut self.reveal_light) {
+                ui.scroll_to_cursor_animation(
+                    Some(egui::Align::Max),
+                    egui::style::ScrollAnimation::none(),
+                );
+            }
         }
     }
 
@@ -874,8 +932,17 @@ impl WorkbenchApp {
         ui.separator();
         let before = ui.cursor().min;
         ins.views_ui(ui, &mut self.state.sphere);
+        // Room for the horizontal scroll bar, which floats over the content's bottom edge.
+        ui.add_space(16.0);
         let after = ui.min_rect().max;
         self.sphere_rect = Some(egui::Rect::from_min_max(before, after));
+        if std::mem::take(&mut self.reveal_views) {
+            ui.scroll_to_rect_animation(
+                egui::Rect::from_min_max(before, ui.cursor().min),
+                Some(egui::Align::Max),
+                egui::style::ScrollAnimation::none(),
+            );
+        }
         if mc {
             self.run_monte_carlo(65536);
         }
@@ -1107,7 +1174,8 @@ pub struct RunOptions {
     /// With --screenshot: first pick the pixel at these fractions of the viewport, e.g. 0.5,0.7.
     #[arg(long, value_parser = parse_pair)]
     pub pick: Option<(f64, f64)>,
-    /// With --pick: step to this stage (gh, labels, visible, ltc, or a stage number).
+    /// With --pick: step to this stage (gh, labels, visible, ltc, silhouette:LIGHT for the
+    /// silhouette of the light named LIGHT, or a stage number).
     #[arg(long)]
     pub step: Option<String>,
     /// Open these files at start (bench JSON, reference PFM, debug dump).
@@ -1119,6 +1187,12 @@ pub struct RunOptions {
     /// Show this light (by object name) in the light structure view at start.
     #[arg(long)]
     pub light: Option<String>,
+    /// Compute every silhouette at its point instead of reading it from a BSP tree.
+    #[arg(long)]
+    pub no_trees: bool,
+    /// Zoom the sphere view's flat hemisphere to fit the polygons drawn.
+    #[arg(long)]
+    pub fit: bool,
 }
 
 /// Parses "X,Y" into two numbers (command-line flags).
@@ -1153,11 +1227,17 @@ pub fn run(opts: RunOptions) -> eframe::Result {
         options,
         Box::new(move |cc| {
             let mut app = WorkbenchApp::from_creation_context(cc);
+            if opts.no_trees {
+                app.set_use_trees(false);
+            }
             if let Some(s) = &opts.scene {
                 app.load_scene(s);
             }
             if let Some(m) = opts.method {
                 app.state.method = m;
+            }
+            if opts.fit {
+                app.state.sphere.fit = true;
             }
             if let Some(name) = &opts.light {
                 app.select_light(name);
@@ -1238,6 +1318,15 @@ impl AutoScreenshot {
             }),
             "visible" => find(&|k| *k == stages::StepKind::Visible),
             "ltc" => find(&|k| matches!(k, stages::StepKind::LtcClipped { .. })),
+            n if n.starts_with("silhouette:") => {
+                let name = &n["silhouette:".len()..];
+                let light = ins.probe.lights.iter().find(|l| l.name == name);
+                ins.steps.iter().position(|s| {
+                    s.kind == stages::StepKind::LightSilhouette
+                        && light
+                            .is_some_and(|l| ins.probe.recording.lights[s.record].light == l.light)
+                })
+            }
             n => n.parse::<usize>().ok().filter(|&i| i < ins.steps.len()),
         };
     }
@@ -1247,6 +1336,13 @@ impl eframe::App for AutoScreenshot {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         self.app.ui(ui, frame);
         let t = self.start.elapsed().as_secs_f64();
+        if (1..=5).contains(&self.state) {
+            // The picked point adds to the structure view, and its views sit at the bottom of
+            // the inspector: keep both in sight until the picture is taken (they settle over
+            // a few frames).
+            self.app.reveal_light = self.app.selected_light.is_some();
+            self.app.reveal_views = self.pick.is_some();
+        }
         match self.state {
             0 if self.app.render_finished() || t > self.after => {
                 self.prepare();

@@ -66,6 +66,10 @@ pub struct SphereView {
     pub yaw: f32,
     pub pitch: f32,
     pub layers: Layers,
+    /// Magnify the flat view to the polygons drawn (small lights cover a few pixels of the
+    /// whole hemisphere); off, the disk is the whole hemisphere, whose areas are form factors.
+    #[serde(default)]
+    pub fit: bool,
     #[serde(skip)]
     pub hovered: Option<String>,
     /// Width available to the two views (points): the panel's, set by the caller.
@@ -79,6 +83,7 @@ impl Default for SphereView {
             yaw: -1.2,
             pitch: 0.45,
             layers: Layers::default(),
+            fit: false,
             hovered: None,
             width: 480.0,
         }
@@ -91,7 +96,11 @@ struct Curve {
     colour: Color32,
     width: f32,
     closed: bool,
+    /// A single direction drawn as a small circle of fixed size on screen.
+    marker: bool,
     label: String,
+    /// Its entry in the legend.
+    legend: &'static str,
 }
 
 /// Points along the great-circle arc from `a` to `b` (unit vectors), `a` included.
@@ -114,7 +123,7 @@ fn loops_to_curves(
     loops: impl Iterator<Item = Vec<DVec3>>,
     colour: Color32,
     width: f32,
-    label: &str,
+    (label, legend): (&str, &'static str),
     out: &mut Vec<Curve>,
 ) {
     for lp in loops {
@@ -131,7 +140,9 @@ fn loops_to_curves(
             colour,
             width,
             closed: true,
+            marker: false,
             label: label.into(),
+            legend,
         });
     }
 }
@@ -181,7 +192,9 @@ fn curves_of(
                     colour,
                     width: 1.0,
                     closed: false,
+                    marker: false,
                     label: label.clone(),
+                    legend: "contour edge",
                 });
             }
         }
@@ -205,9 +218,11 @@ fn curves_of(
                 out.push(Curve {
                     points,
                     colour: colours::REJECTED,
-                    width: 1.0,
+                    width: 1.5,
                     closed: false,
+                    marker: false,
                     label: format!("{who}: contour piece rejected by the ray test"),
+                    legend: "rejected contour piece",
                 });
             }
             let source = if ex.from_tree {
@@ -216,27 +231,22 @@ fn curves_of(
                 "on the fly"
             };
             for &p in &ex.crossings {
-                // A small circle of 0.012 rad around the crossing.
-                let (u, v) = orthonormal(p);
-                // Drawn open (no orientation arrows), closed by repeating the first point.
-                let points = (0..=12)
-                    .map(|k| {
-                        let t = k as f64 / 12.0 * std::f64::consts::TAU;
-                        (p + (u * t.cos() + v * t.sin()) * 0.012).normalize()
-                    })
-                    .collect();
+                // A circle of fixed size on screen: the crossings must stay visible on a small
+                // sphere, and a circle on the sphere would shrink to a few pixels.
                 out.push(Curve {
-                    points,
+                    points: vec![p],
                     colour: colours::CROSSING,
                     width: 1.5,
                     closed: false,
+                    marker: true,
                     label: format!("{who}: apparent intersection (Eq. 4.4), silhouette {source}"),
+                    legend: "apparent intersection",
                 });
             }
         }
     }
     for (stage, poly) in &rec.polygons {
-        let (show, colour, width, name, r) = match stage {
+        let (show, colour, width, name, r): (_, _, _, &'static str, _) = match stage {
             Stage::Silhouette => (
                 layers.light_silhouette,
                 colours::LIGHT,
@@ -261,7 +271,13 @@ fn curves_of(
             colour
         };
         if show && r <= upto {
-            loops_to_curves(poly.loops().map(|l| l.to_vec()), colour, width, name, out);
+            loops_to_curves(
+                poly.loops().map(|l| l.to_vec()),
+                colour,
+                width,
+                (name, name),
+                out,
+            );
         }
     }
     if layers.occluders && upto >= 3 {
@@ -274,9 +290,9 @@ fn curves_of(
             {
                 continue;
             }
-            let (colour, width) = match stage {
-                Stage::Silhouette => (colours::OCCLUDER, 1.5),
-                _ => (colours::OCCLUDER_CLIPPED, 2.0),
+            let (colour, width, legend) = match stage {
+                Stage::Silhouette => (colours::OCCLUDER, 1.5, "occluder silhouette"),
+                _ => (colours::OCCLUDER_CLIPPED, 2.0, "occluder, clipped"),
             };
             let colour = if upto >= 5 {
                 colour.gamma_multiply(0.35)
@@ -287,7 +303,7 @@ fn curves_of(
                 poly.loops().map(|l| l.to_vec()),
                 colour,
                 width,
-                &format!("occluder {}", occluder_name(*oi)),
+                (&format!("occluder {}", occluder_name(*oi)), legend),
                 out,
             );
         }
@@ -299,24 +315,18 @@ fn curves_of(
                 transformed.loops().map(|l| l.to_vec()),
                 colours::LTC.gamma_multiply(0.5),
                 1.5,
-                &name,
+                (&name, "LTC space"),
                 out,
             );
             loops_to_curves(
                 clipped.loops().map(|l| l.to_vec()),
                 colours::LTC,
                 2.5,
-                &name,
+                (&name, "LTC space"),
                 out,
             );
         }
     }
-}
-
-/// Two unit vectors orthogonal to the unit vector `p` and to each other.
-fn orthonormal(p: DVec3) -> (DVec3, DVec3) {
-    let u = p.any_orthonormal_vector();
-    (u, p.cross(u))
 }
 
 /// Orthographic eye basis: (right, up, toward the eye).
@@ -405,9 +415,7 @@ impl SphereView {
             let hcol = ui.visuals().text_color();
             draw_polyline(&painter, &horizon, &project, hcol, 1.0, false);
             for cv in &curves {
-                draw_polyline(
-                    &painter, &cv.points, &project, cv.colour, cv.width, cv.closed,
-                );
+                draw_curve(&painter, cv, &project);
             }
             for (d, col, name) in &arrows {
                 let (tip, front) = project(*d);
@@ -435,17 +443,36 @@ impl SphereView {
                 )
             });
             let rect2: Rect = resp2.rect;
-            let c2 = rect2.center();
             painter2.rect_filled(rect2, 4.0, bg);
-            painter2.circle_stroke(c2, radius, Stroke::new(1.0, hcol));
+            // The square of the disk shown: all of it, or the box of the points drawn above
+            // the horizon (with a margin) when fitting.
+            let (centre, half) = match self.fit.then(|| fit_box(&curves)).flatten() {
+                Some((lo, hi)) => ((lo + hi) / 2.0, ((hi - lo).max_element() * 0.6).max(1e-4)),
+                None => (glam::DVec2::ZERO, 1.0),
+            };
+            let scale = radius as f64 / half;
+            let c2 = rect2.center();
             let flat = |p: DVec3| -> (Pos2, bool) {
                 (
-                    Pos2::new(c2.x + p.x as f32 * radius, c2.y - p.y as f32 * radius),
+                    Pos2::new(
+                        c2.x + ((p.x - centre.x) * scale) as f32,
+                        c2.y - ((p.y - centre.y) * scale) as f32,
+                    ),
                     p.z >= 0.0,
                 )
             };
+            painter2.circle_stroke(flat(DVec3::ZERO).0, scale as f32, Stroke::new(1.0, hcol));
+            if self.fit {
+                painter2.text(
+                    rect2.left_top() + Vec2::splat(4.0),
+                    egui::Align2::LEFT_TOP,
+                    format!("×{:.1}", 1.0 / half),
+                    egui::FontId::proportional(11.0),
+                    hcol,
+                );
+            }
             for cv in &curves {
-                draw_polyline(&painter2, &cv.points, &flat, cv.colour, cv.width, cv.closed);
+                draw_curve(&painter2, cv, &flat);
             }
             for (d, col, name) in &arrows {
                 let (tip, _) = flat(*d);
@@ -460,6 +487,18 @@ impl SphereView {
             }
             if let Some(pos) = resp2.hover_pos() {
                 self.hover(&curves, pos, &|p| flat(p).0, &painter2);
+            }
+        });
+        // Wrapped at the visible edge of the panel (which scrolls sideways).
+        let visible = ui.clip_rect().max.x - ui.cursor().min.x;
+        ui.scope(|ui| {
+            ui.set_max_width(visible);
+            legend_ui(ui, &curves);
+            if let Some(s) = step
+                && let Some(rec) = probe.recording.lights.get(s.record)
+                && let Some(text) = exact_silhouette_text(rec, s)
+            {
+                ui.add(egui::Label::new(egui::RichText::new(text).small()).wrap());
             }
         });
         if let Some(h) = &self.hovered {
@@ -513,6 +552,87 @@ impl SphereView {
                 p.x, p.y, p.z
             ));
         }
+    }
+}
+
+/// How the exact silhouette of the step's mesh (if non-convex) was found, in words.
+fn exact_silhouette_text(rec: &LightRecord, step: &Step) -> Option<String> {
+    let occluder = match step.kind {
+        StepKind::LightSilhouette => None,
+        StepKind::OccluderSilhouette { k } => Some(rec.occluder_polygons.get(k)?.0),
+        _ => return None,
+    };
+    let ex = rec.exact.iter().find(|e| e.occluder == occluder)?;
+    let crossings = format!(
+        "{} apparent intersection(s) (Eq. 4.4, magenta circles: contour edges crossing as \
+         seen from the point)",
+        ex.crossings.len()
+    );
+    Some(if ex.from_tree {
+        format!(
+            "Exact silhouette read from the BSP tree: {crossings}. A tree stores only the \
+             result, so no rejected contour pieces are recorded; untick \"silhouettes from \
+             BSP trees\" to see them."
+        )
+    } else {
+        format!(
+            "Exact silhouette computed at the point: {crossings}; {} contour piece(s) rejected \
+             by the ray test (dim red: hidden by the mesh itself).",
+            ex.rejected.len()
+        )
+    })
+}
+
+/// The box (in the flat view's x, y) of every curve point above the horizon; `None` if none.
+fn fit_box(curves: &[Curve]) -> Option<(glam::DVec2, glam::DVec2)> {
+    let mut pts = curves
+        .iter()
+        .flat_map(|c| &c.points)
+        .filter(|p| p.z >= 0.0)
+        .map(|p| p.truncate());
+    let first = pts.next()?;
+    Some(pts.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+}
+
+/// One swatch per kind of curve drawn, in drawing order, in the colour it was drawn with.
+fn legend_ui(ui: &mut Ui, curves: &[Curve]) {
+    let mut kinds: Vec<&Curve> = Vec::new();
+    for cv in curves {
+        if !kinds.iter().any(|k| k.legend == cv.legend) {
+            kinds.push(cv);
+        }
+    }
+    ui.horizontal_wrapped(|ui| {
+        for k in kinds {
+            let (rect, _) = ui.allocate_exact_size(Vec2::new(16.0, 10.0), Sense::hover());
+            let p = ui.painter();
+            if k.marker {
+                p.circle_stroke(rect.center(), 4.0, Stroke::new(k.width, k.colour));
+            } else {
+                p.line_segment(
+                    [rect.left_center(), rect.right_center()],
+                    Stroke::new(k.width.max(2.0), k.colour),
+                );
+            }
+            ui.small(k.legend);
+        }
+    });
+}
+
+/// Draws a curve: a marker as a small circle (faint on the far side), else a polyline.
+fn draw_curve(painter: &egui::Painter, cv: &Curve, project: &dyn Fn(DVec3) -> (Pos2, bool)) {
+    if cv.marker {
+        for &p in &cv.points {
+            let (q, front) = project(p);
+            let colour = if front {
+                cv.colour
+            } else {
+                cv.colour.gamma_multiply(0.25)
+            };
+            painter.circle_stroke(q, 4.5, Stroke::new(cv.width, colour));
+        }
+    } else {
+        draw_polyline(painter, &cv.points, project, cv.colour, cv.width, cv.closed);
     }
 }
 

@@ -55,12 +55,29 @@ pub struct Step {
 }
 
 /// Every step of a recording, light record by light record, in pipeline order.
-pub fn steps(rec: &StageRecording, occluder_name: impl Fn(usize) -> String) -> Vec<Step> {
+pub fn steps(
+    rec: &StageRecording,
+    light_name: impl Fn(usize) -> String,
+    occluder_name: impl Fn(usize) -> String,
+) -> Vec<Step> {
     let mut out = Vec::new();
     for (r, lr) in rec.lights.iter().enumerate() {
         let who = match lr.piece {
-            Some(f) => format!("light {} face {f}", lr.light),
-            None => format!("light {}", lr.light),
+            Some(f) => format!("light {} face {f}", light_name(lr.light)),
+            None => format!("light {}", light_name(lr.light)),
+        };
+        // How the exact silhouette of a non-convex mesh was found, if it was.
+        let exact = |occluder: Option<usize>| match lr.exact.iter().find(|e| e.occluder == occluder)
+        {
+            Some(e) if e.from_tree => {
+                format!("; exact, from the tree: {} crossings", e.crossings.len())
+            }
+            Some(e) => format!(
+                "; exact, at the point: {} crossings, {} rejected",
+                e.crossings.len(),
+                e.rejected.len()
+            ),
+            None => String::new(),
         };
         let mut push = |kind: StepKind, what: String| {
             out.push(Step {
@@ -75,7 +92,7 @@ pub fn steps(rec: &StageRecording, occluder_name: impl Fn(usize) -> String) -> V
         };
         push(
             StepKind::LightSilhouette,
-            format!("silhouette (line 4{contour})"),
+            format!("silhouette (line 4{contour}{})", exact(None)),
         );
         push(
             StepKind::LightClipped,
@@ -96,7 +113,7 @@ pub fn steps(rec: &StageRecording, occluder_name: impl Fn(usize) -> String) -> V
             match stage {
                 crate::shading::Stage::Silhouette => push(
                     StepKind::OccluderSilhouette { k },
-                    format!("occluder {name}: silhouette (line 9)"),
+                    format!("occluder {name}: silhouette (line 9{})", exact(Some(*oi))),
                 ),
                 _ => push(
                     StepKind::OccluderClipped { k },
@@ -189,7 +206,7 @@ mod tests {
             }
         }
         let p = found.expect("fig4 has penumbra pixels");
-        let s = steps(&p.recording, |i| format!("#{i}"));
+        let s = steps(&p.recording, |i| format!("L{i}"), |i| format!("#{i}"));
         let gh = s
             .iter()
             .position(|x| {

@@ -129,6 +129,28 @@ impl ConvexCell {
         }
     }
 
+    /// The polygon in which `plane` cuts the cell, counter-clockwise around the plane's
+    /// normal: the face both parts of [`ConvexCell::split`] would share. `None` when the plane
+    /// does not cut through the interior (it misses the cell or only touches it).
+    pub fn plane_section(&self, plane: &Plane, tol: f64) -> Option<Vec<DVec3>> {
+        if self.side(plane, tol) != CellSide::Straddles {
+            return None;
+        }
+        let mut points = Vec::new();
+        for f in &self.faces {
+            for k in 0..f.len() {
+                let (a, b) = (f[k], f[(k + 1) % f.len()]);
+                let (sa, sb) = (plane.eval(a), plane.eval(b));
+                if sa.abs() <= tol {
+                    points.push(a);
+                } else if (sa < -tol && sb > tol) || (sa > tol && sb < -tol) {
+                    points.push(a + (b - a) * (sa / (sa - sb)));
+                }
+            }
+        }
+        cap_polygon(&points, plane.n, tol)
+    }
+
     /// The two parts of the cell on either side of `plane`: (back, front).
     pub fn split(&self, plane: &Plane, tol: f64) -> (ConvexCell, ConvexCell) {
         let flipped = Plane {
@@ -190,6 +212,76 @@ mod tests {
         };
         let (_, tip) = corner.split(&p, 1e-12);
         assert!((tip.volume() - 0.5f64.powi(3) / 6.0).abs() < 1e-12);
+    }
+
+    /// Twice the vector area of a closed polygon: its normal times twice its area.
+    fn vector_area(poly: &[DVec3]) -> DVec3 {
+        (0..poly.len())
+            .map(|k| poly[k].cross(poly[(k + 1) % poly.len()]))
+            .sum()
+    }
+
+    #[test]
+    fn plane_sections_of_a_cube_have_their_closed_form_areas() {
+        let (lo, hi) = (DVec3::new(-1.0, 0.0, 2.0), DVec3::new(1.0, 2.0, 4.0));
+        let cell = ConvexCell::cuboid(lo, hi);
+        let tol = 1e-12;
+        let inside = |p: DVec3| p.cmpge(lo - 1e-12).all() && p.cmple(hi + 1e-12).all();
+        // The plane through the centre normal to a main diagonal cuts a regular hexagon of
+        // side √2·(edge/2): area (3√3/2)·s² = 3√3 for edge 2.
+        let centre = (lo + hi) / 2.0;
+        let n = DVec3::new(1.0, -1.0, 1.0).normalize();
+        let hexagon = Plane {
+            n,
+            d: n.dot(centre),
+        };
+        // An axis-aligned plane cuts the 2 × 2 square; a slanted one through two opposite
+        // edges a 2 × 2√2 rectangle.
+        let square = Plane {
+            n: DVec3::Y,
+            d: 0.5,
+        };
+        let m = DVec3::new(0.0, 1.0, -1.0).normalize();
+        let rectangle = Plane {
+            n: m,
+            d: m.dot(DVec3::new(0.0, 0.0, 2.0)),
+        };
+        for (plane, corners, area) in [
+            (hexagon, 6, 3.0 * 3f64.sqrt()),
+            (square, 4, 4.0),
+            (rectangle, 4, 4.0 * 2f64.sqrt()),
+        ] {
+            let poly = cell
+                .plane_section(&plane, tol)
+                .expect("the plane cuts the box");
+            assert_eq!(poly.len(), corners);
+            for &p in &poly {
+                assert!(plane.eval(p).abs() < 1e-12, "{p} off the plane");
+                assert!(inside(p), "{p} outside the box");
+            }
+            // Counter-clockwise around the normal, with the closed-form area.
+            let a = vector_area(&poly);
+            assert!((a.dot(plane.n) / 2.0 - area).abs() < 1e-12, "{a}");
+            // The same polygon as the face the split creates (an independent construction).
+            let (back, _) = cell.split(&plane, tol);
+            let cap = back
+                .faces
+                .iter()
+                .find(|f| f.iter().all(|&p| plane.eval(p).abs() < 1e-12))
+                .expect("the cut face");
+            assert!((vector_area(cap).length() / 2.0 - area).abs() < 1e-12);
+        }
+        // Missing or touching the box: no section.
+        let touching = Plane {
+            n: DVec3::X,
+            d: 1.0,
+        };
+        assert!(cell.plane_section(&touching, tol).is_none());
+        let missing = Plane {
+            n: DVec3::Z,
+            d: 5.0,
+        };
+        assert!(cell.plane_section(&missing, tol).is_none());
     }
 
     #[test]

@@ -3,6 +3,7 @@
 
 pub mod bsp;
 pub mod bsp_nonconvex;
+pub mod bsp_sections;
 pub mod cell_triangulation;
 pub mod convex_cell;
 pub mod exact_silhouette;
@@ -21,6 +22,7 @@ pub(crate) mod test_util;
 
 pub use bsp::{BspNode, BspPath, BspStats, SilhouetteBsp, bsp_cell, bsp_leaf, bsp_path, bsp_size};
 pub use bsp_nonconvex::{ExactBspLimits, ExactBspStats, ExactSilhouetteBsp};
+pub use bsp_sections::{PlaneSection, level_sections, path_sections};
 pub use cell_triangulation::{SilhouetteTriangulation, TriangulationLimits, TriangulationStats};
 pub use convex_cell::{CellSide, ConvexCell};
 pub use exact_silhouette::{
