@@ -229,7 +229,7 @@ fn convex_silhouette(
     let from_tree = obj
         .bsp
         .as_ref()
-        .is_some_and(|t| t.silhouette(&obj.poly, x, frame, out));
+        .is_some_and(|t| t.silhouette_at(&obj.poly, x, obj.tree_point(x), frame, out));
     if !from_tree {
         silhouette(&obj.poly, x, frame, sidedness, out, scratch);
     }
@@ -260,7 +260,7 @@ fn nonconvex_silhouette_from(
     if obj
         .exact_bsp
         .as_ref()
-        .is_some_and(|t| t.silhouette(&obj.poly, x, frame, out))
+        .is_some_and(|t| t.silhouette_at(&obj.poly, x, obj.tree_point(x), frame, out))
     {
         return Some(true);
     }
@@ -305,7 +305,7 @@ fn record_exact<R: Recorder>(
         let crossings = obj
             .exact_bsp
             .as_ref()
-            .and_then(|t| t.leaf_points(x))
+            .and_then(|t| t.leaf_points(obj.tree_point(x)))
             .map(|pts| {
                 pts.filter(|p| matches!(p, SilhouettePoint::Crossing(..)))
                     .filter_map(|p| p.direction(&obj.poly, x))
