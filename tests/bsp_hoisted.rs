@@ -186,3 +186,42 @@ fn hoisting_never_stores_more_edges_than_the_leaves() {
         assert!(hoisted <= in_leaves, "{}", row.name);
     }
 }
+
+/// The renderer on the hoisted trees (`PreparedScene::use_hoisted_trees`, selectable with
+/// `PENUMBRA_HOISTED_TREES=1`) renders the image of the leaf-stored trees: the same loops, read
+/// off the same vertices (a loop may start elsewhere: rounding only).
+#[test]
+fn the_renderer_on_hoisted_trees_renders_the_same_image() {
+    use penumbra::render::{RenderContext, RenderSettings};
+    use penumbra::scene::scene_file;
+    for name in ["polyhedra", "instances"] {
+        let scene = scene_file::load_embedded(name).unwrap();
+        let leaf = RenderContext::new(&scene);
+        let mut hoisted = RenderContext::new(&scene);
+        hoisted.prepared.use_hoisted_trees();
+        let n = hoisted
+            .prepared
+            .objects
+            .iter()
+            .filter(|o| o.hoisted.is_some())
+            .count();
+        assert!(n >= 5, "{name}: {n} hoisted trees");
+        let cam = scene.camera.unwrap();
+        let settings = RenderSettings {
+            width: 64,
+            height: 48,
+            ..RenderSettings::default()
+        };
+        let a = leaf.render(&cam, &settings, None).unwrap().0.pixels;
+        let b = hoisted.render(&cam, &settings, None).unwrap().0.pixels;
+        let peak = a.iter().map(|p| p.max_element()).fold(0.0, f64::max);
+        let worst = a
+            .iter()
+            .zip(&b)
+            .map(|(p, q)| (*p - *q).abs().max_element())
+            .fold(0.0, f64::max)
+            / peak;
+        eprintln!("{name}: max difference hoisted vs leaf-stored {worst:.2e} of the peak");
+        assert!(worst < 1e-12, "{name}: {worst:.2e}");
+    }
+}

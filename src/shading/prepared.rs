@@ -17,8 +17,8 @@
 
 use super::tree_cache::{self, CachedTree, tree_key};
 use crate::geometry::{
-    ExactBspLimits, ExactSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp, separating_plane,
-    star_centre,
+    ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp,
+    separating_plane, star_centre,
 };
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
@@ -40,6 +40,11 @@ pub struct PreparedObject {
     pub bsp: Option<Arc<SilhouetteBsp>>,
     /// Precomputed exact silhouettes of a closed non-convex mesh (001 Sect. 5.2), likewise.
     pub exact_bsp: Option<Arc<ExactSilhouetteBsp>>,
+    /// The same tree with each edge stored as high as it stays valid (001 Sect. 8,
+    /// `geometry::bsp_hoisted`); when present, shading reads it instead of `bsp`/`exact_bsp`.
+    /// Not the default (slower lookups, docs/silhouettes.md): [`PreparedScene::use_hoisted_trees`]
+    /// or `PENUMBRA_HOISTED_TREES=1`.
+    pub hoisted: Option<Arc<HoistedSilhouetteBsp>>,
     /// Maps a world point into the frame of the tree this object shares with its instances
     /// (the world frame of the group's first member); `None` when the tree is in this object's
     /// own frame, so that the lookup takes the point as it is.
@@ -186,6 +191,7 @@ fn build_silhouette_trees(
     objects.par_iter_mut().for_each(|o| {
         o.bsp = None;
         o.exact_bsp = None;
+        o.hoisted = None;
         let d = o.poly.diagnostics;
         if !d.convex && d.closed_manifold {
             o.star_centre = star_centre(&o.poly);
@@ -319,6 +325,7 @@ impl PreparedScene {
                 bsp: None,
                 exact_bsp: None,
                 to_tree: None,
+                hoisted: None,
                 star_centre: None,
             });
             if is_light {
@@ -383,7 +390,7 @@ impl PreparedScene {
             }
         }
         let materials = scene.objects.iter().map(|o| o.material.clone()).collect();
-        PreparedScene {
+        let mut prepared = PreparedScene {
             objects,
             lights,
             occluders,
@@ -393,6 +400,37 @@ impl PreparedScene {
             notes,
             bounds: scene_box,
             tree_groups,
+        };
+        if std::env::var_os("PENUMBRA_HOISTED_TREES").is_some_and(|v| v == "1") {
+            prepared.use_hoisted_trees();
+        }
+        prepared
+    }
+
+    /// Makes shading read the hoisted form of every tree (001 Sect. 8), one per group of
+    /// instances; a tree that cannot be hoisted (a point starting two edges of one leaf)
+    /// stays leaf-stored, with a note.
+    pub fn use_hoisted_trees(&mut self) {
+        for g in &self.tree_groups {
+            let o = &self.objects[g[0] as usize];
+            let hoisted = match (&o.bsp, &o.exact_bsp) {
+                (Some(t), _) => Some(HoistedSilhouetteBsp::from_convex(t)),
+                (_, Some(t)) => Some(HoistedSilhouetteBsp::from_exact(t)),
+                _ => None,
+            };
+            let hoisted = match hoisted {
+                Some(Ok(h)) => Some(Arc::new(h)),
+                Some(Err(e)) => {
+                    let names = quoted_names(&self.objects, g);
+                    self.notes
+                        .push(format!("{names}: the tree stays leaf-stored: {e}"));
+                    None
+                }
+                None => None,
+            };
+            for &m in g {
+                self.objects[m as usize].hoisted = hoisted.clone();
+            }
         }
     }
 
@@ -413,6 +451,7 @@ impl PreparedScene {
         for o in &mut self.objects {
             o.bsp = None;
             o.exact_bsp = None;
+            o.hoisted = None;
         }
     }
 
