@@ -34,7 +34,14 @@ fn highest(o: &SceneObject) -> f64 {
 fn every_embedded_scene_loads_cleanly_and_matches_the_files() {
     assert_eq!(
         embedded_scene_names(),
-        ["default", "fig4", "chair", "nonconvex", "polyhedra"]
+        [
+            "default",
+            "fig4",
+            "chair",
+            "nonconvex",
+            "polyhedra",
+            "instances"
+        ]
     );
     for &name in embedded_scene_names() {
         let s = load_embedded(name).unwrap();
@@ -54,8 +61,15 @@ fn every_embedded_scene_loads_cleanly_and_matches_the_files() {
         );
         assert!((floor.mesh.face_normal(0).unwrap() - DVec3::Y).length() < 1e-15);
         for o in &s.objects {
-            // Default flags unless overridden: light iff Ke > 0, everything else occludes.
-            assert_eq!(o.flags.light, o.material.is_emissive(), "{}", o.name);
+            // Default flags unless overridden: light iff Ke > 0, everything else occludes. The
+            // instances scene turns its (emissive) corners into plain occluders.
+            let overridden = name == "instances" && o.name == "corner";
+            assert_eq!(
+                o.flags.light,
+                o.material.is_emissive() && !overridden,
+                "{}",
+                o.name
+            );
             assert_eq!(o.flags.occluder, o.name != "floor", "{}", o.name);
             assert!(o.flags.receiver);
             assert!(o.mesh.positions.iter().all(|p| p.is_finite()));
@@ -309,6 +323,49 @@ scale = 3
     assert_eq!(a.mesh.positions[1], DVec3::new(3.0, 0.0, 0.0));
 }
 
+/// `rotate` comes after `scale` and before `translate`; a quarter turn about y maps
+/// (x, y, z) to (z, y, −x) (checked coordinate by coordinate), and the Euler form about one
+/// axis is the axis-angle form about that axis.
+#[test]
+fn scene_file_rotate_between_scale_and_translate() {
+    let s = scene(
+        r#"
+[[object]]
+obj = "box.obj"
+name = "a"
+
+[[object]]
+obj = "box.obj"
+name = "a"
+scale = 2
+rotate = [0, 90, 0]
+translate = [10, 0, 0]
+
+[[object]]
+obj = "box.obj"
+name = "a"
+scale = 2
+rotate = { axis = [0, 3, 0], angle = 90 }
+translate = [10, 0, 0]
+"#,
+    )
+    .unwrap();
+    let (orig, euler, axis) = (&s.objects[0], &s.objects[1], &s.objects[2]);
+    for ((p, q), r) in orig
+        .mesh
+        .positions
+        .iter()
+        .zip(&euler.mesh.positions)
+        .zip(&axis.mesh.positions)
+    {
+        let want = DVec3::new(2.0 * p.z + 10.0, 2.0 * p.y, -2.0 * p.x);
+        assert!((*q - want).length() < 1e-14, "{q} vs {want}");
+        assert!((*r - want).length() < 1e-14, "{r} vs {want}");
+    }
+    // A rotation keeps the winding: the faces are the same indices.
+    assert_eq!(orig.mesh.faces, euler.mesh.faces);
+}
+
 #[test]
 fn scene_file_errors_name_file_and_line() {
     let (l, m) = err_line("[camera]\neye = [0, 1, 5]\ntarget = [0, 0,, 1]\nfov = 3\n");
@@ -331,6 +388,19 @@ fn scene_file_errors_name_file_and_line() {
     let (l, m) = err_line("[[object]]\nobj = \"box.obj\"\nscale = \"big\"\n");
     assert_eq!(l, 3);
     assert!(m.contains("scale must be"), "{m}");
+    // rotate: a wrong form, non-finite angles, a zero axis, unknown keys.
+    for bad in [
+        "rotate = [1, 2]",
+        "rotate = \"x\"",
+        "rotate = [0, nan, 0]",
+        "rotate = { axis = [0, 0, 0], angle = 10 }",
+        "rotate = { axis = [0, 1, 0], angle = inf }",
+        "rotate = { axis = [0, 1, 0], angel = 10 }",
+    ] {
+        let (l, m) = err_line(&format!("[[object]]\nobj = \"box.obj\"\n\n{bad}\n"));
+        assert_eq!(l, 4, "{bad}: {m}");
+        assert!(m.contains("rotat"), "{bad}: {m}");
+    }
     let (l, _) = err_line("[[object]]\nobj = \"box.obj\"\ntranslate = [1, 2]\n");
     assert_eq!(l, 3);
     let (l, _) = err_line("[[object]]\nobj = \"box.obj\"\ntranslate = [1, 2, inf]\n");

@@ -11,9 +11,10 @@
 //!   and the size at the thesis' 20 bytes per node and 4 bytes per vertex / 8 per edge.
 
 use crate::geometry::{
-    ExactBspLimits, ExactSilhouetteBsp, Polyhedron, SilhouetteBsp, SilhouetteTriangulation,
-    TriangulationLimits, TriangulationStats,
+    ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Polyhedron, SilhouetteBsp,
+    SilhouetteTriangulation, TriangulationLimits, TriangulationStats,
 };
+use crate::math::Pcg32;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use crate::scene::{Camera, Material, ObjectFlags, Scene, SceneObject, shapes};
@@ -134,6 +135,13 @@ pub struct PolyhedronRow {
     pub hoisted_edges: usize,
     /// Triangulated silhouettes over the same box (non-convex meshes; 001 Table 7.4).
     pub triangulation: Option<TriangulationStats>,
+    /// The real storage of both forms (bytes of planes, nodes and leaf or node data in
+    /// memory), and the time of one lookup at random points of the box, the loops gathered
+    /// (ns; the hoisted form also chains them): `geometry::bsp_hoisted`.
+    pub leaf_stored_bytes: usize,
+    pub hoisted_stored_bytes: usize,
+    pub leaf_lookup_ns: f64,
+    pub hoisted_lookup_ns: f64,
     pub thesis: ThesisFigures,
 }
 
@@ -277,6 +285,43 @@ fn sampling_cost(ctx: &RenderContext, faces_only: bool) -> (f64, f64) {
     (best / n * 1e9, tris as f64 / n)
 }
 
+/// Bytes of the leaf-stored and the hoisted form, and ns per lookup of each (`leaf` reads a
+/// leaf's loops and sums its point codes; the hoisted form gathers and chains its edges and
+/// sums their starts), at the same random points of the hoisted tree's box, in one run.
+fn hoisting_costs(
+    poly: &Polyhedron,
+    hoisted: &HoistedSilhouetteBsp,
+    leaf_bytes: usize,
+    leaf: &dyn Fn(DVec3) -> u32,
+) -> (usize, usize, f64, f64) {
+    let mut rng = Pcg32::new(7, 11);
+    let (lo, hi) = (hoisted.lo, hoisted.hi);
+    let points: Vec<DVec3> = (0..20_000)
+        .map(|_| lo + (hi - lo) * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()))
+        .filter(|x| poly.face_planes.iter().any(|p| p.eval(*x) > 0.0))
+        .collect();
+    let mut buf = hoisted.scratch();
+    let time = |f: &mut dyn FnMut(DVec3) -> u32| {
+        let mut best = f64::INFINITY;
+        for _ in 0..3 {
+            let start = Instant::now();
+            let mut sum = 0u32;
+            for &x in &points {
+                sum = sum.wrapping_add(f(x));
+            }
+            std::hint::black_box(sum);
+            best = best.min(start.elapsed().as_secs_f64() * 1e9 / points.len().max(1) as f64);
+        }
+        best
+    };
+    let leaf_ns = time(&mut |x| leaf(x));
+    let hoisted_ns = time(&mut |x| {
+        hoisted.loops(x, &mut buf);
+        buf.iter().fold(0u32, |a, e| a.wrapping_add(e[0]))
+    });
+    (leaf_bytes, hoisted.stored_bytes(), leaf_ns, hoisted_ns)
+}
+
 /// Runs the measurements; `progress` receives a line per step.
 pub fn run_polyhedra(
     width: u32,
@@ -347,9 +392,15 @@ pub fn run_polyhedra(
             poly.center + DVec3::splat(BOX_RADII * poly.radius),
         );
         let mut triangulation = None;
+        let stored;
         let (build_s, nodes, leaves, elements, bytes, (leaf_edges, hoisted_edges)) = if row.convex {
             let (t, s) = SilhouetteBsp::build_convex(&poly, lo, hi).ok_or("not convex")?;
             let h = t.hoisted_edge_counts();
+            let hoisted = HoistedSilhouetteBsp::from_convex(&t)?;
+            stored = hoisting_costs(&poly, &hoisted, t.stored_bytes(), &|x| {
+                t.lookup(x)
+                    .map_or(0, |d| d.iter().fold(0u32, |a, &v| a.wrapping_add(v)))
+            });
             (
                 s.seconds,
                 s.nodes,
@@ -369,6 +420,12 @@ pub fn run_polyhedra(
             progress(&format!("{}: triangulating the silhouettes", row.name));
             triangulation =
                 Some(SilhouetteTriangulation::build(&poly, &t, TriangulationLimits::default()).1);
+            let hoisted = HoistedSilhouetteBsp::from_exact(&t)?;
+            stored = hoisting_costs(&poly, &hoisted, t.stored_bytes(), &|x| {
+                t.leaf_points(x).map_or(0, |p| {
+                    p.fold(0u32, |a, p| a.wrapping_add(p.pack().unwrap_or(0)))
+                })
+            });
             (
                 s.seconds,
                 s.nodes,
@@ -397,6 +454,10 @@ pub fn run_polyhedra(
             leaf_edges,
             hoisted_edges,
             triangulation,
+            leaf_stored_bytes: stored.0,
+            hoisted_stored_bytes: stored.1,
+            leaf_lookup_ns: stored.2,
+            hoisted_lookup_ns: stored.3,
             thesis,
         });
     }
@@ -513,16 +574,25 @@ pub fn polyhedra_markdown(r: &PolyhedraReport) -> String {
     }
     s += "\nEdges stored as high in the tree as they stay valid (001 Sect. 8: an edge kept at the \
           highest node below which every leaf has it), against storing them in every leaf:\n\n\
-          | polyhedron | edges in the leaves | edges stored as high as valid | reduction |\n\
-          |---|---|---|---|\n";
+          | polyhedron | edges in the leaves | edges stored as high as valid | reduction | leaf form (kB) | hoisted form (kB) | leaf lookup (ns) | hoisted lookup (ns) |\n\
+          |---|---|---|---|---|---|---|---|\n";
     for row in &r.rows {
         s += &format!(
-            "| {} | {} | {} | {:.0} % |\n",
+            "| {} | {} | {} | {:.0} % | {:.1} | {:.1} | {:.0} | {:.0} |\n",
             row.name,
             row.leaf_edges,
             row.hoisted_edges,
-            100.0 * (1.0 - row.hoisted_edges as f64 / row.leaf_edges.max(1) as f64)
+            100.0 * (1.0 - row.hoisted_edges as f64 / row.leaf_edges.max(1) as f64),
+            row.leaf_stored_bytes as f64 / 1000.0,
+            row.hoisted_stored_bytes as f64 / 1000.0,
+            row.leaf_lookup_ns,
+            row.hoisted_lookup_ns,
         );
     }
+    s += "\nThe two forms' sizes are the real arrays in memory (planes 32 B, nodes 16 B; leaf \
+          form: 4 B per loop point, plus 8 B per loop range for non-convex meshes; hoisted form: \
+          8 B per directed edge, since edges from several nodes are chained by their ends). In the \
+          hoisted form, leaves left to the on-the-fly path (or inside the solid) hold nothing \
+          back from their ancestors.\n";
     s
 }

@@ -340,6 +340,13 @@ impl SilhouetteBsp {
         hoisted_edge_counts(&self.nodes, &edges)
     }
 
+    /// Bytes of the tree's arrays in memory (planes, nodes, leaf data).
+    pub fn stored_bytes(&self) -> usize {
+        std::mem::size_of_val(&self.planes[..])
+            + std::mem::size_of_val(&self.nodes[..])
+            + std::mem::size_of_val(&self.data[..])
+    }
+
     /// Whether every index in the tree is in range for a mesh of `vertices` vertices (a tree
     /// read from a file is checked before use).
     pub fn is_well_formed(&self, vertices: usize) -> bool {
@@ -380,7 +387,22 @@ impl SilhouetteBsp {
         frame: &Frame,
         out: &mut SphericalPolygon,
     ) -> bool {
-        let Some(data) = self.lookup(x) else {
+        self.silhouette_at(poly, x, x, frame, out)
+    }
+
+    /// [`SilhouetteBsp::silhouette`] for an instance of the tree's mesh: the cell is looked up
+    /// at `tree_x` (the shading point `x` in the tree's frame), the loops read off `poly`, the
+    /// instance's own vertices, from `x` (`shading::prepared`, 001 Sect. 5.4).
+    #[inline]
+    pub fn silhouette_at(
+        &self,
+        poly: &Polyhedron,
+        x: DVec3,
+        tree_x: DVec3,
+        frame: &Frame,
+        out: &mut SphericalPolygon,
+    ) -> bool {
+        let Some(data) = self.lookup(tree_x) else {
             return false;
         };
         out.clear();

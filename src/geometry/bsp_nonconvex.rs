@@ -159,6 +159,14 @@ impl ExactSilhouetteBsp {
         super::bsp::hoisted_edge_counts(&self.nodes, &edges)
     }
 
+    /// Bytes of the tree's arrays in memory (planes, nodes, loop ranges, points).
+    pub fn stored_bytes(&self) -> usize {
+        std::mem::size_of_val(&self.planes[..])
+            + std::mem::size_of_val(&self.nodes[..])
+            + std::mem::size_of_val(&self.loops[..])
+            + std::mem::size_of_val(&self.points[..])
+    }
+
     /// Whether every index in the tree is in range for a mesh of `vertices` vertices (a tree
     /// read from a file is checked before use).
     pub fn is_well_formed(&self, vertices: usize) -> bool {
@@ -197,7 +205,8 @@ impl ExactSilhouetteBsp {
         }
     }
 
-    /// The points of the leaf of `x` (`None` outside the box or in an on-the-fly leaf).
+    /// The points of the leaf of `x` (`None` outside the box or in an on-the-fly leaf); for an
+    /// instance, `x` is the point in the tree's frame.
     pub fn leaf_points(&self, x: DVec3) -> Option<impl Iterator<Item = SilhouettePoint> + '_> {
         Some(
             self.leaf_loops(x)?
@@ -216,7 +225,22 @@ impl ExactSilhouetteBsp {
         frame: &Frame,
         out: &mut SphericalPolygon,
     ) -> bool {
-        let Some(loops) = self.leaf_loops(x) else {
+        self.silhouette_at(poly, x, x, frame, out)
+    }
+
+    /// [`ExactSilhouetteBsp::silhouette`] for an instance of the tree's mesh: the leaf is
+    /// looked up at `tree_x` (`x` in the tree's frame), its points (vertex indices, pairs of
+    /// edges) evaluated on `poly`, the instance's own vertices, from `x` (001 Sect. 5.4).
+    #[inline]
+    pub fn silhouette_at(
+        &self,
+        poly: &Polyhedron,
+        x: DVec3,
+        tree_x: DVec3,
+        frame: &Frame,
+        out: &mut SphericalPolygon,
+    ) -> bool {
+        let Some(loops) = self.leaf_loops(tree_x) else {
             return false;
         };
         out.clear();

@@ -74,6 +74,8 @@ pub struct ExactSilhouetteScratch {
     kept: Vec<u32>,
     /// The kept pieces in loop order, with whether the piece closes its loop.
     chain: Vec<(u32, bool)>,
+    /// Edges gathered by a lookup in a hoisted tree (`bsp_hoisted`), reused.
+    pub hoisted: Vec<[u32; 2]>,
 }
 
 /// What [`exact_silhouette`] found, for statistics and the debugger.

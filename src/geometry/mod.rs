@@ -2,6 +2,7 @@
 //! horizon clipping, the planar projection and the set difference (000 Alg. 1–3, 001 Sect. 4).
 
 pub mod bsp;
+pub mod bsp_hoisted;
 pub mod bsp_nonconvex;
 pub mod bsp_sections;
 pub mod cell_triangulation;
@@ -21,6 +22,7 @@ pub mod spherical_polygon;
 pub(crate) mod test_util;
 
 pub use bsp::{BspNode, BspPath, BspStats, SilhouetteBsp, bsp_cell, bsp_leaf, bsp_path, bsp_size};
+pub use bsp_hoisted::{HoistedKind, HoistedSilhouetteBsp};
 pub use bsp_nonconvex::{ExactBspLimits, ExactBspStats, ExactSilhouetteBsp};
 pub use bsp_sections::{PlaneSection, level_sections, path_sections};
 pub use cell_triangulation::{SilhouetteTriangulation, TriangulationLimits, TriangulationStats};

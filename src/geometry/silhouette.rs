@@ -23,6 +23,8 @@ pub struct SilhouetteScratch {
     /// Contour edges as (from, to, next outgoing edge of `from`).
     contour: Vec<(u32, u32, u32)>,
     used: Vec<bool>,
+    /// Edges gathered by a lookup in a hoisted tree (`bsp_hoisted`), reused.
+    pub hoisted: Vec<[u32; 2]>,
 }
 
 /// Is face `f` front-facing from `x`, i.e. does `x` lie strictly on its front side?

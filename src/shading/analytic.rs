@@ -226,10 +226,20 @@ fn convex_silhouette(
     out: &mut SphericalPolygon,
     scratch: &mut SilhouetteScratch,
 ) {
-    let from_tree = obj
-        .bsp
-        .as_ref()
-        .is_some_and(|t| t.silhouette(&obj.poly, x, frame, out));
+    let from_tree = match &obj.hoisted {
+        Some(h) => h.silhouette_at(
+            &obj.poly,
+            x,
+            obj.tree_point(x),
+            frame,
+            out,
+            &mut scratch.hoisted,
+        ),
+        None => obj
+            .bsp
+            .as_ref()
+            .is_some_and(|t| t.silhouette_at(&obj.poly, x, obj.tree_point(x), frame, out)),
+    };
     if !from_tree {
         silhouette(&obj.poly, x, frame, sidedness, out, scratch);
     }
@@ -257,11 +267,21 @@ fn nonconvex_silhouette_from(
     out: &mut SphericalPolygon,
     scratch: &mut ExactSilhouetteScratch,
 ) -> Option<bool> {
-    if obj
-        .exact_bsp
-        .as_ref()
-        .is_some_and(|t| t.silhouette(&obj.poly, x, frame, out))
-    {
+    let from_tree = match &obj.hoisted {
+        Some(h) => h.silhouette_at(
+            &obj.poly,
+            x,
+            obj.tree_point(x),
+            frame,
+            out,
+            &mut scratch.hoisted,
+        ),
+        None => obj
+            .exact_bsp
+            .as_ref()
+            .is_some_and(|t| t.silhouette_at(&obj.poly, x, obj.tree_point(x), frame, out)),
+    };
+    if from_tree {
         return Some(true);
     }
     exact_silhouette(&obj.poly, x, frame, out, scratch)
@@ -305,7 +325,7 @@ fn record_exact<R: Recorder>(
         let crossings = obj
             .exact_bsp
             .as_ref()
-            .and_then(|t| t.leaf_points(x))
+            .and_then(|t| t.leaf_points(obj.tree_point(x)))
             .map(|pts| {
                 pts.filter(|p| matches!(p, SilhouettePoint::Crossing(..)))
                     .filter_map(|p| p.direction(&obj.poly, x))

@@ -1,15 +1,30 @@
 //! The scene as the shading stages need it, computed once per scene: polyhedra with adjacency,
 //! which path each mesh takes, separating planes of light/occluder pairs, the LTC table.
+//!
+//! Instances (001 Sect. 5.4: "multiple light sources can share the same buffers"): meshes with
+//! the same faces whose vertices are one affine map (positive determinant) of another's share
+//! one tree of precomputed silhouettes, built in the frame of the group's first member. Every
+//! plane of the tree is a face plane, a three-endpoint plane or a validation split, and every
+//! test it makes is the side of such a plane, i.e. the sign of det(a − x, b − x, c − x) for
+//! points a, b, c of the mesh; an affine map `M` with det M > 0 multiplies that determinant by
+//! det M, so `x` and `M x` fall in corresponding cells. What a leaf stores (vertex indices and
+//! pairs of edges that appear to cross) is made of incidences and orientations, which `M`
+//! preserves too, so it is the same for every instance: shading maps the point into the
+//! tree's frame for the lookup and reads the silhouette off the instance's own vertices. This
+//! covers rotations, uniform and non-uniform scales (a sheared or squashed copy has the same
+//! silhouette structure from the corresponding point); mirror images (det M < 0) reverse the
+//! orientations and are not shared.
 
 use super::tree_cache::{self, CachedTree, tree_key};
 use crate::geometry::{
-    ExactBspLimits, ExactSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp, SilhouetteTriangulation,
-    TriangulationLimits, separating_plane, star_centre,
+    ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp,
+    SilhouetteTriangulation, TriangulationLimits, separating_plane, star_centre,
 };
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
-use glam::DVec3;
+use glam::{DAffine3, DMat3, DVec3};
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// A light or occluder mesh.
 #[derive(Clone, Debug)]
@@ -20,16 +35,28 @@ pub struct PreparedObject {
     pub poly: Polyhedron,
     /// Takes the silhouette path (convex closed or flat); otherwise per face.
     pub simple: bool,
-    /// Precomputed silhouettes of a convex mesh over the scene's bounds (001 Sect. 5.1).
-    pub bsp: Option<SilhouetteBsp>,
-    /// Precomputed exact silhouettes of a closed non-convex mesh (001 Sect. 5.2).
-    pub exact_bsp: Option<ExactSilhouetteBsp>,
+    /// Precomputed silhouettes of a convex mesh over the scene's bounds (001 Sect. 5.1), in
+    /// the frame `to_tree` maps into (shared by the instances of this mesh).
+    pub bsp: Option<Arc<SilhouetteBsp>>,
+    /// Precomputed exact silhouettes of a closed non-convex mesh (001 Sect. 5.2), likewise.
+    pub exact_bsp: Option<Arc<ExactSilhouetteBsp>>,
+    /// The same tree with each edge stored as high as it stays valid (001 Sect. 8,
+    /// `geometry::bsp_hoisted`); when present, shading reads it instead of `bsp`/`exact_bsp`.
+    /// Not the default (slower lookups, docs/silhouettes.md): [`PreparedScene::use_hoisted_trees`]
+    /// or `PENUMBRA_HOISTED_TREES=1`.
+    pub hoisted: Option<Arc<HoistedSilhouetteBsp>>,
+    /// Maps a world point into the frame of the tree this object shares with its instances
+    /// (the world frame of the group's first member); `None` when the tree is in this object's
+    /// own frame, so that the lookup takes the point as it is.
+    pub to_tree: Option<DAffine3>,
     /// A point strictly inside the kernel of a star-shaped non-convex mesh: its silhouettes
     /// are fanned from there for sampling (001 Sect. 6.1).
     pub star_centre: Option<DVec3>,
     /// Precomputed triangulations of the exact silhouettes of a light that is neither convex
-    /// nor star-shaped, proved per cell (001 Sect. 6.2), for sampling.
-    pub triangulation: Option<SilhouetteTriangulation>,
+    /// nor star-shaped, proved per cell (001 Sect. 6.2), for sampling; in the tree's frame.
+    /// An affine map of positive determinant keeps every orientation sign, so instances share
+    /// them with the tree.
+    pub triangulation: Option<Arc<SilhouetteTriangulation>>,
 }
 
 /// Non-convex meshes whose tree would have more leaves than this keep computing their exact
@@ -39,6 +66,98 @@ pub const MAX_EXACT_BSP_LEAVES: usize = 20_000;
 /// Convex meshes whose face planes cut the scene into more cells than this keep computing
 /// their silhouette on the fly (the count grows with the cube of the face count).
 pub const MAX_BSP_CELLS: usize = 50_000;
+
+/// Relative tolerance (of the mesh's radius) within which an instance's vertices must be the
+/// affine image of the first member's: far below the trees' own tolerances (1e-9 · radius),
+/// far above the rounding of a scene file's scale, rotate and translate.
+pub const INSTANCE_TOLERANCE: f64 = 1e-10;
+
+impl PreparedObject {
+    /// The point at which to look up this object's tree for the shading point `x`.
+    #[inline]
+    pub fn tree_point(&self, x: DVec3) -> DVec3 {
+        match &self.to_tree {
+            None => x,
+            Some(t) => t.transform_point3(x),
+        }
+    }
+}
+
+/// The affine map `M` (det M > 0) with `other.vertices[k] = M(base.vertices[k])` for every `k`
+/// within [`INSTANCE_TOLERANCE`], if `other` has the same faces (vertex indices) as `base`.
+/// `M` is solved from four vertices of `base` spanning a tetrahedron of large volume and then
+/// verified on all vertices; flat meshes (no such tetrahedron) are not matched.
+pub fn instance_map(base: &Polyhedron, other: &Polyhedron) -> Option<DAffine3> {
+    let same_faces = base.vertices.len() == other.vertices.len()
+        && base.face_indices == other.face_indices
+        && base.face_starts == other.face_starts
+        && base.edges == other.edges
+        && base.diagnostics.convex == other.diagnostics.convex
+        && base.diagnostics.closed_manifold == other.diagnostics.closed_manifold;
+    if !same_faces || base.vertices.is_empty() {
+        return None;
+    }
+    let p = &base.vertices;
+    let q = &other.vertices;
+    let argmax =
+        |f: &dyn Fn(DVec3) -> f64| (0..p.len()).max_by(|&a, &b| f(p[a]).total_cmp(&f(p[b])));
+    let i0 = 0;
+    let i1 = argmax(&|v| v.distance_squared(p[i0]))?;
+    let u = p[i1] - p[i0];
+    let i2 = argmax(&|v| u.cross(v - p[i0]).length_squared())?;
+    let n = u.cross(p[i2] - p[i0]);
+    let i3 = argmax(&|v| n.dot(v - p[i0]).abs())?;
+    let pm = DMat3::from_cols(u, p[i2] - p[i0], p[i3] - p[i0]);
+    let r = base.radius.max(f64::MIN_POSITIVE);
+    // A tetrahedron this thin would amplify rounding in the solve beyond the tolerance.
+    if pm.determinant().abs() <= 1e-6 * r * r * r {
+        return None;
+    }
+    let qm = DMat3::from_cols(q[i1] - q[i0], q[i2] - q[i0], q[i3] - q[i0]);
+    let a = qm * pm.inverse();
+    if !a.is_finite() || a.determinant() <= 0.0 {
+        return None;
+    }
+    let m = DAffine3::from_mat3_translation(a, q[i0] - a * p[i0]);
+    let tol = INSTANCE_TOLERANCE * other.radius.max(f64::MIN_POSITIVE);
+    p.iter()
+        .zip(q)
+        .all(|(&a, &b)| m.transform_point3(a).distance(b) <= tol)
+        .then_some(m)
+}
+
+/// Groups of objects that share one tree: the first member's frame is the tree's; every other
+/// member gets its `to_tree` map. Only objects that can have a tree (convex or closed) are
+/// grouped; with `share` false every such object is its own group.
+fn instance_groups(objects: &mut [PreparedObject], share: bool) -> Vec<Vec<u32>> {
+    let mut groups: Vec<Vec<u32>> = Vec::new();
+    for i in 0..objects.len() {
+        objects[i].to_tree = None;
+        let d = objects[i].poly.diagnostics;
+        if !d.convex && !d.closed_manifold {
+            continue;
+        }
+        let found = share
+            .then(|| {
+                groups.iter().position(|g| {
+                    let base = &objects[g[0] as usize].poly;
+                    match instance_map(base, &objects[i].poly) {
+                        Some(m) => {
+                            objects[i].to_tree = Some(m.inverse());
+                            true
+                        }
+                        None => false,
+                    }
+                })
+            })
+            .flatten();
+        match found {
+            Some(g) => groups[g].push(i as u32),
+            None => groups.push(vec![i as u32]),
+        }
+    }
+    groups
+}
 
 /// Everything the shading stages read, shared by all threads.
 #[derive(Clone, Debug)]
@@ -58,74 +177,128 @@ pub struct PreparedScene {
     pub notes: Vec<String>,
     /// The scene's bounds with a margin: the box the silhouette trees partition.
     pub bounds: (DVec3, DVec3),
+    /// Indices into `objects` of the meshes that share one silhouette tree, one group each
+    /// (the first member's frame is the tree's; a mesh without instances is a group of one).
+    pub tree_groups: Vec<Vec<u32>>,
 }
 
-/// The trees of precomputed silhouettes of every convex or closed mesh, over `bounds` (and
-/// the mesh's own), one mesh per task; meshes over the limits get none.
+/// The tree of precomputed silhouettes of every group of instances of a convex or closed mesh
+/// (one task per group), built for the first member over `bounds` and each member's own
+/// bounding box, all mapped into the first member's frame (the box of the 8 mapped corners of
+/// each); meshes over the limits get none. Every member holds the same `Arc`.
 fn build_silhouette_trees(
     objects: &mut [PreparedObject],
+    groups: &[Vec<u32>],
     lights: &[u32],
     bounds: (DVec3, DVec3),
     max_cells: usize,
     max_leaves: usize,
 ) {
     objects.par_iter_mut().for_each(|o| {
-        let (lo, hi) = (
-            bounds.0.min(o.poly.center - o.poly.radius),
-            bounds.1.max(o.poly.center + o.poly.radius),
-        );
         o.bsp = None;
         o.exact_bsp = None;
+        o.hoisted = None;
         o.triangulation = None;
         let d = o.poly.diagnostics;
-        if !d.convex && !d.closed_manifold {
-            return;
-        }
-        if !d.convex {
+        if !d.convex && d.closed_manifold {
             o.star_centre = star_centre(&o.poly);
         }
-        let limit = if d.convex { max_cells } else { max_leaves };
-        let key = tree_key(&o.poly, lo, hi, limit, d.convex);
-        let tree = tree_cache::load(key, &o.poly).unwrap_or_else(|| {
-            let tree = if d.convex {
-                SilhouetteBsp::build_convex_limited(&o.poly, lo, hi, max_cells)
-                    .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Convex(t))
-            } else {
-                let limits = ExactBspLimits {
-                    max_leaves,
-                    ..ExactBspLimits::default()
+    });
+    let objs = &*objects;
+    let trees: Vec<(CachedTree, Option<SilhouetteTriangulation>)> = groups
+        .par_iter()
+        .map(|g| {
+            let base = &objs[g[0] as usize];
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for &m in g {
+                let o = &objs[m as usize];
+                let (a, b) = (
+                    bounds.0.min(o.poly.center - o.poly.radius),
+                    bounds.1.max(o.poly.center + o.poly.radius),
+                );
+                for k in 0..8 {
+                    let c = DVec3::new(
+                        if k & 1 == 0 { a.x } else { b.x },
+                        if k & 2 == 0 { a.y } else { b.y },
+                        if k & 4 == 0 { a.z } else { b.z },
+                    );
+                    let c = o.tree_point(c);
+                    (lo, hi) = (lo.min(c), hi.max(c));
+                }
+            }
+            let poly = &base.poly;
+            let d = poly.diagnostics;
+            let limit = if d.convex { max_cells } else { max_leaves };
+            // The key names the mesh and the box: a tree shared by other instances (another
+            // union of boxes) is another file.
+            let key = tree_key(poly, lo, hi, limit, d.convex);
+            let tree = tree_cache::load(key, poly).unwrap_or_else(|| {
+                let tree = if d.convex {
+                    SilhouetteBsp::build_convex_limited(poly, lo, hi, max_cells)
+                        .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Convex(t))
+                } else {
+                    let limits = ExactBspLimits {
+                        max_leaves,
+                        ..ExactBspLimits::default()
+                    };
+                    ExactSilhouetteBsp::build(poly, lo, hi, limits)
+                        .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Exact(t))
                 };
-                ExactSilhouetteBsp::build(&o.poly, lo, hi, limits)
-                    .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Exact(t))
-            };
-            tree_cache::store(key, &tree);
-            tree
-        });
-        match tree {
-            CachedTree::Convex(t) if d.convex => o.bsp = Some(t),
-            CachedTree::Exact(t) if !d.convex => o.exact_bsp = Some(t),
-            _ => {}
-        }
-        // A light that is not star-shaped is sampled through triangulated silhouettes.
-        if let (Some(exact), None, true) = (&o.exact_bsp, o.star_centre, lights.contains(&o.object)) {
-            let key = key ^ TRIANGULATION_KEY;
-            let cached = match tree_cache::load(key, &o.poly) {
-                Some(CachedTree::Triangulation(t)) => Some(t),
+                tree_cache::store(key, &tree);
+                tree
+            });
+            // A light that is not star-shaped is sampled through triangulated silhouettes.
+            let is_light = g.iter().any(|m| lights.contains(m));
+            let triangulation = match &tree {
+                CachedTree::Exact(exact) if is_light && base.star_centre.is_none() => {
+                    let key = key ^ TRIANGULATION_KEY;
+                    match tree_cache::load(key, poly) {
+                        Some(CachedTree::Triangulation(t)) => Some(t),
+                        _ => {
+                            let (t, _) = SilhouetteTriangulation::build(
+                                poly,
+                                exact,
+                                TriangulationLimits::default(),
+                            );
+                            tree_cache::store(key, &CachedTree::Triangulation(t.clone()));
+                            Some(t)
+                        }
+                    }
+                }
                 _ => None,
             };
-            let t = cached.unwrap_or_else(|| {
-                let (t, _) =
-                    SilhouetteTriangulation::build(&o.poly, exact, TriangulationLimits::default());
-                tree_cache::store(key, &CachedTree::Triangulation(t.clone()));
-                t
-            });
-            o.triangulation = Some(t);
+            (tree, triangulation)
+        })
+        .collect();
+    for (g, (tree, triangulation)) in groups.iter().zip(trees) {
+        let triangulation = triangulation.map(Arc::new);
+        for &m in g {
+            objects[m as usize].triangulation = triangulation.clone();
         }
-    });
+        let convex = objects[g[0] as usize].poly.diagnostics.convex;
+        let (bsp, exact_bsp) = match tree {
+            CachedTree::Convex(t) if convex => (Some(Arc::new(t)), None),
+            CachedTree::Exact(t) if !convex => (None, Some(Arc::new(t))),
+            _ => (None, None),
+        };
+        for &m in g {
+            objects[m as usize].bsp = bsp.clone();
+            objects[m as usize].exact_bsp = exact_bsp.clone();
+        }
+    }
 }
 
 /// Distinguishes the cache key of a mesh's triangulations from that of its silhouette tree.
 const TRIANGULATION_KEY: u64 = 0x7472_6961_6e67_6c65;
+
+/// `'a', 'b', 'c'`.
+fn quoted_names(objects: &[PreparedObject], group: &[u32]) -> String {
+    let names: Vec<String> = group
+        .iter()
+        .map(|&m| format!("'{}'", objects[m as usize].name))
+        .collect();
+    names.join(", ")
+}
 
 impl PreparedScene {
     pub fn new(scene: &Scene) -> Self {
@@ -133,6 +306,12 @@ impl PreparedScene {
     }
 
     pub fn with_ltc(scene: &Scene, ltc: &'static LtcTable) -> Self {
+        Self::with_options(scene, ltc, true)
+    }
+
+    /// [`PreparedScene::with_ltc`]; with `share_trees` false, instances of one mesh do not
+    /// share a tree: each gets its own, built in its world frame (tests, benchmarks).
+    pub fn with_options(scene: &Scene, ltc: &'static LtcTable, share_trees: bool) -> Self {
         let mut objects = Vec::new();
         let mut lights = Vec::new();
         let mut occluders = Vec::new();
@@ -180,6 +359,8 @@ impl PreparedScene {
                 simple,
                 bsp: None,
                 exact_bsp: None,
+                to_tree: None,
+                hoisted: None,
                 star_centre: None,
                 triangulation: None,
             });
@@ -190,26 +371,39 @@ impl PreparedScene {
                 occluders.push(id);
             }
         }
-        let light_objects: Vec<u32> = lights.iter().map(|&(l, _)| objects[l as usize].object).collect();
+        let tree_groups = instance_groups(&mut objects, share_trees);
+        let light_ids: Vec<u32> = lights.iter().map(|&(l, _)| l).collect();
         build_silhouette_trees(
             &mut objects,
-            &light_objects,
+            &tree_groups,
+            &light_ids,
             scene_box,
             MAX_BSP_CELLS,
             MAX_EXACT_BSP_LEAVES,
         );
-        for o in &objects {
+        for g in &tree_groups {
+            let o = &objects[g[0] as usize];
             let d = &o.poly.diagnostics;
+            let names = quoted_names(&objects, g);
+            let (subject, its) = if g.len() > 1 {
+                (format!("objects {names}"), "their")
+            } else {
+                (format!("object {names}"), "its")
+            };
             if d.convex && o.bsp.is_none() {
                 notes.push(format!(
-                    "object '{}': its face planes cut the scene into more than {MAX_BSP_CELLS} \
-                     cells; its silhouette is computed at each point instead of read from a tree",
-                    o.name
+                    "{subject}: {its} face planes cut the scene into more than {MAX_BSP_CELLS} \
+                     cells; {its} silhouette is computed at each point instead of read from a tree"
                 ));
-            } else if !d.convex && d.closed_manifold && o.exact_bsp.is_none() {
+            } else if !d.convex && o.exact_bsp.is_none() {
                 notes.push(format!(
-                    "object '{}': its tree of precomputed silhouettes would have more than \
-                     {MAX_EXACT_BSP_LEAVES} leaves; its exact silhouette is computed at each point",
+                    "{subject}: {its} tree of precomputed silhouettes would have more than \
+                     {MAX_EXACT_BSP_LEAVES} leaves; {its} exact silhouette is computed at each point"
+                ));
+            } else if g.len() > 1 {
+                notes.push(format!(
+                    "objects {names} are instances of one mesh and share one silhouette tree \
+                     (built in the frame of '{}')",
                     o.name
                 ));
             }
@@ -234,7 +428,7 @@ impl PreparedScene {
             }
         }
         let materials = scene.objects.iter().map(|o| o.material.clone()).collect();
-        PreparedScene {
+        let mut prepared = PreparedScene {
             objects,
             lights,
             occluders,
@@ -243,17 +437,52 @@ impl PreparedScene {
             ltc,
             notes,
             bounds: scene_box,
+            tree_groups,
+        };
+        if std::env::var_os("PENUMBRA_HOISTED_TREES").is_some_and(|v| v == "1") {
+            prepared.use_hoisted_trees();
+        }
+        prepared
+    }
+
+    /// Makes shading read the hoisted form of every tree (001 Sect. 8), one per group of
+    /// instances; a tree that cannot be hoisted (a point starting two edges of one leaf)
+    /// stays leaf-stored, with a note.
+    pub fn use_hoisted_trees(&mut self) {
+        for g in &self.tree_groups {
+            let o = &self.objects[g[0] as usize];
+            let hoisted = match (&o.bsp, &o.exact_bsp) {
+                (Some(t), _) => Some(HoistedSilhouetteBsp::from_convex(t)),
+                (_, Some(t)) => Some(HoistedSilhouetteBsp::from_exact(t)),
+                _ => None,
+            };
+            let hoisted = match hoisted {
+                Some(Ok(h)) => Some(Arc::new(h)),
+                Some(Err(e)) => {
+                    let names = quoted_names(&self.objects, g);
+                    self.notes
+                        .push(format!("{names}: the tree stays leaf-stored: {e}"));
+                    None
+                }
+                None => None,
+            };
+            for &m in g {
+                self.objects[m as usize].hoisted = hoisted.clone();
+            }
         }
     }
 
     /// Builds the trees of precomputed silhouettes again with other size limits (benchmarks).
     pub fn rebuild_silhouette_trees(&mut self, max_cells: usize, max_leaves: usize) {
-        let lights: Vec<u32> = self
-            .lights
-            .iter()
-            .map(|&(l, _)| self.objects[l as usize].object)
-            .collect();
-        build_silhouette_trees(&mut self.objects, &lights, self.bounds, max_cells, max_leaves);
+        let light_ids: Vec<u32> = self.lights.iter().map(|&(l, _)| l).collect();
+        build_silhouette_trees(
+            &mut self.objects,
+            &self.tree_groups,
+            &light_ids,
+            self.bounds,
+            max_cells,
+            max_leaves,
+        );
     }
 
     /// Forgets the trees of precomputed silhouettes: every silhouette is then computed on the
@@ -262,6 +491,7 @@ impl PreparedScene {
         for o in &mut self.objects {
             o.bsp = None;
             o.exact_bsp = None;
+            o.hoisted = None;
             o.triangulation = None;
         }
     }

@@ -312,7 +312,7 @@ impl LightSet {
     /// or a triangle that rounding left not positively oriented).
     fn cell_triangles(&mut self, light: &PreparedObject, x: DVec3, frame: &Frame) -> Option<f64> {
         let cells = light.triangulation.as_ref()?;
-        let tris = cells.triangles(x)?;
+        let tris = cells.triangles(light.tree_point(x))?;
         let LightSetScratch {
             triangle,
             horizon,
