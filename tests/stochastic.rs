@@ -302,5 +302,8 @@ fn light_triangles_cover_what_ray_casting_sees() {
         assert!(checked > 20, "{name}: only {checked} lights checked");
     }
     assert!(star_runs > 20, "only {star_runs} star-shaped fans checked");
-    assert!(cell_runs > 20, "only {cell_runs} precomputed triangulations checked");
+    assert!(
+        cell_runs > 20,
+        "only {cell_runs} precomputed triangulations checked"
+    );
 }

@@ -1,5 +1,5 @@
 //! The disk cache of silhouette trees: a second preparation reads what the first stored and
-//! renders the same image bit for bit; a damaged file (bad JSON, or an index out of range) is
+//! renders the same image bit for bit (trees and triangulations); a damaged file (bad JSON, or an index out of range) is
 //! ignored and the tree rebuilt, never trusted; `PENUMBRA_CACHE_DIR=off` disables it.
 //! (One test: the cache directory is process-wide state.)
 
@@ -24,6 +24,14 @@ fn trees(ctx: &RenderContext) -> usize {
         .count()
 }
 
+fn triangulations(ctx: &RenderContext) -> usize {
+    ctx.prepared
+        .objects
+        .iter()
+        .filter(|o| o.triangulation.is_some())
+        .count()
+}
+
 #[test]
 fn trees_round_trip_through_the_cache_and_damaged_files_are_rebuilt() {
     let dir = std::env::temp_dir().join(format!("penumbra-tree-cache-{}", std::process::id()));
@@ -34,9 +42,15 @@ fn trees_round_trip_through_the_cache_and_damaged_files_are_rebuilt() {
     let scene = scene_file::load_embedded("nonconvex").unwrap();
     let built = RenderContext::new(&scene);
     let files: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().collect();
-    assert_eq!(files.len(), 2, "one file per tree");
+    // Two trees, and the triangulations of the light that is not star-shaped.
+    assert_eq!(
+        files.len(),
+        3,
+        "one file per tree and per set of triangulations"
+    );
     let read = RenderContext::new(&scene);
     assert_eq!(trees(&read), 2);
+    assert_eq!(triangulations(&read), 1);
     assert_eq!(render(&built), render(&read));
 
     // Damage: one file truncated, the other with an index far out of range.
@@ -49,6 +63,7 @@ fn trees_round_trip_through_the_cache_and_damaged_files_are_rebuilt() {
     std::fs::write(&paths[1], damaged).unwrap();
     let rebuilt = RenderContext::new(&scene);
     assert_eq!(trees(&rebuilt), 2);
+    assert_eq!(triangulations(&rebuilt), 1);
     assert_eq!(render(&built), render(&rebuilt));
 
     unsafe { std::env::set_var("PENUMBRA_CACHE_DIR", "off") };

@@ -520,15 +520,13 @@ pub fn polyhedra_markdown(r: &PolyhedraReport) -> String {
             t.build_s / row.build_s.max(1e-9),
         );
     }
-    s += &format!(
-        "\nTriangulated silhouettes (001 Table 7.4), over the same trees: every leaf cell's \
+    s += "\nTriangulated silhouettes (001 Table 7.4), over the same trees: every leaf cell's \
          triangulation is proved for the whole cell (docs/silhouettes.md), the cell split across \
          the plane where a triangle flips when that is needed; leaves left without a proof are \
          sampled by faces. Size at 20 bytes per node and 12 per triangle. The thesis validated \
          each cell at 256 random points.\n\n\
          | polyhedron | time (s) | nodes | leaves | triangles | size (kB) | cells split | unproved leaves | unproved volume | triangles with optional vertices | thesis time (s) | thesis nodes | thesis triangles | thesis size (kB) |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
-    );
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for row in &r.rows {
         let Some(t) = &row.triangulation else {
             continue;

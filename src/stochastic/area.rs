@@ -31,7 +31,9 @@ impl AreaLights {
                     .objects
                     .iter()
                     .find(|p| p.object == l.object)
-                    .is_some_and(|p| !matches!(light_shape(p), LightShape::Convex | LightShape::Flat))
+                    .is_some_and(|p| {
+                        !matches!(light_shape(p), LightShape::Convex | LightShape::Flat)
+                    })
             })
             .collect();
         AreaLights {
