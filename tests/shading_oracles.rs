@@ -249,3 +249,44 @@ fn glossy_shading_points_match_ray_casting_within_the_ltc_fit_error() {
         }
     }
 }
+
+/// The unshadowed U of a non-convex light (its exact silhouette, from its tree) against the
+/// per-triangle method of 000 Sect. 4.4 in the same scene with every other occluder removed: a
+/// second algorithm for the same integral (the light still hides itself in both).
+#[test]
+fn unshadowed_non_convex_lights_equal_per_triangle_without_occluders() {
+    let scenes = ["nonconvex", "corner", "extruded_cube", "hole", "bowl"].map(|name| {
+        let scene = match name {
+            "nonconvex" => scene_file::load_embedded(name).unwrap(),
+            _ => penumbra::bench::polyhedra::light_scene(name).unwrap(),
+        };
+        (name, scene)
+    });
+    for (name, scene) in scenes {
+        let mut alone = scene.clone();
+        for o in &mut alone.objects {
+            if !(o.flags.light && o.material.is_emissive()) {
+                o.flags.occluder = false;
+            }
+        }
+        let ctx = RenderContext::new(&scene);
+        let ctx_alone = RenderContext::new(&alone);
+        let mut scratch = ShadingScratch::default();
+        let mut worst: f64 = 0.0;
+        let mut checked = 0;
+        for sp in points(&ctx, 200, 11) {
+            let a = shade_at(&ctx, &sp, Method::Unshadowed, &mut scratch);
+            let b = shade_at(&ctx_alone, &sp, Method::PerTriangle, &mut scratch);
+            let d = (a - b).abs().max_element() / a.max_element().max(1e-3);
+            worst = worst.max(d);
+            checked += 1;
+            assert!(
+                d < 1e-7,
+                "{name}: {:?}: unshadowed {a} vs per-triangle {b}",
+                sp.position
+            );
+        }
+        assert!(checked > 100);
+        eprintln!("{name}: worst relative difference {worst:.2e}");
+    }
+}

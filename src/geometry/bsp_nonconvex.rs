@@ -432,23 +432,7 @@ impl Builder<'_> {
         let valid = ok && self.validate(&cell);
         if !valid && validation_depth < self.limits.max_validation_depth && !self.failed {
             self.stats.validation_splits += 1;
-            let (lo, hi) = cell
-                .vertices()
-                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-                    (lo.min(p), hi.max(p))
-                });
-            let ext = hi - lo;
-            let axis = if ext.x >= ext.y && ext.x >= ext.z {
-                DVec3::X
-            } else if ext.y >= ext.z {
-                DVec3::Y
-            } else {
-                DVec3::Z
-            };
-            let plane = Plane {
-                n: axis,
-                d: axis.dot(c),
-            };
+            let plane = cell.longest_axis_plane(c);
             return self.split(&cell, plane, depth, |b, c, d| {
                 b.leaf(c, d, validation_depth + 1)
             });

@@ -787,11 +787,7 @@ fn prove_sign(
     cell: &ConvexCell,
     depth: u32,
 ) -> bool {
-    let (lo, hi) = cell
-        .vertices()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(p), hi.max(p))
-        });
+    let (lo, hi) = cell.bounds();
     if lo.x > hi.x {
         return true; // empty: nothing to prove
     }
@@ -819,19 +815,8 @@ fn prove_sign(
     if depth == 0 || upper < 0.0 {
         return false;
     }
-    let ext = hi - lo;
-    let axis = if ext.x >= ext.y && ext.x >= ext.z {
-        DVec3::X
-    } else if ext.y >= ext.z {
-        DVec3::Y
-    } else {
-        DVec3::Z
-    };
-    let plane = Plane {
-        n: axis,
-        d: axis.dot(m),
-    };
-    let split_tol = 1e-12 * (poly.radius + ext.length());
+    let plane = cell.longest_axis_plane(m);
+    let split_tol = 1e-12 * (poly.radius + (hi - lo).length());
     let (back, front) = cell.split(&plane, split_tol);
     [back, front].iter().all(|half| {
         half.is_empty() || prove_sign(poly, groups, coefficients_only, want_sign, half, depth - 1)
@@ -1031,25 +1016,7 @@ impl Builder<'_> {
             }
             _ => None,
         };
-        let plane = flip.unwrap_or_else(|| {
-            let (lo, hi) = cell
-                .vertices()
-                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-                    (lo.min(p), hi.max(p))
-                });
-            let ext = hi - lo;
-            let axis = if ext.x >= ext.y && ext.x >= ext.z {
-                DVec3::X
-            } else if ext.y >= ext.z {
-                DVec3::Y
-            } else {
-                DVec3::Z
-            };
-            Plane {
-                n: axis,
-                d: axis.dot(cell.centroid()),
-            }
-        });
+        let plane = flip.unwrap_or_else(|| cell.longest_axis_plane(cell.centroid()));
         let me = self.out.nodes.len() as u32;
         self.out.nodes.push(BspNode::Leaf { first: 0, count: 0 });
         self.out.planes.push(plane);

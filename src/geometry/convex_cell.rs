@@ -62,6 +62,32 @@ impl ConvexCell {
         if n == 0 { DVec3::ZERO } else { sum / n as f64 }
     }
 
+    /// The axis-aligned bounding box (lo > hi for an empty cell).
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        self.vertices()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p), hi.max(p))
+            })
+    }
+
+    /// The plane through `p` across the longest side of the bounding box (a bisector when `p`
+    /// is central): how cells are split where no plane of the problem is at hand.
+    pub fn longest_axis_plane(&self, p: DVec3) -> Plane {
+        let (lo, hi) = self.bounds();
+        let ext = hi - lo;
+        let axis = if ext.x >= ext.y && ext.x >= ext.z {
+            DVec3::X
+        } else if ext.y >= ext.z {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        };
+        Plane {
+            n: axis,
+            d: axis.dot(p),
+        }
+    }
+
     /// Enclosed volume (divergence theorem over the faces, fanned from the centroid).
     pub fn volume(&self) -> f64 {
         let c = self.centroid();

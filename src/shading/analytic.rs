@@ -354,11 +354,14 @@ fn record_exact<R: Recorder>(
 }
 
 /// Whether a non-convex mesh is taken whole, through its exact silhouette: closed meshes under
-/// the analytic method, except at points on the mesh itself (whose own face lies in the
-/// tangent plane there; the face-by-face path skips it exactly).
+/// the analytic method and its unshadowed U (a light hides itself in both), except at points
+/// on the mesh itself (whose own face lies in the tangent plane there; the face-by-face path
+/// skips it exactly).
 #[inline]
 fn uses_exact_silhouette(obj: &PreparedObject, method: Method, on_it: bool) -> bool {
-    method == Method::Analytic && !on_it && obj.poly.diagnostics.closed_manifold
+    matches!(method, Method::Analytic | Method::Unshadowed)
+        && !on_it
+        && obj.poly.diagnostics.closed_manifold
 }
 
 /// Hands the contour edges of `poly` seen from `x` (the predicate the silhouette stage chains
