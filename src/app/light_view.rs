@@ -167,14 +167,17 @@ impl LightView {
             )
         };
 
-        // The tree, under the mesh: planes, then the leaf's cell.
+        // The tree, under the mesh: planes, then the leaf's cell. An instance reads a tree
+        // shared in another member's frame: look the point up there and draw back in ours.
         let tol = 1e-9 * poly.radius.max(1e-12);
+        let from_tree = obj.to_tree.map(|m| m.inverse());
+        let world = |p: DVec3| from_tree.map_or(p, |m| m.transform_point3(p));
         let mut depth_labels = Vec::new();
         if let Some(t) = &tree {
             let (_, _, max_depth) = bsp_size(t.nodes);
             let draw_section = |s: &PlaneSection, fill: u8, width: f32| {
                 let col = depth_colour(s.depth, max_depth);
-                let pts: Vec<Pos2> = s.polygon.iter().map(|&p| project(p)).collect();
+                let pts: Vec<Pos2> = s.polygon.iter().map(|&p| project(world(p))).collect();
                 painter.add(Shape::convex_polygon(
                     pts.clone(),
                     col.gamma_multiply_u8(fill),
@@ -190,20 +193,20 @@ impl LightView {
                 self.drawn.level_planes = sections.len();
             }
             if let Some(x) = point
-                && let Some(path) = bsp_path(t.nodes, t.planes, x)
+                && let Some(path) = bsp_path(t.nodes, t.planes, obj.tree_point(x))
             {
                 if self.path_planes {
                     let sections = path_sections(&path, t.lo, t.hi, tol);
                     for s in &sections {
                         draw_section(s, 30, 1.3);
                         let mid = s.polygon.iter().sum::<DVec3>() / s.polygon.len() as f64;
-                        depth_labels.push((project(mid), s.depth, max_depth));
+                        depth_labels.push((project(world(mid)), s.depth, max_depth));
                     }
                     self.drawn.path_planes = sections.len();
                 }
                 let cell = bsp_cell(&path, t.lo, t.hi, tol);
                 for f in &cell.faces {
-                    let pts: Vec<Pos2> = f.iter().map(|&p| project(p)).collect();
+                    let pts: Vec<Pos2> = f.iter().map(|&p| project(world(p))).collect();
                     painter.add(Shape::convex_polygon(
                         pts.clone(),
                         CELL.gamma_multiply_u8(28),
