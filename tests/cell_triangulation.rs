@@ -66,9 +66,8 @@ fn triangulations_cover_the_silhouette_exactly_once_in_every_cell() {
     let mut scratch = ExactSilhouetteScratch::default();
     let mut rng = Pcg32::new(17, 3);
     for row in TABLE_7_1.iter().filter(|r| !r.convex) {
-        if row.name == "extruded_cube" {
-            continue; // its 23k cells: measured by the benchmark, sampled in the next test
-        }
+        // The extruded cube has some 60k cells: two points each.
+        let per_cell = if row.name == "extruded_cube" { 2 } else { 8 };
         let poly = polyhedron(row.name);
         let mesh: Vec<[DVec3; 3]> = poly.fan_triangles().map(|(_, t)| t).collect();
         let r = 4.0 * poly.radius;
@@ -90,7 +89,7 @@ fn triangulations_cover_the_silhouette_exactly_once_in_every_cell() {
             cells += 1;
             let corners: Vec<DVec3> = cell.vertices().collect();
             let tris = &tri.tris[first as usize..(first + count) as usize];
-            for _ in 0..8 {
+            for _ in 0..per_cell {
                 let x = point_in(&corners, &mut rng);
                 if is_inside(&mesh, x)
                     || exact_silhouette(&poly, x, &frame, &mut sph, &mut scratch).is_err()
@@ -167,7 +166,11 @@ fn triangulations_cover_the_silhouette_exactly_once_in_every_cell() {
             "{}: {cells} cells, {points} points, {directions} directions",
             row.name
         );
-        assert!(points > 4 * cells, "{}: too few points checked", row.name);
+        assert!(
+            points > per_cell / 2 * cells,
+            "{}: too few points checked",
+            row.name
+        );
         // Leaves without a proved triangulation are sampled by faces; they must stay rare.
         assert!(
             stats.unproved_volume_fraction < 0.01,

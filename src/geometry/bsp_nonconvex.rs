@@ -73,6 +73,9 @@ pub struct ExactBspLimits {
     pub max_leaves: usize,
     /// Depth of the splits made for validation, below a cell of the mesh's own planes.
     pub max_validation_depth: u32,
+    /// Corners of a cell at which its leaf is validated ([`VALIDATION_CORNERS`]; 0 builds the
+    /// tree as the thesis does, without validation: for comparing build times only).
+    pub validation_corners: usize,
 }
 
 impl Default for ExactBspLimits {
@@ -80,6 +83,7 @@ impl Default for ExactBspLimits {
         ExactBspLimits {
             max_leaves: 200_000,
             max_validation_depth: 6,
+            validation_corners: VALIDATION_CORNERS,
         }
     }
 }
@@ -480,7 +484,7 @@ impl Builder<'_> {
         let mut from_leaf = SphericalPolygon::new();
         // A few corners suffice to catch a structure that changes inside the cell (the
         // validation's cost bounds the build's).
-        for p in corners.into_iter().take(VALIDATION_CORNERS) {
+        for p in corners.into_iter().take(self.limits.validation_corners) {
             let q = c + (p - c) * 0.9;
             if exact_silhouette(self.poly, q, &frame, &mut self.sph, &mut self.scratch).is_err() {
                 continue;

@@ -46,8 +46,6 @@ struct ContourEdge {
     b: DVec3,
     /// Unit normal of the arc's great circle, a × b normalised.
     n: DVec3,
-    /// Arc length.
-    len: f64,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -120,7 +118,6 @@ pub fn exact_silhouette(
         let a = (poly.vertices[i as usize] - x).normalize();
         let b = (poly.vertices[j as usize] - x).normalize();
         let c = a.cross(b);
-        let len = c.length().atan2(a.dot(b));
         let Some(n) = c.try_normalize() else {
             // An edge seen end-on: zero length, no area; it cannot bound anything.
             continue;
@@ -131,7 +128,6 @@ pub fn exact_silhouette(
             a,
             b,
             n,
-            len,
         });
     }
     stats.contour_edges = scratch.edges.len() as u32;
@@ -154,16 +150,17 @@ pub fn exact_silhouette(
             if p.dot(e.a + e.b) < 0.0 {
                 p = -p;
             }
-            let (te, tg) = (arc_parameter(e, p), arc_parameter(g, p));
-            let strictly = |t: f64, len: f64| t > END_TOLERANCE && t < len - END_TOLERANCE;
-            let near = |t: f64, len: f64| t > -END_TOLERANCE && t < len + END_TOLERANCE;
-            if strictly(te, e.len) && strictly(tg, g.len) {
+            // Where p lies on each arc, from the sines of its angles to the two ends (no
+            // atan2 for the many pairs that do not cross).
+            let (ie, ig) = (arc_position(e, p), arc_position(g, p));
+            if ie == ArcPosition::Inside && ig == ArcPosition::Inside {
+                let (te, tg) = (arc_parameter(e, p), arc_parameter(g, p));
                 let id = scratch.crossings.len() as u32;
                 scratch.crossings.push(p);
                 scratch.crossing_edges.push((i as u32, j as u32));
                 scratch.cuts.push((i as u32, te, id));
                 scratch.cuts.push((j as u32, tg, id));
-            } else if near(te, e.len) && near(tg, g.len) {
+            } else if ie != ArcPosition::Outside && ig != ArcPosition::Outside {
                 return Err(Degenerate::CrossingAtEnd);
             }
         }
@@ -345,6 +342,40 @@ fn arc_parameter(e: &ContourEdge, p: DVec3) -> f64 {
     e.a.cross(p).dot(e.n).atan2(e.a.dot(p))
 }
 
+/// Where a direction on an arc's great circle lies relative to the arc.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum ArcPosition {
+    /// More than [`END_TOLERANCE`] inside both ends.
+    Inside,
+    /// Within [`END_TOLERANCE`] of an end (inside or out).
+    AtEnd,
+    Outside,
+}
+
+/// The position of `p` (on the arc's great circle, on the side of the arc's midpoint) on the
+/// arc: the signed angles θ from the start and len − θ to the end are read from their sines,
+/// which equal the angles to first order where the tolerance applies; an angle past π/2 (cosine
+/// negative) is far from that end whatever its sine.
+#[inline]
+fn arc_position(e: &ContourEdge, p: DVec3) -> ArcPosition {
+    let from_start = (e.a.cross(p).dot(e.n), e.a.dot(p));
+    let to_end = (p.cross(e.b).dot(e.n), p.dot(e.b));
+    let side = |(sin, cos): (f64, f64)| {
+        if sin > END_TOLERANCE || (sin > 0.0 && cos < 0.0) {
+            ArcPosition::Inside
+        } else if sin > -END_TOLERANCE && cos > 0.0 {
+            ArcPosition::AtEnd
+        } else {
+            ArcPosition::Outside
+        }
+    };
+    match (side(from_start), side(to_end)) {
+        (ArcPosition::Inside, ArcPosition::Inside) => ArcPosition::Inside,
+        (ArcPosition::Outside, _) | (_, ArcPosition::Outside) => ArcPosition::Outside,
+        _ => ArcPosition::AtEnd,
+    }
+}
+
 /// Does the ray from `x` along `dir` meet a face of `poly` other than `skip`, the two faces of
 /// the piece's edge? Hits before and beyond the edge both count: a piece with part of the mesh
 /// in front of it or directly behind it separates nothing from the background.
@@ -355,6 +386,12 @@ fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2]) -> bool {
     // builds (`Polyhedron::fan_triangles` measured 20 % slower here).
     for f in 0..poly.face_count() {
         if skip.contains(&(f as u32)) {
+            continue;
+        }
+        // The ray meets the face's plane ahead of x only when it heads toward that plane (x
+        // is never in a face plane here: the caller returned `CoplanarFace`).
+        let plane = &poly.face_planes[f];
+        if plane.eval(x) * plane.n.dot(dir) >= 0.0 {
             continue;
         }
         let idx = poly.face(f);
