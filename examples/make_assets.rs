@@ -10,8 +10,8 @@
 use glam::{DAffine3, DVec3};
 use penumbra::scene::scene_file::load_scene;
 use penumbra::scene::shapes::{
-    capped_icosahedron, cuboid, cylinder, icosphere, l_shape, quad, truncated_cone, u_shape,
-    uv_ellipsoid,
+    capped_icosahedron, cuboid, cylinder, icosphere, l_shape, quad, t_shape, truncated_cone,
+    u_shape, uv_ellipsoid,
 };
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use penumbra::scene::{Camera, Mesh};
@@ -320,6 +320,59 @@ fn polyhedra_scene() -> SceneDef {
     }
 }
 
+/// Neon letters "LTC" (001's non-convex lights as a sign): an L and a T (star-shaped: sampled
+/// by fans of their exact silhouettes) and a C (a U turned to open to +x: not star-shaped,
+/// sampled by its precomputed per-cell triangulations), 0.6 m tall, 8 cm deep, standing 0.35 m
+/// above a glossy floor and turned a little toward the camera, with a post and a crossbar in
+/// front casting shadows.
+fn letters_scene() -> SceneDef {
+    let (h, w, t, d) = (0.6, 0.42, 0.1, 0.08);
+    let place = |mesh: Mesh, x: f64| {
+        mesh.transformed(
+            &(DAffine3::from_translation(DVec3::new(x, 0.35 + 0.5 * h, -0.4))
+                * DAffine3::from_rotation_y(0.12 * x)),
+        )
+    };
+    let c_shape = u_shape(DVec3::ZERO, h, w, t, d)
+        .transformed(&DAffine3::from_rotation_z(-90f64.to_radians()));
+    let objects = vec![
+        floor(&glossy("floor", [0.5, 0.5, 0.55], 0.05, 0.5)),
+        object(
+            "letter_l",
+            place(l_shape(DVec3::ZERO, w, h, t, d), -0.6),
+            &emitter("neon_pink", [1.0, 0.3, 0.6], 1.0 / 3.0),
+        ),
+        object(
+            "letter_t",
+            place(t_shape(DVec3::ZERO, w, h, t, d), 0.0),
+            &emitter("neon_cyan", [0.3, 0.9, 1.0], 1.0 / 3.0),
+        ),
+        object(
+            "letter_c",
+            place(c_shape, 0.6),
+            &emitter("neon_yellow", [1.0, 0.85, 0.3], 1.0 / 3.0),
+        ),
+        object(
+            "post",
+            cuboid(DVec3::new(-0.25, 0.3, 0.05), DVec3::new(0.04, 0.3, 0.04)),
+            &diffuse("post", [0.45, 0.45, 0.5]),
+        ),
+        object(
+            "crossbar",
+            cuboid(DVec3::new(0.25, 0.22, 0.1), DVec3::new(0.35, 0.025, 0.04)),
+            &diffuse("crossbar", [0.45, 0.45, 0.5]),
+        ),
+    ];
+    SceneDef {
+        name: "letters",
+        description: "Neon letters LTC: non-convex lights (an L and a T, star-shaped, and a C,                       not star-shaped) over a glossy floor, with a post and a crossbar casting                       shadows.",
+        camera: camera([0.3, 1.3, 2.4], [0.0, 0.45, -0.2], 45.0),
+        calibration_point: DVec3::new(0.0, 0.0, 0.3),
+        target: 1.0,
+        objects,
+    }
+}
+
 /// Snaps values within 1e-12 of a multiple of 1e-9 onto it (0.47000000000000003 -> 0.47,
 /// 6e-17 -> 0), so the files are readable; the shapes move by less than 1e-12.
 fn clean(v: f64) -> f64 {
@@ -449,6 +502,7 @@ fn main() -> anyhow::Result<()> {
         chair_scene(),
         nonconvex_scene(),
         polyhedra_scene(),
+        letters_scene(),
     ] {
         write_scene(&dir, &def)?;
         // Read the files back through the loader and report.

@@ -40,7 +40,8 @@ fn every_embedded_scene_loads_cleanly_and_matches_the_files() {
             "chair",
             "nonconvex",
             "polyhedra",
-            "instances"
+            "instances",
+            "letters"
         ]
     );
     for &name in embedded_scene_names() {

@@ -219,9 +219,19 @@ fn estimators_converge_to_the_analytic_result_like_one_over_sqrt_n() {
 #[test]
 fn light_triangles_cover_what_ray_casting_sees() {
     let (mut star_runs, mut cell_runs) = (0, 0);
-    for name in ["fig4", "nonconvex", "default", "polyhedra"] {
+    for name in ["fig4", "nonconvex", "default", "polyhedra", "letters"] {
         let scene: Scene = scene_file::load_embedded(name).unwrap();
         let ctx = RenderContext::new(&scene);
+        if name == "letters" {
+            // L and T are star-shaped (fans), the C is not (per-cell triangulations).
+            let shape = |n: &str| {
+                let o = ctx.prepared.objects.iter().find(|o| o.name == n).unwrap();
+                (o.star_centre.is_some(), o.triangulation.is_some())
+            };
+            assert_eq!(shape("letter_l"), (true, false));
+            assert_eq!(shape("letter_t"), (true, false));
+            assert_eq!(shape("letter_c"), (false, true));
+        }
         let cam = scene.camera.unwrap();
         let basis = cam.basis().unwrap();
         let mut rng = Pcg32::new(5, 5);

@@ -79,6 +79,18 @@ const EMBEDDED_FILES: &[(&str, &str)] = &[
         "instances.toml",
         include_str!("../../assets/scenes/instances.toml"),
     ),
+    (
+        "letters.toml",
+        include_str!("../../assets/scenes/letters.toml"),
+    ),
+    (
+        "letters.obj",
+        include_str!("../../assets/scenes/letters.obj"),
+    ),
+    (
+        "letters.mtl",
+        include_str!("../../assets/scenes/letters.mtl"),
+    ),
 ];
 
 const EMBEDDED_SCENES: &[&str] = &[
@@ -88,6 +100,7 @@ const EMBEDDED_SCENES: &[&str] = &[
     "nonconvex",
     "polyhedra",
     "instances",
+    "letters",
 ];
 
 /// Names of the scenes compiled into the binary (`load_embedded` takes these).

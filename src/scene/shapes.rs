@@ -637,6 +637,36 @@ pub fn u_shape(center: DVec3, width: f64, height: f64, thickness: f64, depth: f6
     prism(&outline, &pieces, depth).translated(finite_vec(center) - DVec3::new(w, h, 0.0) / 2.0)
 }
 
+/// Non-convex T-shaped prism (closed, outward CCW, 20 vertices, all faces convex): the T lies
+/// in the xy plane (a `width`-wide bar at the top, a stem down the middle, both `thickness`
+/// thick, `height` tall in all), extruded `depth` along z; `center` is its bounding-box centre.
+/// The top edge carries the stem's two corners too, so that the bar splits into three
+/// rectangles that share whole edges. `thickness` is clamped below `min(width, height)`.
+pub fn t_shape(center: DVec3, width: f64, height: f64, thickness: f64, depth: f64) -> Mesh {
+    let (w, h) = (size(width), size(height));
+    let t = size(thickness).min(0.999 * w.min(h));
+    let a = 0.5 * (w - t);
+    let outline = [
+        DVec2::new(a, 0.0),
+        DVec2::new(a + t, 0.0),
+        DVec2::new(a + t, h - t),
+        DVec2::new(w, h - t),
+        DVec2::new(w, h),
+        DVec2::new(a + t, h),
+        DVec2::new(a, h),
+        DVec2::new(0.0, h),
+        DVec2::new(0.0, h - t),
+        DVec2::new(a, h - t),
+    ];
+    let pieces = [
+        vec![0, 1, 2, 9],
+        vec![2, 3, 4, 5],
+        vec![9, 2, 5, 6],
+        vec![8, 9, 6, 7],
+    ];
+    prism(&outline, &pieces, depth).translated(finite_vec(center) - DVec3::new(w, h, 0.0) / 2.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -692,6 +722,7 @@ mod tests {
             ("ellipsoid min", uv_ellipsoid(c, DVec3::ONE, 0, 0), true),
             ("l_shape", l_shape(c, 1.0, 1.5, 0.3, 0.5), false),
             ("u_shape", u_shape(c, 1.5, 1.0, 0.3, 0.2), false),
+            ("t_shape", t_shape(c, 1.2, 1.5, 0.3, 0.2), false),
         ];
         for (name, m, convex) in &shapes {
             check_closed_convex(name, m, *convex);
@@ -719,6 +750,7 @@ mod tests {
         );
         assert_eq!(l_shape(DVec3::ZERO, 1.0, 1.0, 0.2, 1.0).vertex_count(), 12);
         assert_eq!(u_shape(DVec3::ZERO, 1.0, 1.0, 0.2, 1.0).vertex_count(), 16);
+        assert_eq!(t_shape(DVec3::ZERO, 1.0, 1.0, 0.2, 1.0).vertex_count(), 20);
     }
 
     #[test]
