@@ -17,24 +17,27 @@
 //!
 //! * a triangle of three mesh vertices A, B, C has orientation det(A−x, B−x, C−x), an *affine*
 //!   function of the point x: positive at the cell's corners means positive in the cell;
-//! * a corner that is an apparent intersection of edges a₁a₂ and b₁b₂ (Eq. 4.4) has, up to a
-//!   positive factor, the direction u(x) = sign(α)(α(x)(a₂−x) − β(x)(a₁−x)), with the affine
-//!   α(x) = det(a₁−x, b₁−x, b₂−x) and β(x) = det(a₂−x, b₁−x, b₂−x) (the point of edge a on the
-//!   plane through x and edge b). The orientation is then a polynomial in x, bounded over the
-//!   cell by interval arithmetic on its bounding box, the cell bisected until the bound is
-//!   positive ([`TriangulationLimits::max_proof_depth`]).
+//! * a corner that is an apparent intersection of edges a₁a₂ and b₁b₂ (Eq. 4.4) has the
+//!   direction sign(γ)(α(x)(a₂−x) − β(x)(a₁−x)), with the affine α(x) = det(a₁−x, b₁−x, b₂−x),
+//!   β(x) = det(a₂−x, b₁−x, b₂−x) and γ = α − β (the point of edge a on the plane through x
+//!   and edge b). Expanded by multilinearity, the orientation is a sum of products of affine
+//!   dets ([`triangle_keeps_orientation`]): a single product is decided exactly by the signs
+//!   of its factors at the cell's corners; otherwise the cubic is bounded about the centre of
+//!   the cell's bounding box term by term, the cell bisected until the bound is positive
+//!   ([`TriangulationLimits::max_proof_depth`]).
 //!
-//! Where no triangulation of the cell's silhouette can be proved, the cell is split and each
-//! half triangulated again; what is still unproved at the depth limit is marked, and the
-//! sampler takes the faces there (always correct, only slower). The proof assumes the leaf's
-//! silhouette itself is right; that is validated at the corners of its cell by the tree build
+//! Where no triangulation of the cell's silhouette can be proved, the cell is split (across
+//! the plane where a triangle flips, when the factors name one) and each half triangulated
+//! again; what is still unproved at the depth limit is marked, and the sampler takes the faces
+//! there (always correct, only slower). The proof assumes the leaf's silhouette itself is
+//! right; that is validated at the corners of its cell by the tree build
 //! ([`super::bsp_nonconvex`]).
 //!
 //! The triangulation of a silhouette at a point (001 Sect. 6.2.1–6.2.2) bridges holes into
-//! their outer loop and clips ears, choosing among the possible ears the one whose orientation
-//! stays largest over the cell (so that the proof is likely to succeed); when no ear exists
-//! (silhouettes larger than a hemisphere, 001 Fig. 6.3) it brings in *optional vertices*: the
-//! ends of the mesh's concave edges, as the thesis does.
+//! their outer loop and takes, by dynamic programming, the triangulation whose smallest
+//! orientation over the cell's samples is largest (so that the proof is likely to succeed);
+//! when a loop has none (silhouettes larger than a hemisphere, 001 Fig. 6.3) it clips ears
+//! with *optional vertices*: the ends of the mesh's concave edges, as the thesis does.
 
 use super::bsp::BspNode;
 use super::bsp_nonconvex::{ExactSilhouetteBsp, ON_THE_FLY};
