@@ -284,25 +284,17 @@ impl LightSet {
         let mut total = 0.0;
         for k in 0..lp.len() {
             let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
-            let o = orient(c, a, b);
-            if o < 0.0 {
-                return None;
+            if let Some(part) = clip_triangle([c, a, b], triangle, clipped, horizon)? {
+                total += push_fans(
+                    part,
+                    SILHOUETTE,
+                    &mut self.tris,
+                    &mut self.corners,
+                    &mut self.faces,
+                    &mut self.cdf,
+                    total,
+                );
             }
-            if o == 0.0 {
-                continue;
-            }
-            triangle.clear();
-            triangle.push_loop([c, a, b]);
-            clip_to_horizon(triangle, clipped, horizon);
-            total += push_fans(
-                clipped,
-                SILHOUETTE,
-                &mut self.tris,
-                &mut self.corners,
-                &mut self.faces,
-                &mut self.cdf,
-                total,
-            );
         }
         Some(total)
     }
@@ -325,25 +317,18 @@ impl LightSet {
             for (dk, &p) in d.iter_mut().zip(t) {
                 *dk = frame.to_local(SilhouettePoint::unpack(p).direction(&light.poly, x)?);
             }
-            let o = orient(d[0], d[1], d[2]);
-            if o < 0.0 {
-                return None;
+            // A triangle degenerate on the cell's boundary has no area.
+            if let Some(part) = clip_triangle(d, triangle, clipped, horizon)? {
+                total += push_fans(
+                    part,
+                    SILHOUETTE,
+                    &mut self.tris,
+                    &mut self.corners,
+                    &mut self.faces,
+                    &mut self.cdf,
+                    total,
+                );
             }
-            if o == 0.0 {
-                continue; // degenerate on the cell's boundary: no area
-            }
-            triangle.clear();
-            triangle.push_loop(d);
-            clip_to_horizon(triangle, clipped, horizon);
-            total += push_fans(
-                clipped,
-                SILHOUETTE,
-                &mut self.tris,
-                &mut self.corners,
-                &mut self.faces,
-                &mut self.cdf,
-                total,
-            );
         }
         Some(total)
     }
@@ -392,6 +377,28 @@ impl LightSet {
             orient(a, b, w) >= 0.0 && orient(b, c, w) >= 0.0 && orient(c, a, w) >= 0.0
         })
     }
+}
+
+/// The part of triangle `d` above the horizon, in `clipped`: `Some(None)` for a degenerate
+/// triangle (no area), `None` for one that is not positively oriented (the caller's
+/// triangulation does not hold at this point).
+fn clip_triangle<'a>(
+    d: [DVec3; 3],
+    triangle: &mut SphericalPolygon,
+    clipped: &'a mut SphericalPolygon,
+    horizon: &mut HorizonScratch,
+) -> Option<Option<&'a SphericalPolygon>> {
+    let o = orient(d[0], d[1], d[2]);
+    if o < 0.0 {
+        return None;
+    }
+    if o == 0.0 {
+        return Some(None);
+    }
+    triangle.clear();
+    triangle.push_loop(d);
+    clip_to_horizon(triangle, clipped, horizon);
+    Some(Some(clipped))
 }
 
 /// Appends the fan of every loop of `poly` (convex loops, positively oriented) and returns
