@@ -226,22 +226,30 @@ fn convex_silhouette(
     out: &mut SphericalPolygon,
     scratch: &mut SilhouetteScratch,
 ) {
-    let from_tree = match &obj.hoisted {
-        Some(h) => h.silhouette_at(
-            &obj.poly,
-            x,
-            obj.tree_point(x),
-            frame,
-            out,
-            &mut scratch.hoisted,
-        ),
-        None => obj
-            .bsp
-            .as_ref()
-            .is_some_and(|t| t.silhouette_at(&obj.poly, x, obj.tree_point(x), frame, out)),
-    };
-    if !from_tree {
+    if !silhouette_from_tree(obj, x, frame, out, &mut scratch.hoisted) {
         silhouette(&obj.poly, x, frame, sidedness, out, scratch);
+    }
+}
+
+/// The silhouette of `obj` from `x` read from its tree (the hoisted form when present), looked
+/// up at the point in the tree's frame; `false` without a tree, outside its box, or in a leaf
+/// left to the on-the-fly path.
+#[inline]
+fn silhouette_from_tree(
+    obj: &PreparedObject,
+    x: DVec3,
+    frame: &Frame,
+    out: &mut SphericalPolygon,
+    hoisted_buf: &mut Vec<[u32; 2]>,
+) -> bool {
+    let tree_x = obj.tree_point(x);
+    if let Some(h) = &obj.hoisted {
+        return h.silhouette_at(&obj.poly, x, tree_x, frame, out, hoisted_buf);
+    }
+    match (&obj.bsp, &obj.exact_bsp) {
+        (Some(t), _) => t.silhouette_at(&obj.poly, x, tree_x, frame, out),
+        (None, Some(t)) => t.silhouette_at(&obj.poly, x, tree_x, frame, out),
+        (None, None) => false,
     }
 }
 
@@ -267,21 +275,7 @@ fn nonconvex_silhouette_from(
     out: &mut SphericalPolygon,
     scratch: &mut ExactSilhouetteScratch,
 ) -> Option<bool> {
-    let from_tree = match &obj.hoisted {
-        Some(h) => h.silhouette_at(
-            &obj.poly,
-            x,
-            obj.tree_point(x),
-            frame,
-            out,
-            &mut scratch.hoisted,
-        ),
-        None => obj
-            .exact_bsp
-            .as_ref()
-            .is_some_and(|t| t.silhouette_at(&obj.poly, x, obj.tree_point(x), frame, out)),
-    };
-    if from_tree {
+    if silhouette_from_tree(obj, x, frame, out, &mut scratch.hoisted) {
         return Some(true);
     }
     exact_silhouette(&obj.poly, x, frame, out, scratch)
