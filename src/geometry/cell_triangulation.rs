@@ -22,8 +22,8 @@
 //!   β(x) = det(a₂−x, b₁−x, b₂−x) and γ = α − β (the point of edge a on the plane through x
 //!   and edge b). Expanded by multilinearity, the orientation is a sum of products of affine
 //!   dets ([`triangle_keeps_orientation`]): a single product is decided exactly by the signs
-//!   of its factors at the cell's corners; otherwise the cubic is bounded about the centre of
-//!   the cell's bounding box term by term, the cell bisected until the bound is positive
+//!   of its factors at the cell's corners; otherwise the polynomial is bounded about the centre
+//!   of the cell's bounding box term by term, the cell bisected until the bound is positive
 //!   ([`TriangulationLimits::max_proof_depth`]).
 //!
 //! Where no triangulation of the cell's silhouette can be proved, the cell is split (across
@@ -477,89 +477,80 @@ struct Group {
     coefficients: Vec<Coefficient>,
 }
 
-/// A polynomial of degree ≤ 3 in δ = x − m (three variables), by its 20 coefficients.
+/// Highest total degree of [`Polynomial`]: a term has up to three affine factors (one per
+/// crossing corner) times the affine det of its vertex triple.
+const MAX_DEGREE: usize = 4;
+
+/// A polynomial in δ = x − m (three variables) of total degree ≤ [`MAX_DEGREE`], dense by
+/// exponents: `c[i][j][k]` multiplies δₓⁱ δᵧʲ δ_zᵏ.
 #[derive(Clone, Copy, Debug)]
-struct Cubic {
-    c: [f64; 20],
+struct Polynomial {
+    c: [[[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1]; MAX_DEGREE + 1],
 }
 
-/// The exponents of the monomials of [`Cubic`], by index.
-const MONOMIALS: [[u8; 3]; 20] = [
-    [0, 0, 0],
-    [1, 0, 0],
-    [0, 1, 0],
-    [0, 0, 1],
-    [2, 0, 0],
-    [1, 1, 0],
-    [1, 0, 1],
-    [0, 2, 0],
-    [0, 1, 1],
-    [0, 0, 2],
-    [3, 0, 0],
-    [2, 1, 0],
-    [2, 0, 1],
-    [1, 2, 0],
-    [1, 1, 1],
-    [1, 0, 2],
-    [0, 3, 0],
-    [0, 2, 1],
-    [0, 1, 2],
-    [0, 0, 3],
-];
-
-fn monomial(e: [u8; 3]) -> usize {
-    MONOMIALS.iter().position(|&m| m == e).unwrap_or(0)
-}
-
-impl Cubic {
-    fn constant(v: f64) -> Cubic {
-        let mut c = [0.0; 20];
-        c[0] = v;
-        Cubic { c }
+impl Polynomial {
+    fn constant(v: f64) -> Polynomial {
+        let mut c = [[[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+        c[0][0][0] = v;
+        Polynomial { c }
     }
 
-    /// self × (v + g·δ); the degree must stay ≤ 3 (at most three affine factors per term).
-    fn times_affine(&self, v: f64, g: DVec3) -> Cubic {
-        let mut out = [0.0; 20];
-        for (i, &coef) in self.c.iter().enumerate() {
-            if coef == 0.0 {
-                continue;
-            }
-            out[i] += coef * v;
-            let e = MONOMIALS[i];
-            if e.iter().map(|&k| k as u32).sum::<u32>() < 3 {
-                for (axis, gk) in g.to_array().into_iter().enumerate() {
-                    let mut f = e;
-                    f[axis] += 1;
-                    out[monomial(f)] += coef * gk;
+    /// The monomials (exponents, coefficient) with a non-zero coefficient.
+    fn terms(&self) -> impl Iterator<Item = ([usize; 3], f64)> + '_ {
+        (0..=MAX_DEGREE).flat_map(move |i| {
+            (0..=MAX_DEGREE - i).flat_map(move |j| {
+                (0..=MAX_DEGREE - i - j)
+                    .map(move |k| ([i, j, k], self.c[i][j][k]))
+                    .filter(|&(_, v)| v != 0.0)
+            })
+        })
+    }
+
+    /// self × (v + g·δ), exactly; `None` if the degree would exceed [`MAX_DEGREE`] (never for
+    /// the orientations built here, whose terms have at most four affine factors).
+    fn times_affine(&self, v: f64, g: DVec3) -> Option<Polynomial> {
+        let mut out = Polynomial::constant(0.0);
+        let g = g.to_array();
+        for ([i, j, k], coef) in self.terms() {
+            out.c[i][j][k] += coef * v;
+            if g.iter().any(|&gk| gk != 0.0) {
+                if i + j + k == MAX_DEGREE {
+                    return None;
                 }
+                out.c[i + 1][j][k] += coef * g[0];
+                out.c[i][j + 1][k] += coef * g[1];
+                out.c[i][j][k + 1] += coef * g[2];
             }
         }
-        Cubic { c: out }
+        Some(out)
     }
 
-    fn add_scaled(&mut self, o: &Cubic, s: f64) {
-        for (a, b) in self.c.iter_mut().zip(&o.c) {
-            *a += s * b;
+    fn add(&mut self, o: &Polynomial) {
+        for ([i, j, k], v) in o.terms() {
+            self.c[i][j][k] += v;
         }
     }
 
-    /// Lower and upper bounds over |δₖ| ≤ hₖ, and the sum of the terms' magnitudes.
+    /// Lower and upper bounds over |δₖ| ≤ hₖ (each non-constant monomial bounded by its
+    /// magnitude), and the sum of the terms' magnitudes.
     fn bounds(&self, h: DVec3) -> (f64, f64, f64) {
         let h = h.to_array();
         let mut slack = 0.0;
-        for (i, &coef) in self.c.iter().enumerate().skip(1) {
-            let e = MONOMIALS[i];
-            slack += coef.abs()
-                * h[0].powi(e[0] as i32)
-                * h[1].powi(e[1] as i32)
-                * h[2].powi(e[2] as i32);
+        for ([i, j, k], coef) in self.terms() {
+            if i + j + k > 0 {
+                slack +=
+                    coef.abs() * h[0].powi(i as i32) * h[1].powi(j as i32) * h[2].powi(k as i32);
+            }
         }
-        (
-            self.c[0] - slack,
-            self.c[0] + slack,
-            self.c[0].abs() + slack,
-        )
+        let c0 = self.c[0][0][0];
+        (c0 - slack, c0 + slack, c0.abs() + slack)
+    }
+
+    #[cfg(test)]
+    fn eval(&self, d: DVec3) -> f64 {
+        self.terms()
+            .map(|([i, j, k], c)| c * d.x.powi(i as i32) * d.y.powi(j as i32) * d.z.powi(k as i32))
+            .sum()
     }
 }
 
@@ -777,11 +768,12 @@ fn cell_extent(corners: &[DVec3]) -> f64 {
 }
 
 /// Proves `want_sign × Σ_groups (Σ ±Π factors)·det(base) > 0` over the cell: the expression
-/// is a cubic in x, expanded exactly about the centre of the cell's bounding box and bounded
-/// there term by term (a Taylor bound: its error shrinks with the square of the box, where a
-/// plain interval evaluation loses the cancellations between nearly parallel directions);
-/// the cell is bisected while the bound straddles zero. With `coefficients_only`, the
-/// det(base) factor is left out (its sign is known).
+/// is a polynomial in x (degree ≤ 4), expanded exactly about the centre of the cell's bounding
+/// box and bounded there term by term (the constant and linear parts exactly, so the
+/// overestimate shrinks with the square of the box, where a plain interval evaluation loses the
+/// cancellations between nearly parallel directions); the cell is bisected while the bound
+/// straddles zero. With `coefficients_only`, the det(base) factor is left out (its sign is
+/// known).
 fn prove_sign(
     poly: &Polyhedron,
     groups: &[Group],
@@ -795,19 +787,19 @@ fn prove_sign(
         return true; // empty: nothing to prove
     }
     let (m, h) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
-    let mut total = Cubic::constant(0.0);
+    let mut total = Polynomial::constant(0.0);
     for g in groups {
         for c in &g.coefficients {
-            let mut term = Cubic::constant(c.sign * want_sign);
-            for f in c.factors.iter().flatten() {
+            let mut term = Polynomial::constant(c.sign * want_sign);
+            let base = (!coefficients_only).then_some(g.base);
+            for f in c.factors.iter().flatten().chain(base.iter()) {
                 let (v, grad) = affine_about(poly, *f, m);
-                term = term.times_affine(v, grad);
+                match term.times_affine(v, grad) {
+                    Some(t) => term = t,
+                    None => return false,
+                }
             }
-            if !coefficients_only {
-                let (v, grad) = affine_about(poly, g.base, m);
-                term = term.times_affine(v, grad);
-            }
-            total.add_scaled(&term, 1.0);
+            total.add(&term);
         }
     }
     let (lower, upper, magnitude) = total.bounds(h);
@@ -1087,4 +1079,40 @@ fn solid_angle_sum(poly: &Polyhedron, tris: &[[SilhouettePoint; 3]], x: DVec3) -
             crate::sampling::solid_angle_of_triangle(d[0], d[1], d[2])
         })
         .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Pcg32;
+
+    /// The exact expansion of a product of four affine functions against direct evaluation,
+    /// and its bounds against the values at random points of the box.
+    #[test]
+    fn polynomial_products_are_exact_and_their_bounds_hold() {
+        let mut rng = Pcg32::new(3, 7);
+        let mut r = |s: f64| s * (2.0 * rng.next_f64() - 1.0);
+        for _ in 0..200 {
+            let factors: Vec<(f64, DVec3)> = (0..4)
+                .map(|_| (r(2.0), DVec3::new(r(1.0), r(1.0), r(1.0))))
+                .collect();
+            let mut p = Polynomial::constant(1.5);
+            for &(v, g) in &factors {
+                p = p.times_affine(v, g).unwrap();
+            }
+            assert!(
+                p.times_affine(1.0, DVec3::X).is_none(),
+                "degree 5 is refused"
+            );
+            let h = DVec3::new(r(0.5).abs(), r(0.5).abs(), r(0.5).abs());
+            let (lo, hi, _) = p.bounds(h);
+            for _ in 0..50 {
+                let d = DVec3::new(r(h.x), r(h.y), r(h.z));
+                let direct: f64 = 1.5 * factors.iter().map(|&(v, g)| v + g.dot(d)).product::<f64>();
+                let expanded = p.eval(d);
+                assert!((direct - expanded).abs() <= 1e-12 * (1.0 + direct.abs()));
+                assert!(lo - 1e-12 <= direct && direct <= hi + 1e-12);
+            }
+        }
+    }
 }
