@@ -4,7 +4,6 @@
 //! points) and the silhouette computed on the fly.
 
 use glam::DVec3;
-use penumbra::accel::{Ray, intersect_triangle};
 use penumbra::geometry::bsp::LOOP_END;
 use penumbra::geometry::bsp_hoisted::loop_runs;
 use penumbra::geometry::{
@@ -13,6 +12,9 @@ use penumbra::geometry::{
 };
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
+
+mod silhouette_common;
+use silhouette_common::{is_inside, same_loops, triangles};
 
 /// Loops as lists of point codes, each rotated to start at its smallest code, sorted: equal
 /// for two silhouettes with the same cyclic sequences.
@@ -24,28 +26,6 @@ fn canonical(mut loops: Vec<Vec<u32>>) -> Vec<Vec<u32>> {
     }
     loops.sort();
     loops
-}
-
-fn same_loops(a: &SphericalPolygon, b: &SphericalPolygon, tol: f64) -> bool {
-    let la: Vec<&[DVec3]> = a.loops().collect();
-    let lb: Vec<&[DVec3]> = b.loops().collect();
-    let close = |p: DVec3, q: DVec3| (p.normalize() - q.normalize()).length() <= tol;
-    la.len() == lb.len()
-        && la.iter().all(|x| {
-            lb.iter().any(|y| {
-                x.len() == y.len()
-                    && (0..y.len()).any(|s| (0..x.len()).all(|k| close(x[k], y[(k + s) % y.len()])))
-            })
-        })
-}
-
-fn inside(poly: &Polyhedron, x: DVec3) -> bool {
-    let ray = Ray::new(x, DVec3::new(0.5773, 0.5774, 0.5775));
-    poly.fan_triangles()
-        .filter(|(_, t)| intersect_triangle(&ray, t[0], t[1], t[2], 0.0, f64::INFINITY).is_some())
-        .count()
-        % 2
-        == 1
 }
 
 #[test]
@@ -91,9 +71,10 @@ fn hoisted_trees_give_the_leaf_stored_and_the_on_the_fly_silhouettes() {
         let mut buf = hoisted.scratch();
         let capacity = buf.capacity();
         let (mut checked, mut compared) = (0, 0);
+        let mesh = triangles(&poly);
         while checked < 3000 {
             let x = lo + (hi - lo) * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
-            if inside(&poly, x) {
+            if is_inside(&mesh, x) {
                 continue;
             }
             checked += 1;

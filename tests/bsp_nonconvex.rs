@@ -9,22 +9,10 @@ use penumbra::geometry::{
     exact_silhouette,
 };
 use penumbra::math::{Frame, Pcg32};
-use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
-use std::f64::consts::PI;
+use penumbra::scene::thesis_polyhedra::TABLE_7_1;
 
-fn area(p: &SphericalPolygon) -> f64 {
-    let c = DVec3::new(-0.61, 0.33, 0.72).normalize();
-    let mut total = 0.0;
-    for lp in p.loops() {
-        for k in 0..lp.len() {
-            let (a, b) = (lp[k].normalize(), lp[(k + 1) % lp.len()].normalize());
-            total += 2.0
-                * c.dot(a.cross(b))
-                    .atan2(1.0 + c.dot(a) + a.dot(b) + b.dot(c));
-        }
-    }
-    total.rem_euclid(4.0 * PI)
-}
+mod silhouette_common;
+use silhouette_common::{polyhedron, solid_angle, triangles};
 
 #[test]
 fn bsp_exact_silhouettes_equal_the_silhouette_on_the_fly() {
@@ -33,9 +21,8 @@ fn bsp_exact_silhouettes_equal_the_silhouette_on_the_fly() {
     let (mut a, mut b) = (SphericalPolygon::new(), SphericalPolygon::new());
     let mut scratch = ExactSilhouetteScratch::default();
     for row in TABLE_7_1.iter().filter(|r| !r.convex) {
-        let m = thesis_polyhedron(row.name).unwrap();
-        let poly = Polyhedron::new(&m.positions, &m.faces);
-        let tris: Vec<[DVec3; 3]> = poly.fan_triangles().map(|(_, t)| t).collect();
+        let poly = polyhedron(row.name);
+        let tris = triangles(&poly);
         let (lo, hi) = (
             poly.center - DVec3::splat(3.0 * poly.radius),
             poly.center + DVec3::splat(3.0 * poly.radius),
@@ -61,7 +48,7 @@ fn bsp_exact_silhouettes_equal_the_silhouette_on_the_fly() {
             checked += 1;
             if bsp.silhouette(&poly, x, &frame, &mut a) {
                 from_tree += 1;
-                if (area(&a) - area(&b)).abs() > 1e-9 {
+                if (solid_angle(&a) - solid_angle(&b)).abs() > 1e-9 {
                     wrong += 1;
                 }
             }

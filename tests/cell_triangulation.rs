@@ -9,41 +9,16 @@ use penumbra::accel::{Ray, intersect_triangle};
 use penumbra::geometry::cell_triangulation::{concave_edge_endpoints, triangulate_silhouette};
 use penumbra::geometry::exact_silhouette::SilhouettePoint;
 use penumbra::geometry::{
-    BspNode, ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, Polyhedron,
-    SilhouetteTriangulation, SphericalPolygon, TriangulationLimits, exact_silhouette, orient,
+    BspNode, ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, SilhouetteTriangulation,
+    SphericalPolygon, TriangulationLimits, exact_silhouette, orient,
 };
 use penumbra::math::{Frame, Pcg32};
 use penumbra::sampling::solid_angle_of_triangle;
-use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
+use penumbra::scene::thesis_polyhedra::TABLE_7_1;
 use std::f64::consts::PI;
 
-fn area(p: &SphericalPolygon) -> f64 {
-    let c = DVec3::new(-0.61, 0.33, 0.72).normalize();
-    let mut total = 0.0;
-    for lp in p.loops() {
-        for k in 0..lp.len() {
-            let (a, b) = (lp[k].normalize(), lp[(k + 1) % lp.len()].normalize());
-            total += 2.0
-                * c.dot(a.cross(b))
-                    .atan2(1.0 + c.dot(a) + a.dot(b) + b.dot(c));
-        }
-    }
-    total.rem_euclid(4.0 * PI)
-}
-
-fn polyhedron(name: &str) -> Polyhedron {
-    let m = thesis_polyhedron(name).unwrap();
-    Polyhedron::new(&m.positions, &m.faces)
-}
-
-fn is_inside(tris: &[[DVec3; 3]], x: DVec3) -> bool {
-    let ray = Ray::new(x, DVec3::new(0.5773, 0.5774, 0.5775));
-    tris.iter()
-        .filter(|t| intersect_triangle(&ray, t[0], t[1], t[2], 0.0, f64::INFINITY).is_some())
-        .count()
-        % 2
-        == 1
-}
+mod silhouette_common;
+use silhouette_common::{is_inside, polyhedron, solid_angle, triangles};
 
 fn hits(tris: &[[DVec3; 3]], x: DVec3, w: DVec3) -> bool {
     let ray = Ray::new(x, w);
@@ -69,7 +44,7 @@ fn triangulations_cover_the_silhouette_exactly_once_in_every_cell() {
         // The extruded cube has some 60k cells: two points each.
         let per_cell = if row.name == "extruded_cube" { 2 } else { 8 };
         let poly = polyhedron(row.name);
-        let mesh: Vec<[DVec3; 3]> = poly.fan_triangles().map(|(_, t)| t).collect();
+        let mesh = triangles(&poly);
         let r = 4.0 * poly.radius;
         let (lo, hi) = (poly.center - DVec3::splat(r), poly.center + DVec3::splat(r));
         let (exact, _) =
@@ -110,7 +85,7 @@ fn triangulations_cover_the_silhouette_exactly_once_in_every_cell() {
                     );
                     total += solid_angle_of_triangle(d[0], d[1], d[2]);
                 }
-                let exact_area = area(&sph);
+                let exact_area = solid_angle(&sph);
                 assert!(
                     (total - exact_area).abs() <= 1e-9 * exact_area.max(1.0),
                     "{}: triangles {total} vs silhouette {exact_area} at {x}",
@@ -194,7 +169,7 @@ fn a_silhouette_without_a_plain_triangulation_uses_optional_vertices() {
     let mut rng = Pcg32::new(2, 9);
     let (mut big, mut with_optional) = (0, 0);
     let mut out = Vec::new();
-    let mesh: Vec<[DVec3; 3]> = poly.fan_triangles().map(|(_, t)| t).collect();
+    let mesh = triangles(&poly);
     for _ in 0..4000 {
         let x = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
         if is_inside(&mesh, x)
@@ -202,7 +177,7 @@ fn a_silhouette_without_a_plain_triangulation_uses_optional_vertices() {
         {
             continue;
         }
-        let a = area(&sph);
+        let a = solid_angle(&sph);
         if a < 2.0 * PI {
             continue;
         }

@@ -4,44 +4,17 @@
 //! convex ones, the silhouette loop chained from the contour (a second algorithm).
 
 use glam::DVec3;
-use penumbra::accel::{Ray, intersect_triangle};
+use penumbra::accel::Ray;
 use penumbra::geometry::{
-    ExactSilhouetteScratch, Polyhedron, Sidedness, SilhouetteScratch, SphericalPolygon,
-    exact_silhouette, silhouette,
+    ExactSilhouetteScratch, Sidedness, SilhouetteScratch, SphericalPolygon, exact_silhouette,
+    silhouette,
 };
 use penumbra::math::{Frame, Pcg32};
-use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
+use penumbra::scene::thesis_polyhedra::TABLE_7_1;
 use std::f64::consts::PI;
 
-fn polyhedron(name: &str) -> Polyhedron {
-    let m = thesis_polyhedron(name).unwrap();
-    Polyhedron::new(&m.positions, &m.faces)
-}
-
-fn triangles(p: &Polyhedron) -> Vec<[DVec3; 3]> {
-    p.fan_triangles().map(|(_, t)| t).collect()
-}
-
-fn hits(tris: &[[DVec3; 3]], ray: &Ray) -> usize {
-    tris.iter()
-        .filter(|t| intersect_triangle(ray, t[0], t[1], t[2], 0.0, f64::INFINITY).is_some())
-        .count()
-}
-
-/// Solid angle of a region of any size: fan triangles about `c` by Van Oosterom–Strackee with
-/// the full-range atan2, summed over the loops, taken modulo 4π into [0, 4π).
-fn solid_angle(poly: &SphericalPolygon) -> f64 {
-    let c = DVec3::new(0.267, -0.534, 0.802).normalize();
-    let mut total = 0.0;
-    for lp in poly.loops() {
-        for k in 0..lp.len() {
-            let (a, b) = (lp[k].normalize(), lp[(k + 1) % lp.len()].normalize());
-            let det = c.dot(a.cross(b));
-            total += 2.0 * det.atan2(1.0 + c.dot(a) + a.dot(b) + b.dot(c));
-        }
-    }
-    total.rem_euclid(4.0 * PI)
-}
+mod silhouette_common;
+use silhouette_common::{hit_count, polyhedron, solid_angle, triangles};
 
 fn uniform_direction(rng: &mut Pcg32) -> DVec3 {
     let z = 2.0 * rng.next_f64() - 1.0;
@@ -68,7 +41,7 @@ fn exact_silhouettes_cover_the_solid_angle_of_every_table_7_1_polyhedron() {
             let x = x * spread * poly.radius;
             // Outside the mesh: an even number of crossings along a fixed ray.
             let probe = Ray::new(x, DVec3::new(0.5773, 0.5774, 0.5775));
-            if hits(&tris, &probe) % 2 == 1 {
+            if hit_count(&tris, &probe) % 2 == 1 {
                 continue;
             }
             match exact_silhouette(&poly, x, &frame, &mut out, &mut scratch) {
@@ -84,7 +57,7 @@ fn exact_silhouettes_cover_the_solid_angle_of_every_table_7_1_polyhedron() {
             let omega = solid_angle(&out);
             let n = 40_000;
             let k = (0..n)
-                .filter(|_| hits(&tris, &Ray::new(x, uniform_direction(&mut rng))) > 0)
+                .filter(|_| hit_count(&tris, &Ray::new(x, uniform_direction(&mut rng))) > 0)
                 .count();
             let p = k as f64 / n as f64;
             let mc = 4.0 * PI * p;

@@ -4,7 +4,6 @@
 //! shared tree at random points is the one computed on the fly from the instance's own mesh.
 
 use glam::{DAffine3, DVec3};
-use penumbra::accel::{Ray, intersect_triangle};
 use penumbra::geometry::{
     ExactSilhouetteScratch, Polyhedron, Sidedness, SilhouetteScratch, SphericalPolygon,
     exact_silhouette, silhouette,
@@ -16,6 +15,9 @@ use penumbra::scene::scene_file;
 use penumbra::shading::PreparedScene;
 use penumbra::shading::prepared::instance_map;
 use std::sync::Arc;
+
+mod silhouette_common;
+use silhouette_common::{is_inside, same_loops, triangles};
 
 fn groups_by_name(p: &PreparedScene) -> Vec<(String, usize)> {
     p.tree_groups
@@ -139,32 +141,6 @@ fn an_instanced_scene_renders_as_with_sharing_disabled() {
     assert!(worst < 1e-11, "max relative difference {worst:.2e}");
 }
 
-fn inside(poly: &Polyhedron, x: DVec3) -> bool {
-    let ray = Ray::new(x, DVec3::new(0.5773, 0.5774, 0.5775));
-    poly.fan_triangles()
-        .filter(|(_, t)| intersect_triangle(&ray, t[0], t[1], t[2], 0.0, f64::INFINITY).is_some())
-        .count()
-        % 2
-        == 1
-}
-
-/// The loops of `a` and `b` are the same cyclic sequences of directions (any start, any loop
-/// order), to `tol`.
-fn same_loops(a: &SphericalPolygon, b: &SphericalPolygon, tol: f64) -> bool {
-    let la: Vec<&[DVec3]> = a.loops().collect();
-    let lb: Vec<&[DVec3]> = b.loops().collect();
-    if la.len() != lb.len() {
-        return false;
-    }
-    let close = |p: DVec3, q: DVec3| (p.normalize() - q.normalize()).length() <= tol;
-    la.iter().all(|x| {
-        lb.iter().any(|y| {
-            x.len() == y.len()
-                && (0..y.len()).any(|s| (0..x.len()).all(|k| close(x[k], y[(k + s) % y.len()])))
-        })
-    })
-}
-
 /// Oracle (b): at random points of the scene (outside the instance), the silhouette read from
 /// the shared tree, looked up at the point mapped into the tree's frame, is the silhouette
 /// computed on the fly from the instance's own world-space mesh.
@@ -184,9 +160,10 @@ fn the_shared_tree_gives_each_instance_its_own_silhouette() {
             instances += 1;
             let o = &p.objects[m as usize];
             let (mut checked, mut from_tree) = (0, 0);
+            let mesh = triangles(&o.poly);
             while checked < 1500 {
                 let x = lo + (hi - lo) * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
-                if inside(&o.poly, x) {
+                if is_inside(&mesh, x) {
                     continue;
                 }
                 let tx = o.tree_point(x);
