@@ -78,7 +78,7 @@ enum Command {
         #[command(flatten)]
         render: RenderArgs,
         /// Pixel position X,Y (fractional positions allowed; the pixel centre is X+0.5,Y+0.5).
-        #[arg(long, value_parser = parse_vec2)]
+        #[arg(long, value_parser = parse_vec2, allow_hyphen_values = true)]
         pixel: (f64, f64),
         /// Record the Greiner–Hormann phases too.
         #[arg(long)]
@@ -92,6 +92,18 @@ enum Command {
     Bench(BenchArgs),
     /// List the embedded scenes.
     Scenes,
+    /// Show the tree cache (where it is, its files and size, its bound) or clear it.
+    Cache {
+        /// Delete every file of the cache.
+        #[arg(long)]
+        clear: bool,
+        /// Delete the least recently used files until the cache is within its bound.
+        #[arg(long)]
+        trim: bool,
+        /// Write what is shown as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Open the workbench window (what `penumbra` without arguments does).
     Gui(penumbra::app::RunOptions),
 }
@@ -99,11 +111,11 @@ enum Command {
 /// The camera flags shared by every command that renders (default: the scene's camera).
 #[derive(Args, Clone, Default)]
 struct CameraArgs {
-    #[arg(long, value_parser = parse_vec3)]
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     eye: Option<DVec3>,
-    #[arg(long, value_parser = parse_vec3)]
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     target: Option<DVec3>,
-    #[arg(long, value_parser = parse_vec3)]
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     up: Option<DVec3>,
     /// Vertical field of view in degrees.
     #[arg(long)]
@@ -547,8 +559,68 @@ fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> 
     Ok(())
 }
 
-fn main() -> Result<()> {
-    let cli = Cli::parse();
+/// `penumbra cache`: the tree cache's place, contents and bound; `--trim`, `--clear`.
+fn cache(clear: bool, trim: bool, json: Option<&Path>) -> Result<()> {
+    use penumbra::shading::tree_cache::{CacheUsage, TreeCache};
+    let Some(cache) = TreeCache::from_env().map_err(anyhow::Error::msg)? else {
+        say!("the tree cache is disabled (PENUMBRA_CACHE_DIR=off, or no home directory)");
+        return Ok(());
+    };
+    let removed = if clear {
+        Some(cache.clear())
+    } else if trim {
+        Some(cache.trim())
+    } else {
+        None
+    };
+    let usage = cache.usage();
+    let mb = |b: u64| b as f64 / (1u64 << 20) as f64;
+    say!("tree cache: {}", cache.dir.display());
+    if let Some(CacheUsage { files, bytes }) = removed {
+        say!("deleted {files} files, {:.1} MiB", mb(bytes));
+    }
+    say!(
+        "{} files, {:.1} MiB of at most {:.1} MiB (PENUMBRA_CACHE_MAX)",
+        usage.files,
+        mb(usage.bytes),
+        mb(cache.max_bytes)
+    );
+    if let Some(path) = json {
+        let report = serde_json::json!({
+            "dir": cache.dir,
+            "files": usage.files,
+            "bytes": usage.bytes,
+            "max_bytes": cache.max_bytes,
+            "deleted": removed,
+        });
+        std::fs::write(path, serde_json::to_string_pretty(&report)?)
+            .with_context(|| format!("{}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// The command line: every subcommand takes negative numbers as values (`--exposure -1`,
+/// `--seed -1` is then refused for what it is); options whose value is a vector or pair
+/// (`--target -0.3,0.2,-0.3`) also allow a leading hyphen (`allow_hyphen_values`).
+fn command_line() -> clap::Command {
+    use clap::CommandFactory;
+    Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true))
+}
+
+/// Errors are printed alone, with their causes, whatever `RUST_BACKTRACE` says.
+fn main() -> std::process::ExitCode {
+    match run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<()> {
+    use clap::FromArgMatches;
+    let cli = Cli::from_arg_matches(&command_line().get_matches()).unwrap_or_else(|e| e.exit());
     match cli.command {
         None => penumbra::app::run(Default::default()).map_err(|e| anyhow::anyhow!("{e}")),
         Some(Command::Gui(opts)) => penumbra::app::run(opts).map_err(|e| anyhow::anyhow!("{e}")),
@@ -628,6 +700,7 @@ fn main() -> Result<()> {
             gh_steps,
             json,
         }) => probe(&render, pixel, gh_steps, &json),
+        Some(Command::Cache { clear, trim, json }) => cache(clear, trim, json.as_deref()),
         Some(Command::Scenes) => {
             for name in scene_file::embedded_scene_names() {
                 say!("{name}");

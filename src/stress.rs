@@ -9,11 +9,15 @@
 //! (random roughness) and checked for NaN, Inf and negative values.
 
 use crate::accel::{Bvh, Ray};
+use crate::ltc::LtcTable;
 use crate::math::{Frame, Pcg32};
 use crate::scene::shapes::{cuboid, cylinder, icosahedron, quad};
 use crate::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use crate::scene::{Material, Mesh, ObjectFlags, Scene, SceneObject};
-use crate::shading::{Lobe, Method, PreparedScene, Recorder, ShadingPoint, ShadingScratch, shade};
+use crate::shading::{
+    Lobe, Method, PrepareOptions, PreparedScene, Recorder, ShadingPoint, ShadingScratch,
+    TreeLibrary, shade,
+};
 use glam::{DAffine3, DMat3, DVec3};
 use rayon::prelude::*;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -84,6 +88,9 @@ pub struct StressReport {
     pub inf: u64,
     pub negative: u64,
     pub panics: u64,
+    /// Trees of precomputed silhouettes built for a case rather than borrowed from
+    /// [`tree_library`] (meshes that are no affine image of a library mesh: flat quads).
+    pub trees_built: u64,
     /// Cases whose error exceeds 6 standard deviations of the estimate plus 1/rays.
     pub beyond_6_sigma: u64,
     /// The same, per kind of case (in the order of `CaseKind`).
@@ -102,6 +109,7 @@ fn rotation(rng: &mut Pcg32) -> DMat3 {
 
 fn random_convex(rng: &mut Pcg32, center: DVec3, size: f64) -> Mesh {
     let rot = rotation(rng);
+    // Keep these in step with `tree_library`.
     let m = match rng.below(4) {
         0 => cuboid(
             DVec3::ZERO,
@@ -531,6 +539,7 @@ impl Recorder for RawIntegrals {
 
 /// Result of one case.
 struct Outcome {
+    trees_built: u32,
     analytic: f64,
     estimate: f64,
     sigma: f64,
@@ -547,8 +556,41 @@ pub fn run_one(seed: u64, index: u64, rays: u32) -> (Case, f64, f64, f64) {
     (case, o.analytic, o.estimate, o.sigma)
 }
 
+/// Half the side of the cube, in units of the polyhedra's own size (they fit in [-0.5, 0.5]³),
+/// over which the shared trees of the Table 7.1 polyhedra are built.
+pub const LIBRARY_HALF_SIDE: f64 = 20.0;
+
+/// The library's trees may be this many times larger than a scene's own (the sphere's tree has
+/// about 140,000 nodes over that cube, the extruded cube's 54,000 leaves; built once, in about
+/// 10 s).
+pub const LIBRARY_LIMIT_FACTOR: usize = 8;
+
+/// The trees of the nine Table 7.1 polyhedra and of the convex shapes of [`random_convex`]
+/// (the unit cube, icosahedron and cylinders of 3 to 16 segments, of which every generated
+/// box, icosahedron and cylinder is an affine image), built once per process and lent to
+/// every case; nothing of a stress run touches the disk cache.
+pub fn tree_library() -> &'static TreeLibrary {
+    static LIBRARY: std::sync::OnceLock<TreeLibrary> = std::sync::OnceLock::new();
+    LIBRARY.get_or_init(|| {
+        let mut meshes: Vec<Mesh> = TABLE_7_1
+            .iter()
+            .filter_map(|p| thesis_polyhedron(p.name))
+            .collect();
+        meshes.push(cuboid(DVec3::ZERO, DVec3::ONE));
+        meshes.push(icosahedron(DVec3::ZERO, 1.0));
+        meshes.extend((3..=16).map(|n| cylinder(DVec3::ZERO, 1.0, 1.0, n)));
+        let b = DVec3::splat(LIBRARY_HALF_SIDE);
+        TreeLibrary::build(&meshes, (-b, b), LIBRARY_LIMIT_FACTOR)
+    })
+}
+
 fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratch) -> Outcome {
-    let prepared = PreparedScene::new(&case.scene);
+    let options = PrepareOptions {
+        share_instances: true,
+        disk_cache: false,
+        library: Some(tree_library()),
+    };
+    let prepared = PreparedScene::prepare(&case.scene, LtcTable::embedded(), options);
     let diffuse = Material {
         kd: DVec3::ONE,
         ks: DVec3::ZERO,
@@ -619,6 +661,7 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
     // Stratification only lowers the variance: the binomial σ is a conservative bound.
     let sigma = (p * (1.0 - p) / total as f64).sqrt();
     Outcome {
+        trees_built: prepared.trees_built,
         analytic: e,
         estimate,
         sigma,
@@ -656,6 +699,7 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
                     *scratch = ShadingScratch::default();
                     continue;
                 };
+                rep.trees_built += o.trees_built as u64;
                 rep.nan += o.nan as u64;
                 rep.inf += o.inf as u64;
                 rep.negative += o.negative as u64;
@@ -701,6 +745,7 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
         total.inf += r.inf;
         total.negative += r.negative;
         total.panics += r.panics;
+        total.trees_built += r.trees_built;
         total.beyond_6_sigma += r.beyond_6_sigma;
         for k in 0..KINDS.len() {
             total.beyond_6_sigma_by_kind[k] += r.beyond_6_sigma_by_kind[k];

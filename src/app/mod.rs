@@ -1172,7 +1172,7 @@ pub struct RunOptions {
     #[arg(long)]
     pub measure: Option<PathBuf>,
     /// With --screenshot: first pick the pixel at these fractions of the viewport, e.g. 0.5,0.7.
-    #[arg(long, value_parser = parse_pair)]
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
     pub pick: Option<(f64, f64)>,
     /// With --pick: step to this stage (gh, labels, visible, ltc, silhouette:LIGHT for the
     /// silhouette of the light named LIGHT, or a stage number).

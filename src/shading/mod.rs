@@ -6,13 +6,15 @@ pub mod get_between;
 pub mod prepared;
 pub mod recorder;
 pub mod tree_cache;
+pub mod tree_library;
 
 pub use analytic::{ShadingScratch, ShadingStats, shade};
-pub use prepared::{PreparedObject, PreparedScene};
+pub use prepared::{PrepareOptions, PreparedObject, PreparedScene};
 pub use recorder::{
     ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, Recorder, SetDifferenceRecord, Stage,
     StageRecording,
 };
+pub use tree_library::TreeLibrary;
 
 use glam::DVec3;
 

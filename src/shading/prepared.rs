@@ -15,7 +15,8 @@
 //! silhouette structure from the corresponding point); mirror images (det M < 0) reverse the
 //! orientations and are not shared.
 
-use super::tree_cache::{self, CachedTree, tree_key};
+use super::tree_cache::{CachedTree, TreeCache, tree_key};
+use super::tree_library::{LibraryEntry, TreeLibrary};
 use crate::geometry::{
     ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp,
     SilhouetteTriangulation, TriangulationLimits, separating_plane, star_centre,
@@ -180,34 +181,167 @@ pub struct PreparedScene {
     /// Indices into `objects` of the meshes that share one silhouette tree, one group each
     /// (the first member's frame is the tree's; a mesh without instances is a group of one).
     pub tree_groups: Vec<Vec<u32>>,
+    /// How many trees (and sets of triangulations) were built rather than read from the disk
+    /// cache or a library.
+    pub trees_built: u32,
+    /// The disk cache the trees were read from and written to, if any.
+    pub cache: Option<TreeCache>,
+    share_instances: bool,
+}
+
+/// The trees one mesh (or group of instances) reads: its tree of precomputed silhouettes, if
+/// it got one, and, for a light that is neither convex nor star-shaped, the per-cell
+/// triangulations of its silhouettes.
+#[derive(Clone, Debug, Default)]
+pub struct MeshTrees {
+    pub bsp: Option<Arc<SilhouetteBsp>>,
+    pub exact_bsp: Option<Arc<ExactSilhouetteBsp>>,
+    pub triangulation: Option<Arc<SilhouetteTriangulation>>,
+    /// How many of these were built rather than read from the disk cache.
+    pub built: u32,
+}
+
+/// Builds (or reads from `cache`) the trees of `poly` over the box `lo..hi`: a convex mesh's
+/// tree of face planes, a closed non-convex mesh's exact-silhouette tree, each within its size
+/// limit, and the triangulations when `triangulate` and the exact tree exists.
+pub fn build_mesh_trees(
+    poly: &Polyhedron,
+    (lo, hi): (DVec3, DVec3),
+    triangulate: bool,
+    (max_cells, max_leaves): (usize, usize),
+    cache: Option<&TreeCache>,
+) -> MeshTrees {
+    let d = poly.diagnostics;
+    let mut built = 0;
+    let limit = if d.convex { max_cells } else { max_leaves };
+    // The key names the mesh and the box: a tree shared by other instances (another union of
+    // boxes) is another file.
+    let key = tree_key(poly, lo, hi, limit, d.convex);
+    let tree = cache.and_then(|c| c.load(key, poly)).unwrap_or_else(|| {
+        built += 1;
+        let tree = if d.convex {
+            SilhouetteBsp::build_convex_limited(poly, lo, hi, max_cells)
+                .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Convex(t))
+        } else {
+            let limits = ExactBspLimits {
+                max_leaves,
+                ..ExactBspLimits::default()
+            };
+            ExactSilhouetteBsp::build(poly, lo, hi, limits)
+                .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Exact(t))
+        };
+        if let Some(c) = cache {
+            c.store(key, &tree);
+        }
+        tree
+    });
+    let triangulation = match &tree {
+        CachedTree::Exact(exact) if triangulate => {
+            let key = key ^ TRIANGULATION_KEY;
+            match cache.and_then(|c| c.load(key, poly)) {
+                Some(CachedTree::Triangulation(t)) => Some(t),
+                _ => {
+                    built += 1;
+                    let (t, _) =
+                        SilhouetteTriangulation::build(poly, exact, TriangulationLimits::default());
+                    if let Some(c) = cache {
+                        c.store(key, &CachedTree::Triangulation(t.clone()));
+                    }
+                    Some(t)
+                }
+            }
+        }
+        _ => None,
+    };
+    let (bsp, exact_bsp) = match tree {
+        CachedTree::Convex(t) if d.convex => (Some(Arc::new(t)), None),
+        CachedTree::Exact(t) if !d.convex => (None, Some(Arc::new(t))),
+        _ => (None, None),
+    };
+    MeshTrees {
+        bsp,
+        exact_bsp,
+        triangulation: triangulation.map(Arc::new),
+        built,
+    }
 }
 
 /// The tree of precomputed silhouettes of every group of instances of a convex or closed mesh
 /// (one task per group), built for the first member over `bounds` and each member's own
 /// bounding box, all mapped into the first member's frame (the box of the 8 mapped corners of
-/// each); meshes over the limits get none. Every member holds the same `Arc`.
+/// each); meshes over the limits get none. Every member holds the same `Arc`. A group whose
+/// mesh is an affine image of a mesh of `library` reads that tree instead, in its frame.
+/// Returns how many trees were built.
 fn build_silhouette_trees(
     objects: &mut [PreparedObject],
     groups: &[Vec<u32>],
     lights: &[u32],
     bounds: (DVec3, DVec3),
-    max_cells: usize,
-    max_leaves: usize,
-) {
+    limits: (usize, usize),
+    cache: Option<&TreeCache>,
+    library: Option<&TreeLibrary>,
+) -> u32 {
+    let borrowed: Vec<Option<(&LibraryEntry, DAffine3)>> = groups
+        .iter()
+        .map(|g| library.and_then(|l| l.find(&objects[g[0] as usize].poly)))
+        .collect();
     objects.par_iter_mut().for_each(|o| {
         o.bsp = None;
         o.exact_bsp = None;
         o.hoisted = None;
         o.triangulation = None;
-        let d = o.poly.diagnostics;
-        if !d.convex && d.closed_manifold {
-            o.star_centre = star_centre(&o.poly);
-        }
+        o.star_centre = None;
     });
+    // A borrowed tree's frame is the library mesh's: each member maps its points there
+    // through its own map into the first member's frame, then the first member's into the
+    // library's; the star centre comes back the other way.
+    for (g, b) in groups.iter().zip(&borrowed) {
+        let Some((entry, base_to_library)) = b else {
+            continue;
+        };
+        for &m in g {
+            let o = &mut objects[m as usize];
+            let to_library = match o.to_tree {
+                Some(to_base) => *base_to_library * to_base,
+                None => *base_to_library,
+            };
+            o.to_tree = Some(to_library);
+            o.star_centre = entry
+                .star_centre
+                .map(|c| to_library.inverse().transform_point3(c));
+        }
+    }
+    let own_tree: Vec<bool> = {
+        let mut v = vec![false; objects.len()];
+        for (g, b) in groups.iter().zip(&borrowed) {
+            if b.is_none() {
+                for &m in g {
+                    v[m as usize] = true;
+                }
+            }
+        }
+        v
+    };
+    objects
+        .par_iter_mut()
+        .zip(own_tree.par_iter())
+        .for_each(|(o, &own)| {
+            let d = o.poly.diagnostics;
+            if own && !d.convex && d.closed_manifold {
+                o.star_centre = star_centre(&o.poly);
+            }
+        });
     let objs = &*objects;
-    let trees: Vec<(CachedTree, Option<SilhouetteTriangulation>)> = groups
+    let trees: Vec<MeshTrees> = groups
         .par_iter()
-        .map(|g| {
+        .zip(&borrowed)
+        .map(|(g, b)| {
+            if let Some((entry, _)) = b {
+                return MeshTrees {
+                    built: 0,
+                    ..entry.trees.clone()
+                };
+            }
             let base = &objs[g[0] as usize];
             let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
             for &m in g {
@@ -226,66 +360,23 @@ fn build_silhouette_trees(
                     (lo, hi) = (lo.min(c), hi.max(c));
                 }
             }
-            let poly = &base.poly;
-            let d = poly.diagnostics;
-            let limit = if d.convex { max_cells } else { max_leaves };
-            // The key names the mesh and the box: a tree shared by other instances (another
-            // union of boxes) is another file.
-            let key = tree_key(poly, lo, hi, limit, d.convex);
-            let tree = tree_cache::load(key, poly).unwrap_or_else(|| {
-                let tree = if d.convex {
-                    SilhouetteBsp::build_convex_limited(poly, lo, hi, max_cells)
-                        .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Convex(t))
-                } else {
-                    let limits = ExactBspLimits {
-                        max_leaves,
-                        ..ExactBspLimits::default()
-                    };
-                    ExactSilhouetteBsp::build(poly, lo, hi, limits)
-                        .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Exact(t))
-                };
-                tree_cache::store(key, &tree);
-                tree
-            });
             // A light that is not star-shaped is sampled through triangulated silhouettes.
             let is_light = g.iter().any(|m| lights.contains(m));
-            let triangulation = match &tree {
-                CachedTree::Exact(exact) if is_light && base.star_centre.is_none() => {
-                    let key = key ^ TRIANGULATION_KEY;
-                    match tree_cache::load(key, poly) {
-                        Some(CachedTree::Triangulation(t)) => Some(t),
-                        _ => {
-                            let (t, _) = SilhouetteTriangulation::build(
-                                poly,
-                                exact,
-                                TriangulationLimits::default(),
-                            );
-                            tree_cache::store(key, &CachedTree::Triangulation(t.clone()));
-                            Some(t)
-                        }
-                    }
-                }
-                _ => None,
-            };
-            (tree, triangulation)
+            let triangulate = is_light && base.star_centre.is_none();
+            build_mesh_trees(&base.poly, (lo, hi), triangulate, limits, cache)
         })
         .collect();
-    for (g, (tree, triangulation)) in groups.iter().zip(trees) {
-        let triangulation = triangulation.map(Arc::new);
+    let mut built = 0;
+    for (g, t) in groups.iter().zip(trees) {
+        built += t.built;
         for &m in g {
-            objects[m as usize].triangulation = triangulation.clone();
-        }
-        let convex = objects[g[0] as usize].poly.diagnostics.convex;
-        let (bsp, exact_bsp) = match tree {
-            CachedTree::Convex(t) if convex => (Some(Arc::new(t)), None),
-            CachedTree::Exact(t) if !convex => (None, Some(Arc::new(t))),
-            _ => (None, None),
-        };
-        for &m in g {
-            objects[m as usize].bsp = bsp.clone();
-            objects[m as usize].exact_bsp = exact_bsp.clone();
+            let o = &mut objects[m as usize];
+            o.bsp = t.bsp.clone();
+            o.exact_bsp = t.exact_bsp.clone();
+            o.triangulation = t.triangulation.clone();
         }
     }
+    built
 }
 
 /// Distinguishes the cache key of a mesh's triangulations from that of its silhouette tree.
@@ -300,18 +391,49 @@ fn quoted_names(objects: &[PreparedObject], group: &[u32]) -> String {
     names.join(", ")
 }
 
+/// How a scene is prepared.
+#[derive(Clone, Copy, Debug)]
+pub struct PrepareOptions<'a> {
+    /// Instances of one mesh share one tree (off: each gets its own, in its world frame).
+    pub share_instances: bool,
+    /// Trees are read from and written to the disk cache (`tree_cache`); off for scenes that
+    /// are generated and thrown away.
+    pub disk_cache: bool,
+    /// Trees built beforehand: a mesh that is an affine image of one of its meshes reads that
+    /// tree instead of building its own.
+    pub library: Option<&'a TreeLibrary>,
+}
+
+impl Default for PrepareOptions<'_> {
+    fn default() -> Self {
+        PrepareOptions {
+            share_instances: true,
+            disk_cache: true,
+            library: None,
+        }
+    }
+}
+
 impl PreparedScene {
     pub fn new(scene: &Scene) -> Self {
         Self::with_ltc(scene, LtcTable::embedded())
     }
 
     pub fn with_ltc(scene: &Scene, ltc: &'static LtcTable) -> Self {
-        Self::with_options(scene, ltc, true)
+        Self::prepare(scene, ltc, PrepareOptions::default())
     }
 
     /// [`PreparedScene::with_ltc`]; with `share_trees` false, instances of one mesh do not
     /// share a tree: each gets its own, built in its world frame (tests, benchmarks).
     pub fn with_options(scene: &Scene, ltc: &'static LtcTable, share_trees: bool) -> Self {
+        let options = PrepareOptions {
+            share_instances: share_trees,
+            ..PrepareOptions::default()
+        };
+        Self::prepare(scene, ltc, options)
+    }
+
+    pub fn prepare(scene: &Scene, ltc: &'static LtcTable, options: PrepareOptions) -> Self {
         let mut objects = Vec::new();
         let mut lights = Vec::new();
         let mut occluders = Vec::new();
@@ -371,15 +493,24 @@ impl PreparedScene {
                 occluders.push(id);
             }
         }
-        let tree_groups = instance_groups(&mut objects, share_trees);
+        let tree_groups = instance_groups(&mut objects, options.share_instances);
         let light_ids: Vec<u32> = lights.iter().map(|&(l, _)| l).collect();
-        build_silhouette_trees(
+        let cache = if options.disk_cache {
+            TreeCache::from_env().unwrap_or_else(|e| {
+                notes.push(format!("the tree cache is not used: {e}"));
+                None
+            })
+        } else {
+            None
+        };
+        let trees_built = build_silhouette_trees(
             &mut objects,
             &tree_groups,
             &light_ids,
             scene_box,
-            MAX_BSP_CELLS,
-            MAX_EXACT_BSP_LEAVES,
+            (MAX_BSP_CELLS, MAX_EXACT_BSP_LEAVES),
+            cache.as_ref(),
+            options.library,
         );
         for g in &tree_groups {
             let o = &objects[g[0] as usize];
@@ -438,6 +569,9 @@ impl PreparedScene {
             notes,
             bounds: scene_box,
             tree_groups,
+            trees_built,
+            cache,
+            share_instances: options.share_instances,
         };
         if std::env::var_os("PENUMBRA_HOISTED_TREES").is_some_and(|v| v == "1") {
             prepared.use_hoisted_trees();
@@ -475,13 +609,16 @@ impl PreparedScene {
     /// Builds the trees of precomputed silhouettes again with other size limits (benchmarks).
     pub fn rebuild_silhouette_trees(&mut self, max_cells: usize, max_leaves: usize) {
         let light_ids: Vec<u32> = self.lights.iter().map(|&(l, _)| l).collect();
-        build_silhouette_trees(
+        // The maps into a library's frame are forgotten with the library.
+        self.tree_groups = instance_groups(&mut self.objects, self.share_instances);
+        self.trees_built = build_silhouette_trees(
             &mut self.objects,
             &self.tree_groups,
             &light_ids,
             self.bounds,
-            max_cells,
-            max_leaves,
+            (max_cells, max_leaves),
+            self.cache.as_ref(),
+            None,
         );
     }
 

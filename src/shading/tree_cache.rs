@@ -8,13 +8,26 @@
 //! names the same key and format and its tree is well formed (every index in range); anything
 //! else is ignored and rebuilt. Writes go to a temporary file renamed into place. Failing to
 //! read or write the cache is never an error: the tree is then built in memory.
+//!
+//! The cache is bounded: `$PENUMBRA_CACHE_MAX` (bytes, or with a `K`, `M` or `G` suffix;
+//! default [`DEFAULT_MAX_BYTES`]). After every write, the least recently used files (by
+//! modification time, which a read refreshes) are deleted until the directory is within the
+//! bound; a tree larger than the bound is not written at all. Scenes that are generated and
+//! thrown away (stress cases) do not use the cache (`PrepareOptions::disk_cache`).
 
 use crate::geometry::{ExactSilhouetteBsp, Polyhedron, SilhouetteBsp, SilhouetteTriangulation};
 use glam::DVec3;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, SystemTime};
 
 /// Bump whenever a tree build changes what it produces.
 pub const FORMAT: u32 = 3;
+
+/// The default bound on the cache's size on disk.
+pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
+
+/// Temporary files older than this are debris of a process that died while writing.
+const STALE_TMP: Duration = Duration::from_secs(600);
 
 /// What is stored for one mesh.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -34,7 +47,21 @@ struct CacheFile {
     tree: CachedTree,
 }
 
-/// The cache directory, if any.
+/// The on-disk cache: where it is and how large it may grow.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TreeCache {
+    pub dir: PathBuf,
+    pub max_bytes: u64,
+}
+
+/// What the cache directory holds.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct CacheUsage {
+    pub files: u64,
+    pub bytes: u64,
+}
+
+/// The cache directory, if any (`$PENUMBRA_CACHE_DIR`, `$XDG_CACHE_HOME`, `~/.cache`).
 pub fn cache_dir() -> Option<PathBuf> {
     match std::env::var_os("PENUMBRA_CACHE_DIR") {
         Some(d) if d == "off" => None,
@@ -43,6 +70,187 @@ pub fn cache_dir() -> Option<PathBuf> {
             .map(PathBuf::from)
             .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
             .map(|d| d.join("penumbra").join("trees")),
+    }
+}
+
+/// A size such as `1048576`, `512K`, `256M`, `2G` or `1.5G` (powers of 1024), in bytes.
+pub fn parse_size(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let (num, unit) = match t.char_indices().find(|(_, c)| c.is_ascii_alphabetic()) {
+        Some((i, _)) => (&t[..i], t[i..].to_ascii_uppercase()),
+        None => (t, String::new()),
+    };
+    let scale: u64 = match unit.trim_end_matches("IB").trim_end_matches('B') {
+        "" => 1,
+        "K" => 1 << 10,
+        "M" => 1 << 20,
+        "G" => 1 << 30,
+        _ => return Err(format!("'{text}' is not a size (e.g. 256M, 2G, 1048576)")),
+    };
+    let v: f64 = num
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a size (e.g. 256M, 2G, 1048576)"))?;
+    if !v.is_finite() || v < 0.0 || v * scale as f64 > u64::MAX as f64 {
+        return Err(format!("'{text}' is not a size (e.g. 256M, 2G, 1048576)"));
+    }
+    Ok((v * scale as f64) as u64)
+}
+
+impl TreeCache {
+    /// The cache the environment configures: `Ok(None)` when it is disabled, `Err` when
+    /// `$PENUMBRA_CACHE_MAX` is not a size.
+    pub fn from_env() -> Result<Option<TreeCache>, String> {
+        let max_bytes = match std::env::var("PENUMBRA_CACHE_MAX") {
+            Ok(v) => parse_size(&v).map_err(|e| format!("PENUMBRA_CACHE_MAX: {e}"))?,
+            Err(_) => DEFAULT_MAX_BYTES,
+        };
+        Ok(cache_dir().map(|dir| TreeCache { dir, max_bytes }))
+    }
+
+    fn path(&self, key: u64) -> PathBuf {
+        self.dir.join(format!("{key:016x}.json"))
+    }
+
+    /// The cached tree for `key`, if a valid one is on disk; a hit marks the file as recently
+    /// used.
+    pub fn load(&self, key: u64, poly: &Polyhedron) -> Option<CachedTree> {
+        let path = self.path(key);
+        let text = std::fs::read_to_string(&path).ok()?;
+        let file: CacheFile = serde_json::from_str(&text).ok()?;
+        if file.format != FORMAT || file.key != key {
+            return None;
+        }
+        let nv = poly.vertices.len();
+        let ok = match &file.tree {
+            CachedTree::Convex(t) => t.is_well_formed(nv),
+            CachedTree::Exact(t) => t.is_well_formed(nv),
+            CachedTree::Triangulation(t) => t.is_well_formed(nv),
+            CachedTree::OverLimit => true,
+        };
+        if ok {
+            touch(&path);
+        }
+        ok.then_some(file.tree)
+    }
+
+    /// Stores `tree` for `key`, then evicts the least recently used files beyond the bound
+    /// (errors are ignored: the cache is an optimisation).
+    pub fn store(&self, key: u64, tree: &CachedTree) {
+        let file = CacheFile {
+            format: FORMAT,
+            key,
+            tree: tree.clone(),
+        };
+        let Ok(text) = serde_json::to_string(&file) else {
+            return;
+        };
+        if text.len() as u64 > self.max_bytes || std::fs::create_dir_all(&self.dir).is_err() {
+            return;
+        }
+        let tmp = self
+            .dir
+            .join(format!("{key:016x}.{}.tmp", std::process::id()));
+        if std::fs::write(&tmp, text).is_ok() {
+            let _ = std::fs::rename(&tmp, self.path(key));
+        }
+        let _ = std::fs::remove_file(&tmp);
+        self.trim();
+    }
+
+    /// The cache's files with their sizes and last use, oldest first; stale temporary files
+    /// are deleted on the way.
+    fn entries(&self) -> Vec<(SystemTime, u64, PathBuf)> {
+        let Ok(dir) = std::fs::read_dir(&self.dir) else {
+            return Vec::new();
+        };
+        let now = SystemTime::now();
+        let mut out = Vec::new();
+        for e in dir.flatten() {
+            let path = e.path();
+            let Ok(meta) = e.metadata() else { continue };
+            if !meta.is_file() {
+                continue;
+            }
+            let used = meta.modified().unwrap_or(SystemTime::UNIX_EPOCH);
+            match path.extension().and_then(|x| x.to_str()) {
+                Some("json") if is_cache_name(&path) => out.push((used, meta.len(), path)),
+                Some("tmp")
+                    if is_cache_name(&path)
+                        && now.duration_since(used).unwrap_or_default() > STALE_TMP =>
+                {
+                    let _ = std::fs::remove_file(&path);
+                }
+                _ => {}
+            }
+        }
+        out.sort();
+        out
+    }
+
+    /// Files and bytes in the cache.
+    pub fn usage(&self) -> CacheUsage {
+        let e = self.entries();
+        CacheUsage {
+            files: e.len() as u64,
+            bytes: e.iter().map(|(_, b, _)| b).sum(),
+        }
+    }
+
+    /// Deletes the least recently used files until the cache is within its bound; returns
+    /// what was deleted.
+    pub fn trim(&self) -> CacheUsage {
+        let entries = self.entries();
+        let mut total: u64 = entries.iter().map(|(_, b, _)| b).sum();
+        let mut evicted = CacheUsage::default();
+        for (_, bytes, path) in entries {
+            if total <= self.max_bytes {
+                break;
+            }
+            if std::fs::remove_file(&path).is_ok() {
+                total -= bytes;
+                evicted.files += 1;
+                evicted.bytes += bytes;
+            }
+        }
+        evicted
+    }
+
+    /// Deletes every file of the cache (and only those); returns what was deleted.
+    pub fn clear(&self) -> CacheUsage {
+        let mut cleared = CacheUsage::default();
+        for (_, bytes, path) in self.entries() {
+            if std::fs::remove_file(&path).is_ok() {
+                cleared.files += 1;
+                cleared.bytes += bytes;
+            }
+        }
+        if let Ok(dir) = std::fs::read_dir(&self.dir) {
+            for e in dir.flatten() {
+                let p = e.path();
+                if p.extension().is_some_and(|x| x == "tmp") && is_cache_name(&p) {
+                    let _ = std::fs::remove_file(&p);
+                }
+            }
+        }
+        cleared
+    }
+}
+
+/// Whether a file name is one the cache writes (`<16 hex digits>.json` or `<16 hex>.<pid>.tmp`),
+/// so that clearing a directory the user pointed the cache at deletes nothing else.
+fn is_cache_name(path: &Path) -> bool {
+    let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
+        return false;
+    };
+    let stem = name.split('.').next().unwrap_or("");
+    stem.len() == 16 && stem.bytes().all(|b| b.is_ascii_hexdigit())
+}
+
+/// Marks a file as used now (its modification time is the eviction order).
+fn touch(path: &Path) {
+    if let Ok(f) = std::fs::File::options().write(true).open(path) {
+        let _ = f.set_modified(SystemTime::now());
     }
 }
 
@@ -69,43 +277,29 @@ pub fn tree_key(poly: &Polyhedron, lo: DVec3, hi: DVec3, limit: usize, convex: b
     h
 }
 
-/// The cached tree for `key`, if a valid one is on disk.
-pub fn load(key: u64, poly: &Polyhedron) -> Option<CachedTree> {
-    let path = cache_dir()?.join(format!("{key:016x}.json"));
-    let text = std::fs::read_to_string(path).ok()?;
-    let file: CacheFile = serde_json::from_str(&text).ok()?;
-    if file.format != FORMAT || file.key != key {
-        return None;
-    }
-    let nv = poly.vertices.len();
-    let ok = match &file.tree {
-        CachedTree::Convex(t) => t.is_well_formed(nv),
-        CachedTree::Exact(t) => t.is_well_formed(nv),
-        CachedTree::Triangulation(t) => t.is_well_formed(nv),
-        CachedTree::OverLimit => true,
-    };
-    ok.then_some(file.tree)
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// Stores `tree` for `key` (errors are ignored: the cache is an optimisation).
-pub fn store(key: u64, tree: &CachedTree) {
-    let Some(dir) = cache_dir() else {
-        return;
-    };
-    if std::fs::create_dir_all(&dir).is_err() {
-        return;
+    #[test]
+    fn sizes_parse_with_units() {
+        assert_eq!(parse_size("1048576"), Ok(1 << 20));
+        assert_eq!(parse_size("512K"), Ok(512 << 10));
+        assert_eq!(parse_size("256M"), Ok(256 << 20));
+        assert_eq!(parse_size("256MiB"), Ok(256 << 20));
+        assert_eq!(parse_size("2g"), Ok(2 << 30));
+        assert_eq!(parse_size("1.5G"), Ok(3 << 29));
+        assert_eq!(parse_size("0"), Ok(0));
+        for bad in ["", "-1M", "12Q", "M", "nan", "1e400"] {
+            assert!(parse_size(bad).is_err(), "{bad}");
+        }
     }
-    let file = CacheFile {
-        format: FORMAT,
-        key,
-        tree: tree.clone(),
-    };
-    let Ok(text) = serde_json::to_string(&file) else {
-        return;
-    };
-    let tmp = dir.join(format!("{key:016x}.{}.tmp", std::process::id()));
-    if std::fs::write(&tmp, text).is_ok() {
-        let _ = std::fs::rename(&tmp, dir.join(format!("{key:016x}.json")));
+
+    #[test]
+    fn only_cache_files_are_recognised() {
+        assert!(is_cache_name(Path::new("/x/0123456789abcdef.json")));
+        assert!(is_cache_name(Path::new("0123456789abcdef.123.tmp")));
+        assert!(!is_cache_name(Path::new("notes.json")));
+        assert!(!is_cache_name(Path::new("0123456789abcdeg.json")));
     }
-    let _ = std::fs::remove_file(&tmp);
 }
