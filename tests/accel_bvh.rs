@@ -12,7 +12,11 @@ use penumbra::scene::{Material, Mesh, ObjectFlags, Scene, SceneObject};
 fn object(name: &str, positions: Vec<DVec3>, faces: Vec<Vec<u32>>) -> SceneObject {
     SceneObject {
         name: name.into(),
-        mesh: Mesh { positions, faces },
+        mesh: Mesh {
+            positions,
+            faces,
+            rounding: 0.0,
+        },
         material: Material::default(),
         flags: ObjectFlags {
             light: false,

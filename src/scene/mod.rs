@@ -8,6 +8,7 @@
 
 pub mod camera;
 pub mod obj;
+pub mod precision;
 pub mod scene_file;
 pub mod shapes;
 pub mod thesis_polyhedra;
@@ -66,6 +67,10 @@ pub struct ObjectFlags {
 pub struct Mesh {
     pub positions: Vec<DVec3>,
     pub faces: Vec<Vec<u32>>,
+    /// The largest distance of a vertex from the position its author meant: the rounding
+    /// radius of the digits the file wrote it with (`precision`), 0 for meshes computed here
+    /// (exact up to f64 rounding). Transforms scale it with the mesh.
+    pub rounding: f64,
 }
 
 impl Mesh {

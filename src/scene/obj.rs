@@ -15,6 +15,9 @@
 //! the k-th material definition met through the `mtllib` statements. Faces are repaired (see
 //! [`repair_face`]) and each object keeps only the vertices it uses.
 
+use super::precision::{
+    PrecisionSurvey, WrittenPrecision, planarity_tolerance, plane_deviation, written_number,
+};
 use super::{Material, Mesh, ObjectFlags, Scene, SceneError, SceneObject};
 use glam::DVec3;
 use std::collections::HashSet;
@@ -215,6 +218,8 @@ struct ObjScan {
     mtllibs: Vec<(usize, String)>,
     /// (line, material name) of every `usemtl` statement.
     usemtls: Vec<(usize, String)>,
+    /// How precisely the vertex coordinates were written.
+    precision: WrittenPrecision,
 }
 
 fn scan_obj(text: &str, file: &str, warn: &mut Warnings) -> Result<ObjScan, SceneError> {
@@ -224,7 +229,11 @@ fn scan_obj(text: &str, file: &str, warn: &mut Warnings) -> Result<ObjScan, Scen
         faces: Vec::new(),
         mtllibs: Vec::new(),
         usemtls: Vec::new(),
+        precision: WrittenPrecision::default(),
     };
+    let mut survey = PrecisionSurvey::new();
+    // Unknown statements by keyword: (count, first line), in the order first met.
+    let mut unknown: Vec<(String, usize, usize)> = Vec::new();
     let mut ignored_elements = 0usize;
     let mut first_ignored_element = 0usize;
     let mut free_form = 0usize;
@@ -236,6 +245,11 @@ fn scan_obj(text: &str, file: &str, warn: &mut Warnings) -> Result<ObjScan, Scen
         match kw {
             "v" => {
                 let p = parse_vertex(&toks).map_err(|m| line_err(file, line, m))?;
+                for t in &toks[..3] {
+                    if let Some(n) = written_number(t) {
+                        survey.add(n);
+                    }
+                }
                 if scan.positions.len() >= u32::MAX as usize {
                     return Err(line_err(file, line, "too many vertices"));
                 }
@@ -310,10 +324,26 @@ fn scan_obj(text: &str, file: &str, warn: &mut Warnings) -> Result<ObjScan, Scen
             | "hole" | "scrv" | "sp" | "end" | "con" => free_form += 1,
             other => {
                 let shown: String = other.chars().take(24).collect();
-                warn.at(file, line, format!("unknown statement '{shown}' ignored"));
+                match unknown.iter_mut().find(|u| u.0 == shown) {
+                    Some(u) => u.1 += 1,
+                    None => unknown.push((shown, 1, line)),
+                }
             }
         }
     }
+    for (kw, count, first) in unknown {
+        let times = if count == 1 {
+            String::new()
+        } else {
+            format!(" ({count} times, first here)")
+        };
+        warn.at(
+            file,
+            first,
+            format!("unknown statement '{kw}' ignored{times}"),
+        );
+    }
+    scan.precision = survey.finish();
     if ignored_elements > 0 {
         warn.at(
             file,
@@ -618,29 +648,151 @@ pub fn repair_face(face: &[u32], positions: &[DVec3]) -> FaceRepair {
     }
 }
 
-/// Notes on a valid face that is kept: non-planar or non-convex polygons (the fan in
-/// `Mesh::triangles` and silhouette tests assume planar convex faces).
-fn face_shape_notes(pts: &[DVec3]) -> Option<String> {
-    let n = super::shapes::polygon_area_vector(pts).try_normalize()?;
+/// How far a kept face is from what the fan in `Mesh::triangles` and the silhouette tests
+/// assume (planar, convex): `Err(off, tolerance)` for a face not planar beyond what the digits
+/// it was written with explain (`precision::planarity_tolerance` of its vertices' rounding
+/// radius), `Ok(false)` for a planar face that is not convex, `Ok(true)` for a good one.
+fn face_shape(pts: &[DVec3], rounding: f64) -> Result<bool, (f64, f64)> {
     if pts.len() == 3 {
-        return None;
+        return Ok(true);
     }
-    let c = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;
+    let off = plane_deviation(pts);
+    let tol = planarity_tolerance(pts, rounding);
+    if off > tol {
+        return Err((off, tol));
+    }
+    let Some(n) = super::shapes::polygon_area_vector(pts).try_normalize() else {
+        return Ok(true);
+    };
     let longest = (0..pts.len())
         .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
         .fold(0.0, f64::max);
-    let off = pts.iter().map(|p| n.dot(*p - c).abs()).fold(0.0, f64::max);
-    if off > 1e-6 * longest {
-        return Some(format!(
-            "non-planar face (a vertex is {off:.3e} off its plane); kept as is"
-        ));
-    }
     let m = pts.len();
-    let convex = (0..m).all(|k| {
+    // A turn the wrong way by less than the rounding of its corner is no turn.
+    let slack = (2.0 * rounding * longest).max(1e-12 * longest * longest);
+    Ok((0..m).all(|k| {
         let (a, b, c) = (pts[k], pts[(k + 1) % m], pts[(k + 2) % m]);
-        (b - a).cross(c - b).dot(n) >= -1e-12 * longest * longest
-    });
-    (!convex).then(|| "non-convex face; kept as is (fan triangulation will be wrong)".into())
+        (b - a).cross(c - b).dot(n) >= -slack
+    }))
+}
+
+/// The faces of one object that one kind of repair or note applies to: one warning for all of
+/// them, with their count, their first lines and the worst case.
+#[derive(Default)]
+struct Tally {
+    lines: Vec<usize>,
+    count: usize,
+    worst: f64,
+    worst_line: usize,
+    worst_tolerance: f64,
+}
+
+/// How many lines a grouped warning lists.
+const LISTED_LINES: usize = 6;
+
+impl Tally {
+    fn add(&mut self, line: usize, worst: f64, tolerance: f64) {
+        self.count += 1;
+        if self.lines.len() < LISTED_LINES {
+            self.lines.push(line);
+        }
+        if self.count == 1 || worst > self.worst {
+            (self.worst, self.worst_line, self.worst_tolerance) = (worst, line, tolerance);
+        }
+    }
+
+    /// "line 12" or "lines 8, 12, 13" or "lines 8, 12, ... (96 faces)".
+    fn where_(&self) -> String {
+        let list: Vec<String> = self.lines.iter().map(|l| l.to_string()).collect();
+        match self.count {
+            1 => format!("line {}", list[0]),
+            n if n <= LISTED_LINES => format!("lines {}", list.join(", ")),
+            n => format!("lines {}, ... ({n} faces)", list.join(", ")),
+        }
+    }
+}
+
+/// The repairs and notes of one object's faces, by kind.
+#[derive(Default)]
+struct FaceTallies {
+    repeated: Tally,
+    /// Dropped faces, by reason, in the order first met.
+    dropped: Vec<(String, Tally)>,
+    non_planar: Tally,
+    non_convex: Tally,
+}
+
+impl FaceTallies {
+    fn emit(self, file: &str, object: &str, precision: &WrittenPrecision, warn: &mut Warnings) {
+        let t = &self.repeated;
+        if t.count > 0 {
+            warn.at(
+                file,
+                t.lines[0],
+                format!(
+                    "object '{object}': repeated vertices removed from {} ({})",
+                    count_faces(t.count),
+                    t.where_()
+                ),
+            );
+        }
+        for (reason, t) in &self.dropped {
+            warn.at(
+                file,
+                t.lines[0],
+                format!(
+                    "object '{object}': {} dropped: {reason} ({})",
+                    count_faces(t.count),
+                    t.where_()
+                ),
+            );
+        }
+        let t = &self.non_planar;
+        if t.count > 0 {
+            warn.at(
+                file,
+                t.worst_line,
+                format!(
+                    "object '{object}': {} not planar beyond the precision the file was \
+                     written with ({}); the worst, on this line, has a vertex {:.2e} off its \
+                     plane where rounding explains {:.1e} ({}); kept as is",
+                    faces(t.count),
+                    precision.describe(),
+                    t.worst,
+                    t.worst_tolerance,
+                    t.where_()
+                ),
+            );
+        }
+        let t = &self.non_convex;
+        if t.count > 0 {
+            warn.at(
+                file,
+                t.lines[0],
+                format!(
+                    "object '{object}': {} not convex; kept as is, the fan triangulation of \
+                     such a face is wrong ({})",
+                    faces(t.count),
+                    t.where_()
+                ),
+            );
+        }
+    }
+}
+
+/// "1 face" / "3 faces".
+fn count_faces(n: usize) -> String {
+    if n == 1 {
+        "1 face".into()
+    } else {
+        format!("{n} faces")
+    }
+}
+
+/// "1 face is" / "3 faces are".
+fn faces(n: usize) -> String {
+    let verb = if n == 1 { "is" } else { "are" };
+    format!("{} {verb}", count_faces(n))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -770,6 +922,7 @@ fn load_obj_impl(
             &model.name,
             faces,
             &scan.positions,
+            &scan.precision,
             material,
             file,
             &mut warn,
@@ -787,32 +940,52 @@ fn load_obj_impl(
     Ok(scene)
 }
 
-/// Repairs the faces of one object and keeps only the vertices it uses.
+/// Repairs the faces of one object and keeps only the vertices it uses; its repairs and notes
+/// are grouped by kind (one warning each, with a count and the worst case).
 fn build_object(
     name: &str,
     faces: &[(usize, Vec<u32>)],
     positions: &[DVec3],
+    precision: &WrittenPrecision,
     material: Material,
     file: &str,
     warn: &mut Warnings,
 ) -> Option<SceneObject> {
     let mut mesh = Mesh::default();
     let mut local = std::collections::HashMap::<u32, u32>::new();
+    let mut tallies = FaceTallies::default();
     for (line, face) in faces {
         let kept = match repair_face(face, positions) {
             FaceRepair::Kept(f) => f,
-            FaceRepair::Repaired(f, note) => {
-                warn.at(file, *line, note);
+            FaceRepair::Repaired(f, _) => {
+                tallies.repeated.add(*line, 0.0, 0.0);
                 f
             }
             FaceRepair::Dropped(reason) => {
-                warn.at(file, *line, reason);
+                let reason = reason
+                    .trim_start_matches("degenerate face dropped: ")
+                    .to_owned();
+                match tallies.dropped.iter_mut().find(|(r, _)| *r == reason) {
+                    Some((_, t)) => t.add(*line, 0.0, 0.0),
+                    None => {
+                        let mut t = Tally::default();
+                        t.add(*line, 0.0, 0.0);
+                        tallies.dropped.push((reason, t));
+                    }
+                }
                 continue;
             }
         };
         let pts: Vec<DVec3> = kept.iter().map(|&i| positions[i as usize]).collect();
-        if let Some(note) = face_shape_notes(&pts) {
-            warn.at(file, *line, note);
+        let rounding = pts
+            .iter()
+            .map(|&p| precision.vertex_rounding(p))
+            .fold(0.0, f64::max);
+        mesh.rounding = mesh.rounding.max(rounding);
+        match face_shape(&pts, rounding) {
+            Ok(true) => {}
+            Ok(false) => tallies.non_convex.add(*line, 0.0, 0.0),
+            Err((off, tol)) => tallies.non_planar.add(*line, off, tol),
         }
         let f = kept
             .iter()
@@ -825,6 +998,7 @@ fn build_object(
             .collect();
         mesh.faces.push(f);
     }
+    tallies.emit(file, name, precision, warn);
     if mesh.faces.is_empty() {
         let line = faces.first().map_or(0, |f| f.0);
         warn.at(

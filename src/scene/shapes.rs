@@ -43,7 +43,18 @@ impl Mesh {
                 reverse_face(f);
             }
         }
-        Mesh { positions, faces }
+        // The Frobenius norm bounds how much the map stretches any vector.
+        let stretch = DVec3::new(
+            t.matrix3.x_axis.length(),
+            t.matrix3.y_axis.length(),
+            t.matrix3.z_axis.length(),
+        )
+        .length();
+        Mesh {
+            positions,
+            faces,
+            rounding: self.rounding * stretch,
+        }
     }
 
     /// The mesh moved by `offset`.
@@ -60,6 +71,7 @@ impl Mesh {
     /// Appends `other` (indices are offset). Used to merge shapes into one object.
     pub fn append(&mut self, other: &Mesh) {
         let base = self.positions.len() as u32;
+        self.rounding = self.rounding.max(other.rounding);
         self.positions.extend_from_slice(&other.positions);
         self.faces.extend(
             other
@@ -300,6 +312,7 @@ pub fn quad(center: DVec3, u_half: DVec3, v_half: DVec3) -> Mesh {
     Mesh {
         positions: vec![c - u - v, c + u - v, c + u + v, c - u + v],
         faces: vec![vec![0, 1, 2, 3]],
+        rounding: 0.0,
     }
 }
 
@@ -327,7 +340,11 @@ pub fn cuboid(center: DVec3, half_extents: DVec3) -> Mesh {
             faces.push(f);
         }
     }
-    Mesh { positions, faces }
+    Mesh {
+        positions,
+        faces,
+        rounding: 0.0,
+    }
 }
 
 /// Capped cylinder with its axis along +y, centred at `center`: `2 * segments` vertices,
@@ -390,7 +407,11 @@ pub fn truncated_cone(
         }
         faces.push(f);
     }
-    Mesh { positions, faces }
+    Mesh {
+        positions,
+        faces,
+        rounding: 0.0,
+    }
 }
 
 /// Regular icosahedron inscribed in the sphere of `radius`: 12 vertices, 20 triangles.
@@ -430,7 +451,11 @@ fn unit_icosahedron() -> Mesh {
             }
         }
     }
-    Mesh { positions, faces }
+    Mesh {
+        positions,
+        faces,
+        rounding: 0.0,
+    }
 }
 
 /// Orders a triangle of a origin-centred convex solid so that it winds CCW seen from outside.
@@ -568,7 +593,11 @@ pub fn uv_ellipsoid(center: DVec3, radii: DVec3, slices: u32, stacks: u32) -> Me
     for j in 0..ns {
         faces.push(vec![south, at(nt - 1, j), at(nt - 1, j + 1)]);
     }
-    Mesh { positions, faces }
+    Mesh {
+        positions,
+        faces,
+        rounding: 0.0,
+    }
 }
 
 /// A prism: the simple polygon `outline` (CCW seen from +z, in the xy plane) extruded from
@@ -594,7 +623,11 @@ pub fn prism(outline: &[DVec2], pieces: &[Vec<u32>], depth: f64) -> Mesh {
         let j = (i + 1) % n;
         faces.push(vec![i, j, j + n, i + n]);
     }
-    Mesh { positions, faces }
+    Mesh {
+        positions,
+        faces,
+        rounding: 0.0,
+    }
 }
 
 /// Non-convex L-shaped prism (closed, outward CCW, 12 vertices, all faces convex): the L lies

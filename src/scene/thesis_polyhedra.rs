@@ -98,7 +98,11 @@ fn extruded_cube(h: f64, s: f64, e: f64) -> Mesh {
             faces.push(vec![face[k as usize], face[j as usize], base + j, base + k]);
         }
     }
-    Mesh { positions, faces }
+    Mesh {
+        positions,
+        faces,
+        rounding: 0.0,
+    }
 }
 
 /// A cube of half-size `h` with a square shaft of half-size `r` along y: through the whole
@@ -155,5 +159,9 @@ fn holed_cube(h: f64, r: f64, depth: Option<f64>) -> Mesh {
         faces.push(outer_bottom.iter().rev().copied().collect());
         faces.push(inner_bottom.to_vec());
     }
-    Mesh { positions, faces }
+    Mesh {
+        positions,
+        faces,
+        rounding: 0.0,
+    }
 }
