@@ -77,6 +77,52 @@ pub struct Probe {
     pub monte_carlo: Option<MonteCarloEstimate>,
 }
 
+impl Probe {
+    /// Reads a debug dump written by `penumbra probe` or the workbench. Errors name the file
+    /// and, for text that is not a dump, the line and column (`name:line:column: ...`).
+    pub fn from_json(text: &str, name: &str) -> Result<Probe, String> {
+        let at = |e: serde_json::Error, what: &str| {
+            if e.line() > 0 {
+                format!("{name}:{}:{}: {what}: {e}", e.line(), e.column())
+            } else {
+                format!("{name}: {what}: {e}")
+            }
+        };
+        let probe: Probe =
+            serde_json::from_str(text).map_err(|e| at(e, "not a penumbra debug dump"))?;
+        probe.check().map_err(|e| format!("{name}: {e}"))?;
+        Ok(probe)
+    }
+
+    /// What a replay relies on beyond the JSON's shape: directions are unit vectors (the
+    /// sphere view draws them as points of the sphere), numbers are finite.
+    fn check(&self) -> Result<(), String> {
+        let unit = |d: DVec3| d.is_finite() && (d.length() - 1.0).abs() <= 1e-6;
+        let ok =
+            |poly: &crate::geometry::SphericalPolygon| poly.vertices().iter().all(|&d| unit(d));
+        for (k, l) in self.recording.lights.iter().enumerate() {
+            let polygons = l
+                .polygons
+                .iter()
+                .map(|(_, p)| p)
+                .chain(l.occluder_polygons.iter().map(|(_, _, _, p)| p))
+                .chain(l.lobes.iter().flat_map(|(_, a, b, _)| [a, b]));
+            let edges = l.contours.iter().flat_map(|(_, e)| e.iter().flatten());
+            let exact = l
+                .exact
+                .iter()
+                .flat_map(|e| e.crossings.iter().chain(e.rejected.iter().flatten()));
+            let all_unit = polygons.clone().all(ok) && edges.copied().all(unit);
+            if !all_unit || !exact.copied().all(unit) {
+                return Err(format!(
+                    "recorded light {k}: a direction is not a unit vector (the dump was edited?)"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The camera ray through pixel (x, y) (centre at x + 0.5, y + 0.5).
 pub fn pixel_ray(camera: &Camera, size: (u32, u32), pixel: (f64, f64)) -> Result<Ray, String> {
     let basis = camera.basis()?;

@@ -46,11 +46,11 @@ pub fn open(path: &Path) -> Result<Opened> {
         )),
         "json" => {
             let text = std::fs::read_to_string(path).with_context(|| name.clone())?;
-            let value: serde_json::Value =
-                serde_json::from_str(&text).with_context(|| format!("{name}: not JSON"))?;
+            let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+                anyhow::anyhow!("{name}:{}:{}: not JSON: {e}", e.line(), e.column())
+            })?;
             if value.get("recording").is_some() {
-                let p: Probe = serde_json::from_value(value)
-                    .with_context(|| format!("{name}: not a penumbra debug dump"))?;
+                let p = Probe::from_json(&text, &name).map_err(anyhow::Error::msg)?;
                 Ok(Opened::Dump(Box::new(p)))
             } else if value.get("equal_time").is_some() {
                 let r: BenchReport = serde_json::from_value(value)

@@ -6,10 +6,40 @@ use glam::DVec3;
 ///
 /// A loop is closed implicitly: its last vertex connects back to its first.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "StoredLoops")]
 pub struct PolygonLoops {
     vertices: Vec<DVec3>,
     /// `loop_ends[i]` is one past the last vertex of loop `i`.
     loop_ends: Vec<u32>,
+}
+
+/// [`PolygonLoops`] as read from a file (a debug dump), before its loop ends are checked.
+#[derive(serde::Deserialize)]
+struct StoredLoops {
+    vertices: Vec<DVec3>,
+    loop_ends: Vec<u32>,
+}
+
+impl TryFrom<StoredLoops> for PolygonLoops {
+    type Error = String;
+
+    /// Loop ends must not decrease and the last must be the vertex count, so that every loop
+    /// is a slice of the vertices.
+    fn try_from(s: StoredLoops) -> Result<Self, String> {
+        let ordered = s.loop_ends.windows(2).all(|w| w[0] <= w[1]);
+        let last = s.loop_ends.last().map_or(0, |&e| e as usize);
+        if !ordered || last != s.vertices.len() {
+            return Err(format!(
+                "polygon loop ends {:?} do not split its {} vertices",
+                &s.loop_ends[..s.loop_ends.len().min(8)],
+                s.vertices.len()
+            ));
+        }
+        Ok(PolygonLoops {
+            vertices: s.vertices,
+            loop_ends: s.loop_ends,
+        })
+    }
 }
 
 impl PolygonLoops {
