@@ -88,7 +88,11 @@ fn blender_primitives(segments: usize, rings: usize, fmt: fn(f64) -> String) -> 
         (0..segments)
             .map(|s| {
                 let ph = TAU * s as f64 / segments as f64;
-                vertex(obj, c + DVec3::new(0.6 * ph.cos(), 0.6 * ph.sin(), z), lines)
+                vertex(
+                    obj,
+                    c + DVec3::new(0.6 * ph.cos(), 0.6 * ph.sin(), z),
+                    lines,
+                )
             })
             .collect()
     };
@@ -145,7 +149,9 @@ fn exporter_rounding_is_no_warning() {
             // The only warning is the missing MTL (no `mtllib`, none supplied): nothing of the
             // geometry.
             assert!(
-                s.warnings.iter().all(|w| !w.contains("planar") && !w.contains("convex")),
+                s.warnings
+                    .iter()
+                    .all(|w| !w.contains("planar") && !w.contains("convex")),
                 "{name} {segments}x{rings}: {:?}",
                 s.warnings
             );
@@ -184,9 +190,14 @@ fn exporter_rounding_is_no_warning() {
 fn a_face_bent_beyond_the_rounding_is_one_grouped_warning() {
     let (obj, quad_line) = blender_primitives(32, 16, fixed6);
     // Lift the first vertex of the first sphere quad by 1e-3 in z (a thousand times the
-    // rounding): that quad and the pole triangle sharing it change; the triangle stays planar.
+    // rounding): the two quads and the two pole triangles around it move; triangles stay planar.
     let face_line = obj.lines().nth(quad_line - 1).unwrap().to_owned();
-    let first: usize = face_line.split_whitespace().nth(1).unwrap().parse().unwrap();
+    let first: usize = face_line
+        .split_whitespace()
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
     let mut lines: Vec<String> = obj.lines().map(str::to_owned).collect();
     let vline = lines
         .iter()
