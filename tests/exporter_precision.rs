@@ -236,3 +236,72 @@ fn a_face_bent_beyond_the_rounding_is_one_grouped_warning() {
         "the warning's line {at} is a face with the moved vertex: {face_at}"
     );
 }
+
+/// An L-shaped prism whose caps are written as hexagons starting at the reflex-side corner
+/// (2, 1): a fan from there folds over the notch. The loader triangulates each cap inside
+/// itself; the oracle is ray casting: vertical rays through the notch meet nothing, rays
+/// through the L meet both caps.
+#[test]
+fn a_non_convex_cap_is_triangulated_inside_itself() {
+    use penumbra::accel::{Bvh, Ray};
+    let outline = [
+        (2.0, 1.0),
+        (1.0, 1.0),
+        (1.0, 3.0),
+        (0.0, 3.0),
+        (0.0, 0.0),
+        (2.0, 0.0),
+    ];
+    let mut obj = String::from("o L\n");
+    for z in [0.0, 1.0] {
+        for (x, y) in outline {
+            obj += &format!("v {x:.6} {y:.6} {z:.6}\n");
+        }
+    }
+    // Bottom cap seen from below (clockwise from above), top cap counter-clockwise, sides.
+    obj += "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n";
+    for k in 0..6 {
+        let (a, b) = (k + 1, (k + 1) % 6 + 1);
+        obj += &format!("f {a} {b} {} {}\n", b + 6, a + 6);
+    }
+    let s = load_obj_str(&obj, None, "l.obj").unwrap();
+    let w: Vec<&String> = s
+        .warnings
+        .iter()
+        .filter(|w| w.contains("triangulated inside itself"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", s.warnings);
+    assert!(
+        w[0].starts_with("l.obj:14: object 'L': 2 faces are not convex"),
+        "{}",
+        w[0]
+    );
+    let m = &s.objects[0].mesh;
+    assert_eq!(
+        m.faces.len(),
+        2 * 4 + 6,
+        "two caps of 4 triangles, six sides"
+    );
+    let poly = penumbra::geometry::Polyhedron::new(&m.positions, &m.faces);
+    assert!(poly.diagnostics.closed_manifold);
+    let bvh = Bvh::build(&s);
+    let hits = |x: f64, y: f64| {
+        let mut n = 0;
+        let mut t0 = 0.0;
+        let ray = Ray {
+            origin: DVec3::new(x, y, 5.0),
+            dir: -DVec3::Z,
+        };
+        while let Some(h) = bvh.intersect(&ray, t0, f64::INFINITY) {
+            n += 1;
+            t0 = h.t + 1e-9;
+        }
+        n
+    };
+    for (x, y) in [(1.5, 1.5), (1.9, 2.9), (1.1, 1.1), (1.5, 2.5)] {
+        assert_eq!(hits(x, y), 0, "through the notch at ({x}, {y})");
+    }
+    for (x, y) in [(0.5, 2.5), (1.5, 0.5), (0.2, 0.2), (0.9, 1.9)] {
+        assert_eq!(hits(x, y), 2, "through the L at ({x}, {y})");
+    }
+}

@@ -7,6 +7,7 @@
 //! * Receivers are shaded two-sided; every surface occludes unless the scene file says otherwise.
 
 pub mod camera;
+pub mod face_triangulation;
 pub mod obj;
 pub mod precision;
 pub mod scene_file;

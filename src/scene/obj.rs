@@ -15,6 +15,7 @@
 //! the k-th material definition met through the `mtllib` statements. Faces are repaired (see
 //! [`repair_face`]) and each object keeps only the vertices it uses.
 
+use super::face_triangulation::ear_clip;
 use super::precision::{
     PrecisionSurvey, WrittenPrecision, planarity_tolerance, plane_deviation, written_number,
 };
@@ -719,6 +720,9 @@ struct FaceTallies {
     /// Dropped faces, by reason, in the order first met.
     dropped: Vec<(String, Tally)>,
     non_planar: Tally,
+    /// Planar, not convex, triangulated inside themselves.
+    triangulated: Tally,
+    /// Planar, not convex, and not simple either (no triangulation): kept as is.
     non_convex: Tally,
 }
 
@@ -764,14 +768,28 @@ impl FaceTallies {
                 ),
             );
         }
+        let t = &self.triangulated;
+        if t.count > 0 {
+            warn.at(
+                file,
+                t.lines[0],
+                format!(
+                    "object '{object}': {} not convex, each triangulated inside itself (a fan \
+                     from its first vertex would fold outside it) ({})",
+                    faces(t.count),
+                    t.where_()
+                ),
+            );
+        }
         let t = &self.non_convex;
         if t.count > 0 {
             warn.at(
                 file,
                 t.lines[0],
                 format!(
-                    "object '{object}': {} not convex; kept as is, the fan triangulation of \
-                     such a face is wrong ({})",
+                    "object '{object}': {} neither convex nor simple (the outline crosses \
+                     itself); kept as is, and its fan triangulation covers area it does not \
+                     have ({})",
                     faces(t.count),
                     t.where_()
                 ),
@@ -982,21 +1000,39 @@ fn build_object(
             .map(|&p| precision.vertex_rounding(p))
             .fold(0.0, f64::max);
         mesh.rounding = mesh.rounding.max(rounding);
+        let mut pieces = vec![kept.clone()];
         match face_shape(&pts, rounding) {
             Ok(true) => {}
-            Ok(false) => tallies.non_convex.add(*line, 0.0, 0.0),
+            Ok(false) => {
+                let longest = (0..pts.len())
+                    .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
+                    .fold(0.0, f64::max);
+                let slack = (2.0 * rounding * longest).max(1e-12 * longest * longest);
+                match ear_clip(&pts, slack) {
+                    Some(tris) if !tris.is_empty() => {
+                        tallies.triangulated.add(*line, 0.0, 0.0);
+                        pieces = tris
+                            .iter()
+                            .map(|t| t.iter().map(|&k| kept[k]).collect())
+                            .collect();
+                    }
+                    _ => tallies.non_convex.add(*line, 0.0, 0.0),
+                }
+            }
             Err((off, tol)) => tallies.non_planar.add(*line, off, tol),
         }
-        let f = kept
-            .iter()
-            .map(|&g| {
-                *local.entry(g).or_insert_with(|| {
-                    mesh.positions.push(positions[g as usize]);
-                    mesh.positions.len() as u32 - 1
+        for piece in pieces {
+            let f = piece
+                .iter()
+                .map(|&g| {
+                    *local.entry(g).or_insert_with(|| {
+                        mesh.positions.push(positions[g as usize]);
+                        mesh.positions.len() as u32 - 1
+                    })
                 })
-            })
-            .collect();
-        mesh.faces.push(f);
+                .collect();
+            mesh.faces.push(f);
+        }
     }
     tallies.emit(file, name, precision, warn);
     if mesh.faces.is_empty() {
