@@ -74,6 +74,91 @@ pub struct ExactSilhouetteScratch {
     chain: Vec<(u32, bool)>,
     /// Edges gathered by a lookup in a hoisted tree (`bsp_hoisted`), reused.
     pub hoisted: Vec<[u32; 2]>,
+    /// The sweep's boxes and active list ([`candidate_pairs`]).
+    sweep: SweepScratch,
+    /// The pairs of contour edges that may cross, in the order of the all-pairs loop (when
+    /// [`candidate_pairs`] swept).
+    pairs: Vec<(u32, u32)>,
+    /// Test every pair of contour edges and every face along each piece's ray: no sweep, no
+    /// face hierarchy (the reference both are tested against).
+    pub all_pairs: bool,
+    /// Kept pieces by the end they start at, for chaining: (key of the end, position in
+    /// `kept`), sorted.
+    starts: Vec<(u64, u32)>,
+}
+
+#[derive(Clone, Debug, Default)]
+struct SweepScratch {
+    /// Per contour edge: its box in gnomonic coordinates (u_lo, u_hi, v_lo, v_hi).
+    boxes: Vec<[f64; 4]>,
+    order: Vec<u32>,
+    active: Vec<u32>,
+}
+
+/// Contour counts below which every pair is tested (the sweep does not pay).
+const SWEEP_MIN_EDGES: usize = 48;
+
+/// The pairs of contour edges whose arcs can cross or touch, found by a sweep instead of
+/// testing all pairs. When `x` lies outside the mesh's bounding sphere, every direction to
+/// the mesh is within the cone of half-angle θ < π/2 about the direction `c` to its centre;
+/// the gnomonic projection onto the plane tangent at `c` maps great-circle arcs there to
+/// straight segments, so two arcs can meet only where the boxes of their segments do. The
+/// projection stretches angles by at most 1/cos²θ, so boxes widened by that times a margin far
+/// above `END_TOLERANCE` also keep every pair that comes within the tolerance of touching
+/// (which the caller reports as degenerate). The pairs are sorted, so that the caller meets
+/// them in the order of the all-pairs loop and its result is the same, bit for bit. Returns
+/// `false` without sweeping inside the bounding sphere or for few edges: test all pairs.
+fn candidate_pairs(
+    poly: &Polyhedron,
+    x: DVec3,
+    edges: &[ContourEdge],
+    sweep: &mut SweepScratch,
+    out: &mut Vec<(u32, u32)>,
+) -> bool {
+    let to_centre = poly.center - x;
+    let dist = to_centre.length();
+    if edges.len() < SWEEP_MIN_EDGES || dist <= poly.radius * 1.01 {
+        return false;
+    }
+    let c = to_centre / dist;
+    let f = Frame::from_z(c);
+    let cos2 = 1.0 - (poly.radius / dist).powi(2);
+    let margin = 1e-7 / cos2.max(1e-6);
+    sweep.boxes.clear();
+    for e in edges {
+        let project = |d: DVec3| {
+            let z = d.dot(c);
+            (d.dot(f.x) / z, d.dot(f.y) / z)
+        };
+        let ((u0, v0), (u1, v1)) = (project(e.a), project(e.b));
+        sweep.boxes.push([
+            u0.min(u1) - margin,
+            u0.max(u1) + margin,
+            v0.min(v1) - margin,
+            v0.max(v1) + margin,
+        ]);
+    }
+    let boxes = &sweep.boxes;
+    sweep.order.clear();
+    sweep.order.extend(0..edges.len() as u32);
+    sweep
+        .order
+        .sort_unstable_by(|&a, &b| boxes[a as usize][0].total_cmp(&boxes[b as usize][0]));
+    out.clear();
+    sweep.active.clear();
+    for &i in &sweep.order {
+        let bi = boxes[i as usize];
+        sweep.active.retain(|&j| boxes[j as usize][1] >= bi[0]);
+        for &j in &sweep.active {
+            let bj = boxes[j as usize];
+            if bj[2] <= bi[3] && bi[2] <= bj[3] {
+                out.push((i.min(j), i.max(j)));
+            }
+        }
+        sweep.active.push(i);
+    }
+    out.sort_unstable();
+    true
 }
 
 /// What [`exact_silhouette`] found, for statistics and the debugger.
@@ -133,35 +218,53 @@ pub fn exact_silhouette(
     stats.contour_edges = scratch.edges.len() as u32;
 
     // 2. Apparent intersections of pairs of contour edges without a common vertex (Eq. 4.4:
-    //    the line through x shared by the two arcs' planes).
+    //    the line through x shared by the two arcs' planes), among the candidate pairs.
     scratch.cuts.clear();
     scratch.crossings.clear();
     scratch.crossing_edges.clear();
+    let swept = !scratch.all_pairs
+        && candidate_pairs(
+            poly,
+            x,
+            &scratch.edges,
+            &mut scratch.sweep,
+            &mut scratch.pairs,
+        );
     let edges = &scratch.edges;
-    for i in 0..edges.len() {
-        for j in i + 1..edges.len() {
-            let (e, g) = (&edges[i], &edges[j]);
-            if e.v.iter().any(|v| g.v.contains(v)) {
-                continue;
-            }
-            let Some(mut p) = e.n.cross(g.n).try_normalize() else {
-                continue; // arcs on one great circle: they overlap or miss, never cross
-            };
-            if p.dot(e.a + e.b) < 0.0 {
-                p = -p;
-            }
-            // Where p lies on each arc, from the sines of its angles to the two ends (no
-            // atan2 for the many pairs that do not cross).
-            let (ie, ig) = (arc_position(e, p), arc_position(g, p));
-            if ie == ArcPosition::Inside && ig == ArcPosition::Inside {
-                let (te, tg) = (arc_parameter(e, p), arc_parameter(g, p));
-                let id = scratch.crossings.len() as u32;
-                scratch.crossings.push(p);
-                scratch.crossing_edges.push((i as u32, j as u32));
-                scratch.cuts.push((i as u32, te, id));
-                scratch.cuts.push((j as u32, tg, id));
-            } else if ie != ArcPosition::Outside && ig != ArcPosition::Outside {
-                return Err(Degenerate::CrossingAtEnd);
+    let mut test = |i: usize, j: usize| -> Result<(), Degenerate> {
+        let (e, g) = (&edges[i], &edges[j]);
+        if e.v.iter().any(|v| g.v.contains(v)) {
+            return Ok(());
+        }
+        let Some(mut p) = e.n.cross(g.n).try_normalize() else {
+            return Ok(()); // arcs on one great circle: they overlap or miss, never cross
+        };
+        if p.dot(e.a + e.b) < 0.0 {
+            p = -p;
+        }
+        // Where p lies on each arc, from the sines of its angles to the two ends (no atan2
+        // for the many pairs that do not cross).
+        let (ie, ig) = (arc_position(e, p), arc_position(g, p));
+        if ie == ArcPosition::Inside && ig == ArcPosition::Inside {
+            let (te, tg) = (arc_parameter(e, p), arc_parameter(g, p));
+            let id = scratch.crossings.len() as u32;
+            scratch.crossings.push(p);
+            scratch.crossing_edges.push((i as u32, j as u32));
+            scratch.cuts.push((i as u32, te, id));
+            scratch.cuts.push((j as u32, tg, id));
+        } else if ie != ArcPosition::Outside && ig != ArcPosition::Outside {
+            return Err(Degenerate::CrossingAtEnd);
+        }
+        Ok(())
+    };
+    if swept {
+        for &(i, j) in &scratch.pairs {
+            test(i as usize, j as usize)?;
+        }
+    } else {
+        for i in 0..edges.len() {
+            for j in i + 1..edges.len() {
+                test(i, j)?;
             }
         }
     }
@@ -206,14 +309,23 @@ pub fn exact_silhouette(
     scratch.kept.clear();
     for (pi, piece) in scratch.pieces.iter().enumerate() {
         let mid = (piece.from + piece.to).normalize();
-        if !blocked(poly, x, mid, scratch.edges[piece.edge as usize].faces) {
+        let faces = scratch.edges[piece.edge as usize].faces;
+        if !blocked(poly, x, mid, faces, scratch.all_pairs) {
             scratch.kept.push(pi as u32);
         }
     }
     stats.kept = scratch.kept.len() as u32;
 
-    // 5. Chain the kept pieces into loops through their shared ends.
+    // 5. Chain the kept pieces into loops through their shared ends: the next piece is the
+    //    first unused kept piece (in `kept` order) that starts where the current one ends.
     scratch.chain.clear();
+    scratch.starts.clear();
+    for (pos, &q) in scratch.kept.iter().enumerate() {
+        scratch
+            .starts
+            .push((end_key(scratch.pieces[q as usize].start), pos as u32));
+    }
+    scratch.starts.sort_unstable();
     for s in 0..scratch.kept.len() {
         let first = scratch.kept[s] as usize;
         if scratch.pieces[first].used {
@@ -229,11 +341,13 @@ pub fn exact_silhouette(
             if end == start {
                 break;
             }
-            let next = scratch
-                .kept
+            let key = end_key(end);
+            let from = scratch.starts.partition_point(|&(k, _)| k < key);
+            let next = scratch.starts[from..]
                 .iter()
-                .map(|&q| q as usize)
-                .find(|&q| !scratch.pieces[q].used && scratch.pieces[q].start == end);
+                .take_while(|&&(k, _)| k == key)
+                .map(|&(_, pos)| scratch.kept[pos as usize] as usize)
+                .find(|&q| !scratch.pieces[q].used);
             match next {
                 Some(q) => cur = q,
                 None => {
@@ -245,6 +359,15 @@ pub fn exact_silhouette(
         out.close_loop();
     }
     Ok(stats)
+}
+
+/// A sort key of a piece end: vertices, then crossings.
+#[inline]
+fn end_key(e: End) -> u64 {
+    match e {
+        End::Vertex(v) => v as u64,
+        End::Crossing(id) => 1 << 32 | id as u64,
+    }
 }
 
 impl ExactSilhouetteScratch {
@@ -379,34 +502,33 @@ fn arc_position(e: &ContourEdge, p: DVec3) -> ArcPosition {
 /// Does the ray from `x` along `dir` meet a face of `poly` other than `skip`, the two faces of
 /// the piece's edge? Hits before and beyond the edge both count: a piece with part of the mesh
 /// in front of it or directly behind it separates nothing from the background.
-fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2]) -> bool {
+fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) -> bool {
     let t_min = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
     let ray = PreparedRay::new(&Ray::new(x, dir));
-    // An explicit loop: this is the hot part of the on-the-fly silhouette and of the tree
-    // builds (`Polyhedron::fan_triangles` measured 20 % slower here).
-    for f in 0..poly.face_count() {
+    let hit_face = |f: usize| {
         if skip.contains(&(f as u32)) {
-            continue;
+            return false;
         }
         // The ray meets the face's plane ahead of x only when it heads toward that plane (x
         // is never in a face plane here: the caller returned `CoplanarFace`).
         let plane = &poly.face_planes[f];
         if plane.eval(x) * plane.n.dot(dir) >= 0.0 {
-            continue;
+            return false;
         }
         let idx = poly.face(f);
         let v0 = poly.vertices[idx[0] as usize];
-        for k in 1..idx.len() - 1 {
+        (1..idx.len() - 1).any(|k| {
             let (v1, v2) = (
                 poly.vertices[idx[k] as usize],
                 poly.vertices[idx[k + 1] as usize],
             );
-            if !is_degenerate(v0, v1, v2)
-                && ray.intersect(v0, v1, v2, t_min, f64::INFINITY).is_some()
-            {
-                return true;
-            }
-        }
+            !is_degenerate(v0, v1, v2) && ray.intersect(v0, v1, v2, t_min, f64::INFINITY).is_some()
+        })
+    };
+    // The face hierarchy hands out the faces whose box the ray meets; the test of each is the
+    // same as the scan's, so the answer is too.
+    match &poly.face_bvh {
+        Some(bvh) if !scan => bvh.any(x, dir, |f| hit_face(f as usize)),
+        _ => (0..poly.face_count()).any(hit_face),
     }
-    false
 }

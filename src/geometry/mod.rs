@@ -8,6 +8,7 @@ pub mod bsp_sections;
 pub mod cell_triangulation;
 pub mod convex_cell;
 pub mod exact_silhouette;
+pub mod face_bvh;
 pub mod horizon;
 pub mod kernel;
 pub mod overlap;

@@ -76,6 +76,10 @@ pub struct Polyhedron {
     pub center: DVec3,
     pub radius: f64,
     pub diagnostics: MeshDiagnostics,
+    /// The faces' boxes in a hierarchy, for meshes of at least
+    /// [`super::face_bvh::FACE_BVH_MIN_FACES`] faces (the exact silhouette's ray tests).
+    #[serde(skip)]
+    pub face_bvh: Option<std::sync::Arc<super::face_bvh::FaceBvh>>,
 }
 
 impl Polyhedron {
@@ -238,7 +242,28 @@ impl Polyhedron {
             center,
             radius,
             diagnostics,
+            face_bvh: None,
         }
+        .with_face_bvh()
+    }
+
+    /// Builds [`Polyhedron::face_bvh`] when the mesh is large enough for it to pay.
+    fn with_face_bvh(mut self) -> Self {
+        if self.face_count() >= super::face_bvh::FACE_BVH_MIN_FACES {
+            let boxes: Vec<(DVec3, DVec3)> = (0..self.face_count())
+                .map(|f| {
+                    self.face(f).iter().fold(
+                        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                        |(a, b), &v| {
+                            let p = self.vertices[v as usize];
+                            (a.min(p), b.max(p))
+                        },
+                    )
+                })
+                .collect();
+            self.face_bvh = Some(std::sync::Arc::new(super::face_bvh::FaceBvh::build(&boxes)));
+        }
+        self
     }
 
     #[inline]

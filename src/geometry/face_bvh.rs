@@ -1,0 +1,165 @@
+//! A bounding-volume hierarchy over the faces of one polyhedron, for the ray tests of the
+//! exact silhouette (001 Sect. 4.3: one ray per contour piece). A scanned mesh of thousands of
+//! faces would otherwise test every face for every piece at every point.
+//!
+//! The hierarchy only *enumerates* the faces a ray may meet: its boxes are the faces' boxes,
+//! widened by a relative margin far above rounding, and the caller runs its own exact test on
+//! each face it is handed. So a query with the hierarchy answers what the scan over all faces
+//! answers, bit for bit; it only skips faces whose box the ray misses.
+
+use glam::DVec3;
+
+/// Meshes with fewer faces are scanned (the hierarchy does not pay).
+pub const FACE_BVH_MIN_FACES: usize = 64;
+
+/// Faces per leaf, at most.
+const LEAF_FACES: usize = 4;
+
+/// Depth of the traversal stack: a median split halves the faces at each level.
+const STACK: usize = 64;
+
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    lo: DVec3,
+    hi: DVec3,
+    /// Leaf: `count > 0` faces from `start` in `faces`; inner: children `start`, `start + 1`.
+    start: u32,
+    count: u32,
+}
+
+/// Face boxes in a binary tree (median splits along the longest axis of the centroids).
+#[derive(Clone, Debug, Default)]
+pub struct FaceBvh {
+    nodes: Vec<Node>,
+    faces: Vec<u32>,
+}
+
+impl FaceBvh {
+    /// The hierarchy over `boxes` (one per face, index = face id).
+    pub fn build(boxes: &[(DVec3, DVec3)]) -> FaceBvh {
+        let mut faces: Vec<u32> = (0..boxes.len() as u32).collect();
+        let mut bvh = FaceBvh {
+            nodes: Vec::with_capacity(2 * boxes.len() / LEAF_FACES + 1),
+            faces: Vec::new(),
+        };
+        if boxes.is_empty() {
+            return bvh;
+        }
+        // Widen every box by a margin relative to the mesh's extent, so that the slab test
+        // below never rejects a face the exact test would hit.
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for &(a, b) in boxes {
+            (lo, hi) = (lo.min(a), hi.max(b));
+        }
+        let margin = DVec3::splat(1e-9 * (hi - lo).max_element().max(hi.abs().max_element()));
+        let boxes: Vec<(DVec3, DVec3)> = boxes
+            .iter()
+            .map(|&(a, b)| (a - margin, b + margin))
+            .collect();
+        bvh.nodes.push(Node {
+            lo,
+            hi,
+            start: 0,
+            count: 0,
+        });
+        bvh.split(0, &boxes, &mut faces, 0);
+        bvh.faces = faces;
+        bvh
+    }
+
+    /// Fills node `n` with `faces[first..]`'s slice it owns (recursively).
+    fn split(&mut self, n: usize, boxes: &[(DVec3, DVec3)], faces: &mut [u32], first: usize) {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for &f in faces.iter() {
+            let (a, b) = boxes[f as usize];
+            (lo, hi) = (lo.min(a), hi.max(b));
+        }
+        self.nodes[n].lo = lo;
+        self.nodes[n].hi = hi;
+        if faces.len() <= LEAF_FACES {
+            self.nodes[n].start = first as u32;
+            self.nodes[n].count = faces.len() as u32;
+            return;
+        }
+        let centre = |f: u32| {
+            let (a, b) = boxes[f as usize];
+            a + b
+        };
+        let (mut clo, mut chi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for &f in faces.iter() {
+            (clo, chi) = (clo.min(centre(f)), chi.max(centre(f)));
+        }
+        let ext = chi - clo;
+        let axis = if ext.x >= ext.y && ext.x >= ext.z {
+            0
+        } else if ext.y >= ext.z {
+            1
+        } else {
+            2
+        };
+        let mid = faces.len() / 2;
+        faces.select_nth_unstable_by(mid, |&a, &b| {
+            centre(a)[axis].total_cmp(&centre(b)[axis]).then(a.cmp(&b))
+        });
+        let child = self.nodes.len();
+        let empty = Node {
+            lo,
+            hi,
+            start: 0,
+            count: 0,
+        };
+        self.nodes.push(empty);
+        self.nodes.push(empty);
+        self.nodes[n].start = child as u32;
+        self.nodes[n].count = 0;
+        let (left, right) = faces.split_at_mut(mid);
+        self.split(child, boxes, left, first);
+        self.split(child + 1, boxes, right, first + mid);
+    }
+
+    /// Calls `test(face)` for every face whose box the ray `origin + t·dir`, t ≥ 0, meets,
+    /// until `test` returns true; returns whether it did.
+    pub fn any(&self, origin: DVec3, dir: DVec3, mut test: impl FnMut(u32) -> bool) -> bool {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let inv = DVec3::ONE / dir;
+        let hits = |n: &Node| {
+            // Slabs; a zero component gives ±inf, and NaN (0·inf at a slab's plane) is
+            // treated as inside by the max/min order below.
+            let t0 = (n.lo - origin) * inv;
+            let t1 = (n.hi - origin) * inv;
+            let near = t0.min(t1);
+            let far = t0.max(t1);
+            let enter = near.x.max(near.y).max(near.z).max(0.0);
+            let exit = far.x.min(far.y).min(far.z);
+            exit.is_nan() || enter <= exit
+        };
+        let mut stack = [0u32; STACK];
+        let mut sp = 0;
+        let mut cur = 0usize;
+        loop {
+            let node = &self.nodes[cur];
+            if hits(node) {
+                if node.count > 0 {
+                    let s = node.start as usize;
+                    for &f in &self.faces[s..s + node.count as usize] {
+                        if test(f) {
+                            return true;
+                        }
+                    }
+                } else {
+                    stack[sp] = node.start + 1;
+                    sp += 1;
+                    cur = node.start as usize;
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return false;
+            }
+            sp -= 1;
+            cur = stack[sp] as usize;
+        }
+    }
+}
