@@ -133,10 +133,16 @@ fn the_swept_silhouette_of_a_scanned_mesh_is_the_all_pairs_one() {
     let (mut a, mut b) = (SphericalPolygon::default(), SphericalPolygon::default());
     let tris = triangles(&poly);
     let (mut compared, mut crossings) = (0, 0);
-    for k in 0..60 {
-        // From 1.05 to 4 radii from the centre: near the ears and far.
-        let r = poly.radius * (1.05 + 3.0 * rng.next_f64());
-        let x = poly.center + uniform_direction(&mut rng) * r;
+    for k in 0..90 {
+        // From 1.05 to 4 radii from the centre (near the ears and far), and for a third of
+        // the points just off a vertex, inside the bounding sphere.
+        let x = if k % 3 == 2 {
+            let v = poly.vertices[rng.below(poly.vertices.len() as u32) as usize];
+            v + (v - poly.center).normalize() * 0.02 * poly.radius
+        } else {
+            let r = poly.radius * (1.05 + 3.0 * rng.next_f64());
+            poly.center + uniform_direction(&mut rng) * r
+        };
         let ra = exact_silhouette(&poly, x, &frame, &mut a, &mut swept);
         let rb = exact_silhouette(&poly, x, &frame, &mut b, &mut all);
         assert_eq!(ra.is_ok(), rb.is_ok(), "point {k}");
@@ -163,7 +169,7 @@ fn the_swept_silhouette_of_a_scanned_mesh_is_the_all_pairs_one() {
             );
         }
     }
-    assert!(compared >= 50, "{compared} points compared");
+    assert!(compared >= 70, "{compared} points compared");
     assert!(
         crossings > 100,
         "the bunny's silhouettes cross themselves ({crossings})"

@@ -89,8 +89,8 @@ pub struct ExactSilhouetteScratch {
 
 #[derive(Clone, Debug, Default)]
 struct SweepScratch {
-    /// Per contour edge: its box in gnomonic coordinates (u_lo, u_hi, v_lo, v_hi).
-    boxes: Vec<[f64; 4]>,
+    /// Per contour edge: the box of its arc in direction space.
+    boxes: Vec<[DVec3; 2]>,
     order: Vec<u32>,
     active: Vec<u32>,
 }
@@ -98,60 +98,62 @@ struct SweepScratch {
 /// Contour counts below which every pair is tested (the sweep does not pay).
 const SWEEP_MIN_EDGES: usize = 48;
 
+/// How much the arcs' boxes are widened: far above `END_TOLERANCE` (an angle, and so at most
+/// that distance between unit vectors) and the rounding of the boxes themselves.
+const SWEEP_MARGIN: f64 = 1e-8;
+
+/// The box (in direction space) of the great-circle arc from `a` to `b` (shorter than π) with
+/// unit normal `n`: its ends, and for each axis the two points of the great circle extreme
+/// along it (±(e_k − n n_k), normalised) where they lie on the arc.
+fn arc_box(e: &ContourEdge) -> [DVec3; 2] {
+    let (mut lo, mut hi) = (e.a.min(e.b), e.a.max(e.b));
+    for k in 0..3 {
+        let mut axis = DVec3::ZERO;
+        axis[k] = 1.0;
+        let Some(d) = (axis - e.n * e.n[k]).try_normalize() else {
+            continue; // the circle is perpendicular to the axis: constant along it
+        };
+        for c in [d, -d] {
+            if e.a.cross(c).dot(e.n) >= 0.0 && c.cross(e.b).dot(e.n) >= 0.0 {
+                (lo, hi) = (lo.min(c), hi.max(c));
+            }
+        }
+    }
+    [lo - SWEEP_MARGIN, hi + SWEEP_MARGIN]
+}
+
 /// The pairs of contour edges whose arcs can cross or touch, found by a sweep instead of
-/// testing all pairs. When `x` lies outside the mesh's bounding sphere, every direction to
-/// the mesh is within the cone of half-angle θ < π/2 about the direction `c` to its centre;
-/// the gnomonic projection onto the plane tangent at `c` maps great-circle arcs there to
-/// straight segments, so two arcs can meet only where the boxes of their segments do. The
-/// projection stretches angles by at most 1/cos²θ, so boxes widened by that times a margin far
-/// above `END_TOLERANCE` also keep every pair that comes within the tolerance of touching
-/// (which the caller reports as degenerate). The pairs are sorted, so that the caller meets
-/// them in the order of the all-pairs loop and its result is the same, bit for bit. Returns
-/// `false` without sweeping inside the bounding sphere or for few edges: test all pairs.
+/// testing all pairs: two arcs meet only where their boxes in direction space do (each box
+/// holds its arc exactly: its ends and the circle's extremes on it), and the boxes are widened
+/// by [`SWEEP_MARGIN`], so that every pair that comes within the tolerance of touching (which
+/// the caller reports as degenerate) is kept too. The sweep runs along x, testing y and z. The
+/// pairs are sorted, so that the caller meets them in the order of the all-pairs loop and its
+/// result is the same, bit for bit. Returns `false` without sweeping for few edges: test all
+/// pairs.
 fn candidate_pairs(
-    poly: &Polyhedron,
-    x: DVec3,
     edges: &[ContourEdge],
     sweep: &mut SweepScratch,
     out: &mut Vec<(u32, u32)>,
 ) -> bool {
-    let to_centre = poly.center - x;
-    let dist = to_centre.length();
-    if edges.len() < SWEEP_MIN_EDGES || dist <= poly.radius * 1.01 {
+    if edges.len() < SWEEP_MIN_EDGES {
         return false;
     }
-    let c = to_centre / dist;
-    let f = Frame::from_z(c);
-    let cos2 = 1.0 - (poly.radius / dist).powi(2);
-    let margin = 1e-7 / cos2.max(1e-6);
     sweep.boxes.clear();
-    for e in edges {
-        let project = |d: DVec3| {
-            let z = d.dot(c);
-            (d.dot(f.x) / z, d.dot(f.y) / z)
-        };
-        let ((u0, v0), (u1, v1)) = (project(e.a), project(e.b));
-        sweep.boxes.push([
-            u0.min(u1) - margin,
-            u0.max(u1) + margin,
-            v0.min(v1) - margin,
-            v0.max(v1) + margin,
-        ]);
-    }
+    sweep.boxes.extend(edges.iter().map(arc_box));
     let boxes = &sweep.boxes;
     sweep.order.clear();
     sweep.order.extend(0..edges.len() as u32);
     sweep
         .order
-        .sort_unstable_by(|&a, &b| boxes[a as usize][0].total_cmp(&boxes[b as usize][0]));
+        .sort_unstable_by(|&a, &b| boxes[a as usize][0].x.total_cmp(&boxes[b as usize][0].x));
     out.clear();
     sweep.active.clear();
     for &i in &sweep.order {
-        let bi = boxes[i as usize];
-        sweep.active.retain(|&j| boxes[j as usize][1] >= bi[0]);
+        let [lo, hi] = boxes[i as usize];
+        sweep.active.retain(|&j| boxes[j as usize][1].x >= lo.x);
         for &j in &sweep.active {
-            let bj = boxes[j as usize];
-            if bj[2] <= bi[3] && bi[2] <= bj[3] {
+            let [lj, hj] = boxes[j as usize];
+            if lj.y <= hi.y && lo.y <= hj.y && lj.z <= hi.z && lo.z <= hj.z {
                 out.push((i.min(j), i.max(j)));
             }
         }
@@ -223,13 +225,7 @@ pub fn exact_silhouette(
     scratch.crossings.clear();
     scratch.crossing_edges.clear();
     let swept = !scratch.all_pairs
-        && candidate_pairs(
-            poly,
-            x,
-            &scratch.edges,
-            &mut scratch.sweep,
-            &mut scratch.pairs,
-        );
+        && candidate_pairs(&scratch.edges, &mut scratch.sweep, &mut scratch.pairs);
     let edges = &scratch.edges;
     let mut test = |i: usize, j: usize| -> Result<(), Degenerate> {
         let (e, g) = (&edges[i], &edges[j]);
