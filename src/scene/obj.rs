@@ -665,16 +665,22 @@ fn face_shape(pts: &[DVec3], rounding: f64) -> Result<bool, (f64, f64)> {
     let Some(n) = super::shapes::polygon_area_vector(pts).try_normalize() else {
         return Ok(true);
     };
-    let longest = (0..pts.len())
-        .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
-        .fold(0.0, f64::max);
     let m = pts.len();
-    // A turn the wrong way by less than the rounding of its corner is no turn.
-    let slack = (2.0 * rounding * longest).max(1e-12 * longest * longest);
+    let slack = turn_slack(pts, rounding);
     Ok((0..m).all(|k| {
         let (a, b, c) = (pts[k], pts[(k + 1) % m], pts[(k + 2) % m]);
         (b - a).cross(c - b).dot(n) >= -slack
     }))
+}
+
+/// How far a corner of the face `pts` may turn the wrong way (as the cross product of its two
+/// edges, an area) and still count as straight: what moving its vertex by `rounding` can do,
+/// and never less than the f64 rounding of that product.
+fn turn_slack(pts: &[DVec3], rounding: f64) -> f64 {
+    let longest = (0..pts.len())
+        .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
+        .fold(0.0, f64::max);
+    (2.0 * rounding * longest).max(1e-12 * longest * longest)
 }
 
 /// The faces of one object that one kind of repair or note applies to: one warning for all of
@@ -1003,22 +1009,16 @@ fn build_object(
         let mut pieces = vec![kept.clone()];
         match face_shape(&pts, rounding) {
             Ok(true) => {}
-            Ok(false) => {
-                let longest = (0..pts.len())
-                    .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
-                    .fold(0.0, f64::max);
-                let slack = (2.0 * rounding * longest).max(1e-12 * longest * longest);
-                match ear_clip(&pts, slack) {
-                    Some(tris) if !tris.is_empty() => {
-                        tallies.triangulated.add(*line, 0.0, 0.0);
-                        pieces = tris
-                            .iter()
-                            .map(|t| t.iter().map(|&k| kept[k]).collect())
-                            .collect();
-                    }
-                    _ => tallies.non_convex.add(*line, 0.0, 0.0),
+            Ok(false) => match ear_clip(&pts, turn_slack(&pts, rounding)) {
+                Some(tris) if !tris.is_empty() => {
+                    tallies.triangulated.add(*line, 0.0, 0.0);
+                    pieces = tris
+                        .iter()
+                        .map(|t| t.iter().map(|&k| kept[k]).collect())
+                        .collect();
                 }
-            }
+                _ => tallies.non_convex.add(*line, 0.0, 0.0),
+            },
             Err((off, tol)) => tallies.non_planar.add(*line, off, tol),
         }
         for piece in pieces {
