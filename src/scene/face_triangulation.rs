@@ -145,27 +145,28 @@ mod tests {
         // An L in a tilted plane, a star, a comb, and a convex polygon.
         let tilt =
             |v: DVec2| DVec3::new(v.x, 0.3 * v.x + 0.5 * v.y, v.y) + DVec3::new(3.0, -2.0, 1.0);
-        let l: Vec<DVec3> = [
+        let outline = |pts: &[(f64, f64)]| -> Vec<DVec3> {
+            pts.iter().map(|&(x, y)| tilt(DVec2::new(x, y))).collect()
+        };
+        let around = |n: usize, r: &dyn Fn(usize) -> f64| -> Vec<DVec3> {
+            (0..n)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / n as f64;
+                    tilt(DVec2::new(r(k) * a.cos(), r(k) * a.sin()))
+                })
+                .collect()
+        };
+        let l = [
             (0.0, 0.0),
             (2.0, 0.0),
             (2.0, 1.0),
             (1.0, 1.0),
             (1.0, 3.0),
             (0.0, 3.0),
-        ]
-        .iter()
-        .map(|&(x, y)| tilt(DVec2::new(x, y)))
-        .collect();
-        check_tiling(&l);
-        let star: Vec<DVec3> = (0..14)
-            .map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / 14.0;
-                let r = if k % 2 == 0 { 1.0 } else { 0.35 };
-                tilt(DVec2::new(r * a.cos(), r * a.sin()))
-            })
-            .collect();
-        check_tiling(&star);
-        let comb: Vec<DVec3> = [
+        ];
+        check_tiling(&outline(&l));
+        check_tiling(&around(14, &|k| if k % 2 == 0 { 1.0 } else { 0.35 }));
+        let comb = [
             (0.0, 0.0),
             (5.0, 0.0),
             (5.0, 3.0),
@@ -178,17 +179,9 @@ mod tests {
             (1.0, 1.0),
             (1.0, 3.0),
             (0.0, 3.0),
-        ]
-        .iter()
-        .map(|&(x, y)| tilt(DVec2::new(x, y)))
-        .collect();
-        check_tiling(&comb);
-        let hexagon: Vec<DVec3> = (0..6)
-            .map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / 6.0;
-                tilt(DVec2::new(a.cos(), a.sin()))
-            })
-            .collect();
+        ];
+        check_tiling(&outline(&comb));
+        let hexagon = around(6, &|_| 1.0);
         check_tiling(&hexagon);
     }
 
