@@ -101,19 +101,18 @@ impl Probe {
         let ok =
             |poly: &crate::geometry::SphericalPolygon| poly.vertices().iter().all(|&d| unit(d));
         for (k, l) in self.recording.lights.iter().enumerate() {
-            let polygons = l
+            let mut polygons = l
                 .polygons
                 .iter()
                 .map(|(_, p)| p)
                 .chain(l.occluder_polygons.iter().map(|(_, _, _, p)| p))
                 .chain(l.lobes.iter().flat_map(|(_, a, b, _)| [a, b]));
-            let edges = l.contours.iter().flat_map(|(_, e)| e.iter().flatten());
-            let exact = l
+            let mut edges = l.contours.iter().flat_map(|(_, e)| e.iter().flatten());
+            let mut exact = l
                 .exact
                 .iter()
                 .flat_map(|e| e.crossings.iter().chain(e.rejected.iter().flatten()));
-            let all_unit = polygons.clone().all(ok) && edges.copied().all(unit);
-            if !all_unit || !exact.copied().all(unit) {
+            if !(polygons.all(ok) && edges.all(|&d| unit(d)) && exact.all(|&d| unit(d))) {
                 return Err(format!(
                     "recorded light {k}: a direction is not a unit vector (the dump was edited?)"
                 ));
