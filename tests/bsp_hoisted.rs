@@ -13,7 +13,7 @@ use penumbra::geometry::{
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 
-mod silhouette_common;
+use crate::silhouette_common;
 use silhouette_common::{is_inside, same_loops, triangles};
 
 /// Loops as lists of point codes, each rotated to start at its smallest code, sorted: equal

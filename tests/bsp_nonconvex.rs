@@ -11,7 +11,7 @@ use penumbra::geometry::{
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::thesis_polyhedra::TABLE_7_1;
 
-mod silhouette_common;
+use crate::silhouette_common;
 use silhouette_common::{polyhedron, solid_angle, triangles};
 
 #[test]

@@ -17,7 +17,7 @@ use penumbra::sampling::solid_angle_of_triangle;
 use penumbra::scene::thesis_polyhedra::TABLE_7_1;
 use std::f64::consts::PI;
 
-mod silhouette_common;
+use crate::silhouette_common;
 use silhouette_common::{is_inside, polyhedron, solid_angle, triangles};
 
 fn hits(tris: &[[DVec3; 3]], x: DVec3, w: DVec3) -> bool {

@@ -13,7 +13,7 @@ use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::thesis_polyhedra::TABLE_7_1;
 use std::f64::consts::PI;
 
-mod silhouette_common;
+use crate::silhouette_common;
 use silhouette_common::{hit_count, polyhedron, solid_angle, triangles};
 
 fn uniform_direction(rng: &mut Pcg32) -> DVec3 {

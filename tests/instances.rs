@@ -16,7 +16,7 @@ use penumbra::shading::PreparedScene;
 use penumbra::shading::prepared::instance_map;
 use std::sync::Arc;
 
-mod silhouette_common;
+use crate::silhouette_common;
 use silhouette_common::{is_inside, same_loops, triangles};
 
 fn groups_by_name(p: &PreparedScene) -> Vec<(String, usize)> {

@@ -16,7 +16,7 @@
 //! the vertices has a near-singular integrand. The test tolerance is the oracle's
 //! quadrature error estimate plus rounding bounds of both computations.
 
-mod ltc_common;
+use crate::ltc_common;
 
 use glam::{DVec2, DVec3};
 use ltc_common::gauss_legendre;

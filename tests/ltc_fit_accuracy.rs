@@ -11,7 +11,7 @@
 //! the normalised GGX lobe, estimated separately (see `l1_distances`), plus the Monte Carlo
 //! half-width; each fit must also be closer to GGX than its starting point.
 
-mod ltc_common;
+use crate::ltc_common;
 
 use glam::DMat3;
 use glam::DVec3;

@@ -1,4 +1,4 @@
-//! Regenerates the committed table: `cargo test --test ltc_generate -- --ignored --nocapture`
+//! Regenerates the committed table: `cargo test --test suite ltc_generate:: -- --ignored --nocapture`
 //! (the same as `penumbra fit-ltc --out assets/ltc/ggx_ltc_64.bin`), and writes the per-cell
 //! fit report assets/ltc/fit_report.tsv.
 

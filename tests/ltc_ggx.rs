@@ -2,7 +2,7 @@
 //! VNDF reflection pdf, and a χ² test of the VNDF sampler against that pdf. The quadrature
 //! error bounds come from comparing two Gauss–Legendre orders on the same panels.
 
-mod ltc_common;
+use crate::ltc_common;
 
 use glam::DVec3;
 use ltc_common::{Z999, chi2_critical, gauss_legendre, gl_1d};

@@ -9,7 +9,7 @@
 //!   Sutherland–Hodgman clipping on the sphere, areas agreeing to 1e-12;
 //! * named degenerate configurations with known answers.
 
-mod set_difference_common;
+use crate::set_difference_common;
 use set_difference_common::*;
 
 use glam::DVec3;
@@ -1182,7 +1182,7 @@ fn near_degenerate_perturbations() {
             .map(|i| lp[i].angle_between(lp[(i + 1) % lp.len()]))
             .sum()
     };
-    // PENUMBRA_STRESS=1000000 cargo test --test set_difference near_degenerate -- --nocapture
+    // PENUMBRA_STRESS=1000000 cargo test --test suite set_difference::near_degenerate -- --nocapture
     let cases = std::env::var("PENUMBRA_STRESS")
         .ok()
         .and_then(|v| v.parse().ok())

@@ -24,10 +24,10 @@
 //!
 //! `chains_match_oracles` runs 10⁴ chains; `chains_match_oracles_stress` (ignored) runs
 //! `PENUMBRA_CHAINS` chains (10⁶ by default) on every core and reports the failures by kind:
-//! `PENUMBRA_CHAINS=1000000 cargo test --release --test set_difference_chains -- --ignored
+//! `PENUMBRA_CHAINS=1000000 cargo test --release --test suite set_difference_chains:: -- --ignored
 //! --nocapture`. `PENUMBRA_CHAIN=i` replays chain i alone and prints it.
 
-mod set_difference_common;
+use crate::set_difference_common;
 use set_difference_common::*;
 
 use glam::DVec3;

@@ -1,0 +1,40 @@
+//! The integration tests, as one test binary: each module below is one file of `tests/`.
+//!
+//! One binary instead of one per file: every test binary links the whole dependency stack
+//! (egui, wgpu), and thirty of them filled a CI machine's disk. The tests that change
+//! process-wide state (the environment, the global allocator) stay binaries of their own:
+//! `set_difference_alloc`, `tree_cache`, `tree_cache_bound` (see `Cargo.toml`).
+//! Run one module with `cargo test --test suite <module>::`.
+
+mod ltc_common;
+mod set_difference_common;
+mod silhouette_common;
+
+mod accel_bvh;
+mod accel_triangle;
+mod bsp;
+mod bsp_hoisted;
+mod bsp_nonconvex;
+mod cell_triangulation;
+mod cli;
+mod exact_silhouette;
+mod exporter_precision;
+mod image_io;
+mod instances;
+mod loader_fuzz;
+mod ltc_edge_integral;
+mod ltc_fit_accuracy;
+mod ltc_generate;
+mod ltc_ggx;
+mod ltc_table;
+mod recorder;
+mod scene_loading;
+mod scene_obj;
+mod set_difference;
+mod set_difference_chains;
+mod set_difference_regressions;
+mod shading_oracles;
+mod stochastic;
+mod thesis_polyhedra;
+mod tree_library;
+mod workbench;
