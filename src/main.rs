@@ -122,6 +122,11 @@ struct CameraArgs {
     fov: Option<f64>,
 }
 
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum BenchSuite {
+    Realworld,
+}
+
 #[derive(Args, Clone)]
 struct BenchArgs {
     /// A scene file or embedded scene name (not needed with --scaling).
@@ -167,6 +172,13 @@ struct BenchArgs {
     /// face by face, with silhouettes on the fly and from BSP trees; tree precomputation.
     #[arg(long)]
     polyhedra: bool,
+    /// Run a suite of scenes instead: `realworld` (exporter-style scenes and a scanned mesh;
+    /// analytic, per-triangle and unshadowed against the ray-cast reference).
+    #[arg(long, value_enum)]
+    suite: Option<BenchSuite>,
+    /// With --suite: run only these scenes.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
     /// Render nothing: read a bench.json written by an earlier run and write its tables and
     /// chart again (into --out-dir, default beside the JSON).
     #[arg(long)]
@@ -427,6 +439,9 @@ fn bench(args: &BenchArgs) -> Result<()> {
         }
         return Ok(());
     }
+    if let Some(BenchSuite::Realworld) = args.suite {
+        return bench_realworld(args);
+    }
     if args.polyhedra {
         let report = penumbra::bench::polyhedra::run_polyhedra(
             args.size.0,
@@ -538,6 +553,61 @@ fn bench(args: &BenchArgs) -> Result<()> {
     say!("{}", output::equal_time_markdown(&report));
     for f in output::write_bench_files(&report, &strip, &dir, args.exposure)? {
         say!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+/// `penumbra bench --suite realworld`.
+fn bench_realworld(args: &BenchArgs) -> Result<()> {
+    use penumbra::bench::realworld::{RealWorldConfig, realworld_markdown, run_realworld};
+    let config = RealWorldConfig {
+        width: args.size.0,
+        height: args.size.1,
+        aa: args.aa,
+        reference_spp: args.reference_spp,
+        repeats: args.repeats,
+        seed: args.seed,
+        only: args.only.clone(),
+    };
+    let dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out/bench/realworld"));
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+    // The tables are written again after every scene, so that a long run leaves what it did.
+    let write = |report: &penumbra::bench::realworld::RealWorldReport| -> Result<[PathBuf; 2]> {
+        let files = [
+            (dir.join("realworld.md"), realworld_markdown(report)),
+            (
+                dir.join("realworld.json"),
+                serde_json::to_string_pretty(report)?,
+            ),
+        ];
+        for (path, text) in &files {
+            std::fs::write(path, text).with_context(|| format!("{}", path.display()))?;
+        }
+        Ok(files.map(|f| f.0))
+    };
+    let report = run_realworld(
+        &dir,
+        &config,
+        |m| eprintln!("{m}"),
+        |partial| {
+            if let Err(e) = write(partial) {
+                eprintln!("warning: {e:#}");
+            }
+        },
+    )
+    .map_err(anyhow::Error::msg)?;
+    let md = realworld_markdown(&report);
+    say!("{md}");
+    for row in &report.scenes {
+        for n in row.warnings.iter().chain(&row.notes) {
+            say!("{}: {n}", row.scene);
+        }
+    }
+    for path in write(&report)? {
+        say!("wrote {}", path.display());
     }
     Ok(())
 }

@@ -27,6 +27,7 @@ mod ltc_fit_accuracy;
 mod ltc_generate;
 mod ltc_ggx;
 mod ltc_table;
+mod near_convex;
 mod recorder;
 mod scene_loading;
 mod scene_obj;

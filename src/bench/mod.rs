@@ -10,6 +10,7 @@
 //! * [`runner`]: the driver: reference, ladder, timing, comparison.
 //! * [`scaling`]: run time against vertex counts (000 Figs. 5 and 7).
 //! * [`polyhedra`]: 001 Tables 7.2 and 7.4 on the nine polyhedra of Table 7.1.
+//! * [`realworld`]: `--suite realworld`, the scenes users load ([`realworld_scenes`]).
 //! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].
 
 pub mod equal_time;
@@ -18,6 +19,8 @@ pub mod font;
 pub mod output;
 pub mod plot;
 pub mod polyhedra;
+pub mod realworld;
+pub mod realworld_scenes;
 pub mod runner;
 pub mod scaling;
 pub mod table;

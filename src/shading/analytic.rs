@@ -174,16 +174,18 @@ pub fn shade<R: Recorder>(
                 scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
             );
         } else {
-            for f in 0..light.poly.face_count() {
+            // A stand-in is for the silhouette path: face by face, the mesh's own faces.
+            let faces = light.faces();
+            for f in 0..faces.face_count() {
                 if on_light && skip_own_face(light, f, sp) {
                     continue;
                 }
-                let plane = light.poly.face_planes[f];
+                let plane = faces.face_planes[f];
                 if plane.eval(sp.position) <= 0.0 {
                     continue; // lights emit from the front only
                 }
                 // What lies within rounding of the light face's plane is not in front of it.
-                let tol = COPLANAR * light.poly.radius;
+                let tol = COPLANAR * faces.radius;
                 let piece = LightPiece {
                     light: l,
                     face: Some((
@@ -195,9 +197,9 @@ pub fn shade<R: Recorder>(
                     )),
                 };
                 rec.begin_light(l, Some(f));
-                record_contour(rec, None, &light.poly, sp.position, &frame);
+                record_contour(rec, None, faces, sp.position, &frame);
                 face_polygon(
-                    &light.poly,
+                    faces,
                     f,
                     sp.position,
                     &frame,
@@ -385,7 +387,7 @@ fn record_contour<R: Recorder>(
 #[inline]
 fn skip_own_face(obj: &PreparedObject, f: usize, sp: &ShadingPoint) -> bool {
     sp.face == Some(f as u32)
-        || obj.poly.face_planes[f].eval(sp.position).abs() <= COPLANAR * obj.poly.radius
+        || obj.faces().face_planes[f].eval(sp.position).abs() <= COPLANAR * obj.faces().radius
 }
 
 /// What one pass of lines 5–16 integrates: a whole light (its silhouette), or one face of it
@@ -484,9 +486,9 @@ fn subtract_occluder<R: Recorder>(
     if let Some(pp) = cut {
         let mut front = 0usize;
         let mut total = 0usize;
-        for &i in &occ.poly.face_indices {
+        for &i in &occ.faces().face_indices {
             total += 1;
-            if pp.eval(occ.poly.vertices[i as usize]) > 0.0 {
+            if pp.eval(occ.faces().vertices[i as usize]) > 0.0 {
                 front += 1;
             }
         }
@@ -563,7 +565,8 @@ fn subtract_occluder<R: Recorder>(
             scratch.occluder_cache[oi].stamp = scratch.stamp;
         }
     } else {
-        for g in 0..occ.poly.face_count() {
+        let faces = occ.faces();
+        for g in 0..faces.face_count() {
             if scratch.visible.is_empty() {
                 break;
             }
@@ -572,11 +575,11 @@ fn subtract_occluder<R: Recorder>(
             }
             // A ray from x (outside a closed mesh) that meets the mesh enters it first through a
             // face turned toward x: the front faces alone cover its projection.
-            if closed && occ.poly.face_planes[g].eval(sp.position) <= 0.0 {
+            if closed && faces.face_planes[g].eval(sp.position) <= 0.0 {
                 continue;
             }
             face_polygon(
-                &occ.poly,
+                faces,
                 g,
                 sp.position,
                 frame,

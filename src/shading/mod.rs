@@ -9,7 +9,7 @@ pub mod tree_cache;
 pub mod tree_library;
 
 pub use analytic::{ShadingScratch, ShadingStats, shade};
-pub use prepared::{PrepareOptions, PreparedObject, PreparedScene};
+pub use prepared::{MeshPath, PrepareOptions, PreparedObject, PreparedScene};
 pub use recorder::{
     ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, Recorder, SetDifferenceRecord, Stage,
     StageRecording,

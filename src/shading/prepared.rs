@@ -19,7 +19,8 @@ use super::tree_cache::{CachedTree, TreeCache, tree_key};
 use super::tree_library::{LibraryEntry, TreeLibrary};
 use crate::geometry::{
     ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp,
-    SilhouetteTriangulation, TriangulationLimits, separating_plane, star_centre,
+    SilhouetteTriangulation, TriangulationLimits, convex_stand_in, separating_plane,
+    solid_angle_bound, star_centre,
 };
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
@@ -58,6 +59,30 @@ pub struct PreparedObject {
     /// An affine map of positive determinant keeps every orientation sign, so instances share
     /// them with the tree.
     pub triangulation: Option<Arc<SilhouetteTriangulation>>,
+    /// Set when `poly` is the convex hull standing in for a mesh that is convex up to the
+    /// precision of its input (`geometry::near_convex`): how far the hull may be from it.
+    pub stand_in: Option<StandIn>,
+}
+
+/// What replacing a mesh by its convex hull changes (`geometry::near_convex`).
+#[derive(Clone, Debug)]
+pub struct StandIn {
+    /// The mesh itself: the face-by-face paths (the per-triangle method) go over its faces.
+    pub mesh: Arc<Polyhedron>,
+    /// Every point of the hull is within this distance of the mesh.
+    pub deviation: f64,
+    /// The farthest a vertex of the mesh lies outside the plane of one of its faces.
+    pub outside: f64,
+    /// The mesh's own vertex and face counts.
+    pub mesh_vertices: usize,
+    pub mesh_faces: usize,
+}
+
+impl StandIn {
+    /// The largest change of solid angle from a point at `distance` from the hull.
+    pub fn solid_angle_bound(&self, distance: f64) -> f64 {
+        solid_angle_bound(self.deviation, distance)
+    }
 }
 
 /// Non-convex meshes whose tree would have more leaves than this keep computing their exact
@@ -73,7 +98,65 @@ pub const MAX_BSP_CELLS: usize = 50_000;
 /// far above the rounding of a scene file's scale, rotate and translate.
 pub const INSTANCE_TOLERANCE: f64 = 1e-10;
 
+/// How the analytic method finds a mesh's spherical polygon at a shading point, decided once
+/// when the scene is prepared (docs/silhouettes.md, "Which path a mesh takes").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum MeshPath {
+    /// Convex or flat: one silhouette loop, read from the mesh's tree of face planes.
+    ConvexTree,
+    /// Convex up to the rounding of its coordinates: its convex hull stands in for it.
+    HullTree,
+    /// As `HullTree`, over the tree's size limit: the hull's silhouette chained at each point.
+    HullAtPoint,
+    /// Convex or flat, over the tree's size limit: the silhouette chained at each point.
+    ConvexAtPoint,
+    /// Closed, not convex: the exact silhouette, read from its tree.
+    ExactTree,
+    /// Closed, not convex, over the tree's size limit: the exact silhouette at each point.
+    ExactAtPoint,
+    /// Open or non-manifold: face by face.
+    PerFace,
+}
+
+impl MeshPath {
+    /// The path in the words of the scene notes.
+    pub fn describe(self) -> &'static str {
+        match self {
+            MeshPath::ConvexTree => "convex: silhouette from its BSP tree",
+            MeshPath::ConvexAtPoint => "convex: silhouette chained at each point",
+            MeshPath::HullTree => "convex up to rounding: its hull's silhouette from a BSP tree",
+            MeshPath::HullAtPoint => {
+                "convex up to rounding: its hull's silhouette chained at each point"
+            }
+            MeshPath::ExactTree => "not convex: exact silhouette from its BSP tree",
+            MeshPath::ExactAtPoint => "not convex: exact silhouette computed at each point",
+            MeshPath::PerFace => "open or non-manifold: face by face",
+        }
+    }
+}
+
 impl PreparedObject {
+    /// The path this mesh takes under the analytic method.
+    pub fn path(&self) -> MeshPath {
+        let has_tree = self.bsp.is_some() || self.exact_bsp.is_some() || self.hoisted.is_some();
+        match (self.simple, self.poly.diagnostics.closed_manifold, has_tree) {
+            (true, _, true) if self.stand_in.is_some() => MeshPath::HullTree,
+            (true, _, false) if self.stand_in.is_some() => MeshPath::HullAtPoint,
+            (true, _, true) => MeshPath::ConvexTree,
+            (true, _, false) => MeshPath::ConvexAtPoint,
+            (false, true, true) => MeshPath::ExactTree,
+            (false, true, false) => MeshPath::ExactAtPoint,
+            (false, false, _) => MeshPath::PerFace,
+        }
+    }
+
+    /// The faces the face-by-face paths go over: the mesh's own, also when a hull stands in for
+    /// it on the silhouette path.
+    #[inline]
+    pub fn faces(&self) -> &Polyhedron {
+        self.stand_in.as_ref().map_or(&self.poly, |s| &s.mesh)
+    }
+
     /// The point at which to look up this object's tree for the shading point `x`.
     #[inline]
     pub fn tree_point(&self, x: DVec3) -> DVec3 {
@@ -450,14 +533,40 @@ impl PreparedScene {
             if !is_light && !obj.flags.occluder {
                 continue;
             }
-            let poly = Polyhedron::new(&obj.mesh.positions, &obj.mesh.faces);
-            if poly.face_count() == 0 {
+            let mesh = Polyhedron::new(&obj.mesh.positions, &obj.mesh.faces);
+            if mesh.face_count() == 0 {
                 notes.push(format!(
                     "object '{}' has no usable face and is ignored",
                     obj.name
                 ));
                 continue;
             }
+            // Convex as meant but not as written (rounded coordinates): the hull stands in.
+            let (poly, stand_in) = match convex_stand_in(&mesh, obj.mesh.rounding) {
+                Some(s) => {
+                    let stand_in = StandIn {
+                        mesh: Arc::new(mesh.clone()),
+                        deviation: s.deviation,
+                        outside: s.outside,
+                        mesh_vertices: mesh.vertices.len(),
+                        mesh_faces: mesh.face_count(),
+                    };
+                    notes.push(format!(
+                        "object '{}' is convex up to the rounding of its coordinates (vertices at \
+                         most {:.2e} outside its faces' planes, rounding {:.2e}): its convex hull \
+                         ({} faces) stands in for it, within {:.2e} of it; the solid angle it \
+                         subtends from a point at distance d changes by at most about 2π·{:.2e}/d",
+                        obj.name,
+                        s.outside,
+                        obj.mesh.rounding,
+                        s.hull.face_count(),
+                        s.deviation,
+                        s.deviation
+                    ));
+                    (s.hull, Some(stand_in))
+                }
+                None => (mesh, None),
+            };
             let simple = poly.has_simple_silhouette();
             if !simple {
                 let d = &poly.diagnostics;
@@ -485,6 +594,7 @@ impl PreparedScene {
                 hoisted: None,
                 star_centre: None,
                 triangulation: None,
+                stand_in,
             });
             if is_light {
                 lights.push((id, obj.material.ke));
