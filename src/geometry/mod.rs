@@ -21,6 +21,7 @@ pub mod projection;
 pub mod separation;
 pub mod set_difference;
 pub mod silhouette;
+pub mod silhouette_walk;
 pub mod spherical_polygon;
 #[cfg(test)]
 pub(crate) mod test_util;

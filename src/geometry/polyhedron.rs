@@ -80,6 +80,9 @@ pub struct Polyhedron {
     /// [`super::face_bvh::FACE_BVH_MIN_FACES`] faces (the exact silhouette's ray tests).
     #[serde(skip)]
     pub face_bvh: Option<std::sync::Arc<super::face_bvh::FaceBvh>>,
+    /// Adjacency for walking the contour of a large convex mesh (`silhouette_walk`).
+    #[serde(skip)]
+    pub contour_walk: Option<std::sync::Arc<super::silhouette_walk::ContourWalk>>,
 }
 
 impl Polyhedron {
@@ -243,8 +246,17 @@ impl Polyhedron {
             radius,
             diagnostics,
             face_bvh: None,
+            contour_walk: None,
         }
         .with_face_bvh()
+        .with_contour_walk()
+    }
+
+    /// Builds [`Polyhedron::contour_walk`] for a large convex mesh.
+    fn with_contour_walk(mut self) -> Self {
+        self.contour_walk =
+            super::silhouette_walk::ContourWalk::new(&self).map(std::sync::Arc::new);
+        self
     }
 
     /// Builds [`Polyhedron::face_bvh`] when the mesh is large enough for it to pay.

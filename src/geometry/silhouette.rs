@@ -9,6 +9,7 @@
 
 use super::SphericalPolygon;
 use super::polyhedron::{NO_FACE, Plane, Polyhedron};
+use super::silhouette_walk::{WalkScratch, walk_silhouette};
 use crate::math::Frame;
 use glam::DVec3;
 
@@ -25,6 +26,7 @@ pub struct SilhouetteScratch {
     used: Vec<bool>,
     /// Edges gathered by a lookup in a hoisted tree (`bsp_hoisted`), reused.
     pub hoisted: Vec<[u32; 2]>,
+    walk: WalkScratch,
 }
 
 /// Is face `f` front-facing from `x`, i.e. does `x` lie strictly on its front side?
@@ -70,6 +72,12 @@ pub fn silhouette(
     out: &mut SphericalPolygon,
     scratch: &mut SilhouetteScratch,
 ) {
+    // A large convex mesh: walk the contour instead of scanning it (the same loop).
+    if let Some(walk) = &poly.contour_walk
+        && walk_silhouette(poly, walk, x, frame, out, &mut scratch.walk)
+    {
+        return;
+    }
     out.clear();
     let nf = poly.face_count();
     let nv = poly.vertices.len();
