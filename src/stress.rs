@@ -44,9 +44,13 @@ pub enum CaseKind {
     /// A random polyhedron of 001 Table 7.1 (convex or not, with tunnels and pits) as the light
     /// and others as occluders: exact silhouettes with several loops and holes.
     NonConvex,
+    /// Meshes as exporters write them ([`exporter_meshes`]): rounded to 6 decimals or 9
+    /// significant digits, nearly convex (a hull stands in), dented, large; as light and
+    /// occluders.
+    ExporterMeshes,
 }
 
-const KINDS: [CaseKind; 9] = [
+const KINDS: [CaseKind; 10] = [
     CaseKind::Random,
     CaseKind::CoplanarWithLightFace,
     CaseKind::LightVerticesOnHorizon,
@@ -56,7 +60,23 @@ const KINDS: [CaseKind; 9] = [
     CaseKind::CoveringOrInside,
     CaseKind::NearlyTouchingBoxes,
     CaseKind::NonConvex,
+    CaseKind::ExporterMeshes,
 ];
+
+/// Cases come in periods of [`KIND_PERIOD`]: five of each of the first nine kinds, then one of
+/// exporter meshes, whose cases cost about a hundred times more (hulls and exact silhouettes
+/// of meshes of hundreds of vertices, prepared for every case).
+pub const KIND_PERIOD: u64 = 46;
+
+/// The family of case `index`.
+pub fn kind_of(index: u64) -> CaseKind {
+    let slot = index % KIND_PERIOD;
+    if slot == KIND_PERIOD - 1 {
+        CaseKind::ExporterMeshes
+    } else {
+        KINDS[(slot % 9) as usize]
+    }
+}
 
 /// One generated configuration.
 pub struct Case {
@@ -95,6 +115,8 @@ pub struct StressReport {
     pub beyond_6_sigma: u64,
     /// The same, per kind of case (in the order of `CaseKind`).
     pub beyond_6_sigma_by_kind: [u64; KINDS.len()],
+    /// Cases run, per kind (in the order of `CaseKind`).
+    pub cases_by_kind: [u64; KINDS.len()],
     pub worst_abs: WorstCase,
     pub worst_sigma: WorstCase,
     pub seconds: f64,
@@ -133,6 +155,80 @@ fn random_convex(rng: &mut Pcg32, center: DVec3, size: f64) -> Mesh {
         ),
     };
     m.transformed(&DAffine3::from_mat3_translation(rot, center))
+}
+
+/// The meshes of the [`CaseKind::ExporterMeshes`] family, each written as an exporter writes it
+/// and read back through the OBJ loader (so each carries the rounding its digits imply), about
+/// 2 across, centred at the origin: a Blender UV sphere (32 × 16, `%.6f`) and cylinder (32
+/// segments, 32-gon caps, `%.6f`), both convex only up to their rounding; a 10-sided truncated
+/// cone (`%.9g`); a box (`%.6f`); a twisted 18 × 8 UV ellipsoid written as triangles (`%.9g`),
+/// slightly dented; and a displaced level-3 icosphere (1,280 triangles, `%.6f`), large and not
+/// convex. Each is turned by a fixed rotation before it is written, so that no coordinate is
+/// exact.
+pub fn exporter_meshes() -> &'static [(&'static str, Mesh)] {
+    use crate::bench::realworld_scenes::{
+        NumberFormat, as_exported, displaced_icosphere, twisted_ellipsoid,
+    };
+    use crate::scene::shapes::{truncated_cone, uv_ellipsoid};
+    static MESHES: std::sync::OnceLock<Vec<(&'static str, Mesh)>> = std::sync::OnceLock::new();
+    MESHES.get_or_init(|| {
+        let turn =
+            DMat3::from_rotation_y(0.7) * DMat3::from_rotation_x(0.4) * DMat3::from_rotation_z(0.3);
+        let list: [(&'static str, Mesh, NumberFormat, bool); 6] = [
+            (
+                "uv_sphere_32x16",
+                uv_ellipsoid(DVec3::ZERO, DVec3::ONE, 32, 16),
+                NumberFormat::Fixed(6),
+                false,
+            ),
+            (
+                "cylinder_32",
+                cylinder(DVec3::ZERO, 1.0, 2.0, 32),
+                NumberFormat::Fixed(6),
+                false,
+            ),
+            (
+                "truncated_cone_10",
+                truncated_cone(DVec3::ZERO, 1.0, 0.45, 1.6, 10),
+                NumberFormat::Significant(9),
+                false,
+            ),
+            (
+                "box",
+                cuboid(DVec3::ZERO, DVec3::new(1.0, 0.6, 0.8)),
+                NumberFormat::Fixed(6),
+                false,
+            ),
+            (
+                "twisted_ellipsoid",
+                twisted_ellipsoid(DVec3::ZERO, DVec3::new(1.0, 0.7, 0.8), 18, 8, -0.06),
+                NumberFormat::Significant(9),
+                true,
+            ),
+            (
+                "displaced_icosphere",
+                displaced_icosphere(DVec3::ZERO, 1.0, 3, 0.12),
+                NumberFormat::Fixed(6),
+                false,
+            ),
+        ];
+        list.into_iter()
+            .map(|(name, mesh, format, triangulate)| {
+                let m = as_exported(&mesh, format, turn, triangulate)
+                    .unwrap_or_else(|e| panic!("exporter mesh {name}: {e}"));
+                (name, m)
+            })
+            .collect()
+    })
+}
+
+/// One of [`exporter_meshes`], turned at random, scaled to about `size` across and moved to
+/// `center` (a scene file's transform: the rounding scales with it).
+fn random_exporter_mesh(rng: &mut Pcg32, center: DVec3, size: f64) -> Mesh {
+    let rot = rotation(rng);
+    let meshes = exporter_meshes();
+    let (_, m) = &meshes[rng.below(meshes.len() as u32) as usize];
+    m.transformed(&DAffine3::from_mat3_translation(rot * (0.5 * size), center))
 }
 
 /// A Table 7.1 polyhedron, turned at random, `size` across.
@@ -198,7 +294,7 @@ fn inside_any(objects: &[SceneObject], x: DVec3) -> bool {
 /// Generates case `index` of the run with `seed` (deterministic).
 pub fn generate(seed: u64, index: u64) -> Case {
     let mut rng = Pcg32::new(seed, index);
-    let kind = KINDS[(index % KINDS.len() as u64) as usize];
+    let kind = kind_of(index);
     let scale = 10f64.powf(rng.range(-4.0, 4.0));
     let mut objects = Vec::new();
     let mut x = DVec3::ZERO;
@@ -390,6 +486,30 @@ pub fn generate(seed: u64, index: u64) -> Case {
                 }
             }
         }
+        CaseKind::ExporterMeshes => {
+            n = rng.unit_vector();
+            let up = Frame::from_z(n);
+            let lc = up.to_world(DVec3::new(
+                rng.range(-1.5, 1.5),
+                rng.range(-1.5, 1.5),
+                rng.range(0.0, 2.5),
+            ));
+            let size = rng.range(0.4, 1.2);
+            objects.push(object(
+                "light",
+                random_exporter_mesh(&mut rng, lc, size),
+                true,
+            ));
+            for k in 0..1 + rng.below(3) {
+                let t = rng.range(0.2, 0.8);
+                let c = lc * t + rng.unit_vector() * rng.range(0.0, 0.6);
+                let occ_size = rng.range(0.1, 0.6) * t;
+                let mesh = random_exporter_mesh(&mut rng, c, occ_size);
+                if !spheres_overlap(&objects[0].mesh, &mesh) {
+                    objects.push(object(&format!("occluder{k}"), mesh, false));
+                }
+            }
+        }
         CaseKind::CoveringOrInside => {
             let lc = DVec3::new(
                 rng.range(-0.5, 0.5),
@@ -491,6 +611,7 @@ pub fn generate(seed: u64, index: u64) -> Case {
     // Scale the whole configuration.
     for o in &mut objects {
         o.mesh.positions.iter_mut().for_each(|p| *p *= scale);
+        o.mesh.rounding *= scale;
     }
     x *= scale;
     let view = (n + rng.unit_vector() * 0.9)
@@ -589,6 +710,8 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         share_instances: true,
         disk_cache: false,
         library: Some(tree_library()),
+        // Shaded at one point: a tree of its own could never pay for itself.
+        build_trees: false,
     };
     let prepared = PreparedScene::prepare(&case.scene, LtcTable::embedded(), options);
     let diffuse = Material {
@@ -699,6 +822,8 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
                     *scratch = ShadingScratch::default();
                     continue;
                 };
+                let k = KINDS.iter().position(|&k| k == kind).unwrap_or(0);
+                rep.cases_by_kind[k] += 1;
                 rep.trees_built += o.trees_built as u64;
                 rep.nan += o.nan as u64;
                 rep.inf += o.inf as u64;
@@ -710,8 +835,7 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
                 let sigmas = err / (o.sigma + 1.0 / rays as f64);
                 if sigmas > 6.0 {
                     rep.beyond_6_sigma += 1;
-                    rep.beyond_6_sigma_by_kind
-                        [KINDS.iter().position(|&k| k == kind).unwrap_or(0)] += 1;
+                    rep.beyond_6_sigma_by_kind[k] += 1;
                 }
                 let w = WorstCase {
                     index,
@@ -749,6 +873,7 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
         total.beyond_6_sigma += r.beyond_6_sigma;
         for k in 0..KINDS.len() {
             total.beyond_6_sigma_by_kind[k] += r.beyond_6_sigma_by_kind[k];
+            total.cases_by_kind[k] += r.cases_by_kind[k];
         }
         if r.worst_abs.abs_error > total.worst_abs.abs_error {
             total.worst_abs = r.worst_abs;

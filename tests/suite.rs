@@ -36,6 +36,8 @@ mod set_difference_chains;
 mod set_difference_regressions;
 mod shading_oracles;
 mod stochastic;
+mod stress_exporter;
 mod thesis_polyhedra;
 mod tree_library;
+mod windowed_silhouette;
 mod workbench;

@@ -751,23 +751,7 @@ impl WorkbenchApp {
                                 .objects
                                 .iter()
                                 .find(|p| p.object == i as u32)
-                                .map(|p| {
-                                    let d = &p.poly.diagnostics;
-                                    let tree = p.bsp.is_some() || p.exact_bsp.is_some();
-                                    if d.planar {
-                                        "flat"
-                                    } else if d.convex && tree {
-                                        "convex, BSP"
-                                    } else if d.convex {
-                                        "convex"
-                                    } else if d.closed_manifold && tree {
-                                        "non-convex, BSP"
-                                    } else if d.closed_manifold {
-                                        "non-convex (exact)"
-                                    } else {
-                                        "open (per face)"
-                                    }
-                                })
+                                .map(|p| p.path().label())
                                 .unwrap_or("receiver only");
                             ui.label(shape);
                             ui.end_row();

@@ -8,6 +8,7 @@ use crate::render::image_io::{write_pfm, write_png};
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::Camera;
 use crate::scene::scene_file::load_scene;
+use crate::shading::Shortcuts;
 use crate::stochastic::LightSampling;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -46,6 +47,9 @@ pub struct MethodRow {
     pub seconds: f64,
     /// Against the reference, in units of its standard error.
     pub error: Comparison,
+    /// How the light pieces of every camera ray ended (deterministic methods).
+    #[serde(default)]
+    pub shortcuts: Option<Shortcuts>,
 }
 
 /// One scene of the suite.
@@ -167,7 +171,7 @@ pub fn run_realworld(
                 path_text: o.path().describe().into(),
             })
             .collect();
-        let settings = |method, spp, seed| RenderSettings {
+        let settings = |method: RenderMethod, spp, seed| RenderSettings {
             width: config.width,
             height: config.height,
             aa: config.aa,
@@ -175,7 +179,8 @@ pub fn run_realworld(
             spp,
             seed,
             light_sampling: LightSampling::SolidAngle,
-            collect_stats: false,
+            // Per-pixel counters of the deterministic methods: the shortcuts they took.
+            collect_stats: method.analytic().is_some(),
         };
         progress(&format!(
             "{name}: reference, {} spp per camera ray",
@@ -205,10 +210,18 @@ pub fn run_realworld(
             progress(&format!("{name}: {}", method.name()));
             let mut best = f64::INFINITY;
             let mut image = Image::new(1, 1);
+            let mut shortcuts = None;
             for _ in 0..config.repeats.max(1) {
                 let out = ctx.render_full(&camera, &settings(method, 1, config.seed), None)?;
                 best = best.min(out.stats.seconds);
                 image = out.image;
+                shortcuts = out.pixel_stats.map(|px| {
+                    let mut sum = Shortcuts::default();
+                    for p in &px {
+                        sum.add(&p.shortcuts);
+                    }
+                    sum
+                });
             }
             save(dir, &name, method.name(), &image)?;
             let error = compare(
@@ -220,6 +233,7 @@ pub fn run_realworld(
                 method: method.name().into(),
                 seconds: best,
                 error,
+                shortcuts,
             });
         }
         rows.push(SceneRow {
@@ -296,6 +310,36 @@ pub fn realworld_markdown(r: &RealWorldReport) -> String {
             z(|e| e.mean_z),
             z(|e| e.within_3_sigma),
             row.prepare_seconds,
+        );
+    }
+    s.push_str(
+        "\nHow the analytic method's light pieces ended (a light taken whole, or one face of a \
+         light taken face by face; per camera ray, summed over the image), in % of all pieces:\n\n\
+         | scene | pieces | light below horizon | clipped away | no occluder between | occluders \
+         all disjoint | covered | set difference |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    for row in &r.scenes {
+        let Some(sc) = row
+            .methods
+            .iter()
+            .find(|m| m.method == "analytic")
+            .and_then(|m| m.shortcuts)
+        else {
+            continue;
+        };
+        let n = sc.total().max(1) as f64;
+        let pc = |c: u32| format!("{:.1} %", 100.0 * c as f64 / n);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            row.scene,
+            sc.total(),
+            pc(sc.light_below_horizon),
+            pc(sc.clipped_away),
+            pc(sc.no_occluder),
+            pc(sc.all_disjoint),
+            pc(sc.covered),
+            pc(sc.subtracted),
         );
     }
     s.push_str("\nThe path each mesh took:\n\n| scene | mesh | vertices | faces | path |\n|---|---|---|---|---|\n");

@@ -187,6 +187,39 @@ impl ExportedScene {
     }
 }
 
+/// `mesh` as an exporter writes it and the OBJ loader reads it back: every coordinate printed
+/// with `format` (rotated by `r` about the origin first, as exporters bake object rotations
+/// into the coordinates), faces as they are or, with `triangulate`, fanned into triangles.
+/// The loaded mesh carries the rounding inferred from its digits.
+pub fn as_exported(
+    mesh: &Mesh,
+    format: NumberFormat,
+    r: DMat3,
+    triangulate: bool,
+) -> Result<Mesh, String> {
+    let scene = ExportedScene {
+        name: "exported",
+        description: "one mesh as an exporter writes it",
+        format,
+        eye: DVec3::Z,
+        target: DVec3::ZERO,
+        fov: 45.0,
+        materials: vec![diffuse("grey", [0.5, 0.5, 0.5])],
+        objects: vec![ExportedObject {
+            triangulate,
+            ..object("mesh", rotated_about(mesh, DVec3::ZERO, r), 0)
+        }],
+    };
+    let loaded = crate::scene::obj::load_obj_str(&scene.obj(), Some(&scene.mtl()), "exported.obj")
+        .map_err(|e| e.to_string())?;
+    loaded
+        .objects
+        .into_iter()
+        .next()
+        .map(|o| o.mesh)
+        .ok_or_else(|| "exported.obj: no object".into())
+}
+
 fn rotation(yaw_deg: f64, pitch_deg: f64, roll_deg: f64) -> DMat3 {
     DMat3::from_rotation_y(yaw_deg.to_radians())
         * DMat3::from_rotation_x(pitch_deg.to_radians())

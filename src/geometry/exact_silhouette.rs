@@ -495,6 +495,12 @@ fn arc_position(e: &ContourEdge, p: DVec3) -> ArcPosition {
     }
 }
 
+/// [`blocked`] through the face hierarchy where the mesh has one (the windowed silhouette).
+#[inline]
+pub(crate) fn blocked_ray(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2]) -> bool {
+    blocked(poly, x, dir, skip, false)
+}
+
 /// Does the ray from `x` along `dir` meet a face of `poly` other than `skip`, the two faces of
 /// the piece's edge? Hits before and beyond the edge both count: a piece with part of the mesh
 /// in front of it or directly behind it separates nothing from the background.

@@ -162,4 +162,106 @@ impl FaceBvh {
             cur = stack[sp] as usize;
         }
     }
+
+    /// Calls `visit(face)` for every face whose box may meet the cone of directions within the
+    /// angle θ (given by its cosine and sine) of the unit `axis` from `apex`: a superset of the
+    /// faces with a point in the cone (each box is tested through its bounding sphere).
+    pub fn for_each_in_cone(
+        &self,
+        apex: DVec3,
+        axis: DVec3,
+        cos_theta: f64,
+        sin_theta: f64,
+        mut visit: impl FnMut(u32),
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let meets = |n: &Node| {
+            let c = 0.5 * (n.lo + n.hi);
+            let r = 0.5 * (n.hi - n.lo).length();
+            let v = c - apex;
+            let d = v.length();
+            if d <= r * (1.0 + 1e-9) {
+                return true;
+            }
+            // angle(v, axis) ≤ θ + asin(r / d)  ⇔  cos(angle) ≥ cos(θ + φ), when θ + φ < π.
+            let (sin_phi, cos_phi) = (r / d, (1.0 - (r / d) * (r / d)).max(0.0).sqrt());
+            let cos_sum = cos_theta * cos_phi - sin_theta * sin_phi;
+            let sin_sum = sin_theta * cos_phi + cos_theta * sin_phi;
+            if sin_sum < 0.0 && cos_sum < 0.0 {
+                return true; // θ + φ past π: every direction
+            }
+            v.dot(axis) >= d * cos_sum - 1e-9 * d
+        };
+        let mut stack = [0u32; STACK];
+        let mut sp = 0;
+        let mut cur = 0usize;
+        loop {
+            let node = &self.nodes[cur];
+            if meets(node) {
+                if node.count > 0 {
+                    let s = node.start as usize;
+                    for &f in &self.faces[s..s + node.count as usize] {
+                        visit(f);
+                    }
+                } else {
+                    stack[sp] = node.start + 1;
+                    sp += 1;
+                    cur = node.start as usize;
+                    continue;
+                }
+            }
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            cur = stack[sp] as usize;
+        }
+    }
+}
+
+/// The edges of every face (indices into `Polyhedron::edges`), for walking from faces found in
+/// the hierarchy to their edges.
+#[derive(Clone, Debug, Default)]
+pub struct FaceEdges {
+    starts: Vec<u32>,
+    edges: Vec<u32>,
+}
+
+impl FaceEdges {
+    /// From the edges' face adjacency.
+    pub fn build(face_count: usize, edge_faces: impl Iterator<Item = [u32; 2]> + Clone) -> Self {
+        let mut counts = vec![0u32; face_count + 1];
+        for faces in edge_faces.clone() {
+            for f in faces {
+                if (f as usize) < face_count {
+                    counts[f as usize + 1] += 1;
+                }
+            }
+        }
+        for i in 0..face_count {
+            counts[i + 1] += counts[i];
+        }
+        let mut fill = counts.clone();
+        let mut edges = vec![0u32; counts[face_count] as usize];
+        for (e, faces) in edge_faces.enumerate() {
+            for f in faces {
+                if (f as usize) < face_count {
+                    edges[fill[f as usize] as usize] = e as u32;
+                    fill[f as usize] += 1;
+                }
+            }
+        }
+        FaceEdges {
+            starts: counts,
+            edges,
+        }
+    }
+
+    /// The edges of face `f`.
+    #[inline]
+    pub fn edges_of(&self, f: usize) -> &[u32] {
+        &self.edges[self.starts[f] as usize..self.starts[f + 1] as usize]
+    }
 }

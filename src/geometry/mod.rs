@@ -25,6 +25,7 @@ pub mod silhouette_walk;
 pub mod spherical_polygon;
 #[cfg(test)]
 pub(crate) mod test_util;
+pub mod windowed_silhouette;
 
 pub use bsp::{BspNode, BspPath, BspStats, SilhouetteBsp, bsp_cell, bsp_leaf, bsp_path, bsp_size};
 pub use bsp_hoisted::{HoistedKind, HoistedSilhouetteBsp};
@@ -47,3 +48,6 @@ pub use separation::separating_plane;
 pub use set_difference::{GreinerHormannSteps, SetDifference};
 pub use silhouette::{Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette};
 pub use spherical_polygon::{SphericalPolygon, orient};
+pub use windowed_silhouette::{
+    WindowScratch, WindowStats, clip_to_window, exact_silhouette_in_window, window_cone,
+};

@@ -80,6 +80,9 @@ pub struct Polyhedron {
     /// [`super::face_bvh::FACE_BVH_MIN_FACES`] faces (the exact silhouette's ray tests).
     #[serde(skip)]
     pub face_bvh: Option<std::sync::Arc<super::face_bvh::FaceBvh>>,
+    /// Each face's edges, with the hierarchy (the windowed silhouette walks from faces to edges).
+    #[serde(skip)]
+    pub face_edges: Option<std::sync::Arc<super::face_bvh::FaceEdges>>,
     /// Adjacency for walking the contour of a large convex mesh (`silhouette_walk`).
     #[serde(skip)]
     pub contour_walk: Option<std::sync::Arc<super::silhouette_walk::ContourWalk>>,
@@ -246,6 +249,7 @@ impl Polyhedron {
             radius,
             diagnostics,
             face_bvh: None,
+            face_edges: None,
             contour_walk: None,
         }
         .with_face_bvh()
@@ -274,6 +278,11 @@ impl Polyhedron {
                 })
                 .collect();
             self.face_bvh = Some(std::sync::Arc::new(super::face_bvh::FaceBvh::build(&boxes)));
+            let faces = self.edges.iter().map(|e| e.faces);
+            self.face_edges = Some(std::sync::Arc::new(super::face_bvh::FaceEdges::build(
+                self.face_count(),
+                faces,
+            )));
         }
         self
     }

@@ -198,6 +198,8 @@ pub struct PixelStats {
     pub light_edges: u32,
     /// Set differences performed.
     pub set_differences: u32,
+    /// How the light pieces ended (shortcuts taken), summed over its camera rays.
+    pub shortcuts: crate::shading::Shortcuts,
     /// Wall-clock time spent on the pixel, in nanoseconds.
     pub nanos: u32,
 }
@@ -370,6 +372,7 @@ impl RenderContext {
                     stats.occluders_kept += scratch.stats.occluders_kept;
                     stats.light_edges += scratch.stats.light_edges;
                     stats.set_differences += scratch.stats.set_differences;
+                    stats.shortcuts.add(&scratch.stats.shortcuts);
                     scratch.stats = Default::default();
                 }
             }

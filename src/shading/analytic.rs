@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! for each light l:                                   shade
-//!     l' = SphPolySilhouette(l, x, n)                 silhouette / face_polygon
+//!     l' = SphPolySilhouette(l, x, n)                 PreparedObject::spherical_polygon
 //!     l'_clip = ClipToHorizon(l')                     clip_to_horizon
 //!     l'_xy = project(l'_clip, p)                     ProjectionPlane::project
 //!     B_bw = GetBetween(x, l, B)                      get_between
@@ -14,21 +14,24 @@
 //!     I += AnalyticIntegrate(l_ltc, ρ)                form_factor
 //! ```
 //!
-//! Convex and flat meshes take the silhouette path (read from a BSP tree where they have one);
-//! closed non-convex meshes take their exact silhouette (001 Sect. 4.3, from a BSP tree where
-//! they have one, 001 Sect. 5.2). Open meshes, points on a non-convex mesh itself, degenerate
-//! points and every mesh under [`Method::PerTriangle`] go face by face, where an occluder face
-//! is first cut to the part in front of the light face's plane, so that faces of one mesh
-//! hiding each other are exact.
+//! How a mesh's spherical polygon is found is the prepared object's business
+//! ([`super::outline`]); this module only handles the two answers: the mesh as a whole, or face
+//! by face. Face by face, an occluder face is first cut to the part in front of the light
+//! face's plane, so that faces of one mesh hiding each other are exact.
+//!
+//! What cannot matter is skipped and counted ([`Shortcuts`]): a light whose bounding sphere is
+//! below the tangent plane is not looked at; one whose polygon clips away at the horizon stops
+//! there; with no occluder between, or every occluder disjoint from it, it is fully lit without
+//! a set difference; once an occluder covers it, the others are not looked at.
 
 use super::get_between::get_between;
+use super::outline::{Outline, OutlineScratch, Role};
 use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage};
-use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
+use super::{MeshPath, Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::{
     ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, Polyhedron,
-    ProjectionPlane, SetDifference, Sidedness, SilhouettePoint, SilhouetteScratch,
-    SphericalPolygon, classify_overlap, clip_to_horizon, contour_edges, exact_silhouette,
-    face_polygon, silhouette,
+    ProjectionPlane, SetDifference, Sidedness, SilhouettePoint, SphericalPolygon, classify_overlap,
+    clip_to_horizon, clip_to_window, contour_edges, face_polygon, window_cone,
 };
 use crate::ltc::{LtcEntry, form_factor};
 use crate::math::Frame;
@@ -44,14 +47,61 @@ pub struct ShadingStats {
     pub light_edges: u32,
     /// Set differences performed.
     pub set_differences: u32,
+    /// How each light piece ended.
+    pub shortcuts: Shortcuts,
+}
+
+/// How many light pieces (a light taken whole, or one face of a light taken face by face) at a
+/// shading point ended in each way; every piece is counted once.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Shortcuts {
+    /// The light's bounding sphere lies below the tangent plane: not looked at.
+    pub light_below_horizon: u32,
+    /// Nothing of the piece's polygon is above the horizon (found by clipping).
+    pub clipped_away: u32,
+    /// `GetBetween` kept no occluder: fully lit, no set difference.
+    pub no_occluder: u32,
+    /// Occluders were kept, but each was disjoint from the visible polygon: fully lit, no set
+    /// difference.
+    pub all_disjoint: u32,
+    /// An occluder covered what was left of the piece: the remaining occluders were skipped.
+    pub covered: u32,
+    /// The rest: at least one set difference (a penumbra or a partial cover).
+    pub subtracted: u32,
+}
+
+impl Shortcuts {
+    /// Component-wise sum.
+    pub fn add(&mut self, o: &Shortcuts) {
+        self.light_below_horizon += o.light_below_horizon;
+        self.clipped_away += o.clipped_away;
+        self.no_occluder += o.no_occluder;
+        self.all_disjoint += o.all_disjoint;
+        self.covered += o.covered;
+        self.subtracted += o.subtracted;
+    }
+
+    /// Every piece counted.
+    pub fn total(&self) -> u64 {
+        [
+            self.light_below_horizon,
+            self.clipped_away,
+            self.no_occluder,
+            self.all_disjoint,
+            self.covered,
+            self.subtracted,
+        ]
+        .iter()
+        .map(|&c| c as u64)
+        .sum()
+    }
 }
 
 /// Per-thread buffers of the pipeline, reused from one shading point to the next so that the
 /// hot loop allocates nothing once they have grown.
 #[derive(Default)]
 pub struct ShadingScratch {
-    silhouette: SilhouetteScratch,
-    exact: ExactSilhouetteScratch,
+    outline: OutlineScratch,
     horizon: HorizonScratch,
     difference: SetDifference,
     light_sph: SphericalPolygon,
@@ -70,6 +120,10 @@ pub struct ShadingScratch {
     /// Counts shading points, to invalidate `occluder_cache` without clearing it.
     stamp: u64,
     face_buf: Vec<DVec3>,
+    /// The faces of an occluder taken face by face that can overlap the light.
+    face_list: Vec<u32>,
+    cone_buf: Vec<DVec3>,
+    window_bufs: [Vec<DVec3>; 3],
     pub stats: ShadingStats,
 }
 
@@ -79,6 +133,10 @@ struct CachedOccluder {
     poly: PlanarPolygon,
 }
 
+/// Convex occluder outlines with more vertices than this are clipped to the light's window
+/// before the set difference (`clip_to_window`).
+const WINDOW_CLIP_MIN_VERTICES: usize = 12;
+
 /// Relative distance below which a face is taken to contain the shading point (its spherical
 /// polygon is a sliver of zero area on the horizon).
 const COPLANAR: f64 = 1e-9;
@@ -87,6 +145,15 @@ const COPLANAR: f64 = 1e-9;
 struct Lobes {
     kd: DVec3,
     specular: Option<(LtcEntry, DVec3)>,
+}
+
+/// What every stage at one shading point reads.
+struct PointContext<'a> {
+    scene: &'a PreparedScene,
+    sp: &'a ShadingPoint,
+    frame: Frame,
+    lobes: Lobes,
+    method: Method,
 }
 
 /// Outgoing radiance at `sp` toward the viewer, by 000 Alg. 1 (diffuse + specular). `rec`
@@ -106,7 +173,6 @@ pub fn shade<R: Recorder>(
             .occluder_cache
             .resize_with(scene.occluders.len(), CachedOccluder::default);
     }
-    let frame = Frame::from_normal_and_view(sp.normal, sp.view);
     let lobes = Lobes {
         kd: material.kd,
         specular: material.has_specular().then(|| {
@@ -118,64 +184,70 @@ pub fn shade<R: Recorder>(
             (entry, scale)
         }),
     };
+    let ctx = PointContext {
+        scene,
+        sp,
+        frame: Frame::from_normal_and_view(sp.normal, sp.view),
+        lobes,
+        method,
+    };
     let mut total = DVec3::ZERO;
     for l in 0..scene.lights.len() {
-        let (light_id, radiance) = scene.lights[l];
-        let light = &scene.objects[light_id as usize];
-        let on_light = sp.object == Some(light.object);
-        let whole = LightPiece {
-            light: l,
-            face: None,
-        };
-        if light.simple && method != Method::PerTriangle {
-            // A convex or flat light does not light points on itself.
-            if on_light {
-                continue;
-            }
-            rec.begin_light(l, None);
-            record_contour(rec, None, &light.poly, sp.position, &frame);
-            convex_silhouette(
-                light,
-                sp.position,
-                &frame,
-                Sidedness::FrontOnly,
-                &mut scratch.light_sph,
-                &mut scratch.silhouette,
-            );
-            total += shade_light_piece(
-                scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
-            );
-        } else if let Some(from_tree) = uses_exact_silhouette(light, method, on_light)
-            .then(|| {
-                nonconvex_silhouette_from(
-                    light,
-                    sp.position,
-                    &frame,
-                    &mut scratch.light_sph,
-                    &mut scratch.exact,
-                )
-            })
-            .flatten()
-        {
+        total += shade_light(&ctx, l, scratch, rec);
+    }
+    total
+}
+
+/// Alg. 1 lines 2–16 for light `l` (index into `scene.lights`).
+fn shade_light<R: Recorder>(
+    ctx: &PointContext,
+    l: usize,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> DVec3 {
+    let (scene, sp) = (ctx.scene, ctx.sp);
+    let (light_id, radiance) = scene.lights[l];
+    let light = &scene.objects[light_id as usize];
+    let on_light = sp.object == Some(light.object);
+    // Entirely below the tangent plane: every part of it would clip away at the horizon.
+    if sp.normal.dot(light.poly.center - sp.position) < -light.poly.radius {
+        scratch.stats.shortcuts.light_below_horizon += 1;
+        rec.begin_light(l, None);
+        rec.end_light(DVec3::ZERO, DVec3::ZERO);
+        return DVec3::ZERO;
+    }
+    let outline = light.spherical_polygon(
+        sp.position,
+        &ctx.frame,
+        Role::Light,
+        ctx.method,
+        on_light,
+        None,
+        &mut scratch.light_sph,
+        &mut scratch.outline,
+    );
+    match outline {
+        Outline::Nothing => DVec3::ZERO,
+        Outline::Whole { exact, from_tree } => {
             // A closed non-convex light as a whole: its exact silhouette already accounts for
             // the faces it hides of itself (001 Fig. 4.1), so its own mesh is not subtracted.
             rec.begin_light(l, None);
-            record_contour(rec, None, &light.poly, sp.position, &frame);
-            record_exact(
-                light,
-                None,
-                from_tree,
-                sp.position,
-                &frame,
-                &scratch.exact,
-                rec,
-            );
-            total += shade_light_piece(
-                scene, &whole, sp, &frame, &lobes, radiance, method, scratch, rec,
-            );
-        } else {
+            record_contour(rec, None, &light.poly, sp.position, &ctx.frame);
+            if exact {
+                let exact_scratch = &scratch.outline.exact;
+                record_exact(light, None, from_tree, sp, &ctx.frame, exact_scratch, rec);
+            }
+            let whole = LightPiece {
+                light: l,
+                radiance,
+                face: None,
+            };
+            shade_light_piece(ctx, &whole, scratch, rec)
+        }
+        Outline::Faces => {
             // A stand-in is for the silhouette path: face by face, the mesh's own faces.
             let faces = light.faces();
+            let mut total = DVec3::ZERO;
             for f in 0..faces.face_count() {
                 if on_light && skip_own_face(light, f, sp) {
                     continue;
@@ -188,6 +260,7 @@ pub fn shade<R: Recorder>(
                 let tol = COPLANAR * faces.radius;
                 let piece = LightPiece {
                     light: l,
+                    radiance,
                     face: Some((
                         f,
                         Plane {
@@ -197,109 +270,22 @@ pub fn shade<R: Recorder>(
                     )),
                 };
                 rec.begin_light(l, Some(f));
-                record_contour(rec, None, faces, sp.position, &frame);
+                record_contour(rec, None, faces, sp.position, &ctx.frame);
                 face_polygon(
                     faces,
                     f,
                     sp.position,
-                    &frame,
+                    &ctx.frame,
                     Sidedness::FrontOnly,
                     None,
                     &mut scratch.light_sph,
                     &mut scratch.face_buf,
                 );
-                total += shade_light_piece(
-                    scene, &piece, sp, &frame, &lobes, radiance, method, scratch, rec,
-                );
+                total += shade_light_piece(ctx, &piece, scratch, rec);
             }
+            total
         }
     }
-    total
-}
-
-/// `SphPolySilhouette` of a convex or flat mesh: read from its BSP tree of precomputed
-/// silhouettes where it has one (001 Sect. 5.1), else chained from the contour edges.
-#[inline]
-fn convex_silhouette(
-    obj: &PreparedObject,
-    x: DVec3,
-    frame: &Frame,
-    sidedness: Sidedness,
-    out: &mut SphericalPolygon,
-    scratch: &mut SilhouetteScratch,
-) {
-    if !silhouette_from_tree(obj, x, frame, out, &mut scratch.hoisted) {
-        silhouette(&obj.poly, x, frame, sidedness, out, scratch);
-    }
-}
-
-/// The silhouette of `obj` from `x` read from its tree (the hoisted form when present), looked
-/// up at the point in the tree's frame; `false` without a tree, outside its box, or in a leaf
-/// left to the on-the-fly path.
-#[inline]
-fn silhouette_from_tree(
-    obj: &PreparedObject,
-    x: DVec3,
-    frame: &Frame,
-    out: &mut SphericalPolygon,
-    hoisted_buf: &mut Vec<[u32; 2]>,
-) -> bool {
-    let tree_x = obj.tree_point(x);
-    if let Some(h) = &obj.hoisted {
-        return h.silhouette_at(&obj.poly, x, tree_x, frame, out, hoisted_buf);
-    }
-    match (&obj.bsp, &obj.exact_bsp) {
-        (Some(t), _) => t.silhouette_at(&obj.poly, x, tree_x, frame, out),
-        (None, Some(t)) => t.silhouette_at(&obj.poly, x, tree_x, frame, out),
-        (None, None) => false,
-    }
-}
-
-/// The exact silhouette of a closed non-convex mesh: read from its BSP tree where it has one
-/// (001 Sect. 5.2), else computed on the fly (001 Sect. 4.3); `false` at degenerate points.
-#[inline]
-pub fn nonconvex_silhouette(
-    obj: &PreparedObject,
-    x: DVec3,
-    frame: &Frame,
-    out: &mut SphericalPolygon,
-    scratch: &mut ExactSilhouetteScratch,
-) -> bool {
-    nonconvex_silhouette_from(obj, x, frame, out, scratch).is_some()
-}
-
-/// [`nonconvex_silhouette`], saying where it came from: `Some(true)` from the tree.
-#[inline]
-fn nonconvex_silhouette_from(
-    obj: &PreparedObject,
-    x: DVec3,
-    frame: &Frame,
-    out: &mut SphericalPolygon,
-    scratch: &mut ExactSilhouetteScratch,
-) -> Option<bool> {
-    if silhouette_from_tree(obj, x, frame, out, &mut scratch.hoisted) {
-        return Some(true);
-    }
-    exact_silhouette(&obj.poly, x, frame, out, scratch)
-        .is_ok()
-        .then_some(false)
-}
-
-/// [`nonconvex_silhouette`] that tells a recorder how the silhouette was found.
-fn recorded_nonconvex_silhouette<R: Recorder>(
-    obj: &PreparedObject,
-    occluder: Option<usize>,
-    x: DVec3,
-    frame: &Frame,
-    out: &mut SphericalPolygon,
-    scratch: &mut ExactSilhouetteScratch,
-    rec: &mut R,
-) -> bool {
-    let Some(from_tree) = nonconvex_silhouette_from(obj, x, frame, out, scratch) else {
-        return false;
-    };
-    record_exact(obj, occluder, from_tree, x, frame, scratch, rec);
-    true
 }
 
 /// Tells a recorder how the exact silhouette just computed was found (read from the scratch of
@@ -308,7 +294,7 @@ fn record_exact<R: Recorder>(
     obj: &PreparedObject,
     occluder: Option<usize>,
     from_tree: bool,
-    x: DVec3,
+    sp: &ShadingPoint,
     frame: &Frame,
     scratch: &ExactSilhouetteScratch,
     rec: &mut R,
@@ -316,6 +302,7 @@ fn record_exact<R: Recorder>(
     if !R::ENABLED {
         return;
     }
+    let x = sp.position;
     let local = |d: DVec3| frame.to_local(d);
     let record = if from_tree {
         let crossings = obj
@@ -347,17 +334,6 @@ fn record_exact<R: Recorder>(
         }
     };
     rec.exact_silhouette(&record);
-}
-
-/// Whether a non-convex mesh is taken whole, through its exact silhouette: closed meshes under
-/// the analytic method and its unshadowed U (a light hides itself in both), except at points
-/// on the mesh itself (whose own face lies in the tangent plane there; the face-by-face path
-/// skips it exactly).
-#[inline]
-fn uses_exact_silhouette(obj: &PreparedObject, method: Method, on_it: bool) -> bool {
-    matches!(method, Method::Analytic | Method::Unshadowed)
-        && !on_it
-        && obj.poly.diagnostics.closed_manifold
 }
 
 /// Hands the contour edges of `poly` seen from `x` (the predicate the silhouette stage chains
@@ -394,19 +370,14 @@ fn skip_own_face(obj: &PreparedObject, f: usize, sp: &ShadingPoint) -> bool {
 /// with the face's plane offset by the coplanarity tolerance toward the shading point.
 struct LightPiece {
     light: usize,
+    radiance: DVec3,
     face: Option<(usize, Plane)>,
 }
 
 /// Lines 5–16 of Alg. 1 for one light piece, whose spherical polygon is in `scratch.light_sph`.
-#[allow(clippy::too_many_arguments)]
 fn shade_light_piece<R: Recorder>(
-    scene: &PreparedScene,
+    ctx: &PointContext,
     piece: &LightPiece,
-    sp: &ShadingPoint,
-    frame: &Frame,
-    lobes: &Lobes,
-    radiance: DVec3,
-    method: Method,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> DVec3 {
@@ -418,6 +389,7 @@ fn shade_light_piece<R: Recorder>(
     );
     rec.light_polygon(Stage::HorizonClipped, &scratch.light_clip);
     if scratch.light_clip.is_empty() {
+        scratch.stats.shortcuts.clipped_away += 1;
         rec.end_light(DVec3::ZERO, DVec3::ZERO);
         return DVec3::ZERO;
     }
@@ -427,18 +399,30 @@ fn shade_light_piece<R: Recorder>(
 
     // A light handled face by face hides parts of itself.
     let self_occluding = piece.face.is_some();
-    match method {
+    let scene = ctx.scene;
+    let differences_before = scratch.stats.set_differences;
+    let considered = match ctx.method {
         Method::Unshadowed => {
             // No occluders, but a non-convex light still hides its own faces.
-            if self_occluding {
-                let light_id = scene.lights[piece.light].0;
-                if let Some(oi) = scene.occluders.iter().position(|&o| o == light_id) {
-                    subtract_occluder(scene, oi, piece, sp, frame, method, scratch, rec);
-                }
+            let own = self_occluding
+                .then(|| {
+                    let light_id = scene.lights[piece.light].0;
+                    scene.occluders.iter().position(|&o| o == light_id)
+                })
+                .flatten();
+            if let Some(oi) = own {
+                subtract_occluder(ctx, oi, piece, scratch, rec);
             }
+            own.is_some() as usize
         }
         Method::Analytic | Method::PerTriangle => {
-            get_between(scene, piece.light, sp, self_occluding, &mut scratch.kept);
+            get_between(
+                scene,
+                piece.light,
+                ctx.sp,
+                self_occluding,
+                &mut scratch.kept,
+            );
             if R::ENABLED {
                 let kept: Vec<usize> = scratch.kept.iter().map(|&k| k as usize).collect();
                 rec.culled_occluders(&kept);
@@ -449,30 +433,38 @@ fn shade_light_piece<R: Recorder>(
                     break;
                 }
                 let oi = scratch.kept[k] as usize;
-                subtract_occluder(scene, oi, piece, sp, frame, method, scratch, rec);
+                subtract_occluder(ctx, oi, piece, scratch, rec);
             }
+            scratch.kept.len()
         }
+    };
+    let shortcuts = &mut scratch.stats.shortcuts;
+    if considered == 0 {
+        shortcuts.no_occluder += 1;
+    } else if scratch.visible.is_empty() {
+        shortcuts.covered += 1;
+    } else if scratch.stats.set_differences > differences_before {
+        shortcuts.subtracted += 1;
+    } else {
+        shortcuts.all_disjoint += 1;
     }
 
     plane.reproject(&scratch.visible, &mut scratch.visible_sph);
     rec.light_polygon(Stage::Visible, &scratch.visible_sph);
-    let (diffuse, specular) = integrate_lobes(lobes, radiance, scratch, rec);
+    let (diffuse, specular) = integrate_lobes(&ctx.lobes, piece.radiance, scratch, rec);
     rec.end_light(diffuse, specular);
     diffuse + specular
 }
 
 /// Lines 9–12 of Alg. 1 for occluder `oi` (index into `scene.occluders`).
-#[allow(clippy::too_many_arguments)]
 fn subtract_occluder<R: Recorder>(
-    scene: &PreparedScene,
+    ctx: &PointContext,
     oi: usize,
     piece: &LightPiece,
-    sp: &ShadingPoint,
-    frame: &Frame,
-    method: Method,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) {
+    let (scene, sp, frame) = (ctx.scene, ctx.sp, &ctx.frame);
     let occ_id = scene.occluders[oi];
     let occ = &scene.objects[occ_id as usize];
     let own_mesh = occ_id == scene.lights[piece.light].0;
@@ -507,90 +499,108 @@ fn subtract_occluder<R: Recorder>(
         None
     };
     let on_this = sp.object == Some(occ.object);
-    let closed = occ.poly.diagnostics.closed_manifold;
-    let exact = !occ.simple
-        && cut.is_none()
-        && skip_face.is_none()
-        && uses_exact_silhouette(occ, method, on_this);
-    if exact {
-        // A closed non-convex occluder as a whole (its silhouette may have several loops and
-        // holes); the per-shading-point cache as for convex ones. Degenerate points fall back
-        // to the faces below.
-        let cache_hit = !R::ENABLED && scratch.occluder_cache[oi].stamp == scratch.stamp;
-        let ok = cache_hit
-            || recorded_nonconvex_silhouette(
-                occ,
-                Some(oi),
-                sp.position,
-                frame,
-                &mut scratch.occ_sph,
-                &mut scratch.exact,
-                rec,
-            );
-        if ok {
-            if cache_hit {
-                std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-            } else {
-                clip_and_project(oi, None, scratch, rec);
-            }
+    if cut.is_none() && skip_face.is_none() {
+        // The occluder as a whole. Its projected silhouette depends on the shading point and
+        // frame only, not on the light: computed once per shading point and kept for the next
+        // lights. (With a recorder every stage is recomputed so that it reaches the recording;
+        // same numbers.)
+        // A large mesh's polygon is found inside the light's window: not kept for other lights.
+        let windowed =
+            occ.path() == MeshPath::ExactInWindow && scratch.light_clip.loop_count() == 1;
+        if !R::ENABLED && !windowed && scratch.occluder_cache[oi].stamp == scratch.stamp {
+            std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
             subtract_planar(oi, scratch, rec);
-            if !R::ENABLED {
+            std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
+            return;
+        }
+        let window = windowed.then(|| scratch.light_clip.loop_at(0));
+        let outline = occ.spherical_polygon(
+            sp.position,
+            frame,
+            Role::Occluder,
+            ctx.method,
+            on_this,
+            window,
+            &mut scratch.occ_sph,
+            &mut scratch.outline,
+        );
+        if let Outline::Whole { exact, from_tree } = outline {
+            if exact && !windowed {
+                record_exact(
+                    occ,
+                    Some(oi),
+                    from_tree,
+                    sp,
+                    frame,
+                    &scratch.outline.exact,
+                    rec,
+                );
+            }
+            // A convex outline of many vertices around a small light: only its part near the
+            // light reaches the set difference (the same difference, far fewer vertices).
+            let clipped = !exact
+                && scratch.occ_sph.vertex_count() > WINDOW_CLIP_MIN_VERTICES
+                && scratch.light_clip.loop_count() == 1
+                && clip_to_window(
+                    &scratch.occ_sph,
+                    scratch.light_clip.loop_at(0),
+                    &mut scratch.occ_clip,
+                    &mut scratch.window_bufs,
+                );
+            if clipped {
+                std::mem::swap(&mut scratch.occ_sph, &mut scratch.occ_clip);
+            }
+            clip_and_project(oi, None, scratch, rec);
+            subtract_planar(oi, scratch, rec);
+            if !R::ENABLED && !windowed && !clipped {
                 std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
                 scratch.occluder_cache[oi].stamp = scratch.stamp;
             }
             return;
         }
     }
-    if occ.simple && method != Method::PerTriangle && cut.is_none() {
-        // An occluder's projected silhouette depends on the shading point and frame only, not
-        // on the light: computed once per shading point and kept for the next lights. (With a
-        // recorder every stage is recomputed so that it reaches the recording; same numbers.)
-        let cache_hit = !R::ENABLED && scratch.occluder_cache[oi].stamp == scratch.stamp;
-        if cache_hit {
-            std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-        } else {
-            convex_silhouette(
-                occ,
-                sp.position,
-                frame,
-                Sidedness::TwoSided,
-                &mut scratch.occ_sph,
-                &mut scratch.silhouette,
-            );
-            clip_and_project(oi, None, scratch, rec);
+    let faces = occ.faces();
+    let closed = faces.diagnostics.closed_manifold;
+    // The faces that can overlap the light: those the face hierarchy finds in a cone around
+    // its polygon (all of them for small meshes), in index order as the scan visits them.
+    scratch.face_list.clear();
+    let cone = match (&faces.face_bvh, scratch.light_clip.loop_count()) {
+        (Some(_), 1) => window_cone(scratch.light_clip.loop_at(0), frame, &mut scratch.cone_buf),
+        _ => None,
+    };
+    match (cone, &faces.face_bvh) {
+        (Some((axis, cos, sin)), Some(bvh)) => {
+            let list = &mut scratch.face_list;
+            bvh.for_each_in_cone(sp.position, axis, cos, sin, |f| list.push(f));
+            list.sort_unstable();
         }
-        subtract_planar(oi, scratch, rec);
-        if !R::ENABLED {
-            std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-            scratch.occluder_cache[oi].stamp = scratch.stamp;
+        _ => scratch.face_list.extend(0..faces.face_count() as u32),
+    }
+    for k in 0..scratch.face_list.len() {
+        let g = scratch.face_list[k] as usize;
+        if scratch.visible.is_empty() {
+            break;
         }
-    } else {
-        let faces = occ.faces();
-        for g in 0..faces.face_count() {
-            if scratch.visible.is_empty() {
-                break;
-            }
-            if (on_this && skip_own_face(occ, g, sp)) || skip_face == Some(g) {
-                continue;
-            }
-            // A ray from x (outside a closed mesh) that meets the mesh enters it first through a
-            // face turned toward x: the front faces alone cover its projection.
-            if closed && faces.face_planes[g].eval(sp.position) <= 0.0 {
-                continue;
-            }
-            face_polygon(
-                faces,
-                g,
-                sp.position,
-                frame,
-                Sidedness::TwoSided,
-                cut,
-                &mut scratch.occ_sph,
-                &mut scratch.face_buf,
-            );
-            if !scratch.occ_sph.is_empty() {
-                subtract_polygon(oi, Some(g), scratch, rec);
-            }
+        if (on_this && skip_own_face(occ, g, sp)) || skip_face == Some(g) {
+            continue;
+        }
+        // A ray from x (outside a closed mesh) that meets the mesh enters it first through a
+        // face turned toward x: the front faces alone cover its projection.
+        if closed && faces.face_planes[g].eval(sp.position) <= 0.0 {
+            continue;
+        }
+        face_polygon(
+            faces,
+            g,
+            sp.position,
+            frame,
+            Sidedness::TwoSided,
+            cut,
+            &mut scratch.occ_sph,
+            &mut scratch.face_buf,
+        );
+        if !scratch.occ_sph.is_empty() {
+            subtract_polygon(oi, Some(g), scratch, rec);
         }
     }
 }

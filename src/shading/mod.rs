@@ -3,12 +3,14 @@
 pub mod analytic;
 pub mod brdf;
 pub mod get_between;
+pub mod outline;
 pub mod prepared;
 pub mod recorder;
 pub mod tree_cache;
 pub mod tree_library;
 
-pub use analytic::{ShadingScratch, ShadingStats, shade};
+pub use analytic::{ShadingScratch, ShadingStats, Shortcuts, shade};
+pub use outline::{Outline, OutlineScratch, Role};
 pub use prepared::{MeshPath, PrepareOptions, PreparedObject, PreparedScene};
 pub use recorder::{
     ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, Recorder, SetDifferenceRecord, Stage,

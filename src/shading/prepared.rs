@@ -85,6 +85,10 @@ impl StandIn {
     }
 }
 
+/// Closed non-convex meshes without a tree and with at least this many faces compute their
+/// silhouette as occluders inside each light's window only.
+pub const WINDOWED_MIN_FACES: usize = 256;
+
 /// Non-convex meshes whose tree would have more leaves than this keep computing their exact
 /// silhouette on the fly.
 pub const MAX_EXACT_BSP_LEAVES: usize = 20_000;
@@ -114,11 +118,29 @@ pub enum MeshPath {
     ExactTree,
     /// Closed, not convex, over the tree's size limit: the exact silhouette at each point.
     ExactAtPoint,
+    /// As `ExactAtPoint` for a large mesh (at least [`WINDOWED_MIN_FACES`] faces): as an
+    /// occluder, only the part of its exact silhouette inside the light's polygon is computed
+    /// (`geometry::windowed_silhouette`), from the faces the light's cone meets.
+    ExactInWindow,
     /// Open or non-manifold: face by face.
     PerFace,
 }
 
 impl MeshPath {
+    /// A few words for a table.
+    pub fn label(self) -> &'static str {
+        match self {
+            MeshPath::ConvexTree => "convex, BSP",
+            MeshPath::ConvexAtPoint => "convex",
+            MeshPath::HullTree => "hull, BSP",
+            MeshPath::HullAtPoint => "hull",
+            MeshPath::ExactTree => "non-convex, BSP",
+            MeshPath::ExactAtPoint => "non-convex (exact)",
+            MeshPath::ExactInWindow => "non-convex, large (exact, windowed)",
+            MeshPath::PerFace => "open (per face)",
+        }
+    }
+
     /// The path in the words of the scene notes.
     pub fn describe(self) -> &'static str {
         match self {
@@ -130,6 +152,10 @@ impl MeshPath {
             }
             MeshPath::ExactTree => "not convex: exact silhouette from its BSP tree",
             MeshPath::ExactAtPoint => "not convex: exact silhouette computed at each point",
+            MeshPath::ExactInWindow => {
+                "not convex, large: exact silhouette computed at each point, as an occluder only \
+                 inside each light's polygon"
+            }
             MeshPath::PerFace => "open or non-manifold: face by face",
         }
     }
@@ -145,6 +171,11 @@ impl PreparedObject {
             (true, _, true) => MeshPath::ConvexTree,
             (true, _, false) => MeshPath::ConvexAtPoint,
             (false, true, true) => MeshPath::ExactTree,
+            (false, true, false)
+                if self.poly.face_count() >= WINDOWED_MIN_FACES && self.poly.face_bvh.is_some() =>
+            {
+                MeshPath::ExactInWindow
+            }
             (false, true, false) => MeshPath::ExactAtPoint,
             (false, false, _) => MeshPath::PerFace,
         }
@@ -362,8 +393,9 @@ fn build_silhouette_trees(
     bounds: (DVec3, DVec3),
     limits: (usize, usize),
     cache: Option<&TreeCache>,
-    library: Option<&TreeLibrary>,
+    options: &PrepareOptions,
 ) -> u32 {
+    let (library, build) = (options.library, options.build_trees);
     let borrowed: Vec<Option<(&LibraryEntry, DAffine3)>> = groups
         .iter()
         .map(|g| library.and_then(|l| l.find(&objects[g[0] as usize].poly)))
@@ -410,7 +442,8 @@ fn build_silhouette_trees(
         .zip(own_tree.par_iter())
         .for_each(|(o, &own)| {
             let d = o.poly.diagnostics;
-            if own && !d.convex && d.closed_manifold {
+            // For the sampler (as the triangulations): not for scenes that build no trees.
+            if own && build && !d.convex && d.closed_manifold {
                 o.star_centre = star_centre(&o.poly);
             }
         });
@@ -424,6 +457,9 @@ fn build_silhouette_trees(
                     built: 0,
                     ..entry.trees.clone()
                 };
+            }
+            if !build {
+                return MeshTrees::default();
             }
             let base = &objs[g[0] as usize];
             let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
@@ -485,6 +521,10 @@ pub struct PrepareOptions<'a> {
     /// Trees built beforehand: a mesh that is an affine image of one of its meshes reads that
     /// tree instead of building its own.
     pub library: Option<&'a TreeLibrary>,
+    /// Build the trees of the meshes the library does not lend (off for scenes shaded at one
+    /// point and thrown away, where a tree could never pay for itself: those meshes take the
+    /// silhouette computed at the point).
+    pub build_trees: bool,
 }
 
 impl Default for PrepareOptions<'_> {
@@ -493,6 +533,7 @@ impl Default for PrepareOptions<'_> {
             share_instances: true,
             disk_cache: true,
             library: None,
+            build_trees: true,
         }
     }
 }
@@ -620,7 +661,7 @@ impl PreparedScene {
             scene_box,
             (MAX_BSP_CELLS, MAX_EXACT_BSP_LEAVES),
             cache.as_ref(),
-            options.library,
+            &options,
         );
         for g in &tree_groups {
             let o = &objects[g[0] as usize];
@@ -631,7 +672,13 @@ impl PreparedScene {
             } else {
                 (format!("object {names}"), "its")
             };
-            if d.convex && o.bsp.is_none() {
+            let attempted = options.build_trees || options.library.is_some_and(|l| l.lends_to(o));
+            if !attempted {
+                notes.push(format!(
+                    "{subject}: no tree of precomputed silhouettes is built for this scene; \
+                     {its} silhouette is computed at each point"
+                ));
+            } else if d.convex && o.bsp.is_none() {
                 notes.push(format!(
                     "{subject}: {its} face planes cut the scene into more than {MAX_BSP_CELLS} \
                      cells; {its} silhouette is computed at each point instead of read from a tree"
@@ -648,6 +695,15 @@ impl PreparedScene {
                     o.name
                 ));
             }
+        }
+        // Per mesh, the path it takes (the notes above say why where it is not the obvious one).
+        for o in &objects {
+            notes.push(format!(
+                "object '{}' ({} faces): {}",
+                o.name,
+                o.faces().face_count(),
+                o.path().describe()
+            ));
         }
         let mut separations = Vec::with_capacity(lights.len() * occluders.len());
         for &(l, _) in &lights {
@@ -728,7 +784,7 @@ impl PreparedScene {
             self.bounds,
             (max_cells, max_leaves),
             self.cache.as_ref(),
-            None,
+            &PrepareOptions::default(),
         );
     }
 

@@ -30,7 +30,6 @@ use crate::geometry::{
 };
 use crate::math::Frame;
 use crate::sampling::SphericalTriangle;
-use crate::shading::analytic::nonconvex_silhouette;
 use crate::shading::{PreparedObject, PreparedScene, ShadingPoint};
 use glam::DVec3;
 
@@ -274,9 +273,7 @@ impl LightSet {
             clipped,
             ..
         } = &mut self.scratch;
-        if !nonconvex_silhouette(light, x, frame, sph, exact) {
-            return None;
-        }
+        light.exact_silhouette(x, frame, sph, exact)?;
         let mut loops = sph.loops();
         let (Some(lp), None) = (loops.next(), loops.next()) else {
             return None; // a star-shaped mesh's silhouette is one loop

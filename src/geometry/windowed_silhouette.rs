@@ -1,0 +1,703 @@
+//! The exact silhouette of a large closed mesh *inside a window*: only the part of the region
+//! the mesh covers that lies in a small convex spherical polygon (the light, seen from the
+//! shading point), which is all a set difference with that light needs.
+//!
+//! [`exact_silhouette`](super::exact_silhouette) looks at every contour edge, every pair that
+//! may cross and every piece, wherever they are on the sphere. Under a light that subtends a
+//! small solid angle, almost all of that work is for parts of the outline no light is behind.
+//! Here the work is restricted to the window `W` (the light's polygon, in the world orientation
+//! of directions from `x`) widened a little to `W'`:
+//!
+//! 1. the faces whose boxes meet a cone around `W'` (the face hierarchy), and their edges that
+//!    are contour edges from `x` (001 Eq. 4.2): every contour arc that meets `W'` is one of
+//!    them, since an edge whose arc meets `W'` has both faces meeting the cone;
+//! 2. each contour arc clipped to `W'` (convex: one interval of the chord a + t(b − a));
+//! 3. apparent intersections (001 Eq. 4.4) among the clipped arcs only;
+//! 4. the pieces between them, kept when their midpoint ray meets no other face (the same
+//!    exact test, through the same hierarchy, as the full method);
+//! 5. the kept pieces chained; a chain that enters and leaves `W'` is closed along the boundary
+//!    of `W'` (Weiler–Atherton: from each exit, along `∂W'` in the window's orientation, to the
+//!    next entry). With no chain crossing `∂W'`, one ray at a corner of `W'` says whether `W'`
+//!    lies inside the covered region, and then `W'` itself is a loop.
+//!
+//! The loops describe a region `R'` with `R' ∩ W' = R ∩ W'` for the covered region `R`, so
+//! `W ∖ R' = W ∖ R`: subtracting them from the light gives what subtracting the whole
+//! silhouette gives. `W'` is `W` scaled about its centre by `1 + WIDEN` in the gnomonic plane,
+//! so the closing arcs lie strictly outside `W` and never run along the light's own edges.
+//!
+//! Anything that the construction cannot decide exactly — a contour vertex or crossing on
+//! `∂W'`, an arc touching it, a corner of `W'` on a contour arc, a window too wide for its
+//! gnomonic plane, chains that do not alternate along `∂W'` — returns `None`, and the caller
+//! takes the full exact silhouette.
+
+use super::SphericalPolygon;
+use super::exact_silhouette::blocked_ray;
+use super::polyhedron::{NO_FACE, Polyhedron};
+use super::silhouette::is_front_facing;
+use crate::math::Frame;
+use glam::DVec3;
+
+/// How much wider than the light `W'` is (relative, in the window's gnomonic plane).
+const WIDEN: f64 = 1e-3;
+
+/// Windows wider than this (the largest angle from the centre to a corner, as a cosine) are
+/// left to the full silhouette.
+const MIN_COS_HALF_ANGLE: f64 = 0.5;
+
+/// Window corners at most.
+pub const MAX_WINDOW_CORNERS: usize = 64;
+
+/// Relative tolerance of the boundary tests (far above rounding of unit vectors).
+const TOL: f64 = 1e-10;
+
+/// A contour arc clipped to the window.
+#[derive(Clone, Copy, Debug)]
+struct Clipped {
+    faces: [u32; 2],
+    /// Mesh vertices of the whole arc's ends (for crossings: arcs sharing a vertex do not cross).
+    v: [u32; 2],
+    /// Unit normal of the arc's great circle.
+    n: DVec3,
+    /// The clipped ends (unit) and, for an end on `∂W'`, the side it lies on.
+    from: DVec3,
+    to: DVec3,
+    from_side: Option<u32>,
+    to_side: Option<u32>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    arc: u32,
+    from: DVec3,
+    to: DVec3,
+    /// Where it starts and ends: a mesh vertex, a crossing id, or a point on side `s` of `∂W'`
+    /// (unique id per boundary point).
+    start: End,
+    end: End,
+    used: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum End {
+    Vertex(u32),
+    Crossing(u32),
+    Boundary(u32),
+}
+
+/// Reusable buffers of [`exact_silhouette_in_window`].
+#[derive(Clone, Debug, Default)]
+pub struct WindowScratch {
+    window: Vec<DVec3>,
+    sides: Vec<DVec3>,
+    edge_stamp: Vec<u32>,
+    stamp: u32,
+    candidates: Vec<u32>,
+    arcs: Vec<Clipped>,
+    cuts: Vec<(u32, f64, u32)>,
+    crossings: Vec<DVec3>,
+    pieces: Vec<Piece>,
+    /// Boundary points: (side, position along ∂W', direction).
+    boundary: Vec<(u32, f64, DVec3)>,
+    kept: Vec<u32>,
+    /// Open chains: (first piece, last piece).
+    chains: Vec<(u32, u32)>,
+    order: Vec<(f64, u32, bool)>,
+    loop_buf: Vec<DVec3>,
+}
+
+/// What the windowed silhouette did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WindowStats {
+    pub candidate_edges: u32,
+    pub contour_arcs: u32,
+    pub pieces: u32,
+    pub kept: u32,
+}
+
+/// Writes into `out` (in `frame`) loops whose covered region agrees with the exact silhouette
+/// of the closed mesh `poly` seen from `x` inside the convex window `window` (unit directions
+/// in `frame`, one positively oriented loop, as a light polygon is). `None` when the mesh has
+/// no face hierarchy, the window is too wide or a configuration is on the edge of what it
+/// decides (see the module docs): take the full silhouette then.
+pub fn exact_silhouette_in_window(
+    poly: &Polyhedron,
+    x: DVec3,
+    frame: &Frame,
+    window: &[DVec3],
+    out: &mut SphericalPolygon,
+    scratch: &mut WindowScratch,
+) -> Option<WindowStats> {
+    out.clear();
+    let bvh = poly.face_bvh.as_ref()?;
+    let face_edges = poly.face_edges.as_ref()?;
+    let m = window.len();
+    if !(3..=MAX_WINDOW_CORNERS).contains(&m) {
+        return None;
+    }
+    let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
+    // 0. The widened window W' in world directions, and its sides' inward normals.
+    let centre = widened_window(window, frame, &mut scratch.window)?;
+    let orient = scratch.window[0]
+        .cross(scratch.window[1])
+        .dot(scratch.window[2])
+        .signum();
+    scratch.sides.clear();
+    for i in 0..m {
+        let (a, b) = (scratch.window[i], scratch.window[(i + 1) % m]);
+        let n = (a.cross(b) * orient).try_normalize()?;
+        scratch.sides.push(n);
+    }
+    // Convex and positively turning: every corner strictly inside the other sides.
+    for i in 0..m {
+        for (j, n) in scratch.sides.iter().enumerate() {
+            if j != i && (j + 1) % m != i && n.dot(scratch.window[i]) <= TOL {
+                return None;
+            }
+        }
+    }
+    let (cos_cone, sin_cone) = cone_of(&scratch.window, centre);
+
+    // 1. Candidate edges: the edges of the faces whose boxes meet the cone.
+    if scratch.edge_stamp.len() != poly.edges.len() {
+        scratch.edge_stamp.clear();
+        scratch.edge_stamp.resize(poly.edges.len(), 0);
+        scratch.stamp = 0;
+    }
+    scratch.stamp = scratch.stamp.wrapping_add(1);
+    if scratch.stamp == 0 {
+        scratch.edge_stamp.iter_mut().for_each(|s| *s = 0);
+        scratch.stamp = 1;
+    }
+    let stamp = scratch.stamp;
+    scratch.candidates.clear();
+    {
+        let (edge_stamp, candidates) = (&mut scratch.edge_stamp, &mut scratch.candidates);
+        bvh.for_each_in_cone(x, centre, cos_cone, sin_cone, |f| {
+            for &e in face_edges.edges_of(f as usize) {
+                if edge_stamp[e as usize] != stamp {
+                    edge_stamp[e as usize] = stamp;
+                    candidates.push(e);
+                }
+            }
+        });
+    }
+    let mut stats = WindowStats {
+        candidate_edges: scratch.candidates.len() as u32,
+        ..WindowStats::default()
+    };
+
+    // 2. Contour arcs among them, oriented with the mesh on the side `orient` of a × b (the
+    //    window's own orientation, both being positively oriented loops), clipped to W'.
+    scratch.arcs.clear();
+    for &e in &scratch.candidates {
+        let edge = &poly.edges[e as usize];
+        if edge.faces[1] == NO_FACE {
+            return None; // not closed
+        }
+        let f0 = is_front_facing(poly, edge.faces[0] as usize, x);
+        let f1 = is_front_facing(poly, edge.faces[1] as usize, x);
+        let [i, j] = match (f0, f1) {
+            (true, false) => [edge.v[1], edge.v[0]],
+            (false, true) => [edge.v[0], edge.v[1]],
+            _ => continue,
+        };
+        if poly.face_planes[edge.faces[0] as usize].eval(x).abs() <= tol
+            || poly.face_planes[edge.faces[1] as usize].eval(x).abs() <= tol
+        {
+            return None; // a face plane through x
+        }
+        let a = (poly.vertices[i as usize] - x).normalize();
+        let b = (poly.vertices[j as usize] - x).normalize();
+        let Some(n) = a.cross(b).try_normalize() else {
+            continue; // seen end-on
+        };
+        // Clip the chord a + t (b − a) to every side: linear constraints in t.
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        let (mut s0, mut s1) = (None, None);
+        for (s, side) in scratch.sides.iter().enumerate() {
+            let (fa, fb) = (side.dot(a), side.dot(b));
+            if fa.abs() <= TOL || fb.abs() <= TOL {
+                return None; // an end on the side's great circle
+            }
+            match (fa > 0.0, fb > 0.0) {
+                (true, true) => {}
+                (false, false) => {
+                    t0 = 1.0;
+                    t1 = 0.0;
+                }
+                (true, false) => {
+                    let t = fa / (fa - fb);
+                    if t < t1 {
+                        t1 = t;
+                        s1 = Some(s as u32);
+                    }
+                }
+                (false, true) => {
+                    let t = fa / (fa - fb);
+                    if t > t0 {
+                        t0 = t;
+                        s0 = Some(s as u32);
+                    }
+                }
+            }
+        }
+        if t1 - t0 <= TOL {
+            if t1 - t0 > -TOL {
+                return None; // touches W' at a corner
+            }
+            continue;
+        }
+        stats.contour_arcs += 1;
+        scratch.arcs.push(Clipped {
+            faces: edge.faces,
+            v: [i, j],
+            n,
+            from: (a + t0 * (b - a)).normalize(),
+            to: (a + t1 * (b - a)).normalize(),
+            from_side: s0,
+            to_side: s1,
+        });
+    }
+
+    // 3. Apparent intersections among the clipped arcs (Eq. 4.4), strictly inside both.
+    scratch.cuts.clear();
+    scratch.crossings.clear();
+    let arcs = &scratch.arcs;
+    for i in 0..arcs.len() {
+        for j in i + 1..arcs.len() {
+            let (e, g) = (&arcs[i], &arcs[j]);
+            if e.v.iter().any(|v| g.v.contains(v)) {
+                continue;
+            }
+            let Some(mut p) = e.n.cross(g.n).try_normalize() else {
+                continue;
+            };
+            if p.dot(e.from + e.to) < 0.0 {
+                p = -p;
+            }
+            let (ie, ig) = (
+                inside_arc(e.from, e.to, e.n, p),
+                inside_arc(g.from, g.to, g.n, p),
+            );
+            match (ie, ig) {
+                (Some(true), Some(true)) => {
+                    let id = scratch.crossings.len() as u32;
+                    scratch.crossings.push(p);
+                    scratch.cuts.push((i as u32, arc_t(e, p), id));
+                    scratch.cuts.push((j as u32, arc_t(g, p), id));
+                }
+                (Some(false), _) | (_, Some(false)) => {}
+                _ => return None, // at (or within rounding of) an end
+            }
+        }
+    }
+
+    // 4. Pieces between consecutive cuts; boundary ends get ids of their own.
+    scratch
+        .cuts
+        .sort_unstable_by(|p, q| p.0.cmp(&q.0).then(p.1.total_cmp(&q.1)));
+    scratch.pieces.clear();
+    scratch.boundary.clear();
+    let mut k = 0;
+    for (i, e) in scratch.arcs.iter().enumerate() {
+        let mut start = match e.from_side {
+            Some(s) => {
+                let id = scratch.boundary.len() as u32;
+                scratch.boundary.push((s, 0.0, e.from));
+                End::Boundary(id)
+            }
+            None => End::Vertex(e.v[0]),
+        };
+        let mut from = e.from;
+        while k < scratch.cuts.len() && scratch.cuts[k].0 == i as u32 {
+            let id = scratch.cuts[k].2;
+            let to = scratch.crossings[id as usize];
+            scratch.pieces.push(Piece {
+                arc: i as u32,
+                from,
+                to,
+                start,
+                end: End::Crossing(id),
+                used: false,
+            });
+            start = End::Crossing(id);
+            from = to;
+            k += 1;
+        }
+        let end = match e.to_side {
+            Some(s) => {
+                let id = scratch.boundary.len() as u32;
+                scratch.boundary.push((s, 0.0, e.to));
+                End::Boundary(id)
+            }
+            None => End::Vertex(e.v[1]),
+        };
+        scratch.pieces.push(Piece {
+            arc: i as u32,
+            from,
+            to: e.to,
+            start,
+            end,
+            used: false,
+        });
+    }
+    stats.pieces = scratch.pieces.len() as u32;
+    // Positions along ∂W': side index plus the angle from the side's first corner over the
+    // side's angle (monotone along the side).
+    for b in &mut scratch.boundary {
+        let s = b.0 as usize;
+        let (c0, c1) = (scratch.window[s], scratch.window[(s + 1) % m]);
+        let whole = c0.cross(c1).length().atan2(c0.dot(c1));
+        let part = c0.cross(b.2).length().atan2(c0.dot(b.2));
+        let f = part / whole;
+        if !(TOL..=1.0 - TOL).contains(&f) {
+            return None; // at a corner of W'
+        }
+        b.1 = s as f64 + f;
+    }
+
+    // 5. Keep the pieces whose midpoint ray meets no face but the arc's own two.
+    scratch.kept.clear();
+    for (pi, p) in scratch.pieces.iter().enumerate() {
+        let mid = (p.from + p.to).normalize();
+        if !blocked_ray(poly, x, mid, scratch.arcs[p.arc as usize].faces) {
+            scratch.kept.push(pi as u32);
+        }
+    }
+    stats.kept = scratch.kept.len() as u32;
+
+    // 6. Chains. A chain starts at a piece whose start is on ∂W' or, for closed loops, at any
+    //    unused piece; the next piece starts where the current one ends.
+    let next_of = |end: End, pieces: &[Piece], kept: &[u32]| -> Option<usize> {
+        kept.iter()
+            .map(|&q| q as usize)
+            .find(|&q| !pieces[q].used && pieces[q].start == end)
+    };
+    scratch.chains.clear();
+    scratch.loop_buf.clear();
+    // Open chains first: from every boundary start.
+    for s in 0..scratch.kept.len() {
+        let first = scratch.kept[s] as usize;
+        if scratch.pieces[first].used || !matches!(scratch.pieces[first].start, End::Boundary(_)) {
+            continue;
+        }
+        let mut cur = first;
+        loop {
+            scratch.pieces[cur].used = true;
+            match scratch.pieces[cur].end {
+                End::Boundary(_) => break,
+                end => cur = next_of(end, &scratch.pieces, &scratch.kept)?,
+            }
+        }
+        scratch.chains.push((first as u32, cur as u32));
+    }
+    // Closed loops inside W'.
+    for s in 0..scratch.kept.len() {
+        let first = scratch.kept[s] as usize;
+        if scratch.pieces[first].used {
+            continue;
+        }
+        if matches!(scratch.pieces[first].start, End::Boundary(_)) {
+            return None;
+        }
+        let start = scratch.pieces[first].start;
+        let mut cur = first;
+        loop {
+            scratch.pieces[cur].used = true;
+            out.push_vertex(frame.to_local(scratch.pieces[cur].from));
+            let end = scratch.pieces[cur].end;
+            if end == start {
+                break;
+            }
+            if matches!(end, End::Boundary(_)) {
+                out.clear();
+                return None;
+            }
+            cur = next_of(end, &scratch.pieces, &scratch.kept)?;
+        }
+        out.close_loop();
+    }
+    // Open chains closed along ∂W', or W' itself.
+    if scratch.chains.is_empty() {
+        // Is ∂W' inside the covered region? One ray at a corner, away from every arc.
+        let corner = scratch.window[0];
+        for e in &scratch.arcs {
+            if e.n.dot(corner).abs() <= 1e3 * TOL
+                && inside_arc(e.from, e.to, e.n, corner) != Some(false)
+            {
+                out.clear();
+                return None;
+            }
+        }
+        if blocked_ray(poly, x, corner, [NO_FACE; 2]) {
+            for &w in &scratch.window {
+                out.push_vertex(frame.to_local(w));
+            }
+            out.close_loop();
+        }
+        return Some(stats);
+    }
+    // Boundary events in order along ∂W': (position, chain, is the chain's exit).
+    scratch.order.clear();
+    for (c, &(first, last)) in scratch.chains.iter().enumerate() {
+        let pos = |e: End, boundary: &[(u32, f64, DVec3)]| match e {
+            End::Boundary(id) => Some(boundary[id as usize].1),
+            _ => None,
+        };
+        let entry = pos(scratch.pieces[first as usize].start, &scratch.boundary)?;
+        let exit = pos(scratch.pieces[last as usize].end, &scratch.boundary)?;
+        scratch.order.push((entry, c as u32, false));
+        scratch.order.push((exit, c as u32, true));
+    }
+    scratch.order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    for w in scratch.order.windows(2) {
+        if w[1].0 - w[0].0 <= TOL {
+            out.clear();
+            return None; // two boundary points within rounding of each other
+        }
+    }
+    let n_events = scratch.order.len();
+    // Each exit must be followed (cyclically) by an entry.
+    for k in 0..n_events {
+        if scratch.order[k].2 && scratch.order[(k + 1) % n_events].2 {
+            out.clear();
+            return None;
+        }
+        if !scratch.order[k].2 && !scratch.order[(k + 1) % n_events].2 {
+            out.clear();
+            return None;
+        }
+    }
+    let mut done = vec_false(scratch.chains.len());
+    for c0 in 0..scratch.chains.len() {
+        if done.get(c0) {
+            continue;
+        }
+        let mut c = c0;
+        loop {
+            done.set(c);
+            // The chain's pieces.
+            let (first, _) = scratch.chains[c];
+            let mut cur = first as usize;
+            loop {
+                out.push_vertex(frame.to_local(scratch.pieces[cur].from));
+                match scratch.pieces[cur].end {
+                    End::Boundary(_) => break,
+                    end => {
+                        cur = scratch
+                            .kept
+                            .iter()
+                            .map(|&q| q as usize)
+                            .find(|&q| scratch.pieces[q].start == end)?;
+                    }
+                }
+            }
+            out.push_vertex(frame.to_local(scratch.pieces[cur].to));
+            // Along ∂W' from this exit to the next entry, through the corners passed.
+            let k = scratch
+                .order
+                .iter()
+                .position(|&(_, ch, exit)| exit && ch as usize == c)?;
+            let (exit_pos, _, _) = scratch.order[k];
+            let (entry_pos, next, _) = scratch.order[(k + 1) % n_events];
+            let exit_side = exit_pos.floor() as usize;
+            let entry_side = entry_pos.floor() as usize;
+            let mut side = exit_side;
+            // Corners after the exit's side up to the entry's side (wrapping once at most).
+            let wraps = entry_pos < exit_pos;
+            if side != entry_side || wraps {
+                loop {
+                    side = (side + 1) % m;
+                    out.push_vertex(frame.to_local(scratch.window[side]));
+                    if side == entry_side {
+                        break;
+                    }
+                }
+            }
+            c = next as usize;
+            if done.get(c) {
+                break;
+            }
+        }
+        if c != c0 {
+            out.clear();
+            return None;
+        }
+        out.close_loop();
+    }
+    Some(stats)
+}
+
+/// `W'`: the window (unit directions in `frame`) in world directions, scaled about its centre
+/// by `1 + WIDEN` in the gnomonic plane there; returns the centre. `None` for a window wider
+/// than [`MIN_COS_HALF_ANGLE`] allows.
+fn widened_window(window: &[DVec3], frame: &Frame, out: &mut Vec<DVec3>) -> Option<DVec3> {
+    widened(window, |w| frame.to_world(w), out)
+}
+
+/// [`widened_window`] with the corners mapped by `map` first.
+fn widened(window: &[DVec3], map: impl Fn(DVec3) -> DVec3, out: &mut Vec<DVec3>) -> Option<DVec3> {
+    let centre = window
+        .iter()
+        .map(|&w| map(w))
+        .sum::<DVec3>()
+        .try_normalize()?;
+    out.clear();
+    for &w in window {
+        let w = map(w);
+        let c = w.dot(centre);
+        if c < MIN_COS_HALF_ANGLE {
+            return None;
+        }
+        let g = w / c - centre;
+        out.push((centre + g * (1.0 + WIDEN)).normalize());
+    }
+    Some(centre)
+}
+
+/// The cosine and sine of the half-angle of the cone about `axis` through the farthest corner.
+fn cone_of(corners: &[DVec3], axis: DVec3) -> (f64, f64) {
+    let cos = corners.iter().map(|w| w.dot(axis)).fold(1.0f64, f64::min);
+    (cos, (1.0 - cos * cos).max(0.0).sqrt())
+}
+
+/// A cone of directions from the shading point (world axis, cosine and sine of its half-angle)
+/// that contains the window (unit directions in `frame`): the faces of a mesh that can overlap
+/// the window are among those the face hierarchy finds in it. `buf` is scratch.
+pub fn window_cone(
+    window: &[DVec3],
+    frame: &Frame,
+    buf: &mut Vec<DVec3>,
+) -> Option<(DVec3, f64, f64)> {
+    if window.len() < 3 {
+        return None;
+    }
+    let centre = widened_window(window, frame, buf)?;
+    let (c, s) = cone_of(buf, centre);
+    Some((centre, c, s))
+}
+
+/// The one convex loop `subject` (a convex mesh's silhouette, in the window's frame) clipped
+/// to the widened window `W'` of `window` (Sutherland–Hodgman, each side a great circle;
+/// intersections on the chords, so they lie on both great circles up to rounding), into `out`.
+/// `W ∖ (subject ∩ W') = W ∖ subject`, with far fewer vertices for the set difference when
+/// the subject is a large outline around a small light. `false` (and `out` untouched) when the
+/// window is too wide or the subject not one loop.
+pub fn clip_to_window(
+    subject: &SphericalPolygon,
+    window: &[DVec3],
+    out: &mut SphericalPolygon,
+    bufs: &mut [Vec<DVec3>; 3],
+) -> bool {
+    if subject.loop_count() != 1 || window.len() < 3 {
+        return false;
+    }
+    let [corners, a, b] = bufs;
+    if widened(window, |w| w, corners).is_none() {
+        return false;
+    }
+    let m = corners.len();
+    let orient = corners[0].cross(corners[1]).dot(corners[2]).signum();
+    // Only a convex window: W' then contains W, and clipping to it is clipping to a convex set.
+    for i in 0..m {
+        let n = corners[i].cross(corners[(i + 1) % m]) * orient;
+        for (j, c) in corners.iter().enumerate() {
+            if j != i && j != (i + 1) % m && n.dot(*c) <= TOL {
+                return false;
+            }
+        }
+    }
+    a.clear();
+    a.extend_from_slice(subject.loop_at(0));
+    for i in 0..m {
+        let n = corners[i].cross(corners[(i + 1) % m]) * orient;
+        b.clear();
+        let k = a.len();
+        for j in 0..k {
+            let (p, q) = (a[j], a[(j + 1) % k]);
+            let (dp, dq) = (n.dot(p), n.dot(q));
+            // A vertex on the side's circle is kept and not crossed again (no repeated
+            // vertices: the set difference wants none).
+            if dp >= 0.0 {
+                push_distinct(b, p);
+            }
+            if (dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0) {
+                let t = dp / (dp - dq);
+                if let Some(v) = (p + t * (q - p)).try_normalize() {
+                    push_distinct(b, v);
+                }
+            }
+        }
+        while b.len() > 1 && (b[0] - b[b.len() - 1]).length_squared() <= 1e-24 {
+            b.pop();
+        }
+        std::mem::swap(a, b);
+        if a.is_empty() {
+            break;
+        }
+    }
+    out.clear();
+    if a.len() >= 3 {
+        out.push_loop(a.iter().copied());
+    }
+    true
+}
+
+/// Appends `v` unless it repeats the last point (within 1e-12).
+#[inline]
+fn push_distinct(buf: &mut Vec<DVec3>, v: DVec3) {
+    if buf.last().is_none_or(|&l| (l - v).length_squared() > 1e-24) {
+        buf.push(v);
+    }
+}
+
+/// Where `p` (on the great circle of normal `n`) lies on the arc from `a` to `b`: `Some(true)`
+/// strictly inside, `Some(false)` clearly outside, `None` within rounding of an end.
+#[inline]
+fn inside_arc(a: DVec3, b: DVec3, n: DVec3, p: DVec3) -> Option<bool> {
+    // p is inside iff it is on the positive side of both a's and b's perpendicular planes.
+    let sa = n.cross(a).dot(p); // > 0: past a toward b
+    let sb = b.cross(n).dot(p); // > 0: before b
+    let e = 1e-10;
+    if sa > e && sb > e && p.dot(a + b) > 0.0 {
+        Some(true)
+    } else if sa < -e || sb < -e || p.dot(a + b) <= 0.0 {
+        Some(false)
+    } else {
+        None
+    }
+}
+
+/// The position of `p` along a clipped arc (for sorting the cuts): the angle from its start.
+#[inline]
+fn arc_t(e: &Clipped, p: DVec3) -> f64 {
+    e.from.cross(p).dot(e.n).atan2(e.from.dot(p))
+}
+
+/// A bit set for the few chains of a window.
+struct Flags(u64, Vec<bool>);
+
+fn vec_false(n: usize) -> Flags {
+    if n <= 64 {
+        Flags(0, Vec::new())
+    } else {
+        Flags(0, vec![false; n])
+    }
+}
+
+impl Flags {
+    fn get(&self, i: usize) -> bool {
+        if self.1.is_empty() {
+            self.0 >> i & 1 == 1
+        } else {
+            self.1[i]
+        }
+    }
+    fn set(&mut self, i: usize) {
+        if self.1.is_empty() {
+            self.0 |= 1 << i;
+        } else {
+            self.1[i] = true;
+        }
+    }
+}

@@ -1,0 +1,185 @@
+//! `SphPolySilhouette` of 000 Alg. 1 (lines 2 and 9) for any prepared mesh: the one place that
+//! decides how a mesh's spherical polygon at a shading point is found.
+//!
+//! A prepared object answers "my spherical polygon at this point" with
+//! [`PreparedObject::spherical_polygon`]; the shading stages, the stochastic light sampler and
+//! the recorder only see the answer ([`Outline`]). Which path a mesh can take was decided when
+//! the scene was prepared ([`MeshPath`]: a tree or not, a hull standing in or not); what is left
+//! for the point is what depends on it: the method (per-triangle goes face by face everywhere),
+//! whether the point lies on the mesh (its own face is in the tangent plane there), and
+//! degenerate points of the exact silhouette (which fall back to the faces).
+//!
+//! | path | polygon | where |
+//! |---|---|---|
+//! | convex or flat (also a hull standing in) | one loop, read from the BSP tree of face planes, else chained from the contour edges (001 Sect. 4.2, 5.1) | `SilhouetteBsp::silhouette_at`, `geometry::silhouette` |
+//! | closed, not convex | loops with holes, read from the exact-silhouette tree, else computed (001 Sect. 4.3, 5.2) | `ExactSilhouetteBsp::silhouette_at`, `geometry::exact_silhouette` |
+//! | open, non-manifold, per-triangle, degenerate | none: the caller goes face by face (`geometry::face_polygon`) | — |
+
+use super::{MeshPath, Method, PreparedObject};
+use crate::geometry::{
+    ExactSilhouetteScratch, Sidedness, SilhouetteScratch, SphericalPolygon, WindowScratch,
+    exact_silhouette, exact_silhouette_in_window, silhouette,
+};
+use crate::math::Frame;
+use glam::DVec3;
+
+/// What a mesh is at the shading point, for the stage that asked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outline {
+    /// The mesh as a whole: its spherical polygon is in the output buffer. `exact` for the
+    /// exact silhouette of a non-convex mesh (several loops and holes possible), `from_tree`
+    /// when it was read from a tree of precomputed silhouettes.
+    Whole { exact: bool, from_tree: bool },
+    /// A convex or flat light seen from a point on itself: it lights nothing there.
+    Nothing,
+    /// The caller goes face by face over [`PreparedObject::faces`].
+    Faces,
+}
+
+/// What the mesh is to the stage asking: a light emits from the front of its faces only; an
+/// occluder blocks from both sides.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    Light,
+    Occluder,
+}
+
+/// Per-thread buffers of the silhouette stage.
+#[derive(Default)]
+pub struct OutlineScratch {
+    pub silhouette: SilhouetteScratch,
+    pub exact: ExactSilhouetteScratch,
+    pub window: WindowScratch,
+}
+
+impl PreparedObject {
+    /// The spherical polygon of this mesh seen from `x` (in `frame`), written to `out` when the
+    /// answer is [`Outline::Whole`]. `on_it`: the shading point lies on this mesh. `window`:
+    /// for an occluder, the one loop of the light polygon it is subtracted from (in `frame`);
+    /// a large non-convex mesh ([`MeshPath::ExactInWindow`]) then writes only loops that agree
+    /// with its silhouette inside that window, which is all the set difference sees.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn spherical_polygon(
+        &self,
+        x: DVec3,
+        frame: &Frame,
+        role: Role,
+        method: Method,
+        on_it: bool,
+        window: Option<&[DVec3]>,
+        out: &mut SphericalPolygon,
+        scratch: &mut OutlineScratch,
+    ) -> Outline {
+        if method == Method::PerTriangle {
+            return Outline::Faces;
+        }
+        match self.path() {
+            MeshPath::ConvexTree
+            | MeshPath::ConvexAtPoint
+            | MeshPath::HullTree
+            | MeshPath::HullAtPoint => {
+                // A convex or flat light does not light points on itself.
+                if on_it && role == Role::Light {
+                    return Outline::Nothing;
+                }
+                let sidedness = match role {
+                    Role::Light => Sidedness::FrontOnly,
+                    Role::Occluder => Sidedness::TwoSided,
+                };
+                let from_tree =
+                    self.silhouette_from_tree(x, frame, out, &mut scratch.silhouette.hoisted);
+                if !from_tree {
+                    silhouette(
+                        &self.poly,
+                        x,
+                        frame,
+                        sidedness,
+                        out,
+                        &mut scratch.silhouette,
+                    );
+                }
+                Outline::Whole {
+                    exact: false,
+                    from_tree,
+                }
+            }
+            MeshPath::ExactInWindow
+                if !on_it
+                    && role == Role::Occluder
+                    && window.is_some_and(|w| {
+                        exact_silhouette_in_window(
+                            &self.poly,
+                            x,
+                            frame,
+                            w,
+                            out,
+                            &mut scratch.window,
+                        )
+                        .is_some()
+                    }) =>
+            {
+                Outline::Whole {
+                    exact: true,
+                    from_tree: false,
+                }
+            }
+            // At points on the mesh itself its own face lies in the tangent plane: the
+            // face-by-face path skips that face exactly.
+            MeshPath::ExactTree | MeshPath::ExactAtPoint | MeshPath::ExactInWindow if !on_it => {
+                match self.exact_silhouette(x, frame, out, &mut scratch.exact) {
+                    Some(from_tree) => Outline::Whole {
+                        exact: true,
+                        from_tree,
+                    },
+                    None => Outline::Faces, // a degenerate point
+                }
+            }
+            MeshPath::ExactTree
+            | MeshPath::ExactAtPoint
+            | MeshPath::ExactInWindow
+            | MeshPath::PerFace => Outline::Faces,
+        }
+    }
+
+    /// The exact silhouette of a closed non-convex mesh: read from its BSP tree where it has
+    /// one (001 Sect. 5.2), else computed at the point (001 Sect. 4.3). `Some(true)` when read
+    /// from the tree, `None` at degenerate points.
+    #[inline]
+    pub fn exact_silhouette(
+        &self,
+        x: DVec3,
+        frame: &Frame,
+        out: &mut SphericalPolygon,
+        scratch: &mut ExactSilhouetteScratch,
+    ) -> Option<bool> {
+        if self.silhouette_from_tree(x, frame, out, &mut scratch.hoisted) {
+            return Some(true);
+        }
+        exact_silhouette(&self.poly, x, frame, out, scratch)
+            .is_ok()
+            .then_some(false)
+    }
+
+    /// The silhouette from `x` read from this mesh's tree (the hoisted form when present),
+    /// looked up at the point in the tree's frame; `false` without a tree, outside its box, or
+    /// in a leaf left to the on-the-fly path.
+    #[inline]
+    fn silhouette_from_tree(
+        &self,
+        x: DVec3,
+        frame: &Frame,
+        out: &mut SphericalPolygon,
+        hoisted_buf: &mut Vec<[u32; 2]>,
+    ) -> bool {
+        let tree_x = self.tree_point(x);
+        if let Some(h) = &self.hoisted {
+            return h.silhouette_at(&self.poly, x, tree_x, frame, out, hoisted_buf);
+        }
+        match (&self.bsp, &self.exact_bsp) {
+            (Some(t), _) => t.silhouette_at(&self.poly, x, tree_x, frame, out),
+            (None, Some(t)) => t.silhouette_at(&self.poly, x, tree_x, frame, out),
+            (None, None) => false,
+        }
+    }
+}

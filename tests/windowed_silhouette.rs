@@ -1,0 +1,240 @@
+//! The silhouette of a large closed mesh inside a light's window (`geometry::windowed_silhouette`)
+//! against the whole exact silhouette (a second algorithm, tested against ray casting in
+//! `exact_silhouette.rs`): shading through one equals shading through the other, at floor
+//! points under the Stanford bunny and around a displaced icosphere, for quad lights of many
+//! sizes and places; and the windowed path does run (it is not always falling back).
+
+use glam::DVec3;
+use penumbra::geometry::{
+    ExactSilhouetteScratch, SphericalPolygon, WindowScratch, exact_silhouette,
+    exact_silhouette_in_window,
+};
+use penumbra::ltc::LtcTable;
+use penumbra::math::{Frame, Pcg32};
+use penumbra::scene::shapes::quad;
+use penumbra::scene::{Material, ObjectFlags, Scene, SceneObject};
+use penumbra::shading::{
+    MeshPath, Method, NoRecorder, PrepareOptions, PreparedScene, ShadingPoint, ShadingScratch,
+    shade,
+};
+
+fn object(name: &str, mesh: penumbra::scene::Mesh, light: bool) -> SceneObject {
+    SceneObject {
+        name: name.into(),
+        mesh,
+        material: Material {
+            ke: if light { DVec3::ONE } else { DVec3::ZERO },
+            ..Material::default()
+        },
+        flags: ObjectFlags {
+            light,
+            occluder: !light,
+            receiver: true,
+        },
+    }
+}
+
+fn bunny() -> penumbra::scene::Mesh {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes/bunny.obj");
+    let scene = penumbra::scene::obj::load_obj(&path).expect("assets/meshes/bunny.obj");
+    // Standing on y = 0, as in assets/scenes/bunny.toml.
+    let lowest = scene.objects[0]
+        .mesh
+        .positions
+        .iter()
+        .map(|p| p.y)
+        .fold(f64::INFINITY, f64::min);
+    scene.objects[0]
+        .mesh
+        .translated(DVec3::new(0.0, -lowest, 0.0))
+}
+
+/// Shading with the windowed silhouette and with the whole one (the mesh's face-to-edge map
+/// removed, which the windowed path needs), at `points`; returns the largest difference
+/// relative to the unoccluded value and how often the windowed path succeeded.
+fn compare(scene: &Scene, points: &[ShadingPoint]) -> (f64, usize) {
+    let options = PrepareOptions {
+        disk_cache: false,
+        ..PrepareOptions::default()
+    };
+    let windowed = PreparedScene::prepare(scene, LtcTable::embedded(), options);
+    let occ = windowed
+        .objects
+        .iter()
+        .find(|o| o.name == "mesh")
+        .expect("the mesh");
+    assert_eq!(occ.path(), MeshPath::ExactInWindow);
+    let mut whole = windowed.clone();
+    for o in &mut whole.objects {
+        o.poly.face_edges = None;
+    }
+    let mut unshadowed = windowed.clone();
+    unshadowed.occluders.clear();
+    let material = Material {
+        kd: DVec3::ONE,
+        ks: DVec3::splat(0.5),
+        alpha: 0.3,
+        ..Material::default()
+    };
+    let mut scratch = ShadingScratch::default();
+    let mut worst = 0.0f64;
+    let (light_id, _) = windowed.lights[0];
+    let light = &windowed.objects[light_id as usize];
+    let mut window_scratch = WindowScratch::default();
+    let (mut sph, mut light_sph) = (SphericalPolygon::default(), SphericalPolygon::default());
+    let mut exact = ExactSilhouetteScratch::default();
+    let mut succeeded = 0;
+    for sp in points {
+        let a = shade(
+            &windowed,
+            sp,
+            &material,
+            Method::Analytic,
+            &mut scratch,
+            &mut NoRecorder,
+        )
+        .x;
+        let b = shade(
+            &whole,
+            sp,
+            &material,
+            Method::Analytic,
+            &mut scratch,
+            &mut NoRecorder,
+        )
+        .x;
+        let u = shade(
+            &unshadowed,
+            sp,
+            &material,
+            Method::Analytic,
+            &mut scratch,
+            &mut NoRecorder,
+        )
+        .x;
+        assert!(a.is_finite() && b.is_finite());
+        worst = worst.max((a - b).abs() / u.max(1e-12));
+        // Does the window itself (the light's outline from the point) take the windowed path?
+        let frame = Frame::from_normal_and_view(sp.normal, sp.view);
+        if light
+            .exact_silhouette(sp.position, &frame, &mut light_sph, &mut exact)
+            .is_none()
+        {
+            penumbra::geometry::silhouette(
+                &light.poly,
+                sp.position,
+                &frame,
+                penumbra::geometry::Sidedness::FrontOnly,
+                &mut light_sph,
+                &mut Default::default(),
+            );
+        }
+        if light_sph.loop_count() == 1
+            && exact_silhouette_in_window(
+                &occ.poly,
+                sp.position,
+                &frame,
+                light_sph.loop_at(0),
+                &mut sph,
+                &mut window_scratch,
+            )
+            .is_some()
+        {
+            succeeded += 1;
+        }
+        // The whole silhouette exists too (the point is outside the mesh).
+        let _ = exact_silhouette(&occ.poly, sp.position, &frame, &mut sph, &mut exact);
+    }
+    (worst, succeeded)
+}
+
+#[test]
+fn windowed_silhouette_shades_like_the_whole_one_under_the_bunny() {
+    let mut rng = Pcg32::new(5, 1);
+    let mut worst = 0.0f64;
+    let (mut points_total, mut windowed_total) = (0, 0);
+    // The bunny stands on y = 0, about 10 across and 10 high.
+    for trial in 0..6 {
+        let size = [0.5, 2.0, 6.0, 1.0, 4.0, 0.2][trial];
+        let centre = DVec3::new(
+            rng.range(-4.0, 4.0),
+            rng.range(11.0, 16.0),
+            rng.range(-4.0, 4.0),
+        );
+        // u × v = X × Z = −Y: facing down, toward the bunny and the floor.
+        let light = quad(centre, DVec3::X * size, DVec3::Z * size * 0.7);
+        let scene = Scene {
+            objects: vec![object("light", light, true), object("mesh", bunny(), false)],
+            camera: None,
+            warnings: Vec::new(),
+        };
+        let points: Vec<ShadingPoint> = (0..40)
+            .map(|_| {
+                let p = DVec3::new(rng.range(-9.0, 9.0), -1e-3, rng.range(-9.0, 9.0));
+                ShadingPoint {
+                    position: p,
+                    normal: DVec3::Y,
+                    view: DVec3::new(0.1, 1.0, 0.3).normalize(),
+                    object: None,
+                    face: None,
+                }
+            })
+            .collect();
+        let (w, n) = compare(&scene, &points);
+        worst = worst.max(w);
+        points_total += points.len();
+        windowed_total += n;
+    }
+    assert!(worst < 1e-9, "largest relative difference {worst:e}");
+    assert!(
+        windowed_total * 2 > points_total,
+        "the windowed path ran at {windowed_total} of {points_total} points"
+    );
+}
+
+#[test]
+fn windowed_silhouette_shades_like_the_whole_one_around_a_displaced_icosphere() {
+    let mesh = penumbra::bench::realworld_scenes::displaced_icosphere(DVec3::ZERO, 1.0, 3, 0.15);
+    let mut rng = Pcg32::new(9, 2);
+    let mut worst = 0.0f64;
+    let (mut points_total, mut windowed_total) = (0, 0);
+    for _ in 0..8 {
+        // A quad light on one side of the blob, points on the other, looking across it.
+        let dir = rng.unit_vector();
+        let frame = Frame::from_z(dir);
+        let size = rng.range(0.05, 1.5);
+        let centre = dir * rng.range(2.0, 5.0);
+        // u × v = y × x = −dir: facing the blob.
+        let light = quad(centre, frame.y * size * 0.6, frame.x * size);
+        let scene = Scene {
+            objects: vec![
+                object("light", light, true),
+                object("mesh", mesh.clone(), false),
+            ],
+            camera: None,
+            warnings: Vec::new(),
+        };
+        let points: Vec<ShadingPoint> = (0..30)
+            .map(|_| {
+                let p = -dir * rng.range(1.3, 3.0)
+                    + (frame.x * rng.range(-1.0, 1.0) + frame.y * rng.range(-1.0, 1.0)) * 0.8;
+                ShadingPoint {
+                    position: p,
+                    normal: dir,
+                    view: dir,
+                    object: None,
+                    face: None,
+                }
+            })
+            .collect();
+        let (w, n) = compare(&scene, &points);
+        worst = worst.max(w);
+        points_total += points.len();
+        windowed_total += n;
+    }
+    assert!(worst < 1e-9, "largest relative difference {worst:e}");
+    assert!(
+        windowed_total * 2 > points_total,
+        "the windowed path ran at {windowed_total} of {points_total} points"
+    );
+}
