@@ -291,6 +291,36 @@ fn inside_any(objects: &[SceneObject], x: DVec3) -> bool {
     })
 }
 
+/// A light made by `mesh` somewhere above the tangent plane of a random normal (returned) and
+/// `at_least` to 3 occluders made by `mesh` between it and the shading point at
+/// the origin, those overlapping the light's bounding sphere left out.
+fn light_among_occluders(
+    rng: &mut Pcg32,
+    objects: &mut Vec<SceneObject>,
+    mesh: fn(&mut Pcg32, DVec3, f64) -> Mesh,
+    at_least: u32,
+) -> DVec3 {
+    let n = rng.unit_vector();
+    let up = Frame::from_z(n);
+    let lc = up.to_world(DVec3::new(
+        rng.range(-1.5, 1.5),
+        rng.range(-1.5, 1.5),
+        rng.range(0.0, 2.5),
+    ));
+    let size = rng.range(0.4, 1.2);
+    objects.push(object("light", mesh(rng, lc, size), true));
+    for k in 0..at_least + rng.below(4 - at_least) {
+        let t = rng.range(0.2, 0.8);
+        let c = lc * t + rng.unit_vector() * rng.range(0.0, 0.6);
+        let occ_size = rng.range(0.1, 0.6) * t;
+        let occluder = mesh(rng, c, occ_size);
+        if !spheres_overlap(&objects[0].mesh, &occluder) {
+            objects.push(object(&format!("occluder{k}"), occluder, false));
+        }
+    }
+    n
+}
+
 /// Generates case `index` of the run with `seed` (deterministic).
 pub fn generate(seed: u64, index: u64) -> Case {
     let mut rng = Pcg32::new(seed, index);
@@ -463,52 +493,10 @@ pub fn generate(seed: u64, index: u64) -> Case {
             n = DVec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), 1.0).normalize();
         }
         CaseKind::NonConvex => {
-            n = rng.unit_vector();
-            let up = Frame::from_z(n);
-            let lc = up.to_world(DVec3::new(
-                rng.range(-1.5, 1.5),
-                rng.range(-1.5, 1.5),
-                rng.range(0.0, 2.5),
-            ));
-            let size = rng.range(0.4, 1.2);
-            objects.push(object(
-                "light",
-                random_thesis_polyhedron(&mut rng, lc, size),
-                true,
-            ));
-            for k in 0..rng.below(4) {
-                let t = rng.range(0.2, 0.8);
-                let c = lc * t + rng.unit_vector() * rng.range(0.0, 0.6);
-                let occ_size = rng.range(0.1, 0.6) * t;
-                let mesh = random_thesis_polyhedron(&mut rng, c, occ_size);
-                if !spheres_overlap(&objects[0].mesh, &mesh) {
-                    objects.push(object(&format!("occluder{k}"), mesh, false));
-                }
-            }
+            n = light_among_occluders(&mut rng, &mut objects, random_thesis_polyhedron, 0);
         }
         CaseKind::ExporterMeshes => {
-            n = rng.unit_vector();
-            let up = Frame::from_z(n);
-            let lc = up.to_world(DVec3::new(
-                rng.range(-1.5, 1.5),
-                rng.range(-1.5, 1.5),
-                rng.range(0.0, 2.5),
-            ));
-            let size = rng.range(0.4, 1.2);
-            objects.push(object(
-                "light",
-                random_exporter_mesh(&mut rng, lc, size),
-                true,
-            ));
-            for k in 0..1 + rng.below(3) {
-                let t = rng.range(0.2, 0.8);
-                let c = lc * t + rng.unit_vector() * rng.range(0.0, 0.6);
-                let occ_size = rng.range(0.1, 0.6) * t;
-                let mesh = random_exporter_mesh(&mut rng, c, occ_size);
-                if !spheres_overlap(&objects[0].mesh, &mesh) {
-                    objects.push(object(&format!("occluder{k}"), mesh, false));
-                }
-            }
+            n = light_among_occluders(&mut rng, &mut objects, random_exporter_mesh, 1);
         }
         CaseKind::CoveringOrInside => {
             let lc = DVec3::new(

@@ -135,32 +135,7 @@ impl FaceBvh {
             let exit = far.x.min(far.y).min(far.z);
             exit.is_nan() || enter <= exit
         };
-        let mut stack = [0u32; STACK];
-        let mut sp = 0;
-        let mut cur = 0usize;
-        loop {
-            let node = &self.nodes[cur];
-            if hits(node) {
-                if node.count > 0 {
-                    let s = node.start as usize;
-                    for &f in &self.faces[s..s + node.count as usize] {
-                        if test(f) {
-                            return true;
-                        }
-                    }
-                } else {
-                    stack[sp] = node.start + 1;
-                    sp += 1;
-                    cur = node.start as usize;
-                    continue;
-                }
-            }
-            if sp == 0 {
-                return false;
-            }
-            sp -= 1;
-            cur = stack[sp] as usize;
-        }
+        self.walk(hits, |f| test(f))
     }
 
     /// Calls `visit(face)` for every face whose box may meet the cone of directions within the
@@ -194,16 +169,27 @@ impl FaceBvh {
             }
             v.dot(axis) >= d * cos_sum - 1e-9 * d
         };
+        self.walk(meets, |f| {
+            visit(f);
+            false
+        });
+    }
+
+    /// Depth-first over the nodes that `enter` accepts, calling `face` on the faces of the
+    /// leaves reached until it returns true; returns whether it did.
+    fn walk(&self, enter: impl Fn(&Node) -> bool, mut face: impl FnMut(u32) -> bool) -> bool {
         let mut stack = [0u32; STACK];
         let mut sp = 0;
         let mut cur = 0usize;
         loop {
             let node = &self.nodes[cur];
-            if meets(node) {
+            if enter(node) {
                 if node.count > 0 {
                     let s = node.start as usize;
                     for &f in &self.faces[s..s + node.count as usize] {
-                        visit(f);
+                        if face(f) {
+                            return true;
+                        }
                     }
                 } else {
                     stack[sp] = node.start + 1;
@@ -213,7 +199,7 @@ impl FaceBvh {
                 }
             }
             if sp == 0 {
-                return;
+                return false;
             }
             sp -= 1;
             cur = stack[sp] as usize;
