@@ -119,7 +119,7 @@ impl FaceBvh {
 
     /// Calls `test(face)` for every face whose box the ray `origin + t·dir`, t ≥ 0, meets,
     /// until `test` returns true; returns whether it did.
-    pub fn any(&self, origin: DVec3, dir: DVec3, mut test: impl FnMut(u32) -> bool) -> bool {
+    pub fn any(&self, origin: DVec3, dir: DVec3, test: impl FnMut(u32) -> bool) -> bool {
         if self.nodes.is_empty() {
             return false;
         }
@@ -135,7 +135,7 @@ impl FaceBvh {
             let exit = far.x.min(far.y).min(far.z);
             exit.is_nan() || enter <= exit
         };
-        self.walk(hits, |f| test(f))
+        self.walk(hits, test)
     }
 
     /// Calls `visit(face)` for every face whose box may meet the cone of directions within the
