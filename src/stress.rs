@@ -585,17 +585,27 @@ pub fn generate(seed: u64, index: u64) -> Case {
     // The shading point must lie outside every object (on a surface it would be a point of that
     // object, which the adversarial families do not model): move the objects sideways, along
     // the tangent plane so that what lies exactly on the horizon stays there.
-    if inside_any(&objects, x) {
-        let shift = Frame::from_z(n).x
-            * (objects
-                .iter()
-                .map(|o| bounding_sphere(&o.mesh).1)
-                .fold(0.0, f64::max)
-                * 3.0);
+    // One shift can move another object onto the point: shift again, and leave out an
+    // occluder that still holds it (case 2,866,682 of seed 1 had the point inside a mesh).
+    let shift = Frame::from_z(n).x
+        * (objects
+            .iter()
+            .map(|o| bounding_sphere(&o.mesh).1)
+            .fold(0.0, f64::max)
+            * 3.0);
+    for _ in 0..8 {
+        if !inside_any(&objects, x) {
+            break;
+        }
         objects
             .iter_mut()
             .for_each(|o| o.mesh.positions.iter_mut().for_each(|p| *p += shift));
     }
+    let mut k = 0;
+    objects.retain(|o| {
+        k += 1;
+        k == 1 || !inside_any(std::slice::from_ref(o), x)
+    });
     // Scale the whole configuration.
     for o in &mut objects {
         o.mesh.positions.iter_mut().for_each(|p| *p *= scale);
