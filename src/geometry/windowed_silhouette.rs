@@ -158,10 +158,10 @@ pub fn exact_silhouette_in_window(
     let (cos_cone, sin_cone) = cone_of(&scratch.window, centre);
 
     // 1. Candidate edges: the edges of the faces whose boxes meet the cone.
-    if scratch.edge_stamp.len() != poly.edges.len() {
-        scratch.edge_stamp.clear();
+    // One stamp per call: marks left by other meshes are older, so the buffer is shared by
+    // every mesh this thread meets and only ever grows.
+    if scratch.edge_stamp.len() < poly.edges.len() {
         scratch.edge_stamp.resize(poly.edges.len(), 0);
-        scratch.stamp = 0;
     }
     scratch.stamp = scratch.stamp.wrapping_add(1);
     if scratch.stamp == 0 {
