@@ -318,11 +318,11 @@ fn settings(args: &RenderArgs) -> RenderSettings {
 fn render(args: &RenderArgs) -> Result<()> {
     let scene = load_scene(&args.scene)?;
     let cam = camera(&args.camera, &scene)?;
-    let ctx = RenderContext::new(&scene);
+    let settings = settings(args);
+    let ctx = RenderContext::for_render(&scene, &settings);
     for n in &ctx.prepared.notes {
         eprintln!("note: {n}");
     }
-    let settings = settings(args);
     let out = ctx
         .render_full(&cam, &settings, None)
         .map_err(anyhow::Error::msg)?;

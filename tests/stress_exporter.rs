@@ -51,10 +51,11 @@ fn exporter_meshes_load_without_geometry_warnings_and_take_their_paths() {
         Some(MeshPath::HullAtPoint),
         "{paths:?}"
     );
-    // Dented: the exact silhouette; large: the exact silhouette inside each light's window.
+    // Dented and large (more faces than `WINDOWED_MIN_FACES`): the exact silhouette inside
+    // each light's window.
     assert_eq!(
         path("twisted_ellipsoid"),
-        Some(MeshPath::ExactAtPoint),
+        Some(MeshPath::ExactInWindow),
         "{paths:?}"
     );
     assert_eq!(

@@ -148,8 +148,21 @@ pub fn run_realworld(
         let t = Instant::now();
         let scene = load_scene(&path).map_err(|e| e.to_string())?;
         let load_seconds = t.elapsed().as_secs_f64();
+        let settings = |method: RenderMethod, spp, seed| RenderSettings {
+            width: config.width,
+            height: config.height,
+            aa: config.aa,
+            method,
+            spp,
+            seed,
+            light_sampling: LightSampling::SolidAngle,
+            // Per-pixel counters of the deterministic methods: the shortcuts they took.
+            collect_stats: method.analytic().is_some(),
+        };
         let t = Instant::now();
-        let ctx = RenderContext::new(&scene);
+        // Sized for one render of the suite's camera rays, as `penumbra render` prepares.
+        let ctx =
+            RenderContext::for_render(&scene, &settings(RenderMethod::Analytic, 1, config.seed));
         let prepare_seconds = t.elapsed().as_secs_f64();
         let camera: Camera = scene
             .camera
@@ -171,17 +184,6 @@ pub fn run_realworld(
                 path_text: o.path().describe().into(),
             })
             .collect();
-        let settings = |method: RenderMethod, spp, seed| RenderSettings {
-            width: config.width,
-            height: config.height,
-            aa: config.aa,
-            method,
-            spp,
-            seed,
-            light_sampling: LightSampling::SolidAngle,
-            // Per-pixel counters of the deterministic methods: the shortcuts they took.
-            collect_stats: method.analytic().is_some(),
-        };
         progress(&format!(
             "{name}: reference, {} spp per camera ray",
             config.reference_spp

@@ -434,6 +434,25 @@ fn distinct_planes(planes: &[Plane], tol: f64) -> Vec<Plane> {
     out
 }
 
+/// Whether the planes of `poly`'s faces cut the box `[lo, hi]` into more than `max_cells`
+/// cells: pass 1 of the convex build alone, a quick trial for the tree of a non-convex mesh,
+/// whose face-plane cells its leaves refine (so it has at least as many leaves as there are
+/// cells). Costs a few microseconds per cell, against about a hundred per leaf of that tree.
+pub fn face_planes_exceed(poly: &Polyhedron, lo: DVec3, hi: DVec3, max_cells: usize) -> bool {
+    let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
+    let planes = distinct_planes(&poly.face_planes, tol);
+    let all: Vec<u32> = (0..planes.len() as u32).collect();
+    let mut points = Vec::new();
+    !enumerate_cells(
+        ConvexCell::cuboid(lo, hi),
+        &planes,
+        &all,
+        tol,
+        max_cells,
+        &mut points,
+    )
+}
+
 /// Pass 1: splits `cell` by the first of `candidates` that cuts it, recursively, and pushes
 /// the centroid of every final cell; `false` once there are more than `max_cells`.
 fn enumerate_cells(

@@ -100,6 +100,9 @@ struct Builder<'a> {
     failed: bool,
 }
 
+/// The leaves use 8-bit vertex indices (001 Sect. 5.4): meshes with more vertices get no tree.
+pub const EXACT_BSP_MAX_VERTICES: usize = 256;
+
 impl ExactSilhouetteBsp {
     /// Builds the tree of a closed mesh over the box `[lo, hi]`; `None` for an open mesh or
     /// when the limits are exceeded.
@@ -109,8 +112,7 @@ impl ExactSilhouetteBsp {
         hi: DVec3,
         limits: ExactBspLimits,
     ) -> Option<(Self, ExactBspStats)> {
-        // The leaves use 8-bit vertex indices (001 Sect. 5.4).
-        if !poly.diagnostics.closed_manifold || poly.vertices.len() > 256 {
+        if !poly.diagnostics.closed_manifold || poly.vertices.len() > EXACT_BSP_MAX_VERTICES {
             return None;
         }
         let start = std::time::Instant::now();

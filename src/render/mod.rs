@@ -6,8 +6,10 @@ pub mod progressive;
 pub mod stochastic;
 
 use crate::accel::{Bvh, Ray};
+use crate::ltc::LtcTable;
 use crate::scene::camera::CameraBasis;
 use crate::scene::{Camera, Scene};
+use crate::shading::PrepareOptions;
 use crate::shading::{
     Method, NoRecorder, PreparedScene, Recorder, ShadingPoint, ShadingScratch, shade,
 };
@@ -252,7 +254,24 @@ impl RenderContext {
 
     /// Prepares `scene`: shading data, BVH, area-sampling tables.
     pub fn from_arc(scene: Arc<Scene>) -> Self {
-        let prepared = PreparedScene::new(&scene);
+        Self::with_options(scene, PrepareOptions::default())
+    }
+
+    /// Prepares `scene` for about `settings`' camera rays (the cost model sizes the trees of
+    /// precomputed silhouettes for them: `shading::cost_model`).
+    pub fn for_render(scene: &Scene, settings: &RenderSettings) -> Self {
+        let rays =
+            u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.aa).pow(2);
+        let options = PrepareOptions {
+            expected_rays: rays,
+            ..PrepareOptions::default()
+        };
+        Self::with_options(Arc::new(scene.clone()), options)
+    }
+
+    /// Prepares `scene` with `options`.
+    pub fn with_options(scene: Arc<Scene>, options: PrepareOptions) -> Self {
+        let prepared = PreparedScene::prepare(&scene, LtcTable::embedded(), options);
         RenderContext {
             area_lights: AreaLights::new(&scene, &prepared),
             bvh: Bvh::build(&scene),

@@ -131,6 +131,10 @@ pub struct ShadingScratch {
 struct CachedOccluder {
     stamp: u64,
     poly: PlanarPolygon,
+    /// A convex outline clipped to each light's window: the whole outline, kept at `sph_stamp`
+    /// so that the next light clips it again instead of finding it again.
+    sph_stamp: u64,
+    sph: SphericalPolygon,
 }
 
 /// Convex occluder outlines with more vertices than this are clipped to the light's window
@@ -514,16 +518,28 @@ fn subtract_occluder<R: Recorder>(
             return;
         }
         let window = windowed.then(|| scratch.light_clip.loop_at(0));
-        let outline = occ.spherical_polygon(
-            sp.position,
-            frame,
-            Role::Occluder,
-            ctx.method,
-            on_this,
-            window,
-            &mut scratch.occ_sph,
-            &mut scratch.outline,
-        );
+        let kept_outline = !R::ENABLED && scratch.occluder_cache[oi].sph_stamp == scratch.stamp;
+        let outline = if kept_outline {
+            scratch
+                .occ_sph
+                .0
+                .copy_from(&scratch.occluder_cache[oi].sph.0);
+            Outline::Whole {
+                exact: false,
+                from_tree: false,
+            }
+        } else {
+            occ.spherical_polygon(
+                sp.position,
+                frame,
+                Role::Occluder,
+                ctx.method,
+                on_this,
+                window,
+                &mut scratch.occ_sph,
+                &mut scratch.outline,
+            )
+        };
         if let Outline::Whole { exact, from_tree } = outline {
             if exact && !windowed {
                 record_exact(
@@ -548,6 +564,11 @@ fn subtract_occluder<R: Recorder>(
                     &mut scratch.window_bufs,
                 );
             if clipped {
+                if !R::ENABLED && !windowed && !kept_outline {
+                    let kept = &mut scratch.occluder_cache[oi];
+                    kept.sph.0.copy_from(&scratch.occ_sph.0);
+                    kept.sph_stamp = scratch.stamp;
+                }
                 std::mem::swap(&mut scratch.occ_sph, &mut scratch.occ_clip);
             }
             clip_and_project(oi, None, scratch, rec);

@@ -2,6 +2,7 @@
 
 pub mod analytic;
 pub mod brdf;
+pub mod cost_model;
 pub mod get_between;
 pub mod outline;
 pub mod prepared;

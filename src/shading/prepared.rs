@@ -15,8 +15,11 @@
 //! silhouette structure from the corresponding point); mirror images (det M < 0) reverse the
 //! orientations and are not shared.
 
+use super::cost_model::{DEFAULT_EXPECTED_RAYS, MeshCostClass, TreeBudget, tree_budget};
 use super::tree_cache::{CachedTree, TreeCache, tree_key};
 use super::tree_library::{LibraryEntry, TreeLibrary};
+use crate::geometry::bsp::face_planes_exceed;
+use crate::geometry::bsp_nonconvex::EXACT_BSP_MAX_VERTICES;
 use crate::geometry::{
     ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp,
     SilhouetteTriangulation, TriangulationLimits, convex_stand_in, separating_plane,
@@ -87,7 +90,7 @@ impl StandIn {
 
 /// Closed non-convex meshes without a tree and with at least this many faces compute their
 /// silhouette as occluders inside each light's window only.
-pub const WINDOWED_MIN_FACES: usize = 256;
+pub const WINDOWED_MIN_FACES: usize = 64;
 
 /// Non-convex meshes whose tree would have more leaves than this keep computing their exact
 /// silhouette on the fly.
@@ -323,32 +326,45 @@ pub fn build_mesh_trees(
     (lo, hi): (DVec3, DVec3),
     triangulate: bool,
     (max_cells, max_leaves): (usize, usize),
+    budget: usize,
     cache: Option<&TreeCache>,
 ) -> MeshTrees {
     let d = poly.diagnostics;
     let mut built = 0;
     let limit = if d.convex { max_cells } else { max_leaves };
-    // The key names the mesh and the box: a tree shared by other instances (another union of
-    // boxes) is another file.
+    let budget = budget.min(limit);
+    // The key names the mesh, the box and the hard limit (not the budget, which follows the
+    // render's size): a tree shared by other instances (another union of boxes) is another
+    // file. A tree found there is used whatever the budget: reading it costs nothing.
     let key = tree_key(poly, lo, hi, limit, d.convex);
-    let tree = cache.and_then(|c| c.load(key, poly)).unwrap_or_else(|| {
-        built += 1;
-        let tree = if d.convex {
-            SilhouetteBsp::build_convex_limited(poly, lo, hi, max_cells)
-                .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Convex(t))
-        } else {
-            let limits = ExactBspLimits {
-                max_leaves,
-                ..ExactBspLimits::default()
+    let tree = match cache.and_then(|c| c.load(key, poly)) {
+        Some(CachedTree::OverLimit { tried }) if tried >= budget => CachedTree::OverLimit { tried },
+        Some(t @ (CachedTree::Convex(_) | CachedTree::Exact(_))) => t,
+        _ => {
+            built += 1;
+            let over = CachedTree::OverLimit { tried: budget };
+            let tree = if d.convex {
+                SilhouetteBsp::build_convex_limited(poly, lo, hi, budget)
+                    .map_or(over, |(t, _)| CachedTree::Convex(t))
+            } else if poly.vertices.len() > EXACT_BSP_MAX_VERTICES {
+                CachedTree::OverLimit { tried: usize::MAX }
+            } else if face_planes_exceed(poly, lo, hi, budget) {
+                // The quick trial: the leaves refine the face planes' cells.
+                over
+            } else {
+                let limits = ExactBspLimits {
+                    max_leaves: budget,
+                    ..ExactBspLimits::default()
+                };
+                ExactSilhouetteBsp::build(poly, lo, hi, limits)
+                    .map_or(over, |(t, _)| CachedTree::Exact(t))
             };
-            ExactSilhouetteBsp::build(poly, lo, hi, limits)
-                .map_or(CachedTree::OverLimit, |(t, _)| CachedTree::Exact(t))
-        };
-        if let Some(c) = cache {
-            c.store(key, &tree);
+            if let Some(c) = cache {
+                c.store(key, &tree);
+            }
+            tree
         }
-        tree
-    });
+    };
     let triangulation = match &tree {
         CachedTree::Exact(exact) if triangulate => {
             let key = key ^ TRIANGULATION_KEY;
@@ -385,7 +401,9 @@ pub fn build_mesh_trees(
 /// bounding box, all mapped into the first member's frame (the box of the 8 mapped corners of
 /// each); meshes over the limits get none. Every member holds the same `Arc`. A group whose
 /// mesh is an affine image of a mesh of `library` reads that tree instead, in its frame.
-/// Returns how many trees were built.
+/// Each group's build gets the budget of the cost model (`cost_model`) for
+/// `options.expected_rays` camera rays. Returns how many trees were built, and each group's
+/// budget (`None` for a group that borrowed its tree or built none).
 fn build_silhouette_trees(
     objects: &mut [PreparedObject],
     groups: &[Vec<u32>],
@@ -394,7 +412,7 @@ fn build_silhouette_trees(
     limits: (usize, usize),
     cache: Option<&TreeCache>,
     options: &PrepareOptions,
-) -> u32 {
+) -> (u32, Vec<Option<TreeBudget>>) {
     let (library, build) = (options.library, options.build_trees);
     let borrowed: Vec<Option<(&LibraryEntry, DAffine3)>> = groups
         .iter()
@@ -448,19 +466,46 @@ fn build_silhouette_trees(
             }
         });
     let objs = &*objects;
+    let budgets: Vec<Option<TreeBudget>> = groups
+        .iter()
+        .zip(&borrowed)
+        .map(|(g, b)| {
+            if b.is_some() || !build {
+                return None;
+            }
+            let base = &objs[g[0] as usize];
+            let d = base.poly.diagnostics;
+            let light = g.iter().any(|m| lights.contains(m));
+            let class = MeshCostClass {
+                faces: base.poly.face_count(),
+                convex: d.convex,
+                light,
+                windowed: base.poly.face_count() >= WINDOWED_MIN_FACES
+                    && base.poly.face_bvh.is_some(),
+            };
+            let limit = if d.convex { limits.0 } else { limits.1 };
+            // Every instance of the group is queried.
+            Some(tree_budget(
+                class,
+                options.expected_rays.saturating_mul(g.len() as u64),
+                limit,
+            ))
+        })
+        .collect();
     let trees: Vec<MeshTrees> = groups
         .par_iter()
         .zip(&borrowed)
-        .map(|(g, b)| {
+        .zip(&budgets)
+        .map(|((g, b), budget)| {
             if let Some((entry, _)) = b {
                 return MeshTrees {
                     built: 0,
                     ..entry.trees.clone()
                 };
             }
-            if !build {
+            let Some(budget) = budget else {
                 return MeshTrees::default();
-            }
+            };
             let base = &objs[g[0] as usize];
             let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
             for &m in g {
@@ -482,7 +527,14 @@ fn build_silhouette_trees(
             // A light that is not star-shaped is sampled through triangulated silhouettes.
             let is_light = g.iter().any(|m| lights.contains(m));
             let triangulate = is_light && base.star_centre.is_none();
-            build_mesh_trees(&base.poly, (lo, hi), triangulate, limits, cache)
+            build_mesh_trees(
+                &base.poly,
+                (lo, hi),
+                triangulate,
+                limits,
+                budget.units,
+                cache,
+            )
         })
         .collect();
     let mut built = 0;
@@ -495,7 +547,19 @@ fn build_silhouette_trees(
             o.triangulation = t.triangulation.clone();
         }
     }
-    built
+    (built, budgets)
+}
+
+/// Why a tree's budget is what it is, when the cost model (not the hard limit) set it.
+fn budget_words(budget: &Option<TreeBudget>, limit: usize, units: &str) -> String {
+    match budget {
+        Some(b) if b.units < limit => format!(
+            " (the cost model: at about {:.0} queries a tree saves about {:.2} s, which pays for \
+             at most {} {units})",
+            b.queries, b.saving_seconds, b.units
+        ),
+        _ => String::new(),
+    }
 }
 
 /// Distinguishes the cache key of a mesh's triangulations from that of its silhouette tree.
@@ -525,6 +589,9 @@ pub struct PrepareOptions<'a> {
     /// point and thrown away, where a tree could never pay for itself: those meshes take the
     /// silhouette computed at the point).
     pub build_trees: bool,
+    /// Camera rays the scene is expected to be shaded for: the cost model gives each tree the
+    /// budget that this many rays pay for (`cost_model::tree_budget`).
+    pub expected_rays: u64,
 }
 
 impl Default for PrepareOptions<'_> {
@@ -534,6 +601,7 @@ impl Default for PrepareOptions<'_> {
             disk_cache: true,
             library: None,
             build_trees: true,
+            expected_rays: DEFAULT_EXPECTED_RAYS,
         }
     }
 }
@@ -654,7 +722,7 @@ impl PreparedScene {
         } else {
             None
         };
-        let trees_built = build_silhouette_trees(
+        let (trees_built, budgets) = build_silhouette_trees(
             &mut objects,
             &tree_groups,
             &light_ids,
@@ -663,7 +731,7 @@ impl PreparedScene {
             cache.as_ref(),
             &options,
         );
-        for g in &tree_groups {
+        for (g, budget) in tree_groups.iter().zip(&budgets) {
             let o = &objects[g[0] as usize];
             let d = &o.poly.diagnostics;
             let names = quoted_names(&objects, g);
@@ -680,13 +748,26 @@ impl PreparedScene {
                 ));
             } else if d.convex && o.bsp.is_none() {
                 notes.push(format!(
-                    "{subject}: {its} face planes cut the scene into more than {MAX_BSP_CELLS} \
-                     cells; {its} silhouette is computed at each point instead of read from a tree"
+                    "{subject}: {its} face planes cut the scene into more than {} cells; {its} \
+                     silhouette is computed at each point instead of read from a tree{}",
+                    budget.map_or(MAX_BSP_CELLS, |b| b.units),
+                    budget_words(budget, MAX_BSP_CELLS, "cells")
                 ));
             } else if !d.convex && o.exact_bsp.is_none() {
+                let why = if o.poly.vertices.len() > EXACT_BSP_MAX_VERTICES {
+                    format!(
+                        "has more than {EXACT_BSP_MAX_VERTICES} vertices, too many for a tree \
+                         of precomputed silhouettes"
+                    )
+                } else {
+                    format!(
+                        "tree of precomputed silhouettes would have more than {} leaves{}",
+                        budget.map_or(MAX_EXACT_BSP_LEAVES, |b| b.units),
+                        budget_words(budget, MAX_EXACT_BSP_LEAVES, "leaves")
+                    )
+                };
                 notes.push(format!(
-                    "{subject}: {its} tree of precomputed silhouettes would have more than \
-                     {MAX_EXACT_BSP_LEAVES} leaves; {its} exact silhouette is computed at each point"
+                    "{subject}: {its} {why}; {its} exact silhouette is computed at each point"
                 ));
             } else if g.len() > 1 {
                 notes.push(format!(
@@ -777,14 +858,19 @@ impl PreparedScene {
         let light_ids: Vec<u32> = self.lights.iter().map(|&(l, _)| l).collect();
         // The maps into a library's frame are forgotten with the library.
         self.tree_groups = instance_groups(&mut self.objects, self.share_instances);
-        self.trees_built = build_silhouette_trees(
+        // The limits asked for, not the cost model's budget.
+        let options = PrepareOptions {
+            expected_rays: u64::MAX,
+            ..PrepareOptions::default()
+        };
+        (self.trees_built, _) = build_silhouette_trees(
             &mut self.objects,
             &self.tree_groups,
             &light_ids,
             self.bounds,
             (max_cells, max_leaves),
             self.cache.as_ref(),
-            &PrepareOptions::default(),
+            &options,
         );
     }
 

@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
 /// Bump whenever a tree build changes what it produces.
-pub const FORMAT: u32 = 3;
+pub const FORMAT: u32 = 4;
 
 /// The default bound on the cache's size on disk.
 pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
@@ -36,8 +36,11 @@ pub enum CachedTree {
     Exact(ExactSilhouetteBsp),
     /// Triangulations of the silhouettes of an `Exact` tree (stored under a key of its own).
     Triangulation(SilhouetteTriangulation),
-    /// The tree would exceed its size limit.
-    OverLimit,
+    /// The tree would exceed its size budget: it needs more than `tried` cells or leaves
+    /// (a later, larger budget tries again).
+    OverLimit {
+        tried: usize,
+    },
 }
 
 #[derive(serde::Serialize, serde::Deserialize)]
@@ -126,7 +129,7 @@ impl TreeCache {
             CachedTree::Convex(t) => t.is_well_formed(nv),
             CachedTree::Exact(t) => t.is_well_formed(nv),
             CachedTree::Triangulation(t) => t.is_well_formed(nv),
-            CachedTree::OverLimit => true,
+            CachedTree::OverLimit { .. } => true,
         };
         if ok {
             touch(&path);

@@ -50,7 +50,7 @@ impl TreeLibrary {
                     .then(|| star_centre(&poly))
                     .flatten();
                 let triangulate = !d.convex && d.closed_manifold && star.is_none();
-                let trees = build_mesh_trees(&poly, bounds, triangulate, limits, None);
+                let trees = build_mesh_trees(&poly, bounds, triangulate, limits, usize::MAX, None);
                 LibraryEntry {
                     poly,
                     trees,
