@@ -141,6 +141,22 @@ fn compare(scene: &Scene, points: &[ShadingPoint]) -> (f64, usize) {
             .is_some()
         {
             succeeded += 1;
+            // The sweep over the clipped arcs finds the crossings all pairs find, bit for bit.
+            let mut all_pairs = WindowScratch::default();
+            all_pairs.all_pairs = true;
+            let mut reference = SphericalPolygon::new();
+            assert!(
+                exact_silhouette_in_window(
+                    &occ.poly,
+                    sp.position,
+                    &frame,
+                    light_sph.loop_at(0),
+                    &mut reference,
+                    &mut all_pairs,
+                )
+                .is_some()
+            );
+            assert_eq!(sph, reference, "at {}", sp.position);
         }
         // The whole silhouette exists too (the point is outside the mesh).
         let _ = exact_silhouette(&occ.poly, sp.position, &frame, &mut sph, &mut exact);

@@ -87,16 +87,17 @@ pub struct ExactSilhouetteScratch {
     starts: Vec<(u64, u32)>,
 }
 
+/// Buffers of [`candidate_pairs`].
 #[derive(Clone, Debug, Default)]
-struct SweepScratch {
-    /// Per contour edge: the box of its arc in direction space.
+pub(crate) struct SweepScratch {
+    /// Per arc: its box in direction space.
     boxes: Vec<[DVec3; 2]>,
     order: Vec<u32>,
     active: Vec<u32>,
 }
 
 /// Contour counts below which every pair is tested (the sweep does not pay).
-const SWEEP_MIN_EDGES: usize = 48;
+pub(crate) const SWEEP_MIN_EDGES: usize = 48;
 
 /// How much the arcs' boxes are widened: far above `END_TOLERANCE` (an angle, and so at most
 /// that distance between unit vectors) and the rounding of the boxes themselves.
@@ -105,16 +106,16 @@ const SWEEP_MARGIN: f64 = 1e-8;
 /// The box (in direction space) of the great-circle arc from `a` to `b` (shorter than π) with
 /// unit normal `n`: its ends, and for each axis the two points of the great circle extreme
 /// along it (±(e_k − n n_k), normalised) where they lie on the arc.
-fn arc_box(e: &ContourEdge) -> [DVec3; 2] {
-    let (mut lo, mut hi) = (e.a.min(e.b), e.a.max(e.b));
+fn arc_box(a: DVec3, b: DVec3, n: DVec3) -> [DVec3; 2] {
+    let (mut lo, mut hi) = (a.min(b), a.max(b));
     for k in 0..3 {
         let mut axis = DVec3::ZERO;
         axis[k] = 1.0;
-        let Some(d) = (axis - e.n * e.n[k]).try_normalize() else {
+        let Some(d) = (axis - n * n[k]).try_normalize() else {
             continue; // the circle is perpendicular to the axis: constant along it
         };
         for c in [d, -d] {
-            if e.a.cross(c).dot(e.n) >= 0.0 && c.cross(e.b).dot(e.n) >= 0.0 {
+            if a.cross(c).dot(n) >= 0.0 && c.cross(b).dot(n) >= 0.0 {
                 (lo, hi) = (lo.min(c), hi.max(c));
             }
         }
@@ -122,27 +123,27 @@ fn arc_box(e: &ContourEdge) -> [DVec3; 2] {
     [lo - SWEEP_MARGIN, hi + SWEEP_MARGIN]
 }
 
-/// The pairs of contour edges whose arcs can cross or touch, found by a sweep instead of
-/// testing all pairs: two arcs meet only where their boxes in direction space do (each box
-/// holds its arc exactly: its ends and the circle's extremes on it), and the boxes are widened
-/// by [`SWEEP_MARGIN`], so that every pair that comes within the tolerance of touching (which
-/// the caller reports as degenerate) is kept too. The sweep runs along x, testing y and z. The
-/// pairs are sorted, so that the caller meets them in the order of the all-pairs loop and its
-/// result is the same, bit for bit. Returns `false` without sweeping for few edges: test all
-/// pairs.
-fn candidate_pairs(
-    edges: &[ContourEdge],
+/// The pairs of arcs (from, to, unit normal of the great circle; each shorter than π) that
+/// can cross or touch, found by a sweep instead of testing all pairs: two arcs meet only where
+/// their boxes in direction space do (each box holds its arc exactly: its ends and the
+/// circle's extremes on it), and the boxes are widened by [`SWEEP_MARGIN`], so that every pair
+/// that comes within the tolerance of touching (which the callers report as degenerate) is
+/// kept too. The sweep runs along x, testing y and z. The pairs are sorted, so that the caller
+/// meets them in the order of the all-pairs loop and its result is the same, bit for bit.
+/// Returns `false` without sweeping for fewer than [`SWEEP_MIN_EDGES`] arcs: test all pairs.
+pub(crate) fn candidate_pairs(
+    arcs: impl ExactSizeIterator<Item = (DVec3, DVec3, DVec3)>,
     sweep: &mut SweepScratch,
     out: &mut Vec<(u32, u32)>,
 ) -> bool {
-    if edges.len() < SWEEP_MIN_EDGES {
+    if arcs.len() < SWEEP_MIN_EDGES {
         return false;
     }
     sweep.boxes.clear();
-    sweep.boxes.extend(edges.iter().map(arc_box));
+    sweep.boxes.extend(arcs.map(|(a, b, n)| arc_box(a, b, n)));
     let boxes = &sweep.boxes;
     sweep.order.clear();
-    sweep.order.extend(0..edges.len() as u32);
+    sweep.order.extend(0..boxes.len() as u32);
     sweep
         .order
         .sort_unstable_by(|&a, &b| boxes[a as usize][0].x.total_cmp(&boxes[b as usize][0].x));
@@ -225,7 +226,11 @@ pub fn exact_silhouette(
     scratch.crossings.clear();
     scratch.crossing_edges.clear();
     let swept = !scratch.all_pairs
-        && candidate_pairs(&scratch.edges, &mut scratch.sweep, &mut scratch.pairs);
+        && candidate_pairs(
+            scratch.edges.iter().map(|e| (e.a, e.b, e.n)),
+            &mut scratch.sweep,
+            &mut scratch.pairs,
+        );
     let edges = &scratch.edges;
     let mut test = |i: usize, j: usize| -> Result<(), Degenerate> {
         let (e, g) = (&edges[i], &edges[j]);

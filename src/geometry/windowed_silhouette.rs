@@ -31,7 +31,7 @@
 //! takes the full exact silhouette.
 
 use super::SphericalPolygon;
-use super::exact_silhouette::blocked_ray;
+use super::exact_silhouette::{SweepScratch, blocked_ray, candidate_pairs};
 use super::polyhedron::{NO_FACE, Polyhedron};
 use super::silhouette::is_front_facing;
 use crate::math::Frame;
@@ -103,6 +103,11 @@ pub struct WindowScratch {
     chains: Vec<(u32, u32)>,
     order: Vec<(f64, u32, bool)>,
     loop_buf: Vec<DVec3>,
+    /// The sweep over the clipped arcs, and the pairs it keeps.
+    sweep: SweepScratch,
+    pairs: Vec<(u32, u32)>,
+    /// Test every pair of arcs (the reference the sweep is tested against).
+    pub all_pairs: bool,
 }
 
 /// What the windowed silhouette did.
@@ -262,32 +267,49 @@ pub fn exact_silhouette_in_window(
     // 3. Apparent intersections among the clipped arcs (Eq. 4.4), strictly inside both.
     scratch.cuts.clear();
     scratch.crossings.clear();
+    // Among the pairs whose boxes meet (a sweep, for many arcs), in the all-pairs order.
+    let swept = !scratch.all_pairs
+        && candidate_pairs(
+            scratch.arcs.iter().map(|a| (a.from, a.to, a.n)),
+            &mut scratch.sweep,
+            &mut scratch.pairs,
+        );
     let arcs = &scratch.arcs;
-    for i in 0..arcs.len() {
-        for j in i + 1..arcs.len() {
-            let (e, g) = (&arcs[i], &arcs[j]);
-            if e.v.iter().any(|v| g.v.contains(v)) {
-                continue;
+    let mut test = |i: usize, j: usize| -> Option<()> {
+        let (e, g) = (&arcs[i], &arcs[j]);
+        if e.v.iter().any(|v| g.v.contains(v)) {
+            return Some(());
+        }
+        let Some(mut p) = e.n.cross(g.n).try_normalize() else {
+            return Some(());
+        };
+        if p.dot(e.from + e.to) < 0.0 {
+            p = -p;
+        }
+        let (ie, ig) = (
+            inside_arc(e.from, e.to, e.n, p),
+            inside_arc(g.from, g.to, g.n, p),
+        );
+        match (ie, ig) {
+            (Some(true), Some(true)) => {
+                let id = scratch.crossings.len() as u32;
+                scratch.crossings.push(p);
+                scratch.cuts.push((i as u32, arc_t(e, p), id));
+                scratch.cuts.push((j as u32, arc_t(g, p), id));
             }
-            let Some(mut p) = e.n.cross(g.n).try_normalize() else {
-                continue;
-            };
-            if p.dot(e.from + e.to) < 0.0 {
-                p = -p;
-            }
-            let (ie, ig) = (
-                inside_arc(e.from, e.to, e.n, p),
-                inside_arc(g.from, g.to, g.n, p),
-            );
-            match (ie, ig) {
-                (Some(true), Some(true)) => {
-                    let id = scratch.crossings.len() as u32;
-                    scratch.crossings.push(p);
-                    scratch.cuts.push((i as u32, arc_t(e, p), id));
-                    scratch.cuts.push((j as u32, arc_t(g, p), id));
-                }
-                (Some(false), _) | (_, Some(false)) => {}
-                _ => return None, // at (or within rounding of) an end
+            (Some(false), _) | (_, Some(false)) => {}
+            _ => return None, // at (or within rounding of) an end
+        }
+        Some(())
+    };
+    if swept {
+        for &(i, j) in &scratch.pairs {
+            test(i as usize, j as usize)?;
+        }
+    } else {
+        for i in 0..arcs.len() {
+            for j in i + 1..arcs.len() {
+                test(i, j)?;
             }
         }
     }
