@@ -222,21 +222,9 @@ impl SilhouetteBsp {
             return None;
         }
         let start = std::time::Instant::now();
-        let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
-        let planes = distinct_planes(&poly.face_planes, tol);
         // Pass 1: the cells and a point in each.
         let mut points = Vec::new();
-        let all: Vec<u32> = (0..planes.len() as u32).collect();
-        if !enumerate_cells(
-            ConvexCell::cuboid(lo, hi),
-            &planes,
-            &all,
-            tol,
-            max_cells,
-            &mut points,
-        ) {
-            return None;
-        }
+        let planes = face_plane_cells(poly, lo, hi, max_cells, &mut points)?;
         // Pass 2: a balanced tree over the points.
         let mut tree = SilhouetteBsp {
             planes,
@@ -439,18 +427,30 @@ fn distinct_planes(planes: &[Plane], tol: f64) -> Vec<Plane> {
 /// whose face-plane cells its leaves refine (so it has at least as many leaves as there are
 /// cells). Costs a few microseconds per cell, against about a hundred per leaf of that tree.
 pub fn face_planes_exceed(poly: &Polyhedron, lo: DVec3, hi: DVec3, max_cells: usize) -> bool {
+    face_plane_cells(poly, lo, hi, max_cells, &mut Vec::new()).is_none()
+}
+
+/// The distinct face planes of `poly`, with a point of every cell they cut the box
+/// `[lo, hi]` into pushed onto `points` (pass 1); `None` once there are more than `max_cells`.
+fn face_plane_cells(
+    poly: &Polyhedron,
+    lo: DVec3,
+    hi: DVec3,
+    max_cells: usize,
+    points: &mut Vec<DVec3>,
+) -> Option<Vec<Plane>> {
     let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
     let planes = distinct_planes(&poly.face_planes, tol);
     let all: Vec<u32> = (0..planes.len() as u32).collect();
-    let mut points = Vec::new();
-    !enumerate_cells(
+    enumerate_cells(
         ConvexCell::cuboid(lo, hi),
         &planes,
         &all,
         tol,
         max_cells,
-        &mut points,
+        points,
     )
+    .then_some(planes)
 }
 
 /// Pass 1: splits `cell` by the first of `candidates` that cuts it, recursively, and pushes
