@@ -86,13 +86,13 @@ fn hoisted_trees_give_the_leaf_stored_and_the_on_the_fly_silhouettes() {
                         .map(<[u32]>::to_vec)
                         .collect()
                 }),
-                (_, Some(t)) => t.leaf_points(x).is_some().then(|| {
+                (_, Some(t)) => t.leaf_points(&poly, x).is_some().then(|| {
                     let mut loops = Vec::new();
                     let mut cur = Vec::new();
                     // Rebuild the loop structure from the silhouette read the ordinary way.
                     let ok = t.silhouette(&poly, x, &frame, &mut a);
                     assert!(ok);
-                    let mut pts = t.leaf_points(x).unwrap();
+                    let mut pts = t.leaf_points(&poly, x).unwrap();
                     for lp in a.loops() {
                         for _ in 0..lp.len() {
                             cur.push(pts.next().unwrap().pack().unwrap());

@@ -254,3 +254,105 @@ fn windowed_silhouette_shades_like_the_whole_one_around_a_displaced_icosphere() 
         "the windowed path ran at {windowed_total} of {points_total} points"
     );
 }
+
+/// Is `p` inside the positively oriented convex loop `l`, by more than `eps` from its sides?
+/// `Some(inside)`, or `None` within `eps` of a side.
+fn in_convex_loop(l: &[DVec3], p: DVec3, eps: f64) -> Option<bool> {
+    let mut inside = true;
+    for i in 0..l.len() {
+        let s = l[i].cross(l[(i + 1) % l.len()]).normalize().dot(p);
+        if s.abs() <= eps {
+            return None;
+        }
+        inside &= s > 0.0;
+    }
+    Some(inside)
+}
+
+/// A convex spherical polygon: `n` points around `centre` at angular radius about `r`, in
+/// counter-clockwise order seen from outside (positive orientation).
+fn convex_loop(rng: &mut Pcg32, centre: DVec3, r: f64, n: usize) -> Vec<DVec3> {
+    let u = centre.any_orthonormal_vector();
+    let v = centre.cross(u);
+    let mut angles: Vec<f64> = (0..n)
+        .map(|_| rng.range(0.0, std::f64::consts::TAU))
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    angles.dedup_by(|a, b| (*a - *b).abs() < 1e-3);
+    angles
+        .iter()
+        .map(|&t| (centre + r.tan() * (u * t.cos() + v * t.sin())).normalize())
+        .collect()
+}
+
+/// `clip_to_window` keeps, of a convex outline, exactly what covers the window: at points of
+/// the window's convex hull (random convex combinations of its corners), the clipped outline
+/// and the whole one agree on what they cover. The windows are convex or not, small or up to
+/// 55° across, the outlines larger or smaller than the windows, near them or not; a second
+/// test is the point count (the clipped loop is never larger than the outline plus eight).
+#[test]
+fn clip_to_window_keeps_what_covers_the_window() {
+    use penumbra::geometry::clip_to_window;
+    let mut rng = Pcg32::new(12, 7);
+    let (mut agreed, mut clipped_calls) = (0usize, 0usize);
+    for case in 0..2000 {
+        let wc = rng.unit_vector();
+        let wr = [1e-4, 0.01, 0.2, 0.45][case % 4];
+        let corners = 3 + rng.below(30) as usize;
+        let mut window = convex_loop(&mut rng, wc, wr, corners);
+        if case % 3 == 0 && window.len() > 4 {
+            // Pull one corner toward the centre: a non-convex window.
+            let k = rng.below(window.len() as u32) as usize;
+            window[k] = (wc + (window[k] - wc) * 0.3).normalize();
+        }
+        if window.len() < 3 {
+            continue;
+        }
+        let sc = (wc + rng.unit_vector() * wr * rng.range(0.0, 3.0)).normalize();
+        let sr = wr * rng.range(0.3, 6.0);
+        let vertices = 13 + rng.below(60) as usize;
+        let subject_loop = convex_loop(&mut rng, sc, sr.min(1.2), vertices);
+        if subject_loop.len() < 3 {
+            continue;
+        }
+        let mut subject = SphericalPolygon::default();
+        subject.push_loop(subject_loop.iter().copied());
+        let mut clipped = SphericalPolygon::default();
+        let mut bufs: [Vec<DVec3>; 3] = Default::default();
+        if !clip_to_window(&subject, &window, &mut clipped, &mut bufs) {
+            continue;
+        }
+        clipped_calls += 1;
+        assert!(clipped.loop_count() <= 1);
+        assert!(clipped.vertex_count() <= subject_loop.len() + 8);
+        let clipped_loop: Vec<DVec3> = if clipped.loop_count() == 1 {
+            clipped.loop_at(0).to_vec()
+        } else {
+            Vec::new()
+        };
+        for _ in 0..64 {
+            // A point of the window's convex hull.
+            let mut p = DVec3::ZERO;
+            for &w in &window {
+                p += w * rng.next_f64().powi(3);
+            }
+            let p = p.normalize();
+            let eps = 1e-9;
+            let Some(whole) = in_convex_loop(&subject_loop, p, eps) else {
+                continue;
+            };
+            let part = if clipped_loop.len() >= 3 {
+                match in_convex_loop(&clipped_loop, p, eps) {
+                    Some(b) => b,
+                    None => continue,
+                }
+            } else {
+                false
+            };
+            assert_eq!(whole, part, "case {case}: point {p:?}");
+            agreed += 1;
+        }
+    }
+    assert!(clipped_calls > 1500, "{clipped_calls} windows clipped");
+    assert!(agreed > 50_000, "{agreed} points compared");
+}

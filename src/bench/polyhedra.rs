@@ -447,7 +447,7 @@ pub fn run_polyhedra(
                 Some(SilhouetteTriangulation::build(&poly, &t, TriangulationLimits::default()).1);
             let hoisted = HoistedSilhouetteBsp::from_exact(&t)?;
             stored = hoisting_costs(&poly, &hoisted, t.stored_bytes(), &|x| {
-                t.leaf_points(x).map_or(0, |p| {
+                t.leaf_points(&poly, x).map_or(0, |p| {
                     p.fold(0u32, |a, p| a.wrapping_add(p.pack().unwrap_or(0)))
                 })
             });

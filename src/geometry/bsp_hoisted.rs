@@ -19,7 +19,7 @@
 
 use super::bsp::{BspNode, LOOP_END, SilhouetteBsp};
 use super::bsp_nonconvex::{ExactSilhouetteBsp, ON_THE_FLY};
-use super::exact_silhouette::SilhouettePoint;
+use super::exact_silhouette::PointCoding;
 use super::{Plane, Polyhedron, SphericalPolygon};
 use crate::math::Frame;
 use glam::DVec3;
@@ -43,8 +43,8 @@ pub struct HoistedNode {
 pub enum HoistedKind {
     /// Vertex indices (a convex mesh's tree).
     Convex,
-    /// Points in the 32-bit encoding of 001 Sect. 5.4 ([`SilhouettePoint::pack`]).
-    Exact,
+    /// Points of an exact silhouette, in the tree's 32-bit coding ([`PointCoding`]).
+    Exact(PointCoding),
 }
 
 /// A tree of precomputed silhouettes with each edge stored as high as it stays valid.
@@ -95,7 +95,14 @@ impl HoistedSilhouetteBsp {
                 )
             })
         };
-        Self::build(HoistedKind::Exact, &t.nodes, &t.planes, t.lo, t.hi, &leaf)
+        Self::build(
+            HoistedKind::Exact(t.coding),
+            &t.nodes,
+            &t.planes,
+            t.lo,
+            t.hi,
+            &leaf,
+        )
     }
 
     /// `leaf_edges(first, count)`: a leaf's directed edges, `None` for a leaf never read.
@@ -276,7 +283,7 @@ impl HoistedSilhouetteBsp {
             for e in run {
                 let d = match self.kind {
                     HoistedKind::Convex => (poly.vertices[e[0] as usize] - x).try_normalize(),
-                    HoistedKind::Exact => SilhouettePoint::unpack(e[0]).direction(poly, x),
+                    HoistedKind::Exact(coding) => coding.unpack(e[0], poly).direction(poly, x),
                 };
                 if let Some(d) = d {
                     out.push_vertex(frame.to_local(d));

@@ -21,7 +21,7 @@
 use super::bsp::BspNode;
 use super::convex_cell::{CellSide, ConvexCell};
 use super::exact_silhouette::{
-    ExactSilhouetteScratch, SilhouettePoint, exact_silhouette, symbolic_loops,
+    ExactSilhouetteScratch, PointCoding, SilhouettePoint, exact_silhouette, symbolic_loops,
 };
 use super::polyhedron::NO_FACE;
 use super::silhouette::is_front_facing;
@@ -42,9 +42,12 @@ pub struct ExactSilhouetteBsp {
     pub planes: Vec<Plane>,
     pub nodes: Vec<BspNode>,
     /// Leaf data: loops as ranges of `points`; a leaf holds `loops[first..first + count]`.
-    /// Points in the 32-bit encoding of 001 Sect. 5.4 ([`SilhouettePoint::pack`]).
+    /// Points in 32 bits: the encoding of 001 Sect. 5.4 up to 256 vertices, edge pairs past
+    /// that (`coding`).
     pub loops: Vec<[u32; 2]>,
     pub points: Vec<u32>,
+    #[serde(default)]
+    pub coding: PointCoding,
     pub lo: DVec3,
     pub hi: DVec3,
 }
@@ -98,10 +101,9 @@ struct Builder<'a> {
     symbolic: Vec<Option<SilhouettePoint>>,
     sph: SphericalPolygon,
     failed: bool,
+    /// Edge index by its ends (smaller first), for [`PointCoding::EdgePairs`].
+    edge_ids: std::collections::HashMap<[u32; 2], u32>,
 }
-
-/// The leaves use 8-bit vertex indices (001 Sect. 5.4): meshes with more vertices get no tree.
-pub const EXACT_BSP_MAX_VERTICES: usize = 256;
 
 impl ExactSilhouetteBsp {
     /// Builds the tree of a closed mesh over the box `[lo, hi]`; `None` for an open mesh or
@@ -112,9 +114,16 @@ impl ExactSilhouetteBsp {
         hi: DVec3,
         limits: ExactBspLimits,
     ) -> Option<(Self, ExactBspStats)> {
-        if !poly.diagnostics.closed_manifold || poly.vertices.len() > EXACT_BSP_MAX_VERTICES {
+        if !poly.diagnostics.closed_manifold {
             return None;
         }
+        let coding = PointCoding::for_mesh(poly)?;
+        let edge_ids = match coding {
+            PointCoding::Vertices8 => Default::default(),
+            PointCoding::EdgePairs => (poly.edges.iter().enumerate())
+                .map(|(i, e)| ([e.v[0].min(e.v[1]), e.v[0].max(e.v[1])], i as u32))
+                .collect(),
+        };
         let start = std::time::Instant::now();
         let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
         let mut b = Builder {
@@ -122,6 +131,7 @@ impl ExactSilhouetteBsp {
             tree: ExactSilhouetteBsp {
                 lo,
                 hi,
+                coding,
                 ..Default::default()
             },
             stats: ExactBspStats::default(),
@@ -131,6 +141,7 @@ impl ExactSilhouetteBsp {
             symbolic: Vec::new(),
             sph: SphericalPolygon::new(),
             failed: false,
+            edge_ids,
         };
         let faces: Vec<Plane> = poly.face_planes.clone();
         b.face_cells(ConvexCell::cuboid(lo, hi), &faces, 0);
@@ -173,11 +184,10 @@ impl ExactSilhouetteBsp {
             + std::mem::size_of_val(&self.points[..])
     }
 
-    /// Whether every index in the tree is in range for a mesh of `vertices` vertices (a tree
-    /// read from a file is checked before use).
-    pub fn is_well_formed(&self, vertices: usize) -> bool {
+    /// Whether every index in the tree is in range for a mesh of `vertices` vertices and
+    /// `edges` edges (a tree read from a file is checked before use).
+    pub fn is_well_formed(&self, vertices: usize, edges: usize) -> bool {
         let (loops, points) = (self.loops.len(), self.points.len());
-        let v_ok = |v: u32| (v as usize) < vertices;
         super::bsp::nodes_well_formed(&self.nodes, self.planes.len(), |first, count| {
             count == ON_THE_FLY
                 || (first as usize)
@@ -190,10 +200,7 @@ impl ExactSilhouetteBsp {
             && self
                 .points
                 .iter()
-                .all(|&p| match SilhouettePoint::unpack(p) {
-                    SilhouettePoint::Vertex(v) => v_ok(v),
-                    SilhouettePoint::Crossing(a, b) => a.iter().chain(&b).all(|&v| v_ok(v)),
-                })
+                .all(|&p| self.coding.in_range(p, vertices, edges))
     }
 
     /// The loops (ranges of `points`) of the leaf of `x`; `None` outside the box or in a leaf
@@ -211,14 +218,18 @@ impl ExactSilhouetteBsp {
         }
     }
 
-    /// The points of the leaf of `x` (`None` outside the box or in an on-the-fly leaf); for an
-    /// instance, `x` is the point in the tree's frame.
-    pub fn leaf_points(&self, x: DVec3) -> Option<impl Iterator<Item = SilhouettePoint> + '_> {
+    /// The points of the leaf of `x` (`None` outside the box or in an on-the-fly leaf) on
+    /// `poly`, the tree's mesh; for an instance, `x` is the point in the tree's frame.
+    pub fn leaf_points<'a>(
+        &'a self,
+        poly: &'a Polyhedron,
+        x: DVec3,
+    ) -> Option<impl Iterator<Item = SilhouettePoint> + 'a> {
         Some(
             self.leaf_loops(x)?
                 .iter()
                 .flat_map(|lp| self.points[lp[0] as usize..lp[1] as usize].iter())
-                .map(|&p| SilhouettePoint::unpack(p)),
+                .map(move |&p| self.coding.unpack(p, poly)),
         )
     }
 
@@ -252,7 +263,7 @@ impl ExactSilhouetteBsp {
         out.clear();
         for lp in loops {
             for &p in &self.points[lp[0] as usize..lp[1] as usize] {
-                if let Some(d) = SilhouettePoint::unpack(p).direction(poly, x) {
+                if let Some(d) = self.coding.unpack(p, poly).direction(poly, x) {
                     out.push_vertex(frame.to_local(d));
                 }
             }
@@ -456,10 +467,14 @@ impl Builder<'_> {
         let mut start = self.tree.points.len() as u32;
         for p in &self.symbolic {
             match p {
-                Some(p) => match p.pack() {
-                    Some(code) => self.tree.points.push(code),
-                    None => self.failed = true, // excluded by the vertex count
-                },
+                Some(p) => {
+                    let edge_of =
+                        |[a, b]: [u32; 2]| self.edge_ids.get(&[a.min(b), a.max(b)]).copied();
+                    match self.tree.coding.pack(p, edge_of) {
+                        Some(code) => self.tree.points.push(code),
+                        None => self.failed = true, // excluded by `PointCoding::for_mesh`
+                    }
+                }
                 None => {
                     let end = self.tree.points.len() as u32;
                     self.tree.loops.push([start, end]);

@@ -441,6 +441,100 @@ impl SilhouettePoint {
     }
 }
 
+/// How a tree of precomputed silhouettes codes a [`SilhouettePoint`] in 32 bits.
+///
+/// 001 Sect. 5.4 packs four 8-bit vertex indices, which limits trees to meshes of 256
+/// vertices. Past that, a crossing is coded by its two *edges* (15 bits each) and a vertex by
+/// its index with the top bit set: trees for meshes of up to 32,768 edges, in the same 32
+/// bits, so that nothing else about the trees changes. A crossing read back from its edges has
+/// each edge's ends in the mesh's order rather than the contour's; [`SilhouettePoint::direction`]
+/// gives the same bits either way (swapping the ends negates a cross product exactly, and the
+/// side is chosen by the sum of the ends).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum PointCoding {
+    /// 001 Sect. 5.4: four 8-bit vertex indices.
+    #[default]
+    Vertices8,
+    /// A vertex as `VERTEX_BIT | v`, a crossing as `e1 << 15 | e2` (edge indices).
+    EdgePairs,
+}
+
+/// The top bit: an [`PointCoding::EdgePairs`] code of a vertex.
+const VERTEX_BIT: u32 = 1 << 31;
+
+/// Edges at most for [`PointCoding::EdgePairs`] (15 bits per edge index).
+pub const EDGE_PAIRS_MAX_EDGES: usize = 1 << 15;
+
+impl PointCoding {
+    /// The coding a tree of `poly` uses: the thesis' for up to 256 vertices, edge pairs up to
+    /// [`EDGE_PAIRS_MAX_EDGES`] edges; `None` past that (no tree).
+    pub fn for_mesh(poly: &Polyhedron) -> Option<PointCoding> {
+        if poly.vertices.len() <= 256 {
+            Some(PointCoding::Vertices8)
+        } else if poly.edges.len() <= EDGE_PAIRS_MAX_EDGES
+            && poly.vertices.len() < VERTEX_BIT as usize
+        {
+            Some(PointCoding::EdgePairs)
+        } else {
+            None
+        }
+    }
+
+    /// The code of `p`; `edge_of` finds the edge with the given ends (in either order).
+    /// `None` when an index does not fit.
+    pub fn pack(
+        self,
+        p: &SilhouettePoint,
+        edge_of: impl Fn([u32; 2]) -> Option<u32>,
+    ) -> Option<u32> {
+        match self {
+            PointCoding::Vertices8 => p.pack(),
+            PointCoding::EdgePairs => match *p {
+                SilhouettePoint::Vertex(v) => (v < VERTEX_BIT).then_some(VERTEX_BIT | v),
+                SilhouettePoint::Crossing(a, b) => {
+                    let (ea, eb) = (edge_of(a)?, edge_of(b)?);
+                    let fits = |e: u32| (e as usize) < EDGE_PAIRS_MAX_EDGES;
+                    (fits(ea) && fits(eb)).then_some(ea << 15 | eb)
+                }
+            },
+        }
+    }
+
+    /// The point a code stands for on `poly` (whose indices [`PointCoding::in_range`] checked).
+    #[inline]
+    pub fn unpack(self, code: u32, poly: &Polyhedron) -> SilhouettePoint {
+        match self {
+            PointCoding::Vertices8 => SilhouettePoint::unpack(code),
+            PointCoding::EdgePairs if code & VERTEX_BIT != 0 => {
+                SilhouettePoint::Vertex(code & !VERTEX_BIT)
+            }
+            PointCoding::EdgePairs => SilhouettePoint::Crossing(
+                poly.edges[(code >> 15) as usize].v,
+                poly.edges[(code & 0x7fff) as usize].v,
+            ),
+        }
+    }
+
+    /// Whether every index of `code` is in range for a mesh of `vertices` vertices and `edges`
+    /// edges (a tree read from a file is checked before use).
+    pub fn in_range(self, code: u32, vertices: usize, edges: usize) -> bool {
+        match self {
+            PointCoding::Vertices8 => match SilhouettePoint::unpack(code) {
+                SilhouettePoint::Vertex(v) => (v as usize) < vertices,
+                SilhouettePoint::Crossing(a, b) => {
+                    a.iter().chain(&b).all(|&v| (v as usize) < vertices)
+                }
+            },
+            PointCoding::EdgePairs if code & VERTEX_BIT != 0 => {
+                ((code & !VERTEX_BIT) as usize) < vertices
+            }
+            PointCoding::EdgePairs => {
+                ((code >> 15) as usize) < edges && ((code & 0x7fff) as usize) < edges
+            }
+        }
+    }
+}
+
 /// The loops of the last successful [`exact_silhouette`] call made with `scratch`, as
 /// [`SilhouettePoint`]s; each loop is followed by `None`.
 pub fn symbolic_loops(scratch: &ExactSilhouetteScratch, out: &mut Vec<Option<SilhouettePoint>>) {

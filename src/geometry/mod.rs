@@ -34,8 +34,8 @@ pub use bsp_sections::{PlaneSection, level_sections, path_sections};
 pub use cell_triangulation::{SilhouetteTriangulation, TriangulationLimits, TriangulationStats};
 pub use convex_cell::{CellSide, ConvexCell};
 pub use exact_silhouette::{
-    Degenerate, ExactSilhouetteScratch, ExactSilhouetteStats, SilhouettePoint, exact_silhouette,
-    symbolic_loops,
+    Degenerate, EDGE_PAIRS_MAX_EDGES, ExactSilhouetteScratch, ExactSilhouetteStats, PointCoding,
+    SilhouettePoint, exact_silhouette, symbolic_loops,
 };
 pub use horizon::{HorizonScratch, clip_to_horizon};
 pub use kernel::{kernel, star_centre};

@@ -599,12 +599,35 @@ pub fn window_cone(
     Some((centre, c, s))
 }
 
+/// Sides of the polygon [`clip_to_window`] clips to: an octagon around the window in its
+/// gnomonic plane, two sides for each of these directions (in units of the plane's axes u, v).
+const CLIP_DIRECTIONS: [(f64, f64); 4] = [
+    (1.0, 0.0),
+    (0.0, 1.0),
+    (
+        std::f64::consts::FRAC_1_SQRT_2,
+        std::f64::consts::FRAC_1_SQRT_2,
+    ),
+    (
+        std::f64::consts::FRAC_1_SQRT_2,
+        -std::f64::consts::FRAC_1_SQRT_2,
+    ),
+];
+
 /// The one convex loop `subject` (a convex mesh's silhouette, in the window's frame) clipped
-/// to the widened window `W'` of `window` (Sutherland–Hodgman, each side a great circle;
+/// to an octagon `B` around the window `W` (Sutherland–Hodgman, each side a great circle;
 /// intersections on the chords, so they lie on both great circles up to rounding), into `out`.
-/// `W ∖ (subject ∩ W') = W ∖ subject`, with far fewer vertices for the set difference when
-/// the subject is a large outline around a small light. `false` (and `out` untouched) when the
-/// window is too wide or the subject not one loop.
+///
+/// `B` is the octagon of the window's corners in the gnomonic plane at their mean direction
+/// `c` (the extremes along u, v, u ± v), widened by [`WIDEN`] of its extent. A great-circle arc
+/// is a segment in that plane, so `B`, convex there and holding every corner, holds all of `W`
+/// whether or not `W` is convex, and with a margin: `W ∖ (subject ∩ B) = W ∖ subject`, with
+/// far fewer vertices for the set difference when the subject is a large outline around a
+/// small light, and never more than eight of `B`'s own (the window's corners could be 30 for a
+/// cylinder light seen from the side). The side through the extreme `s` along a unit direction
+/// `d` of the plane is the great circle of the points `w` with `w·d = s (w·c)`, whose normal is
+/// `s c − d` (inside: `w·(s c − d) ≥ 0`). `false` (and `out` untouched) when the window is too
+/// wide for its gnomonic plane ([`MIN_COS_HALF_ANGLE`]), degenerate, or the subject not one loop.
 pub fn clip_to_window(
     subject: &SphericalPolygon,
     window: &[DVec3],
@@ -614,25 +637,39 @@ pub fn clip_to_window(
     if subject.loop_count() != 1 || window.len() < 3 {
         return false;
     }
-    let [corners, a, b] = bufs;
-    if widened(window, |w| w, corners).is_none() {
+    let [sides, a, b] = bufs;
+    let Some(c) = window.iter().sum::<DVec3>().try_normalize() else {
         return false;
-    }
-    let m = corners.len();
-    let orient = corners[0].cross(corners[1]).dot(corners[2]).signum();
-    // Only a convex window: W' then contains W, and clipping to it is clipping to a convex set.
-    for i in 0..m {
-        let n = corners[i].cross(corners[(i + 1) % m]) * orient;
-        for (j, c) in corners.iter().enumerate() {
-            if j != i && j != (i + 1) % m && n.dot(*c) <= TOL {
-                return false;
-            }
+    };
+    let u = c.any_orthonormal_vector();
+    let v = c.cross(u);
+    let mut lo = [f64::INFINITY; 4];
+    let mut hi = [f64::NEG_INFINITY; 4];
+    for &w in window {
+        let cw = w.dot(c);
+        if cw < MIN_COS_HALF_ANGLE {
+            return false;
         }
+        let (gu, gv) = (w.dot(u) / cw, w.dot(v) / cw);
+        for (k, &(du, dv)) in CLIP_DIRECTIONS.iter().enumerate() {
+            let s = gu * du + gv * dv;
+            (lo[k], hi[k]) = (lo[k].min(s), hi[k].max(s));
+        }
+    }
+    let extent = (0..4).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+    if extent.is_nan() || extent <= 1e-12 {
+        return false; // a window of no extent: nothing to clip to
+    }
+    let margin = WIDEN * extent;
+    sides.clear();
+    for (k, &(du, dv)) in CLIP_DIRECTIONS.iter().enumerate() {
+        let d = u * du + v * dv;
+        sides.push(c * (hi[k] + margin) - d);
+        sides.push(d - c * (lo[k] - margin));
     }
     a.clear();
     a.extend_from_slice(subject.loop_at(0));
-    for i in 0..m {
-        let n = corners[i].cross(corners[(i + 1) % m]) * orient;
+    for &n in sides.iter() {
         b.clear();
         let k = a.len();
         for j in 0..k {

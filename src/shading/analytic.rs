@@ -312,7 +312,7 @@ fn record_exact<R: Recorder>(
         let crossings = obj
             .exact_bsp
             .as_ref()
-            .and_then(|t| t.leaf_points(obj.tree_point(x)))
+            .and_then(|t| t.leaf_points(&obj.poly, obj.tree_point(x)))
             .map(|pts| {
                 pts.filter(|p| matches!(p, SilhouettePoint::Crossing(..)))
                     .filter_map(|p| p.direction(&obj.poly, x))

@@ -19,11 +19,10 @@ use super::cost_model::{DEFAULT_EXPECTED_RAYS, MeshCostClass, TreeBudget, tree_b
 use super::tree_cache::{CachedTree, TreeCache, tree_key};
 use super::tree_library::{LibraryEntry, TreeLibrary};
 use crate::geometry::bsp::face_planes_exceed;
-use crate::geometry::bsp_nonconvex::EXACT_BSP_MAX_VERTICES;
 use crate::geometry::{
-    ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Plane, Polyhedron, SilhouetteBsp,
-    SilhouetteTriangulation, TriangulationLimits, convex_stand_in, separating_plane,
-    solid_angle_bound, star_centre,
+    EDGE_PAIRS_MAX_EDGES, ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Plane,
+    PointCoding, Polyhedron, SilhouetteBsp, SilhouetteTriangulation, TriangulationLimits,
+    convex_stand_in, separating_plane, solid_angle_bound, star_centre,
 };
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
@@ -343,10 +342,12 @@ pub fn build_mesh_trees(
         _ => {
             built += 1;
             let over = CachedTree::OverLimit { tried: budget };
-            let tree = if d.convex {
+            let tree = if budget == 0 {
+                over // the cost model wants no tree (`cost_model::tree_budget`)
+            } else if d.convex {
                 SilhouetteBsp::build_convex_limited(poly, lo, hi, budget)
                     .map_or(over, |(t, _)| CachedTree::Convex(t))
-            } else if poly.vertices.len() > EXACT_BSP_MAX_VERTICES {
+            } else if PointCoding::for_mesh(poly).is_none() {
                 CachedTree::OverLimit { tried: usize::MAX }
             } else if face_planes_exceed(poly, lo, hi, budget) {
                 // The quick trial: the leaves refine the face planes' cells.
@@ -366,7 +367,8 @@ pub fn build_mesh_trees(
         }
     };
     let triangulation = match &tree {
-        CachedTree::Exact(exact) if triangulate => {
+        // Triangulations keep the thesis' coding of points: meshes of at most 256 vertices.
+        CachedTree::Exact(exact) if triangulate && exact.coding == PointCoding::Vertices8 => {
             let key = key ^ TRIANGULATION_KEY;
             match cache.and_then(|c| c.load(key, poly)) {
                 Some(CachedTree::Triangulation(t)) => Some(t),
@@ -754,11 +756,16 @@ impl PreparedScene {
                     budget_words(budget, MAX_BSP_CELLS, "cells")
                 ));
             } else if !d.convex && o.exact_bsp.is_none() {
-                let why = if o.poly.vertices.len() > EXACT_BSP_MAX_VERTICES {
+                let why = if PointCoding::for_mesh(&o.poly).is_none() {
                     format!(
-                        "has more than {EXACT_BSP_MAX_VERTICES} vertices, too many for a tree \
-                         of precomputed silhouettes"
+                        "mesh has more than {EDGE_PAIRS_MAX_EDGES} edges, too many for a \
+                         tree of precomputed silhouettes"
                     )
+                } else if budget.is_some_and(|b| b.saving_seconds == 0.0) {
+                    "silhouette inside each light's window costs less than reading the whole \
+                     one from a tree of precomputed silhouettes (the cost model), so it gets \
+                     no tree"
+                        .to_string()
                 } else {
                     format!(
                         "tree of precomputed silhouettes would have more than {} leaves{}",

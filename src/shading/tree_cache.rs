@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
 /// Bump whenever a tree build changes what it produces.
-pub const FORMAT: u32 = 4;
+pub const FORMAT: u32 = 5;
 
 /// The default bound on the cache's size on disk.
 pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
@@ -124,10 +124,10 @@ impl TreeCache {
         if file.format != FORMAT || file.key != key {
             return None;
         }
-        let nv = poly.vertices.len();
+        let (nv, ne) = (poly.vertices.len(), poly.edges.len());
         let ok = match &file.tree {
             CachedTree::Convex(t) => t.is_well_formed(nv),
-            CachedTree::Exact(t) => t.is_well_formed(nv),
+            CachedTree::Exact(t) => t.is_well_formed(nv, ne),
             CachedTree::Triangulation(t) => t.is_well_formed(nv),
             CachedTree::OverLimit { .. } => true,
         };
