@@ -28,6 +28,7 @@ mod ltc_generate;
 mod ltc_ggx;
 mod ltc_table;
 mod near_convex;
+mod quantitative_invisibility;
 mod recorder;
 mod scene_loading;
 mod scene_obj;

@@ -14,6 +14,7 @@
 
 use super::SphericalPolygon;
 use super::polyhedron::{NO_FACE, Polyhedron};
+use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
 use super::silhouette::is_front_facing;
 use crate::accel::{PreparedRay, Ray, is_degenerate};
 use crate::math::Frame;
@@ -85,6 +86,10 @@ pub struct ExactSilhouetteScratch {
     /// Kept pieces by the end they start at, for chaining: (key of the end, position in
     /// `kept`), sorted.
     starts: Vec<(u64, u32)>,
+    /// One ray per piece instead of quantitative invisibility (implied by `all_pairs`).
+    pub per_piece_rays: bool,
+    /// The propagation of quantitative invisibility (step 4).
+    pub qi: QiScratch,
 }
 
 /// Buffers of [`candidate_pairs`].
@@ -171,6 +176,8 @@ pub struct ExactSilhouetteStats {
     pub apparent_intersections: u32,
     pub pieces: u32,
     pub kept: u32,
+    /// Rays cast to decide which pieces are kept.
+    pub rays: u32,
 }
 
 /// Angular tolerance (radians) below which an apparent intersection is taken to be at an end.
@@ -306,14 +313,54 @@ pub fn exact_silhouette(
     }
     stats.pieces = scratch.pieces.len() as u32;
 
-    // 4. Keep the pieces whose midpoint ray meets no face but the edge's own two.
+    // 4. Keep the pieces whose midpoint ray meets no face but the edge's own two: one ray per
+    //    piece, or quantitative invisibility (one ray per connected set of pieces, the count
+    //    carried along) on a closed manifold mesh.
     scratch.kept.clear();
-    for (pi, piece) in scratch.pieces.iter().enumerate() {
-        let mid = (piece.from + piece.to).normalize();
-        let faces = scratch.edges[piece.edge as usize].faces;
-        if !blocked(poly, x, mid, faces, scratch.all_pairs) {
-            scratch.kept.push(pi as u32);
+    if scratch.all_pairs
+        || scratch.per_piece_rays
+        || !poly.diagnostics.closed_manifold
+        || qi_disabled()
+    {
+        for (pi, piece) in scratch.pieces.iter().enumerate() {
+            let mid = (piece.from + piece.to).normalize();
+            let faces = scratch.edges[piece.edge as usize].faces;
+            if !blocked(poly, x, mid, faces, scratch.all_pairs) {
+                scratch.kept.push(pi as u32);
+            }
         }
+        stats.rays = stats.pieces;
+    } else {
+        let qi = &mut scratch.qi;
+        qi.edges.clear();
+        qi.edges.extend(scratch.edges.iter().map(|e| QiEdge {
+            v: e.v,
+            faces: e.faces,
+            n: e.n,
+        }));
+        let end = |e: End| match e {
+            End::Vertex(v) => QiEnd::Vertex(v),
+            End::Crossing(id) => QiEnd::Crossing(id),
+        };
+        qi.pieces.clear();
+        qi.pieces.extend(scratch.pieces.iter().map(|p| QiPiece {
+            edge: p.edge,
+            start: end(p.start),
+            end: end(p.end),
+            from: p.from,
+            to: p.to,
+        }));
+        qi.solve(
+            poly,
+            poly.vertex_faces.as_deref(),
+            x,
+            &scratch.crossings,
+            |dir, faces| count_ray_hits(poly, x, dir, faces, false),
+        );
+        scratch
+            .kept
+            .extend((0..scratch.pieces.len() as u32).filter(|&q| qi.count[q as usize] == 0));
+        stats.rays = qi.stats.rays;
     }
     stats.kept = scratch.kept.len() as u32;
 
@@ -372,6 +419,20 @@ fn end_key(e: End) -> u64 {
 }
 
 impl ExactSilhouetteScratch {
+    /// Per piece of the last call that used quantitative invisibility: the ray through its
+    /// midpoint (unit, world orientation), its edge's own faces, its count `c` and whether
+    /// that count came from a ray at the piece (for tests: every count equals the ray's).
+    pub fn qi_counts(&self) -> impl Iterator<Item = (DVec3, [u32; 2], i32, bool)> + '_ {
+        self.qi.pieces.iter().enumerate().map(|(q, p)| {
+            (
+                (p.from + p.to).normalize(),
+                self.qi.edges[p.edge as usize].faces,
+                self.qi.count[q],
+                self.qi.from_ray[q],
+            )
+        })
+    }
+
     /// The apparent intersections found by the last call (unit directions from the point, in
     /// world orientation), for the debugger.
     pub fn crossings(&self) -> &[DVec3] {
@@ -604,32 +665,63 @@ pub(crate) fn blocked_ray(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2
 /// the piece's edge? Hits before and beyond the edge both count: a piece with part of the mesh
 /// in front of it or directly behind it separates nothing from the background.
 fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) -> bool {
-    let t_min = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
     let ray = PreparedRay::new(&Ray::new(x, dir));
-    let hit_face = |f: usize| {
-        if skip.contains(&(f as u32)) {
-            return false;
-        }
-        // The ray meets the face's plane ahead of x only when it heads toward that plane (x
-        // is never in a face plane here: the caller returned `CoplanarFace`).
-        let plane = &poly.face_planes[f];
-        if plane.eval(x) * plane.n.dot(dir) >= 0.0 {
-            return false;
-        }
-        let idx = poly.face(f);
-        let v0 = poly.vertices[idx[0] as usize];
-        (1..idx.len() - 1).any(|k| {
-            let (v1, v2) = (
-                poly.vertices[idx[k] as usize],
-                poly.vertices[idx[k + 1] as usize],
-            );
-            !is_degenerate(v0, v1, v2) && ray.intersect(v0, v1, v2, t_min, f64::INFINITY).is_some()
-        })
-    };
+    let hit_face = |f: usize| face_hit(poly, x, dir, &ray, skip, f);
     // The face hierarchy hands out the faces whose box the ray meets; the test of each is the
     // same as the scan's, so the answer is too.
     match &poly.face_bvh {
         Some(bvh) if !scan => bvh.any(x, dir, |f| hit_face(f as usize)),
         _ => (0..poly.face_count()).any(hit_face),
     }
+}
+
+/// How many faces of `poly` other than `skip` the ray from `x` along `dir` meets: the count
+/// `c` of quantitative invisibility, by the very test of [`blocked`] (which is `c > 0`).
+pub fn count_ray_hits(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) -> u32 {
+    let ray = PreparedRay::new(&Ray::new(x, dir));
+    let hit_face = |f: usize| face_hit(poly, x, dir, &ray, skip, f);
+    match &poly.face_bvh {
+        Some(bvh) if !scan => {
+            let mut c = 0;
+            // Every face once (the hierarchy's leaves partition the faces); never stop early.
+            bvh.any(x, dir, |f| {
+                c += u32::from(hit_face(f as usize));
+                false
+            });
+            c
+        }
+        _ => (0..poly.face_count()).filter(|&f| hit_face(f)).count() as u32,
+    }
+}
+
+/// The face test of [`blocked`] and [`count_ray_hits`]: does `ray` (from `x` along `dir`) meet
+/// face `f`, unless it is one of `skip`?
+#[inline]
+fn face_hit(
+    poly: &Polyhedron,
+    x: DVec3,
+    dir: DVec3,
+    ray: &PreparedRay,
+    skip: [u32; 2],
+    f: usize,
+) -> bool {
+    if skip.contains(&(f as u32)) {
+        return false;
+    }
+    let t_min = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
+    // The ray meets the face's plane ahead of x only when it heads toward that plane (x
+    // is never in a face plane here: the caller returned `CoplanarFace`).
+    let plane = &poly.face_planes[f];
+    if plane.eval(x) * plane.n.dot(dir) >= 0.0 {
+        return false;
+    }
+    let idx = poly.face(f);
+    let v0 = poly.vertices[idx[0] as usize];
+    (1..idx.len() - 1).any(|k| {
+        let (v1, v2) = (
+            poly.vertices[idx[k] as usize],
+            poly.vertices[idx[k + 1] as usize],
+        );
+        !is_degenerate(v0, v1, v2) && ray.intersect(v0, v1, v2, t_min, f64::INFINITY).is_some()
+    })
 }

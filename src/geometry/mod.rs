@@ -18,6 +18,7 @@ pub mod overlap;
 mod polygon_loops;
 pub mod polyhedron;
 pub mod projection;
+pub mod quantitative_invisibility;
 pub mod separation;
 pub mod set_difference;
 pub mod silhouette;
@@ -35,7 +36,7 @@ pub use cell_triangulation::{SilhouetteTriangulation, TriangulationLimits, Trian
 pub use convex_cell::{CellSide, ConvexCell};
 pub use exact_silhouette::{
     Degenerate, EDGE_PAIRS_MAX_EDGES, ExactSilhouetteScratch, ExactSilhouetteStats, PointCoding,
-    SilhouettePoint, exact_silhouette, symbolic_loops,
+    SilhouettePoint, count_ray_hits, exact_silhouette, symbolic_loops,
 };
 pub use horizon::{HorizonScratch, clip_to_horizon};
 pub use kernel::{kernel, star_centre};
@@ -44,6 +45,7 @@ pub use overlap::{Overlap, classify as classify_overlap};
 pub use polygon_loops::PolygonLoops;
 pub use polyhedron::{Edge, FeatureCounts, MeshDiagnostics, Plane, Polyhedron};
 pub use projection::{PlanarPolygon, ProjectionPlane};
+pub use quantitative_invisibility::QiStats;
 pub use separation::separating_plane;
 pub use set_difference::{GreinerHormannSteps, SetDifference};
 pub use silhouette::{Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette};

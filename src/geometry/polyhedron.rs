@@ -86,6 +86,9 @@ pub struct Polyhedron {
     /// Adjacency for walking the contour of a large convex mesh (`silhouette_walk`).
     #[serde(skip)]
     pub contour_walk: Option<std::sync::Arc<super::silhouette_walk::ContourWalk>>,
+    /// The faces at each vertex, for closed manifold meshes (quantitative invisibility).
+    #[serde(skip)]
+    pub vertex_faces: Option<std::sync::Arc<super::quantitative_invisibility::VertexFaces>>,
 }
 
 impl Polyhedron {
@@ -251,9 +254,22 @@ impl Polyhedron {
             face_bvh: None,
             face_edges: None,
             contour_walk: None,
+            vertex_faces: None,
         }
         .with_face_bvh()
         .with_contour_walk()
+        .with_vertex_faces()
+    }
+
+    /// Builds [`Polyhedron::vertex_faces`] for a closed manifold mesh.
+    fn with_vertex_faces(mut self) -> Self {
+        if self.diagnostics.closed_manifold {
+            let faces = (0..self.face_count()).map(|f| self.face(f));
+            self.vertex_faces = Some(std::sync::Arc::new(
+                super::quantitative_invisibility::VertexFaces::build(self.vertices.len(), faces),
+            ));
+        }
+        self
     }
 
     /// Builds [`Polyhedron::contour_walk`] for a large convex mesh.

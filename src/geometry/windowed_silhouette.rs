@@ -31,8 +31,9 @@
 //! takes the full exact silhouette.
 
 use super::SphericalPolygon;
-use super::exact_silhouette::{SweepScratch, blocked_ray, candidate_pairs};
+use super::exact_silhouette::{SweepScratch, blocked_ray, candidate_pairs, count_ray_hits};
 use super::polyhedron::{NO_FACE, Polyhedron};
+use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
 use super::silhouette::is_front_facing;
 use crate::math::Frame;
 use glam::DVec3;
@@ -106,8 +107,13 @@ pub struct WindowScratch {
     /// The sweep over the clipped arcs, and the pairs it keeps.
     sweep: SweepScratch,
     pairs: Vec<(u32, u32)>,
-    /// Test every pair of arcs (the reference the sweep is tested against).
+    /// Test every pair of arcs and cast one ray per piece (the reference the sweep and the
+    /// propagation are tested against).
     pub all_pairs: bool,
+    /// One ray per piece instead of quantitative invisibility (implied by `all_pairs`).
+    pub per_piece_rays: bool,
+    /// The propagation of quantitative invisibility (step 5).
+    pub qi: QiScratch,
 }
 
 /// What the windowed silhouette did.
@@ -117,6 +123,8 @@ pub struct WindowStats {
     pub contour_arcs: u32,
     pub pieces: u32,
     pub kept: u32,
+    /// Rays cast: for the pieces, and at a corner of `W'` when no chain crosses it.
+    pub rays: u32,
 }
 
 /// Writes into `out` (in `frame`) loops whose covered region agrees with the exact silhouette
@@ -378,13 +386,53 @@ pub fn exact_silhouette_in_window(
         b.1 = s as f64 + f;
     }
 
-    // 5. Keep the pieces whose midpoint ray meets no face but the arc's own two.
+    // 5. Keep the pieces whose midpoint ray meets no face but the arc's own two: one ray per
+    //    piece, or quantitative invisibility (one ray per connected set of pieces in W').
     scratch.kept.clear();
-    for (pi, p) in scratch.pieces.iter().enumerate() {
-        let mid = (p.from + p.to).normalize();
-        if !blocked_ray(poly, x, mid, scratch.arcs[p.arc as usize].faces) {
-            scratch.kept.push(pi as u32);
+    if scratch.all_pairs
+        || scratch.per_piece_rays
+        || !poly.diagnostics.closed_manifold
+        || qi_disabled()
+    {
+        for (pi, p) in scratch.pieces.iter().enumerate() {
+            let mid = (p.from + p.to).normalize();
+            if !blocked_ray(poly, x, mid, scratch.arcs[p.arc as usize].faces) {
+                scratch.kept.push(pi as u32);
+            }
         }
+        stats.rays = stats.pieces;
+    } else {
+        let qi = &mut scratch.qi;
+        qi.edges.clear();
+        qi.edges.extend(scratch.arcs.iter().map(|a| QiEdge {
+            v: a.v,
+            faces: a.faces,
+            n: a.n,
+        }));
+        let end = |e: End| match e {
+            End::Vertex(v) => QiEnd::Vertex(v),
+            End::Crossing(id) => QiEnd::Crossing(id),
+            End::Boundary(_) => QiEnd::Other,
+        };
+        qi.pieces.clear();
+        qi.pieces.extend(scratch.pieces.iter().map(|p| QiPiece {
+            edge: p.arc,
+            start: end(p.start),
+            end: end(p.end),
+            from: p.from,
+            to: p.to,
+        }));
+        qi.solve(
+            poly,
+            poly.vertex_faces.as_deref(),
+            x,
+            &scratch.crossings,
+            |dir, faces| count_ray_hits(poly, x, dir, faces, false),
+        );
+        scratch
+            .kept
+            .extend((0..scratch.pieces.len() as u32).filter(|&q| qi.count[q as usize] == 0));
+        stats.rays = qi.stats.rays;
     }
     stats.kept = scratch.kept.len() as u32;
 
@@ -451,6 +499,7 @@ pub fn exact_silhouette_in_window(
                 return None;
             }
         }
+        stats.rays += 1;
         if blocked_ray(poly, x, corner, [NO_FACE; 2]) {
             for &w in &scratch.window {
                 out.push_vertex(frame.to_local(w));
@@ -548,6 +597,22 @@ pub fn exact_silhouette_in_window(
         out.close_loop();
     }
     Some(stats)
+}
+
+impl WindowScratch {
+    /// Per piece of the last call that used quantitative invisibility: the ray through its
+    /// midpoint (unit, world orientation), its arc's own faces, its count `c` and whether that
+    /// count came from a ray at the piece (for tests: every count equals the ray's).
+    pub fn qi_counts(&self) -> impl Iterator<Item = (DVec3, [u32; 2], i32, bool)> + '_ {
+        self.qi.pieces.iter().enumerate().map(|(q, p)| {
+            (
+                (p.from + p.to).normalize(),
+                self.qi.edges[p.edge as usize].faces,
+                self.qi.count[q],
+                self.qi.from_ray[q],
+            )
+        })
+    }
 }
 
 /// `W'`: the window (unit directions in `frame`) in world directions, scaled about its centre

@@ -1,0 +1,469 @@
+//! Quantitative invisibility (Appel 1967; Markosian et al. 1997) for the exact silhouettes
+//! ([`exact_silhouette`](super::exact_silhouette) and the windowed one): instead of one ray per
+//! piece of contour edge, one ray per connected set of pieces, and the count of faces the ray
+//! meets carried from piece to piece by exact local rules (docs/silhouettes.md, "Quantitative
+//! invisibility").
+//!
+//! For a piece of the contour edge `e`, `c` is the number of faces other than `e`'s own two
+//! that the ray from `x` through the piece's midpoint meets (before or beyond the edge): the
+//! piece is kept iff `c = 0`. Along the pieces and between them, `c` changes only by:
+//!
+//! * **crossings** ([`crossing_step`]): passing the apparent intersection `p` of `e` with
+//!   another contour edge `g`, `c` changes by `+2` if the travel direction `e.n × p` leads to
+//!   the mesh side of `g` (`g.n · (e.n × p) > 0`, where the ray meets both of `g`'s faces next
+//!   to `g`) and by `−2` otherwise; and across the crossing from the piece of `e` after `p` to
+//!   the piece of `g` after `p` by `−2` or `+2` for the same sign ([`crossing_transfer`]);
+//! * **vertices** ([`vertex_step`]): from a piece of `e1` ending at a contour vertex `v` to a
+//!   piece of `e2` at `v`, `c` changes by the faces of `v`'s star (other than each edge's own)
+//!   that cover the direction of `e2` near `v` minus those that cover the direction of `e1`,
+//!   decided by the signs of determinants of the directions from `x` to `v` and its
+//!   neighbours (the wedge of each fan triangle at `v`).
+//!
+//! Whatever is not decided exactly (edges sharing a face, a sign within rounding of zero, a
+//! piece shorter than [`TINY`] next to a link) leaves the link unused, and a piece no used link
+//! reaches gets its own ray: the counts are those of the per-piece rays, never guesses. A count
+//! that comes out negative, or two routes that give one piece two counts, send the whole call
+//! back to one ray per piece.
+
+use super::polyhedron::Polyhedron;
+use crate::accel::is_degenerate;
+use glam::DVec3;
+
+/// Whether the environment turns quantitative invisibility off (`PENUMBRA_QI=off`): one ray
+/// per piece everywhere, for measuring what the propagation saves end to end.
+pub fn qi_disabled() -> bool {
+    static OFF: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *OFF.get_or_init(|| std::env::var("PENUMBRA_QI").is_ok_and(|v| v == "off"))
+}
+
+/// Faces at each vertex (each face once), for the vertex rule.
+#[derive(Clone, Debug, Default)]
+pub struct VertexFaces {
+    start: Vec<u32>,
+    faces: Vec<u32>,
+}
+
+impl VertexFaces {
+    /// The faces at every vertex of a mesh of `vertex_count` vertices and faces `face(f)`.
+    pub fn build<'a>(vertex_count: usize, faces: impl Iterator<Item = &'a [u32]> + Clone) -> Self {
+        let mut start = vec![0u32; vertex_count + 1];
+        let mut seen: Vec<u32> = Vec::new();
+        for idx in faces.clone() {
+            seen.clear();
+            for &v in idx {
+                if !seen.contains(&v) {
+                    seen.push(v);
+                    start[v as usize + 1] += 1;
+                }
+            }
+        }
+        for i in 0..vertex_count {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut out = vec![0u32; start[vertex_count] as usize];
+        for (f, idx) in faces.enumerate() {
+            seen.clear();
+            for &v in idx {
+                if !seen.contains(&v) {
+                    seen.push(v);
+                    out[fill[v as usize] as usize] = f as u32;
+                    fill[v as usize] += 1;
+                }
+            }
+        }
+        VertexFaces { start, faces: out }
+    }
+
+    #[inline]
+    pub fn of(&self, v: u32) -> &[u32] {
+        &self.faces[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
+    }
+}
+
+/// Pieces whose angle (its sine) is below this take part in no link: the order of two cuts so
+/// close together, or of a cut and an end, is not trusted.
+pub const TINY: f64 = 1e-8;
+
+/// Relative size below which a sign (of a determinant of directions, or of the sine of a
+/// crossing angle) is not trusted.
+const SIGN_TOL: f64 = 1e-10;
+
+/// A contour edge as the propagation sees it: oriented ends (mesh vertices), own faces, unit
+/// normal of its great circle (the mesh to its left: the side where `n · d > 0`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct QiEdge {
+    pub v: [u32; 2],
+    pub faces: [u32; 2],
+    pub n: DVec3,
+}
+
+/// Where a piece starts or ends, for the propagation: a mesh vertex, a crossing (its id), or
+/// anything else (the window's boundary), which links nothing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum QiEnd {
+    Vertex(u32),
+    Crossing(u32),
+    Other,
+}
+
+/// A piece: its edge (index into the edges), ends, and unit end directions. The pieces of one
+/// edge are consecutive and in order along it, joined at crossings.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct QiPiece {
+    pub edge: u32,
+    pub start: QiEnd,
+    pub end: QiEnd,
+    pub from: DVec3,
+    pub to: DVec3,
+}
+
+/// What the propagation did at one point.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct QiStats {
+    /// Rays cast (one per piece in the per-piece mode).
+    pub rays: u32,
+    /// Links between pieces left unused because they could not be decided exactly.
+    pub undecided_links: u32,
+    /// Connected sets of pieces through all links, decided or not (computed only when
+    /// [`QiScratch::measure`] is set): `rays − components` rays were cast because of undecided
+    /// links (the fallback).
+    pub components: u32,
+    /// The call went back to one ray per piece (a negative or contradictory count).
+    pub whole_fallback: bool,
+}
+
+const UNKNOWN: i32 = i32::MIN;
+
+/// Buffers of the propagation.
+#[derive(Clone, Debug, Default)]
+pub struct QiScratch {
+    pub(crate) edges: Vec<QiEdge>,
+    pub(crate) pieces: Vec<QiPiece>,
+    /// The count `c` of each piece, after [`QiScratch::solve`].
+    pub(crate) count: Vec<i32>,
+    /// Whether the count came from a ray at the piece.
+    pub(crate) from_ray: Vec<bool>,
+    tiny: Vec<bool>,
+    /// Per crossing: the pieces that start at it (one on each edge).
+    after: Vec<[u32; 2]>,
+    /// (vertex, piece) for every piece end at a mesh vertex, sorted.
+    at_vertex: Vec<(u32, u32)>,
+    stack: Vec<u32>,
+    parent: Vec<u32>,
+    /// Count the connected sets of pieces too ([`QiStats::components`]), for tests and the
+    /// benchmark.
+    pub measure: bool,
+    pub stats: QiStats,
+}
+
+/// The change of `c` along the edge `e` passing its crossing `p` with the edge `g`, or `None`
+/// when it is not decided: the ray meets both of `g`'s faces on `g`'s mesh side, none on the
+/// other.
+#[inline]
+pub(crate) fn crossing_step(e: &QiEdge, g: &QiEdge, p: DVec3) -> Option<i32> {
+    if e.faces.iter().any(|f| g.faces.contains(f)) {
+        return None;
+    }
+    let s = g.n.dot(e.n.cross(p));
+    if s.abs() <= SIGN_TOL {
+        return None;
+    }
+    Some(if s > 0.0 { 2 } else { -2 })
+}
+
+/// `c` of the piece of `g` after the crossing `p` minus `c` of the piece of `e` after it: the
+/// faces other than `e`'s and `g`'s are met alike next to `p`; after `p` along `e` the ray meets
+/// `g`'s two faces iff `g.n · (e.n × p) > 0`, and after `p` along `g` it meets `e`'s two iff
+/// `e.n · (g.n × p) > 0`, the opposite sign.
+#[inline]
+pub(crate) fn crossing_transfer(e: &QiEdge, g: &QiEdge, p: DVec3) -> Option<i32> {
+    crossing_step(e, g, p).map(|s| -s)
+}
+
+/// Whether the face `f` at the mesh vertex `v` (direction `vd = v − x`) covers the directions
+/// from `x` just off `v` toward `t` (`t − x`, any point but `v` on the arc's great circle): is
+/// `t`'s direction strictly inside the wedge at `v` of one of the face's fan triangles (those
+/// the ray test uses) that have `v` as a corner? `None` within rounding of a wedge's side.
+fn covers(poly: &Polyhedron, x: DVec3, f: u32, v: u32, vd: DVec3, td: DVec3) -> Option<bool> {
+    let idx = poly.face(f as usize);
+    let det = |a: DVec3, b: DVec3, c: DVec3| a.dot(b.cross(c));
+    let (lv, lt) = (vd.length(), td.length());
+    let mut hit = false;
+    for k in 1..idx.len() - 1 {
+        let tri = [idx[0], idx[k], idx[k + 1]];
+        let Some(at) = tri.iter().position(|&w| w == v) else {
+            continue;
+        };
+        let (p, q) = (tri[(at + 1) % 3], tri[(at + 2) % 3]);
+        let (pv, qv) = (poly.vertices[p as usize], poly.vertices[q as usize]);
+        if is_degenerate(
+            poly.vertices[tri[0] as usize],
+            poly.vertices[tri[1] as usize],
+            poly.vertices[tri[2] as usize],
+        ) {
+            continue; // the ray test skips it too
+        }
+        let (pd, qd) = (pv - x, qv - x);
+        let (lp, lq) = (pd.length(), qd.length());
+        let s = det(vd, pd, qd);
+        let sp = det(vd, pd, td);
+        let sq = det(vd, td, qd);
+        if s.abs() <= SIGN_TOL * lv * lp * lq
+            || sp.abs() <= SIGN_TOL * lv * lp * lt
+            || sq.abs() <= SIGN_TOL * lv * lt * lq
+        {
+            return None;
+        }
+        if sp * s > 0.0 && sq * s > 0.0 {
+            hit = true;
+        }
+    }
+    Some(hit)
+}
+
+/// `c` next to the mesh vertex `v` along an edge toward `b` (own faces `fb`) minus `c` next to
+/// `v` along an edge toward `a` (own faces `fa`): only the faces at `v` differ there (every
+/// other face is met alike by all rays close to `v`'s direction, the configurations where it is
+/// not being degenerate for the caller).
+pub(crate) fn vertex_step(
+    poly: &Polyhedron,
+    star: &VertexFaces,
+    x: DVec3,
+    v: u32,
+    (a, fa): (u32, [u32; 2]),
+    (b, fb): (u32, [u32; 2]),
+) -> Option<i32> {
+    let vd = poly.vertices[v as usize] - x;
+    let (ad, bd) = (poly.vertices[a as usize] - x, poly.vertices[b as usize] - x);
+    let mut delta = 0;
+    for &f in star.of(v) {
+        if !fa.contains(&f) && covers(poly, x, f, v, vd, ad)? {
+            delta -= 1;
+        }
+        if !fb.contains(&f) && covers(poly, x, f, v, vd, bd)? {
+            delta += 1;
+        }
+    }
+    Some(delta)
+}
+
+/// The other end of an edge at its end `v`.
+#[inline]
+fn other_end(e: &QiEdge, v: u32) -> u32 {
+    if e.v[0] == v { e.v[1] } else { e.v[0] }
+}
+
+fn find(parent: &mut [u32], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        parent[i as usize] = parent[parent[i as usize] as usize];
+        i = parent[i as usize];
+    }
+    i
+}
+
+impl QiScratch {
+    /// The counts of [`QiScratch::pieces`] (crossing directions `crossings`, by id): one ray
+    /// (`ray(direction, own faces)`, the count of faces met) for each piece the links from
+    /// pieces already counted do not reach. Afterwards `count[q] == 0` iff piece `q` is kept.
+    /// `star` is `None` for meshes without vertex adjacency: no vertex links then.
+    pub(crate) fn solve(
+        &mut self,
+        poly: &Polyhedron,
+        star: Option<&VertexFaces>,
+        x: DVec3,
+        crossings: &[DVec3],
+        mut ray: impl FnMut(DVec3, [u32; 2]) -> u32,
+    ) {
+        let n = self.pieces.len();
+        self.stats = QiStats::default();
+        self.count.clear();
+        self.count.resize(n, UNKNOWN);
+        self.from_ray.clear();
+        self.from_ray.resize(n, false);
+        self.tiny.clear();
+        self.tiny.extend(
+            self.pieces
+                .iter()
+                // Arcs may be longer than π/2 (seen from near a vertex): short means a small
+                // sine and a positive cosine.
+                .map(|p| p.from.cross(p.to).length() <= TINY && p.from.dot(p.to) > 0.0),
+        );
+        self.after.clear();
+        self.after.resize(crossings.len(), [u32::MAX; 2]);
+        self.at_vertex.clear();
+        for (q, p) in self.pieces.iter().enumerate() {
+            if let QiEnd::Crossing(id) = p.start {
+                let slot = &mut self.after[id as usize];
+                if slot[0] == u32::MAX {
+                    slot[0] = q as u32;
+                } else {
+                    slot[1] = q as u32;
+                }
+            }
+            if star.is_some() {
+                for end in [p.start, p.end] {
+                    if let QiEnd::Vertex(v) = end {
+                        self.at_vertex.push((v, q as u32));
+                    }
+                }
+            }
+        }
+        self.at_vertex.sort_unstable();
+
+        let mut conflict = false;
+        for q0 in 0..n {
+            if self.count[q0] != UNKNOWN {
+                continue;
+            }
+            let p = self.pieces[q0];
+            let mid = (p.from + p.to).normalize();
+            self.count[q0] = ray(mid, self.edges[p.edge as usize].faces) as i32;
+            self.from_ray[q0] = true;
+            self.stats.rays += 1;
+            self.stack.clear();
+            self.stack.push(q0 as u32);
+            while let Some(q) = self.stack.pop() {
+                let q = q as usize;
+                if self.tiny[q] {
+                    continue;
+                }
+                let c = self.count[q];
+                let p = self.pieces[q];
+                let e = self.edges[p.edge as usize];
+                // Assigns `c + delta` to piece r (or checks it against its count).
+                let mut link = |r: usize, delta: Option<i32>, this: &mut Self| {
+                    if this.tiny[r] {
+                        this.stats.undecided_links += 1;
+                        return;
+                    }
+                    let Some(d) = delta else {
+                        this.stats.undecided_links += 1;
+                        return;
+                    };
+                    let value = c + d;
+                    if this.count[r] == UNKNOWN {
+                        if value < 0 {
+                            conflict = true;
+                            return;
+                        }
+                        this.count[r] = value;
+                        this.stack.push(r as u32);
+                    } else if this.count[r] != value {
+                        conflict = true;
+                    }
+                };
+                // Along the edge, across the crossings at the piece's ends.
+                if let QiEnd::Crossing(id) = p.end {
+                    let g = self.crossing_partner(id, p.edge);
+                    let d =
+                        g.and_then(|g| crossing_step(&e, &self.edges[g], crossings[id as usize]));
+                    link(q + 1, d, self);
+                }
+                if let QiEnd::Crossing(id) = p.start {
+                    let g = self.crossing_partner(id, p.edge);
+                    let d =
+                        g.and_then(|g| crossing_step(&e, &self.edges[g], crossings[id as usize]));
+                    link(q - 1, d.map(|d| -d), self);
+                    // To the other edge's piece after the crossing, when both pieces before it
+                    // are long enough too (nothing else near the crossing).
+                    let [a, b] = self.after[id as usize];
+                    let r = if a as usize == q { b } else { a } as usize;
+                    if !self.tiny[q - 1] && !self.tiny[r - 1] {
+                        let g = self.pieces[r].edge as usize;
+                        let d = crossing_transfer(&e, &self.edges[g], crossings[id as usize]);
+                        link(r, d, self);
+                    } else {
+                        self.stats.undecided_links += 1;
+                    }
+                }
+                // Around the mesh vertices at its ends.
+                if let Some(star) = star {
+                    for end in [p.start, p.end] {
+                        let QiEnd::Vertex(v) = end else { continue };
+                        let from = self.at_vertex.partition_point(|&(w, _)| w < v);
+                        let mut k = from;
+                        while k < self.at_vertex.len() && self.at_vertex[k].0 == v {
+                            let r = self.at_vertex[k].1 as usize;
+                            k += 1;
+                            if r == q {
+                                continue;
+                            }
+                            let g = self.edges[self.pieces[r].edge as usize];
+                            let d = vertex_step(
+                                poly,
+                                star,
+                                x,
+                                v,
+                                (other_end(&e, v), e.faces),
+                                (other_end(&g, v), g.faces),
+                            );
+                            link(r, d, self);
+                        }
+                    }
+                }
+            }
+            if conflict {
+                break;
+            }
+        }
+        if conflict {
+            // Back to one ray per piece.
+            self.stats.whole_fallback = true;
+            self.stats.rays = 0;
+            for q in 0..n {
+                let p = self.pieces[q];
+                let mid = (p.from + p.to).normalize();
+                self.count[q] = ray(mid, self.edges[p.edge as usize].faces) as i32;
+                self.from_ray[q] = true;
+                self.stats.rays += 1;
+            }
+        }
+        if self.measure {
+            self.stats.components = self.components();
+        }
+    }
+
+    /// The other edge of crossing `id` (the edge of the other piece starting there).
+    #[inline]
+    fn crossing_partner(&self, id: u32, edge: u32) -> Option<usize> {
+        let [a, b] = self.after[id as usize];
+        if a == u32::MAX || b == u32::MAX {
+            return None;
+        }
+        let (ea, eb) = (self.pieces[a as usize].edge, self.pieces[b as usize].edge);
+        Some(if ea == edge { eb } else { ea } as usize)
+    }
+
+    /// Connected sets of pieces through every link, decided or not.
+    fn components(&mut self) -> u32 {
+        let n = self.pieces.len();
+        self.parent.clear();
+        self.parent.extend(0..n as u32);
+        let union = |parent: &mut Vec<u32>, a: u32, b: u32| {
+            let (ra, rb) = (find(parent, a), find(parent, b));
+            if ra != rb {
+                parent[ra as usize] = rb;
+            }
+        };
+        for q in 0..n {
+            if let QiEnd::Crossing(id) = self.pieces[q].start {
+                union(&mut self.parent, q as u32, q as u32 - 1);
+                let [a, b] = self.after[id as usize];
+                union(&mut self.parent, a, b);
+            }
+        }
+        for k in 1..self.at_vertex.len() {
+            if self.at_vertex[k].0 == self.at_vertex[k - 1].0 {
+                union(
+                    &mut self.parent,
+                    self.at_vertex[k].1,
+                    self.at_vertex[k - 1].1,
+                );
+            }
+        }
+        (0..n as u32)
+            .filter(|&q| find(&mut self.parent, q) == q)
+            .count() as u32
+    }
+}

@@ -1,0 +1,294 @@
+//! Quantitative invisibility in the exact silhouettes (`geometry::quantitative_invisibility`):
+//! one ray per connected set of pieces, the count of faces carried from piece to piece, must
+//! keep exactly the pieces one ray per piece keeps. Checked against two oracles that do not use
+//! the propagation: the per-piece rays (the same silhouette bit for bit, on the bunny, a
+//! displaced icosphere and the thesis polyhedra, at points around, near, far and just off
+//! vertices; and in a light's window), and, piece by piece, the count of faces a ray through
+//! the piece meets (scanning every face), which a wrong sign at a crossing or a vertex would
+//! contradict.
+
+use glam::DVec3;
+use penumbra::geometry::{
+    ExactSilhouetteScratch, Polyhedron, SphericalPolygon, WindowScratch, count_ray_hits,
+    exact_silhouette, exact_silhouette_in_window,
+};
+use penumbra::math::{Frame, Pcg32};
+use penumbra::scene::thesis_polyhedra::TABLE_7_1;
+
+use crate::silhouette_common;
+use silhouette_common::{is_inside, polyhedron, triangles};
+
+fn bunny() -> Polyhedron {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes/bunny.obj");
+    let scene = penumbra::scene::obj::load_obj(&path).expect("assets/meshes/bunny.obj");
+    let m = &scene.objects[0].mesh;
+    Polyhedron::new(&m.positions, &m.faces)
+}
+
+fn blob() -> Polyhedron {
+    let m = penumbra::bench::realworld_scenes::displaced_icosphere(DVec3::ZERO, 1.0, 3, 0.15);
+    Polyhedron::new(&m.positions, &m.faces)
+}
+
+/// The loops of `a` and `b`, vertex by vertex, bit for bit.
+fn same_bits(a: &SphericalPolygon, b: &SphericalPolygon) -> bool {
+    let bits = |p: &SphericalPolygon| -> Vec<Vec<[u64; 3]>> {
+        p.loops()
+            .map(|l| {
+                l.iter()
+                    .map(|v| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()])
+                    .collect()
+            })
+            .collect()
+    };
+    bits(a) == bits(b)
+}
+
+/// Points outside `poly`: around it (1.05 to 4 radii), close to it (within a tenth of a radius
+/// of its bounding sphere, and inside that sphere near vertices), far away (10 to 1000 radii),
+/// and just off vertices (1e-6 to 1e-3 radii).
+fn points(poly: &Polyhedron, n: usize, rng: &mut Pcg32) -> Vec<DVec3> {
+    let tris = triangles(poly);
+    let mut out = Vec::new();
+    while out.len() < n {
+        let k = out.len() % 5;
+        let r = poly.radius;
+        let x = match k {
+            0 => poly.center + rng.unit_vector() * r * rng.range(1.05, 4.0),
+            1 => poly.center + rng.unit_vector() * r * rng.range(1.0, 1.1),
+            2 => poly.center + rng.unit_vector() * r * 10f64.powf(rng.range(1.0, 3.0)),
+            3 => {
+                let v = poly.vertices[rng.below(poly.vertices.len() as u32) as usize];
+                v + rng.unit_vector() * r * 10f64.powf(rng.range(-6.0, -3.0))
+            }
+            _ => {
+                let v = poly.vertices[rng.below(poly.vertices.len() as u32) as usize];
+                v + rng.unit_vector() * r * rng.range(0.02, 0.2)
+            }
+        };
+        if !is_inside(&tris, x) {
+            out.push(x);
+        }
+    }
+    out
+}
+
+/// What one mesh's comparison found.
+#[derive(Default, Debug)]
+struct Tally {
+    points: u32,
+    degenerate: u32,
+    pieces: u32,
+    rays_per_piece: u32,
+    rays_qi: u32,
+    components: u32,
+    fallback_rays: u32,
+    undecided_links: u32,
+}
+
+/// At every point: the QI silhouette equals the per-piece one bit for bit (and both fail
+/// alike), with no call sent back to per-piece rays.
+fn compare_exact(name: &str, poly: &Polyhedron, pts: &[DVec3]) -> Tally {
+    let frame = Frame::from_z(DVec3::new(0.2, 0.9, -0.3).normalize());
+    let mut qi = ExactSilhouetteScratch::default();
+    qi.qi.measure = true;
+    let mut per = ExactSilhouetteScratch::default();
+    per.per_piece_rays = true;
+    let (mut a, mut b) = (SphericalPolygon::new(), SphericalPolygon::new());
+    let mut t = Tally::default();
+    for (k, &x) in pts.iter().enumerate() {
+        let ra = exact_silhouette(poly, x, &frame, &mut a, &mut qi);
+        let rb = exact_silhouette(poly, x, &frame, &mut b, &mut per);
+        assert_eq!(ra.is_ok(), rb.is_ok(), "{name}, point {k} {x}");
+        assert!(same_bits(&a, &b), "{name}, point {k} {x}: QI differs");
+        let (Ok(sa), Ok(sb)) = (ra, rb) else {
+            t.degenerate += 1;
+            continue;
+        };
+        assert_eq!(sa.kept, sb.kept);
+        let s = qi.qi.stats;
+        assert!(!s.whole_fallback, "{name}, point {k}: contradictory counts");
+        t.points += 1;
+        t.pieces += sa.pieces;
+        t.rays_per_piece += sb.rays;
+        t.rays_qi += sa.rays;
+        t.components += s.components;
+        t.fallback_rays += s.rays - s.components;
+        t.undecided_links += s.undecided_links;
+    }
+    eprintln!("{name}: {t:?}");
+    t
+}
+
+#[test]
+fn qi_silhouettes_are_the_per_piece_ones_bit_for_bit() {
+    let mut rng = Pcg32::new(31, 7);
+    let bunny = bunny();
+    let blob = blob();
+    assert!(bunny.diagnostics.closed_manifold && blob.diagnostics.closed_manifold);
+    let mut total = Tally::default();
+    let mut add = |t: Tally| {
+        total.points += t.points;
+        total.pieces += t.pieces;
+        total.rays_per_piece += t.rays_per_piece;
+        total.rays_qi += t.rays_qi;
+        total.components += t.components;
+        total.fallback_rays += t.fallback_rays;
+    };
+    let pts = points(&bunny, 150, &mut rng);
+    let t = compare_exact("bunny", &bunny, &pts);
+    assert!(t.points >= 120, "{} points compared", t.points);
+    // Far fewer rays than pieces on a mesh whose silhouette crosses itself.
+    assert!(t.rays_qi * 4 < t.rays_per_piece, "{t:?}");
+    add(t);
+    let pts = points(&blob, 150, &mut rng);
+    let t = compare_exact("blob", &blob, &pts);
+    assert!(t.points >= 120, "{} points compared", t.points);
+    add(t);
+    for row in TABLE_7_1 {
+        let poly = polyhedron(row.name);
+        if !poly.diagnostics.closed_manifold {
+            continue;
+        }
+        let pts = points(&poly, 100, &mut rng);
+        add(compare_exact(row.name, &poly, &pts));
+    }
+    eprintln!("all: {total:?}");
+    // The fallback (rays cast because a link was undecided, beyond one per connected set of
+    // pieces). On the thesis polyhedra none is cast (measured: 0 of 1,200 points' pieces).
+    // On the scanned bunny and the blob some links are left undecided (measured: 917 rays for
+    // 93,954 pieces, about 1%, nearly all on the bunny's near and off-vertex points); each
+    // such ray is still the exact per-piece test. The bound is twice that: a regression that
+    // leaves many more links undecided (a tolerance too tight) fails it.
+    assert!(
+        total.fallback_rays * 50 <= total.pieces,
+        "fallback rays {} for {} pieces",
+        total.fallback_rays,
+        total.pieces
+    );
+    assert!(total.rays_qi * 20 < total.rays_per_piece, "{total:?}");
+}
+
+/// The count carried to each piece is the count of faces (other than its edge's two) that a
+/// ray through its midpoint meets, counted here by scanning every face: a wrong sign at a
+/// crossing (±2) or a wrong vertex rule makes them differ at the pieces beyond it.
+#[test]
+fn propagated_counts_are_the_ray_counts_at_every_piece() {
+    let mut rng = Pcg32::new(5, 11);
+    let frame = Frame::from_z(DVec3::Z);
+    let mut meshes = vec![("bunny", bunny()), ("blob", blob())];
+    for row in TABLE_7_1 {
+        let p = polyhedron(row.name);
+        if p.diagnostics.closed_manifold {
+            meshes.push((row.name, p));
+        }
+    }
+    let mut out = SphericalPolygon::new();
+    let (mut propagated, mut propagated_nonzero) = (0u32, 0u32);
+    for (name, poly) in &meshes {
+        let mut scratch = ExactSilhouetteScratch::default();
+        for (k, x) in points(poly, 40, &mut rng).into_iter().enumerate() {
+            if exact_silhouette(poly, x, &frame, &mut out, &mut scratch).is_err() {
+                continue;
+            }
+            for (q, (mid, faces, c, from_ray)) in scratch.qi_counts().enumerate() {
+                let ray = count_ray_hits(poly, x, mid, faces, true) as i32;
+                assert_eq!(
+                    c, ray,
+                    "{name}, point {k}, piece {q} (from a ray: {from_ray})"
+                );
+                if !from_ray {
+                    propagated += 1;
+                    propagated_nonzero += u32::from(c > 0);
+                }
+            }
+        }
+    }
+    // The comparison is not vacuous: most counts were carried, many of them not zero.
+    assert!(
+        propagated > 5000 && propagated_nonzero > 1000,
+        "{propagated} carried counts, {propagated_nonzero} of them not zero"
+    );
+}
+
+/// A quad light's corners seen from `x` as a positively oriented window in `frame`.
+fn window(x: DVec3, centre: DVec3, u: DVec3, v: DVec3, frame: &Frame) -> Vec<DVec3> {
+    let mut w: Vec<DVec3> = [-u - v, u - v, u + v, v - u]
+        .iter()
+        .map(|&c| frame.to_local((centre + c - x).normalize()))
+        .collect();
+    if w[0].cross(w[1]).dot(w[2]) < 0.0 {
+        w.reverse();
+    }
+    w
+}
+
+/// The windowed silhouette under lights of several sizes over the bunny: QI and per-piece
+/// rays give the same loops bit for bit, and the carried counts are the rays' counts.
+#[test]
+fn windowed_qi_silhouettes_are_the_per_piece_ones_bit_for_bit() {
+    let poly = bunny();
+    let lowest = poly
+        .vertices
+        .iter()
+        .map(|p| p.y)
+        .fold(f64::INFINITY, f64::min);
+    let tris = triangles(&poly);
+    let mut rng = Pcg32::new(8, 3);
+    let mut qi = WindowScratch::default();
+    qi.qi.measure = true;
+    let mut per = WindowScratch::default();
+    per.per_piece_rays = true;
+    let (mut a, mut b) = (SphericalPolygon::new(), SphericalPolygon::new());
+    let (mut ran, mut pieces, mut rays_qi, mut rays_per, mut fallback) = (0, 0, 0, 0, 0);
+    for &size in &[0.1, 0.5, 1.0, 2.0, 4.0, 6.0] {
+        let centre = DVec3::new(
+            rng.range(-4.0, 4.0),
+            lowest + rng.range(11.0, 16.0),
+            rng.range(-4.0, 4.0),
+        );
+        let (u, v) = (DVec3::X * size, DVec3::Z * size * 0.7);
+        for _ in 0..40 {
+            let x = DVec3::new(rng.range(-9.0, 9.0), lowest - 1e-3, rng.range(-9.0, 9.0));
+            let x = if rng.next_f64() < 0.3 {
+                // Some points beside the bunny, level with it.
+                x + DVec3::Y * rng.range(0.0, 8.0)
+            } else {
+                x
+            };
+            if is_inside(&tris, x) {
+                continue;
+            }
+            let frame = Frame::from_z((centre - x).normalize());
+            let w = window(x, centre, u, v, &frame);
+            let ra = exact_silhouette_in_window(&poly, x, &frame, &w, &mut a, &mut qi);
+            let rb = exact_silhouette_in_window(&poly, x, &frame, &w, &mut b, &mut per);
+            assert_eq!(ra.is_some(), rb.is_some(), "at {x}, light {size}");
+            assert!(same_bits(&a, &b), "at {x}, light {size}: QI differs");
+            let (Some(sa), Some(sb)) = (ra, rb) else {
+                continue;
+            };
+            ran += 1;
+            pieces += sa.pieces;
+            rays_qi += sa.rays;
+            rays_per += sb.rays;
+            let s = qi.qi.stats;
+            assert!(!s.whole_fallback);
+            fallback += s.rays - s.components;
+            for (mid, faces, c, from_ray) in qi.qi_counts() {
+                let ray = count_ray_hits(&poly, x, mid, faces, true) as i32;
+                assert_eq!(c, ray, "at {x}, light {size} (from a ray: {from_ray})");
+            }
+        }
+    }
+    eprintln!(
+        "windowed: {ran} points, {pieces} pieces, rays {rays_per} per piece, {rays_qi} QI, \
+         fallback {fallback}"
+    );
+    assert!(ran >= 150, "the windowed path ran at {ran} points");
+    assert!(
+        rays_qi < rays_per,
+        "{rays_qi} QI rays, {rays_per} per piece"
+    );
+    assert!(fallback * 1000 <= pieces, "fallback rays {fallback}");
+}
