@@ -86,6 +86,10 @@ pub struct Polyhedron {
     /// Adjacency for walking the contour of a large convex mesh (`silhouette_walk`).
     #[serde(skip)]
     pub contour_walk: Option<std::sync::Arc<super::silhouette_walk::ContourWalk>>,
+    /// Normal cones over the edges, for finding the contour edges of a large mesh without a
+    /// scan (`edge_hierarchy`); large convex meshes walk their contour instead.
+    #[serde(skip)]
+    pub edge_hierarchy: Option<std::sync::Arc<super::edge_hierarchy::EdgeHierarchy>>,
 }
 
 impl Polyhedron {
@@ -251,9 +255,26 @@ impl Polyhedron {
             face_bvh: None,
             face_edges: None,
             contour_walk: None,
+            edge_hierarchy: None,
         }
         .with_face_bvh()
         .with_contour_walk()
+        .with_edge_hierarchy()
+    }
+
+    /// Builds [`Polyhedron::edge_hierarchy`] for a mesh of at least
+    /// [`super::edge_hierarchy::EDGE_HIERARCHY_MIN_EDGES`] edges that does not walk its contour,
+    /// when it pays ([`super::edge_hierarchy::EdgeHierarchy::pays`]).
+    fn with_edge_hierarchy(mut self) -> Self {
+        if self.edges.len() >= super::edge_hierarchy::EDGE_HIERARCHY_MIN_EDGES
+            && self.contour_walk.is_none()
+        {
+            let h = super::edge_hierarchy::EdgeHierarchy::build(&self);
+            if h.pays(&self) {
+                self.edge_hierarchy = Some(std::sync::Arc::new(h));
+            }
+        }
+        self
     }
 
     /// Builds [`Polyhedron::contour_walk`] for a large convex mesh.
