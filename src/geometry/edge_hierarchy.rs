@@ -191,9 +191,9 @@ impl EdgeHierarchy {
         }
         let (mut lo, mut hi) = ([f64::INFINITY; 6], [f64::NEG_INFINITY; 6]);
         for &e in edges.iter() {
-            for k in 0..6 {
-                lo[k] = lo[k].min(keys[e as usize][k]);
-                hi[k] = hi[k].max(keys[e as usize][k]);
+            for (k, &v) in keys[e as usize].iter().enumerate() {
+                lo[k] = lo[k].min(v);
+                hi[k] = hi[k].max(v);
             }
         }
         let axis = (0..6)
