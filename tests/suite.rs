@@ -17,6 +17,7 @@ mod bsp_hoisted;
 mod bsp_nonconvex;
 mod cell_triangulation;
 mod cli;
+mod edge_hierarchy;
 mod exact_silhouette;
 mod exporter_precision;
 mod image_io;

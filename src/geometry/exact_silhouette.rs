@@ -13,7 +13,8 @@
 //! exact there.
 
 use super::SphericalPolygon;
-use super::polyhedron::{NO_FACE, Polyhedron};
+use super::edge_hierarchy::{ContourScratch, contour_edge_indices, coplanar_tolerance};
+use super::polyhedron::Polyhedron;
 use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
 use super::silhouette::is_front_facing;
 use crate::accel::{PreparedRay, Ray, is_degenerate};
@@ -80,9 +81,16 @@ pub struct ExactSilhouetteScratch {
     /// The pairs of contour edges that may cross, in the order of the all-pairs loop (when
     /// [`candidate_pairs`] swept).
     pairs: Vec<(u32, u32)>,
-    /// Test every pair of contour edges and every face along each piece's ray: no sweep, no
-    /// face hierarchy (the reference both are tested against).
+    /// Test every pair of contour edges and every face along each piece's ray, and scan every
+    /// edge for the contour: no sweep, no face or edge hierarchy (the reference all are tested
+    /// against).
     pub all_pairs: bool,
+    /// Find the contour edges by the scan even where the mesh has an edge hierarchy (the
+    /// oracle of the hierarchy's tests; implied by `all_pairs`).
+    pub scan_edges: bool,
+    /// The contour edges' indices, ascending, and the buffers of their search.
+    contour_ids: Vec<u32>,
+    contour: ContourScratch,
     /// Kept pieces by the end they start at, for chaining: (key of the end, position in
     /// `kept`), sorted.
     starts: Vec<(u64, u32)>,
@@ -193,22 +201,32 @@ pub fn exact_silhouette(
     scratch: &mut ExactSilhouetteScratch,
 ) -> Result<ExactSilhouetteStats, Degenerate> {
     out.clear();
-    let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
-    if poly.face_planes.iter().any(|p| p.eval(x).abs() <= tol) {
-        return Err(Degenerate::CoplanarFace);
-    }
+    let tol = coplanar_tolerance(poly);
     let mut stats = ExactSilhouetteStats::default();
 
-    // 1. Contour edges, oriented so that the mesh lies to their left on the sphere.
+    // 0./1. No face plane through the point, and the contour edges (through the normal-cone
+    //    hierarchy where the mesh has one: the scan's list, in its order), oriented so that
+    //    the mesh lies to their left on the sphere.
+    scratch.contour.scan = scratch.all_pairs || scratch.scan_edges;
+    if contour_edge_indices(
+        poly,
+        x,
+        Some(tol),
+        &mut scratch.contour,
+        &mut scratch.contour_ids,
+    )
+    .is_err()
+    {
+        return Err(Degenerate::CoplanarFace);
+    }
     scratch.edges.clear();
-    for e in &poly.edges {
-        let f0 = is_front_facing(poly, e.faces[0] as usize, x);
-        let f1 = e.faces[1] != NO_FACE && is_front_facing(poly, e.faces[1] as usize, x);
+    for &ei in &scratch.contour_ids {
+        let e = &poly.edges[ei as usize];
         // The orientation of `contour_edges`: the mesh to the left on the sphere.
-        let [i, j] = match (f0, f1) {
-            (true, false) => [e.v[1], e.v[0]],
-            (false, true) => [e.v[0], e.v[1]],
-            _ => continue,
+        let [i, j] = if is_front_facing(poly, e.faces[0] as usize, x) {
+            [e.v[1], e.v[0]]
+        } else {
+            [e.v[0], e.v[1]]
         };
         let a = (poly.vertices[i as usize] - x).normalize();
         let b = (poly.vertices[j as usize] - x).normalize();

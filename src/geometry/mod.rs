@@ -8,6 +8,7 @@ pub mod bsp_sections;
 pub mod cell_triangulation;
 pub mod convex_cell;
 pub mod convex_hull;
+pub mod edge_hierarchy;
 pub mod exact_predicates;
 pub mod exact_silhouette;
 pub mod face_bvh;

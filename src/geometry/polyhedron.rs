@@ -89,6 +89,10 @@ pub struct Polyhedron {
     /// The faces at each vertex, for closed manifold meshes (quantitative invisibility).
     #[serde(skip)]
     pub vertex_faces: Option<std::sync::Arc<super::quantitative_invisibility::VertexFaces>>,
+    /// Normal cones over the edges, for finding the contour edges of a large mesh without a
+    /// scan (`edge_hierarchy`); large convex meshes walk their contour instead.
+    #[serde(skip)]
+    pub edge_hierarchy: Option<std::sync::Arc<super::edge_hierarchy::EdgeHierarchy>>,
 }
 
 impl Polyhedron {
@@ -255,10 +259,12 @@ impl Polyhedron {
             face_edges: None,
             contour_walk: None,
             vertex_faces: None,
+            edge_hierarchy: None,
         }
         .with_face_bvh()
         .with_contour_walk()
         .with_vertex_faces()
+        .with_edge_hierarchy()
     }
 
     /// Builds [`Polyhedron::vertex_faces`] for a closed manifold mesh.
@@ -268,6 +274,21 @@ impl Polyhedron {
             self.vertex_faces = Some(std::sync::Arc::new(
                 super::quantitative_invisibility::VertexFaces::build(self.vertices.len(), faces),
             ));
+        }
+        self
+    }
+
+    /// Builds [`Polyhedron::edge_hierarchy`] for a mesh of at least
+    /// [`super::edge_hierarchy::EDGE_HIERARCHY_MIN_EDGES`] edges that does not walk its contour,
+    /// when it pays ([`super::edge_hierarchy::EdgeHierarchy::pays`]).
+    fn with_edge_hierarchy(mut self) -> Self {
+        if self.edges.len() >= super::edge_hierarchy::EDGE_HIERARCHY_MIN_EDGES
+            && self.contour_walk.is_none()
+        {
+            let h = super::edge_hierarchy::EdgeHierarchy::build(&self);
+            if h.pays(&self) {
+                self.edge_hierarchy = Some(std::sync::Arc::new(h));
+            }
         }
         self
     }
