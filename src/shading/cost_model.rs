@@ -77,9 +77,9 @@ pub fn tree_budget(class: MeshCostClass, expected_rays: u64, limit: usize) -> Tr
         // A large occluder that finds its silhouette inside each light's window
         // (`ExactInWindow`, 0.03–0.05 µs per face) saves nothing with a tree: the tree hands
         // out the whole silhouette, and the set difference then pays for all of it where the
-        // window gave only the part over the light. Measured on voxel models exported face by
-        // face (an L of 222 and of 270 faces under a quad light, 256×256 at --aa 4), the render
-        // with the tree took 2.3× the windowed one's time.
+        // window gave only the part over the light. Measured on a voxel model exported face by
+        // face (an L of 270 quads under a quad light, 256×256 at --aa 4), the render with the
+        // tree took 2.3× the windowed one's CPU time (docs/silhouettes.md).
         (0.0, EXACT_BUILD_US_PER_LEAF_PER_FACE * f)
     } else {
         (
