@@ -368,17 +368,7 @@ pub fn exact_silhouette(
             from: p.from,
             to: p.to,
         }));
-        qi.solve(
-            poly,
-            poly.vertex_faces.as_deref(),
-            x,
-            &scratch.crossings,
-            |dir, faces| count_ray_hits(poly, x, dir, faces, false),
-        );
-        scratch
-            .kept
-            .extend((0..scratch.pieces.len() as u32).filter(|&q| qi.count[q as usize] == 0));
-        stats.rays = qi.stats.rays;
+        stats.rays = qi.solve_kept(poly, x, &scratch.crossings, &mut scratch.kept);
     }
     stats.kept = scratch.kept.len() as u32;
 

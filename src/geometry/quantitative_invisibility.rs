@@ -263,6 +263,28 @@ fn find(parent: &mut [u32], mut i: u32) -> u32 {
 }
 
 impl QiScratch {
+    /// [`QiScratch::solve`] with the exact counting ray of the exact silhouette (001 Sect.
+    /// 4.3), then the pieces counted 0 (seen against the background) appended to `kept`, in
+    /// piece order; returns the rays cast. The one step 4 of both silhouette computations.
+    pub(crate) fn solve_kept(
+        &mut self,
+        poly: &Polyhedron,
+        x: DVec3,
+        crossings: &[DVec3],
+        kept: &mut Vec<u32>,
+    ) -> u32 {
+        self.solve(
+            poly,
+            poly.vertex_faces.as_deref(),
+            x,
+            crossings,
+            |dir, faces| super::exact_silhouette::count_ray_hits(poly, x, dir, faces, false),
+        );
+        let count = &self.count;
+        kept.extend((0..self.pieces.len() as u32).filter(|&q| count[q as usize] == 0));
+        self.stats.rays
+    }
+
     /// The counts of [`QiScratch::pieces`] (crossing directions `crossings`, by id): one ray
     /// (`ray(direction, own faces)`, the count of faces met) for each piece the links from
     /// pieces already counted do not reach. Afterwards `count[q] == 0` iff piece `q` is kept.

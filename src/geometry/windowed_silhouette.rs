@@ -31,7 +31,7 @@
 //! takes the full exact silhouette.
 
 use super::SphericalPolygon;
-use super::exact_silhouette::{SweepScratch, blocked_ray, candidate_pairs, count_ray_hits};
+use super::exact_silhouette::{SweepScratch, blocked_ray, candidate_pairs};
 use super::polyhedron::{NO_FACE, Polyhedron};
 use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
 use super::silhouette::is_front_facing;
@@ -422,17 +422,7 @@ pub fn exact_silhouette_in_window(
             from: p.from,
             to: p.to,
         }));
-        qi.solve(
-            poly,
-            poly.vertex_faces.as_deref(),
-            x,
-            &scratch.crossings,
-            |dir, faces| count_ray_hits(poly, x, dir, faces, false),
-        );
-        scratch
-            .kept
-            .extend((0..scratch.pieces.len() as u32).filter(|&q| qi.count[q as usize] == 0));
-        stats.rays = qi.stats.rays;
+        stats.rays = qi.solve_kept(poly, x, &scratch.crossings, &mut scratch.kept);
     }
     stats.kept = scratch.kept.len() as u32;
 
