@@ -40,6 +40,7 @@ fn main() {
                 light: false,
                 occluder: true,
                 receiver: true,
+                is_static: false,
             },
         }],
         ..Default::default()

@@ -7,11 +7,11 @@
 //! gets a share of it), then rounded to 3 significant digits. The output is deterministic;
 //! after changing this file, regenerate and commit the assets (the library embeds them).
 
-use glam::{DAffine3, DVec3};
+use glam::{DAffine3, DVec2, DVec3};
 use penumbra::scene::scene_file::load_scene;
 use penumbra::scene::shapes::{
-    capped_icosahedron, cuboid, cylinder, icosphere, l_shape, quad, t_shape, truncated_cone,
-    u_shape, uv_ellipsoid,
+    capped_icosahedron, cuboid, cylinder, icosphere, l_shape, prism, quad, t_shape,
+    truncated_cone, u_shape, uv_ellipsoid,
 };
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use penumbra::scene::{Camera, Mesh};
@@ -89,6 +89,8 @@ struct SceneDef {
     calibration_point: DVec3,
     target: f64,
     objects: Vec<Object>,
+    /// Extra TOML written after the camera (e.g. an `[environment]`).
+    extra_toml: &'static str,
 }
 
 fn camera(eye: [f64; 3], target: [f64; 3], fov_deg: f64) -> Camera {
@@ -174,6 +176,7 @@ fn default_scene() -> SceneDef {
         calibration_point: DVec3::ZERO,
         target: 1.0,
         objects,
+        extra_toml: "",
     }
 }
 
@@ -227,6 +230,7 @@ fn fig4_scene() -> SceneDef {
         calibration_point: DVec3::new(0.0, 0.0, 0.3),
         target: 1.0,
         objects,
+        extra_toml: "",
     }
 }
 
@@ -246,6 +250,7 @@ fn chair_scene() -> SceneDef {
         calibration_point: DVec3::ZERO,
         target: 1.0,
         objects,
+        extra_toml: "",
     }
 }
 
@@ -278,6 +283,7 @@ fn nonconvex_scene() -> SceneDef {
         calibration_point: DVec3::ZERO,
         target: 1.0,
         objects,
+        extra_toml: "",
     }
 }
 
@@ -317,6 +323,7 @@ fn polyhedra_scene() -> SceneDef {
         calibration_point: DVec3::ZERO,
         target: 1.0,
         objects,
+        extra_toml: "",
     }
 }
 
@@ -370,6 +377,7 @@ fn letters_scene() -> SceneDef {
         calibration_point: DVec3::new(0.0, 0.0, 0.3),
         target: 1.0,
         objects,
+        extra_toml: "",
     }
 }
 
@@ -394,6 +402,156 @@ fn sig3(x: f64) -> f64 {
 
 fn array(v: DVec3) -> String {
     format!("[{}, {}, {}]", clean(v.x), clean(v.y), clean(v.z))
+}
+
+/// A standing figure in a T pose, 1.76 m tall, 1.1 m across the arms, 0.25 m deep: the front
+/// outline of a person extruded (`shapes::prism`), one closed non-convex mesh of 44 vertices
+/// like one character of 002's scenes. `yaw` turns it about +y; its feet are 1 mm above the
+/// floor so that no face lies in the floor's plane.
+fn figure(feet: DVec3, yaw_deg: f64) -> Mesh {
+    let p = |x: f64, y: f64| DVec2::new(x, y);
+    let outline = [
+        p(-0.2, 0.0),
+        p(-0.03, 0.0),
+        p(-0.03, 0.8),
+        p(0.03, 0.8),
+        p(0.03, 0.0),
+        p(0.2, 0.0),
+        p(0.2, 1.25),
+        p(0.55, 1.25),
+        p(0.55, 1.4),
+        p(0.06, 1.4),
+        p(0.06, 1.48),
+        p(0.12, 1.52),
+        p(0.12, 1.7),
+        p(0.06, 1.76),
+        p(-0.06, 1.76),
+        p(-0.12, 1.7),
+        p(-0.12, 1.52),
+        p(-0.06, 1.48),
+        p(-0.06, 1.4),
+        p(-0.55, 1.4),
+        p(-0.55, 1.25),
+        p(-0.2, 1.25),
+    ];
+    let pieces = vec![
+        vec![0, 1, 2, 21],
+        vec![4, 5, 6, 3],
+        vec![21, 2, 3, 6, 9, 18],
+        vec![6, 7, 8, 9],
+        vec![18, 19, 20, 21],
+        vec![9, 10, 17, 18],
+        vec![10, 11, 12, 13, 14, 15, 16, 17],
+    ];
+    prism(&outline, &pieces, 0.25).transformed(
+        &(DAffine3::from_translation(feet + DVec3::Y * 0.001)
+            * DAffine3::from_rotation_y(yaw_deg.to_radians())),
+    )
+}
+
+/// The floor of the environment scenes: static, and an occluder (it hides the ground half of
+/// the map from the figures).
+fn env_floor(mat: &Mat) -> Object {
+    Object {
+        toml: "static = true\n",
+        ..object(
+            "floor",
+            quad(DVec3::ZERO, DVec3::Z * 10.0, DVec3::X * 10.0),
+            mat,
+        )
+    }
+}
+
+const SKY: &str = "\n[environment]\nmap = \"sky\"\n";
+
+fn env_figures_scene() -> SceneDef {
+    let skin = diffuse("figure", [0.7, 0.6, 0.5]);
+    let objects = vec![
+        env_floor(&diffuse("floor", [0.6, 0.6, 0.6])),
+        object("figure_a", figure(DVec3::new(-0.55, 0.0, 0.0), 20.0), &skin),
+        object("figure_b", figure(DVec3::new(0.7, 0.0, -0.4), -35.0), &skin),
+    ];
+    SceneDef {
+        name: "env_figures",
+        description: "Like 002, Fig. 7 (top): two dynamic figures on a static plane under the \
+                      embedded sky; no area lights.",
+        camera: camera([0.4, 1.6, 4.2], [0.0, 0.75, 0.0], 45.0),
+        calibration_point: DVec3::ZERO,
+        target: 1.0,
+        objects,
+        extra_toml: SKY,
+    }
+}
+
+fn env_atrium_scene() -> SceneDef {
+    let stone = diffuse("stone", [0.65, 0.62, 0.55]);
+    let static_obj = |name: &'static str, mesh: Mesh| Object {
+        toml: "static = true\n",
+        ..object(name, mesh, &stone)
+    };
+    const COLUMNS: [&str; 10] = [
+        "column_l0", "column_l1", "column_l2", "column_l3", "column_l4", "column_r0",
+        "column_r1", "column_r2", "column_r3", "column_r4",
+    ];
+    let mut objects = vec![env_floor(&diffuse("floor", [0.55, 0.55, 0.5]))];
+    for (k, name) in COLUMNS.iter().enumerate() {
+        let x = if k < 5 { -2.0 } else { 2.0 };
+        let z = -4.0 + 2.0 * (k % 5) as f64;
+        objects.push(static_obj(
+            name,
+            cylinder(DVec3::new(x, 1.5005, z), 0.2, 2.999, 12),
+        ));
+    }
+    // Roofs over the two aisles, resting on the columns; the middle stays open to the sky.
+    objects.push(static_obj(
+        "roof_l",
+        cuboid(DVec3::new(-2.9, 3.101, 0.0), DVec3::new(1.1, 0.1, 4.6)),
+    ));
+    objects.push(static_obj(
+        "roof_r",
+        cuboid(DVec3::new(2.9, 3.101, 0.0), DVec3::new(1.1, 0.1, 4.6)),
+    ));
+    objects.push(static_obj(
+        "back_wall",
+        cuboid(DVec3::new(0.0, 1.601, -5.0), DVec3::new(4.0, 1.6, 0.15)),
+    ));
+    let skin = diffuse("figure", [0.7, 0.6, 0.5]);
+    objects.push(object("figure_a", figure(DVec3::new(-0.6, 0.0, 0.3), 15.0), &skin));
+    objects.push(object("figure_b", figure(DVec3::new(0.8, 0.0, -0.8), -30.0), &skin));
+    SceneDef {
+        name: "env_atrium",
+        description: "Like 002's Sponza scene: a static colonnade (ten columns, two aisle roofs, \
+                      a back wall) open to the sky in the middle, with two dynamic figures.",
+        camera: camera([0.0, 1.7, 6.5], [0.0, 1.2, -1.0], 50.0),
+        calibration_point: DVec3::ZERO,
+        target: 1.0,
+        objects,
+        extra_toml: SKY,
+    }
+}
+
+fn env_crowd_scene() -> SceneDef {
+    const NAMES: [&str; 10] = [
+        "figure_0", "figure_1", "figure_2", "figure_3", "figure_4", "figure_5", "figure_6",
+        "figure_7", "figure_8", "figure_9",
+    ];
+    let skin = diffuse("figure", [0.7, 0.6, 0.5]);
+    let mut objects = vec![env_floor(&diffuse("floor", [0.6, 0.6, 0.6]))];
+    for (k, name) in NAMES.iter().enumerate() {
+        let (row, col) = ((k / 5) as f64, (k % 5) as f64);
+        let feet = DVec3::new(-2.4 + 1.2 * col + 0.3 * row, 0.0, -0.6 - 1.4 * row);
+        objects.push(object(name, figure(feet, -40.0 + 20.0 * col + 13.0 * row), &skin));
+    }
+    SceneDef {
+        name: "env_crowd",
+        description: "Like 002, Fig. 10: ten dynamic figures on a static plane under the \
+                      embedded sky: the case where conical ray culling helps least.",
+        camera: camera([0.0, 2.2, 5.5], [0.0, 0.7, -1.0], 50.0),
+        calibration_point: DVec3::ZERO,
+        target: 1.0,
+        objects,
+        extra_toml: SKY,
+    }
 }
 
 fn write_scene(dir: &Path, def: &SceneDef) -> std::io::Result<()> {
@@ -475,6 +633,7 @@ fn write_scene(dir: &Path, def: &SceneDef) -> std::io::Result<()> {
         c.fov_deg
     )
     .unwrap();
+    toml.push_str(def.extra_toml);
     for o in &def.objects {
         write!(
             toml,
@@ -503,6 +662,9 @@ fn main() -> anyhow::Result<()> {
         nonconvex_scene(),
         polyhedra_scene(),
         letters_scene(),
+        env_figures_scene(),
+        env_atrium_scene(),
+        env_crowd_scene(),
     ] {
         write_scene(&dir, &def)?;
         // Read the files back through the loader and report.

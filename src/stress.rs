@@ -251,6 +251,7 @@ fn object(name: &str, mesh: Mesh, light: bool) -> SceneObject {
             light,
             occluder: true,
             receiver: true,
+            is_static: false,
         },
     }
 }
@@ -623,6 +624,7 @@ pub fn generate(seed: u64, index: u64) -> Case {
             objects,
             camera: None,
             warnings: Vec::new(),
+            environment: None,
         },
         point: ShadingPoint {
             position: x,

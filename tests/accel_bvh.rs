@@ -22,6 +22,7 @@ fn object(name: &str, positions: Vec<DVec3>, faces: Vec<Vec<u32>>) -> SceneObjec
             light: false,
             occluder: true,
             receiver: true,
+            is_static: false,
         },
     }
 }

@@ -26,10 +26,12 @@ fn exporter_meshes_load_without_geometry_warnings_and_take_their_paths() {
                     light: false,
                     occluder: true,
                     receiver: true,
+                    is_static: false,
                 },
             }],
             camera: None,
             warnings: Vec::new(),
+            environment: None,
         };
         let options = PrepareOptions {
             disk_cache: false,

@@ -30,6 +30,7 @@ fn scene(k: u64) -> Scene {
             light,
             occluder: true,
             receiver: true,
+            is_static: false,
         },
     };
     Scene {

@@ -30,6 +30,7 @@ fn object(name: &str, mesh: penumbra::scene::Mesh, light: bool) -> SceneObject {
             light,
             occluder: !light,
             receiver: true,
+            is_static: false,
         },
     }
 }
@@ -183,6 +184,7 @@ fn windowed_silhouette_shades_like_the_whole_one_under_the_bunny() {
             objects: vec![object("light", light, true), object("mesh", bunny(), false)],
             camera: None,
             warnings: Vec::new(),
+            environment: None,
         };
         let points: Vec<ShadingPoint> = (0..40)
             .map(|_| {
@@ -229,6 +231,7 @@ fn windowed_silhouette_shades_like_the_whole_one_around_a_displaced_icosphere() 
             ],
             camera: None,
             warnings: Vec::new(),
+            environment: None,
         };
         let points: Vec<ShadingPoint> = (0..30)
             .map(|_| {

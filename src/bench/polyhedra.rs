@@ -194,6 +194,7 @@ pub fn light_scene(name: &str) -> Option<Scene> {
             light: false,
             occluder: false,
             receiver: true,
+            is_static: false,
         },
     };
     let light = SceneObject {
@@ -210,6 +211,7 @@ pub fn light_scene(name: &str) -> Option<Scene> {
             light: true,
             occluder: true,
             receiver: false,
+            is_static: false,
         },
     };
     Some(Scene {

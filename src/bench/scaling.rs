@@ -111,6 +111,7 @@ pub fn icosahedral_light_scene(level: u32) -> Scene {
             light: false,
             occluder: false,
             receiver: true,
+            is_static: false,
         },
     };
     let light = SceneObject {
@@ -127,6 +128,7 @@ pub fn icosahedral_light_scene(level: u32) -> Scene {
             light: true,
             occluder: false,
             receiver: false,
+            is_static: false,
         },
     };
     Scene {
@@ -138,6 +140,7 @@ pub fn icosahedral_light_scene(level: u32) -> Scene {
             fov_deg: 45.0,
         }),
         warnings: Vec::new(),
+        environment: None,
     }
 }
 

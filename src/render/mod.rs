@@ -1,6 +1,7 @@
 //! Images of a scene: camera rays, the shading point of each hit, tiles in parallel.
 
 pub mod compare;
+pub mod environment;
 pub mod image_io;
 pub mod progressive;
 pub mod stochastic;
@@ -236,6 +237,9 @@ pub struct RenderContext {
     pub bvh: Bvh,
     /// The lights prepared for area sampling (the stochastic baseline).
     pub area_lights: AreaLights,
+    /// An environment light (paper 002), if the scene has one: its term is added to the area
+    /// lights' image by every render ([`environment::render_environment`]).
+    pub environment: Option<environment::SceneEnvironment>,
 }
 
 /// What a camera ray sees first: the shading point and the radiance emitted toward the eye.
@@ -277,7 +281,18 @@ impl RenderContext {
             bvh: Bvh::build(&scene),
             prepared,
             scene,
+            environment: None,
         }
+    }
+
+    /// Lights the scene with `light` too, rendered as `settings` say (replaces any earlier
+    /// environment).
+    pub fn set_environment(
+        &mut self,
+        light: Arc<crate::environment::EnvironmentLight>,
+        settings: environment::EnvironmentSettings,
+    ) {
+        self.environment = Some(environment::SceneEnvironment::new(self, light, settings));
     }
 
     /// The first surface along `ray`, as a shading point with the geometric normal turned toward
@@ -363,6 +378,34 @@ impl RenderContext {
             Some(method) => self.render_analytic(&basis, settings, method, cancel),
             None => stochastic::render(self, &basis, settings, cancel),
         };
+        // The environment's term adds to the area lights' (both are linear in the radiance).
+        if let Some(env) = &self.environment {
+            let (w, h) = (settings.width, settings.height);
+            let Some(e) =
+                environment::render_environment(self, env, &basis, w, h, settings.aa, cancel)
+            else {
+                return Ok(RenderOutput::default());
+            };
+            if out.image.pixels.len() == e.image.pixels.len() {
+                for (p, q) in out.image.pixels.iter_mut().zip(&e.image.pixels) {
+                    *p += *q;
+                }
+            }
+            out.stderr = match (out.stderr.take(), &e.stderr) {
+                (Some(a), Some(b)) => Some(Image {
+                    width: w,
+                    height: h,
+                    pixels: a
+                        .pixels
+                        .iter()
+                        .zip(&b.pixels)
+                        .map(|(x, y)| (*x * *x + *y * *y).map(f64::sqrt))
+                        .collect(),
+                }),
+                (a, b) => a.or_else(|| b.clone()),
+            };
+            out.environment = Some(e);
+        }
         let seconds = start.elapsed().as_secs_f64();
         out.stats = RenderStats {
             seconds,
@@ -431,6 +474,8 @@ pub struct RenderOutput {
     pub denoise: Option<crate::denoise::DenoiseAovs>,
     /// Per-pixel work counters and time (deterministic methods, with `collect_stats`).
     pub pixel_stats: Option<Vec<PixelStats>>,
+    /// The environment's term and its passes (when the scene has an environment light).
+    pub environment: Option<environment::EnvironmentOutput>,
     pub stats: RenderStats,
 }
 

@@ -60,6 +60,11 @@ pub struct ObjectFlags {
     pub light: bool,
     pub occluder: bool,
     pub receiver: bool,
+    /// A static object of 002 (Sect. 3.2): its shadow under the environment light is part of
+    /// the precomputed term (PRT), and only dynamic objects are traced or subtracted at run
+    /// time. Objects are dynamic unless a scene file says `static = true`.
+    #[serde(default)]
+    pub is_static: bool,
 }
 
 /// A polygon mesh in world space. Faces are vertex-index loops, counter-clockwise seen from
@@ -99,6 +104,8 @@ pub struct Scene {
     pub camera: Option<Camera>,
     /// Repairs and notes produced while loading (shown to the user, never silent).
     pub warnings: Vec<String>,
+    /// The scene file's `[environment]`, if it has one (the command line may override it).
+    pub environment: Option<crate::environment::EnvironmentSpec>,
 }
 
 /// Errors while loading a scene: always name the file and, where known, the line.

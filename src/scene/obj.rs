@@ -1048,6 +1048,7 @@ fn build_object(
         light: material.is_emissive(),
         occluder: true,
         receiver: true,
+        is_static: false,
     };
     Some(SceneObject {
         name: name.to_owned(),

@@ -15,6 +15,14 @@
 //! rotate = [0, 90, 0]       # optional, degrees: about x, then y, then z (R = Rz·Ry·Rx),
 //!                           # or { axis = [0, 1, 0], angle = 90 }; applied after scaling
 //! translate = [0, 0, 1]     # optional, applied last
+//! static = true             # optional: a static object of 002 (default: dynamic)
+//!
+//! [environment]             # optional: an environment light (docs/environment.md)
+//! map = "sky"               # "sky", "sky-sh" (its 3-band projection), or an .hdr/.exr file
+//! rotate = 30.0             # optional: degrees about +y
+//! scale = 1.0               # optional
+//! method = "analytic"       # optional: analytic, rt, rt-unculled, rtao, unshadowed, reference
+//! spp = 128                 # optional: rays per camera ray of rt, rtao and reference
 //! ```
 //!
 //! Entries that name the same OBJ object with different `scale`/`rotate`/`translate` are
@@ -91,6 +99,43 @@ const EMBEDDED_FILES: &[(&str, &str)] = &[
         "letters.mtl",
         include_str!("../../assets/scenes/letters.mtl"),
     ),
+    // The environment light's scenes (paper 002).
+    (
+        "env_figures.toml",
+        include_str!("../../assets/scenes/env_figures.toml"),
+    ),
+    (
+        "env_figures.obj",
+        include_str!("../../assets/scenes/env_figures.obj"),
+    ),
+    (
+        "env_figures.mtl",
+        include_str!("../../assets/scenes/env_figures.mtl"),
+    ),
+    (
+        "env_atrium.toml",
+        include_str!("../../assets/scenes/env_atrium.toml"),
+    ),
+    (
+        "env_atrium.obj",
+        include_str!("../../assets/scenes/env_atrium.obj"),
+    ),
+    (
+        "env_atrium.mtl",
+        include_str!("../../assets/scenes/env_atrium.mtl"),
+    ),
+    (
+        "env_crowd.toml",
+        include_str!("../../assets/scenes/env_crowd.toml"),
+    ),
+    (
+        "env_crowd.obj",
+        include_str!("../../assets/scenes/env_crowd.obj"),
+    ),
+    (
+        "env_crowd.mtl",
+        include_str!("../../assets/scenes/env_crowd.mtl"),
+    ),
 ];
 
 const EMBEDDED_SCENES: &[&str] = &[
@@ -101,6 +146,9 @@ const EMBEDDED_SCENES: &[&str] = &[
     "polyhedra",
     "instances",
     "letters",
+    "env_figures",
+    "env_atrium",
+    "env_crowd",
 ];
 
 /// Names of the scenes compiled into the binary (`load_embedded` takes these).
@@ -164,7 +212,7 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, SceneError> {
     let label = path.display().to_string();
     let text = read_text(path, &label)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    parse_scene_toml(&text, &label, &|rel: &str| {
+    let mut scene = parse_scene_toml(&text, &label, &|rel: &str| {
         let p = dir.join(rel);
         if !p.is_file() {
             return Err(ObjFailure::Missing(format!(
@@ -173,7 +221,12 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, SceneError> {
             )));
         }
         load_obj(&p).map_err(ObjFailure::Obj)
-    })
+    })?;
+    // A map file is relative to the scene file, like the OBJ files.
+    if let Some(env) = &mut scene.environment {
+        env.resolve_relative_to(&dir);
+    }
+    Ok(scene)
 }
 
 /// Parses scene-file text; `label` names it in errors, `load` resolves the `obj` paths.
@@ -248,6 +301,17 @@ struct SceneToml {
     camera: Option<Spanned<CameraToml>>,
     #[serde(default)]
     object: Vec<Spanned<ObjectToml>>,
+    environment: Option<Spanned<EnvironmentToml>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EnvironmentToml {
+    map: String,
+    rotate: Option<f64>,
+    scale: Option<f64>,
+    method: Option<crate::environment::EnvMethod>,
+    spp: Option<u32>,
 }
 
 #[derive(Deserialize)]
@@ -267,6 +331,8 @@ struct ObjectToml {
     light: Option<Spanned<bool>>,
     occluder: Option<bool>,
     receiver: Option<bool>,
+    #[serde(rename = "static")]
+    is_static: Option<bool>,
     translate: Option<Spanned<[f64; 3]>>,
     scale: Option<Spanned<ScaleToml>>,
     rotate: Option<Spanned<RotateToml>>,
@@ -378,6 +444,12 @@ fn parse_scene_toml(
             .map_err(|m| at(cam.span(), format!("invalid camera: {m}")))?;
         scene.camera = Some(camera);
     }
+    if let Some(env) = &doc.environment {
+        let e = env.get_ref();
+        let spec = crate::environment::EnvironmentSpec::new(&e.map, e.rotate, e.scale, e.method, e.spp)
+            .map_err(|m| at(env.span(), m))?;
+        scene.environment = Some(spec);
+    }
 
     let mut cache: HashMap<String, Scene> = HashMap::new();
     for entry in &doc.object {
@@ -474,6 +546,9 @@ fn parse_scene_toml(
             }
             if let Some(v) = o.receiver {
                 obj.flags.receiver = v;
+            }
+            if let Some(v) = o.is_static {
+                obj.flags.is_static = v;
             }
             scene.objects.push(obj);
         }

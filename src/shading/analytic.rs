@@ -101,34 +101,46 @@ impl Shortcuts {
 /// hot loop allocates nothing once they have grown.
 #[derive(Default)]
 pub struct ShadingScratch {
-    outline: OutlineScratch,
-    horizon: HorizonScratch,
-    difference: SetDifference,
-    light_sph: SphericalPolygon,
-    light_clip: SphericalPolygon,
-    occ_sph: SphericalPolygon,
-    occ_clip: SphericalPolygon,
-    occ_plane: PlanarPolygon,
-    visible: PlanarPolygon,
-    visible_next: PlanarPolygon,
-    visible_sph: SphericalPolygon,
-    lobe_poly: SphericalPolygon,
-    lobe_clip: SphericalPolygon,
-    kept: Vec<u32>,
+    pub(super) outline: OutlineScratch,
+    pub(super) horizon: HorizonScratch,
+    pub(super) difference: SetDifference,
+    pub(super) light_sph: SphericalPolygon,
+    pub(super) light_clip: SphericalPolygon,
+    pub(super) occ_sph: SphericalPolygon,
+    pub(super) occ_clip: SphericalPolygon,
+    pub(super) occ_plane: PlanarPolygon,
+    pub(super) visible: PlanarPolygon,
+    pub(super) visible_next: PlanarPolygon,
+    pub(super) visible_sph: SphericalPolygon,
+    pub(super) lobe_poly: SphericalPolygon,
+    pub(super) lobe_clip: SphericalPolygon,
+    pub(super) kept: Vec<u32>,
     /// Per occluder: its projected, horizon-clipped silhouette at the shading point `stamp`.
-    occluder_cache: Vec<CachedOccluder>,
+    pub(super) occluder_cache: Vec<CachedOccluder>,
     /// Counts shading points, to invalidate `occluder_cache` without clearing it.
-    stamp: u64,
-    face_buf: Vec<DVec3>,
+    pub(super) stamp: u64,
+    pub(super) face_buf: Vec<DVec3>,
     /// The faces of an occluder taken face by face that can overlap the light.
-    face_list: Vec<u32>,
-    cone_buf: Vec<DVec3>,
-    window_bufs: [Vec<DVec3>; 3],
+    pub(super) face_list: Vec<u32>,
+    pub(super) cone_buf: Vec<DVec3>,
+    pub(super) window_bufs: [Vec<DVec3>; 3],
     pub stats: ShadingStats,
 }
 
+impl ShadingScratch {
+    /// Starts a new shading point: counters reset, the occluder cache invalidated.
+    pub(super) fn begin_point(&mut self, scene: &PreparedScene) {
+        self.stats = ShadingStats::default();
+        self.stamp += 1;
+        if self.occluder_cache.len() < scene.occluders.len() {
+            self.occluder_cache
+                .resize_with(scene.occluders.len(), CachedOccluder::default);
+        }
+    }
+}
+
 #[derive(Default)]
-struct CachedOccluder {
+pub(super) struct CachedOccluder {
     stamp: u64,
     poly: PlanarPolygon,
     /// A convex outline clipped to each light's window: the whole outline, kept at `sph_stamp`
@@ -146,18 +158,18 @@ const WINDOW_CLIP_MIN_VERTICES: usize = 12;
 const COPLANAR: f64 = 1e-9;
 
 /// The BRDF lobes of a material at one shading point.
-struct Lobes {
-    kd: DVec3,
-    specular: Option<(LtcEntry, DVec3)>,
+pub(super) struct Lobes {
+    pub(super) kd: DVec3,
+    pub(super) specular: Option<(LtcEntry, DVec3)>,
 }
 
 /// What every stage at one shading point reads.
-struct PointContext<'a> {
-    scene: &'a PreparedScene,
-    sp: &'a ShadingPoint,
-    frame: Frame,
-    lobes: Lobes,
-    method: Method,
+pub(super) struct PointContext<'a> {
+    pub(super) scene: &'a PreparedScene,
+    pub(super) sp: &'a ShadingPoint,
+    pub(super) frame: Frame,
+    pub(super) lobes: Lobes,
+    pub(super) method: Method,
 }
 
 /// Outgoing radiance at `sp` toward the viewer, by 000 Alg. 1 (diffuse + specular). `rec`
@@ -170,13 +182,7 @@ pub fn shade<R: Recorder>(
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> DVec3 {
-    scratch.stats = ShadingStats::default();
-    scratch.stamp += 1;
-    if scratch.occluder_cache.len() < scene.occluders.len() {
-        scratch
-            .occluder_cache
-            .resize_with(scene.occluders.len(), CachedOccluder::default);
-    }
+    scratch.begin_point(scene);
     let lobes = Lobes {
         kd: material.kd,
         specular: material.has_specular().then(|| {
@@ -372,7 +378,7 @@ fn skip_own_face(obj: &PreparedObject, f: usize, sp: &ShadingPoint) -> bool {
 
 /// What one pass of lines 5–16 integrates: a whole light (its silhouette), or one face of it
 /// with the face's plane offset by the coplanarity tolerance toward the shading point.
-struct LightPiece {
+pub(super) struct LightPiece {
     light: usize,
     radiance: DVec3,
     face: Option<(usize, Plane)>,
@@ -415,7 +421,7 @@ fn shade_light_piece<R: Recorder>(
                 })
                 .flatten();
             if let Some(oi) = own {
-                subtract_occluder(ctx, oi, piece, scratch, rec);
+                subtract_occluder(ctx, oi, Some(piece), scratch, rec);
             }
             own.is_some() as usize
         }
@@ -437,7 +443,7 @@ fn shade_light_piece<R: Recorder>(
                     break;
                 }
                 let oi = scratch.kept[k] as usize;
-                subtract_occluder(ctx, oi, piece, scratch, rec);
+                subtract_occluder(ctx, oi, Some(piece), scratch, rec);
             }
             scratch.kept.len()
         }
@@ -461,22 +467,26 @@ fn shade_light_piece<R: Recorder>(
 }
 
 /// Lines 9–12 of Alg. 1 for occluder `oi` (index into `scene.occluders`).
-fn subtract_occluder<R: Recorder>(
+///
+/// `piece` is `None` for the environment (`super::environment`): the region to subtract from
+/// is then the whole hemisphere, at infinity behind every occluder, so there is no depth cut
+/// and no window.
+pub(super) fn subtract_occluder<R: Recorder>(
     ctx: &PointContext,
     oi: usize,
-    piece: &LightPiece,
+    piece: Option<&LightPiece>,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) {
     let (scene, sp, frame) = (ctx.scene, ctx.sp, &ctx.frame);
     let occ_id = scene.occluders[oi];
     let occ = &scene.objects[occ_id as usize];
-    let own_mesh = occ_id == scene.lights[piece.light].0;
+    let own_mesh = piece.is_some_and(|p| occ_id == scene.lights[p.light].0);
     // Depth against a light face: an occluder separated from the whole light by a plane is in
     // front of it wherever they overlap (get_between checked the side of x); otherwise, and for
     // the light's own mesh, keep only what lies in front of the light face's plane.
-    let mut cut = match piece.face {
-        Some((_, plane)) if own_mesh || scene.separation(piece.light, oi).is_none() => Some(plane),
+    let mut cut = match piece.and_then(|p| p.face.map(|(_, plane)| (p.light, plane))) {
+        Some((l, plane)) if own_mesh || scene.separation(l, oi).is_none() => Some(plane),
         _ => None,
     };
     if let Some(pp) = cut {
@@ -498,7 +508,7 @@ fn subtract_occluder<R: Recorder>(
     let cut = cut.as_ref();
     record_contour(rec, Some(oi), &occ.poly, sp.position, frame);
     let skip_face = if own_mesh {
-        piece.face.map(|(f, _)| f)
+        piece.and_then(|p| p.face.map(|(f, _)| f))
     } else {
         None
     };
@@ -509,8 +519,9 @@ fn subtract_occluder<R: Recorder>(
         // lights. (With a recorder every stage is recomputed so that it reaches the recording;
         // same numbers.)
         // A large mesh's polygon is found inside the light's window: not kept for other lights.
-        let windowed =
-            occ.path() == MeshPath::ExactInWindow && scratch.light_clip.loop_count() == 1;
+        let windowed = piece.is_some()
+            && occ.path() == MeshPath::ExactInWindow
+            && scratch.light_clip.loop_count() == 1;
         if !R::ENABLED && !windowed && scratch.occluder_cache[oi].stamp == scratch.stamp {
             std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
             subtract_planar(oi, scratch, rec);
@@ -554,7 +565,8 @@ fn subtract_occluder<R: Recorder>(
             }
             // A convex outline of many vertices around a small light: only its part near the
             // light reaches the set difference (the same difference, far fewer vertices).
-            let clipped = !exact
+            let clipped = piece.is_some()
+                && !exact
                 && scratch.occ_sph.vertex_count() > WINDOW_CLIP_MIN_VERTICES
                 && scratch.light_clip.loop_count() == 1
                 && clip_to_window(
@@ -586,7 +598,7 @@ fn subtract_occluder<R: Recorder>(
     // its polygon (all of them for small meshes), in index order as the scan visits them.
     scratch.face_list.clear();
     let cone = match (&faces.face_bvh, scratch.light_clip.loop_count()) {
-        (Some(_), 1) => window_cone(scratch.light_clip.loop_at(0), frame, &mut scratch.cone_buf),
+        (Some(_), 1) if piece.is_some() => window_cone(scratch.light_clip.loop_at(0), frame, &mut scratch.cone_buf),
         _ => None,
     };
     match (cone, &faces.face_bvh) {

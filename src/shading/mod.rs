@@ -3,6 +3,7 @@
 pub mod analytic;
 pub mod brdf;
 pub mod cost_model;
+pub mod environment;
 pub mod get_between;
 pub mod outline;
 pub mod prepared;
@@ -11,6 +12,9 @@ pub mod tree_cache;
 pub mod tree_library;
 
 pub use analytic::{ShadingScratch, ShadingStats, Shortcuts, shade};
+pub use environment::{
+    EnvironmentIntegrals, EnvironmentOccluders, EnvironmentPass, environment_integrals,
+};
 pub use outline::{Outline, OutlineScratch, Role};
 pub use prepared::{MeshPath, PrepareOptions, PreparedObject, PreparedScene};
 pub use recorder::{

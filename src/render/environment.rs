@@ -1,0 +1,508 @@
+//! The environment light's share of an image (paper 002), added to the area lights' image.
+//!
+//! 002 Sect. 4 renders in four passes; here they are, with the work of each timed:
+//!
+//! 1. **G-buffer**: the camera rays' first hits and `E_static` per sub-pixel position: the
+//!    unshadowed irradiance of Eq. 7, or, when static objects reach the hemisphere, the
+//!    irradiance they leave (diffuse PRT with shadows, Eq. 6; computed exactly here by the
+//!    polygon integral over the static-visible region, see `shading::environment`).
+//! 2. **Occlusion**: `E_occluded` by the method: exact (`analytic`), rays in merged cones
+//!    (`rt`, 002 Alg. 1–2), every ray (`rt-unculled`), ambient occlusion (`rtao`); or, for
+//!    the `reference`, E itself by Monte Carlo of the map with shadow rays.
+//! 3. **Filter**: `rt`'s E_occluded through the 5×5 cross-bilateral filter.
+//! 4. **Composition**: `ρ/π · max(E_static − E_occluded, 0)` (Eq. 2–3); camera rays that
+//!    miss everything see the map.
+//!
+//! Passes 1–2 run fused per pixel (no G-buffer of every sub-pixel sample is kept); their
+//! times are the CPU time of each part, scaled to the wall time of the fused pass.
+
+use super::{Image, RenderContext, subpixel_rays};
+use crate::accel::Ray;
+use crate::denoise::gbuffer::{GBuffer, Surface};
+use crate::environment::{
+    BoundingSphere, Cone, EnvMethod, EnvironmentLight, HemisphereSamples, construct_and_merge_cones,
+    cross_bilateral_5x5, pixel_rotation, ray_extent,
+};
+use crate::math::{Frame, Pcg32};
+use crate::scene::camera::CameraBasis;
+use crate::shading::{
+    EnvironmentOccluders, EnvironmentPass, NoRecorder, ShadingPoint, ShadingScratch,
+    environment_integrals,
+};
+use glam::DVec3;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::Instant;
+
+/// Which parts of conical ray culling `rt` uses (002 Table 1's three columns).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Culling {
+    /// Every ray traced to infinity.
+    None,
+    /// Rays outside every cone are not traced (traced to infinity otherwise).
+    Direction,
+    /// Direction culling, and each traced ray stops at the largest cone height.
+    DirectionAndLength,
+}
+
+/// How the environment term is rendered.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EnvironmentSettings {
+    pub method: EnvMethod,
+    /// Rays per camera ray (`rt`, `rt-unculled`, `rtao`, `reference`).
+    pub spp: u32,
+    pub seed: u64,
+    /// `rt`: culling (by default what the method's name says).
+    pub culling: Culling,
+    /// `rt`: the 5×5 cross-bilateral filter on E_occluded (002 Sect. 4); off for the
+    /// unfiltered images of 002 Table 2.
+    pub filter: bool,
+    /// Cluster each point's merged cones into at most this many (002 Sect. 6's open
+    /// problem; `environment::cones::cluster_cones`). `None`: 002's merging alone.
+    pub max_cones: Option<usize>,
+}
+
+impl EnvironmentSettings {
+    /// The settings `method` implies: culling per its name, the filter on for `rt`.
+    pub fn new(method: EnvMethod, spp: u32, seed: u64) -> Self {
+        EnvironmentSettings {
+            method,
+            spp,
+            seed,
+            culling: match method {
+                EnvMethod::RtUnculled => Culling::None,
+                _ => Culling::DirectionAndLength,
+            },
+            filter: matches!(method, EnvMethod::Rt | EnvMethod::RtUnculled),
+            max_cones: None,
+        }
+    }
+}
+
+/// An environment light attached to a scene ready to render.
+pub struct SceneEnvironment {
+    pub light: Arc<EnvironmentLight>,
+    pub settings: EnvironmentSettings,
+    /// The occluders split into static and dynamic (002 Sect. 3.2).
+    pub occluders: EnvironmentOccluders,
+    /// Bounding spheres of the dynamic occluders: the cones of 002 Eq. 4.
+    pub spheres: Vec<BoundingSphere>,
+    /// The rays of `rt`, `rt-unculled` and `rtao`.
+    pub samples: HemisphereSamples,
+    /// Smallest ray parameter of a shadow ray (self-intersection), relative to the scene.
+    t_min: f64,
+}
+
+impl SceneEnvironment {
+    pub fn new(ctx: &RenderContext, light: Arc<EnvironmentLight>, settings: EnvironmentSettings) -> Self {
+        let scene = &ctx.scene;
+        let occluders = EnvironmentOccluders::new(&ctx.prepared, |o| {
+            scene.objects[o as usize].flags.is_static
+        });
+        let spheres = occluders
+            .dynamics
+            .iter()
+            .map(|&oi| {
+                let obj = &ctx.prepared.objects[ctx.prepared.occluders[oi as usize] as usize];
+                BoundingSphere {
+                    centre: obj.poly.center,
+                    radius: obj.poly.radius,
+                }
+            })
+            .collect();
+        let extent = ctx
+            .bvh
+            .bounds()
+            .map_or(1.0, |(lo, hi)| (hi - lo).length().max(1e-300));
+        SceneEnvironment {
+            light,
+            settings,
+            occluders,
+            spheres,
+            samples: HemisphereSamples::new(settings.spp.max(1)),
+            t_min: 1e-9 * extent,
+        }
+    }
+}
+
+/// Work and time of the environment passes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EnvironmentStats {
+    /// Seconds per pass (002 Table 1): G-buffer, occlusion (ray tracing or the exact
+    /// integral), filter, composition.
+    pub gbuffer_seconds: f64,
+    pub occlusion_seconds: f64,
+    pub filter_seconds: f64,
+    pub composition_seconds: f64,
+    /// Rays the method could trace, and those it traced (after culling).
+    pub rays_total: u64,
+    pub rays_traced: u64,
+    /// Merged cones, summed over sub-pixel samples (`rt`), and the samples that had any.
+    pub cones: u64,
+    pub samples: u64,
+    /// Set differences of the exact method.
+    pub set_differences: u64,
+}
+
+/// Per-pixel results of the fused passes 1–2.
+#[derive(Clone, Copy, Debug, Default)]
+struct EnvPixel {
+    /// Mean over the sub-pixel samples of ρ/π · max(E_static − E_occluded, 0) (unfiltered).
+    radiance: DVec3,
+    /// Mean of ρ/π · E_static.
+    base: DVec3,
+    /// Mean of E_occluded, and of ρ/π (for the filtered composition).
+    occluded: DVec3,
+    albedo: DVec3,
+    /// The map seen by camera rays that miss, averaged over the pixel.
+    background: DVec3,
+    /// Per-channel squared standard error of `radiance` (the reference).
+    variance: DVec3,
+    surface: Option<Surface>,
+    cones: u32,
+    rays_traced: u32,
+    rays_total: u32,
+    set_differences: u32,
+    nanos_gbuffer: u64,
+    nanos_occlusion: u64,
+}
+
+/// What the environment pass produced.
+#[derive(Clone, Debug, Default)]
+pub struct EnvironmentOutput {
+    pub image: Image,
+    /// Per-pixel standard error (`reference` only).
+    pub stderr: Option<Image>,
+    /// E_occluded averaged per pixel, before and after the filter (the workbench's AOVs).
+    pub occluded: Image,
+    pub occluded_filtered: Option<Image>,
+    /// Merged cones per pixel (002 Fig. 8), averaged over its sub-pixel samples.
+    pub cones: Vec<f32>,
+    pub stats: EnvironmentStats,
+}
+
+/// Per-thread buffers.
+#[derive(Default)]
+struct EnvScratch {
+    shading: ShadingScratch,
+    cones: Vec<Cone>,
+}
+
+/// Renders the environment term of the image seen through `basis`: passes 1–4 of the module
+/// doc. `None` when cancelled.
+pub fn render_environment(
+    ctx: &RenderContext,
+    env: &SceneEnvironment,
+    basis: &CameraBasis,
+    width: u32,
+    height: u32,
+    aa: u32,
+    cancel: Option<&AtomicBool>,
+) -> Option<EnvironmentOutput> {
+    let start = Instant::now();
+    let nanos_g = AtomicU64::new(0);
+    let nanos_o = AtomicU64::new(0);
+    let pixels = super::render_tiles(width, height, cancel, EnvScratch::default, |s, x, y| {
+        let px = shade_pixel(ctx, env, basis, x, y, width, height, aa, s);
+        nanos_g.fetch_add(px.nanos_gbuffer, Ordering::Relaxed);
+        nanos_o.fetch_add(px.nanos_occlusion, Ordering::Relaxed);
+        px
+    })?;
+    let fused = start.elapsed().as_secs_f64();
+    let (ng, no) = (
+        nanos_g.load(Ordering::Relaxed) as f64,
+        nanos_o.load(Ordering::Relaxed) as f64,
+    );
+    let share = if ng + no > 0.0 { ng / (ng + no) } else { 0.5 };
+    let mut stats = EnvironmentStats {
+        gbuffer_seconds: fused * share,
+        occlusion_seconds: fused * (1.0 - share),
+        ..Default::default()
+    };
+    for p in &pixels {
+        stats.rays_total += p.rays_total as u64;
+        stats.rays_traced += p.rays_traced as u64;
+        stats.cones += p.cones as u64;
+        stats.set_differences += p.set_differences as u64;
+    }
+    stats.samples = pixels.len() as u64 * u64::from(aa * aa);
+    let image_of = |f: &dyn Fn(&EnvPixel) -> DVec3| Image {
+        width,
+        height,
+        pixels: pixels.iter().map(f).collect(),
+    };
+    let occluded = image_of(&|p| p.occluded);
+    let cones = pixels
+        .iter()
+        .map(|p| p.cones as f32 / (aa * aa) as f32)
+        .collect();
+
+    let is_rt = matches!(env.settings.method, EnvMethod::Rt | EnvMethod::RtUnculled);
+    let t_filter = Instant::now();
+    let filtered = (is_rt && env.settings.filter).then(|| {
+        let g = GBuffer::from_fn(width, height, |x, y| {
+            pixels[(y * width + x) as usize].surface
+        });
+        cross_bilateral_5x5(&occluded, &g)
+    });
+    stats.filter_seconds = t_filter.elapsed().as_secs_f64();
+
+    let t_compose = Instant::now();
+    let image = match &filtered {
+        Some(f) => Image {
+            width,
+            height,
+            pixels: pixels
+                .iter()
+                .zip(&f.pixels)
+                .map(|(p, &occ)| {
+                    p.background + (p.base - p.albedo * occ).max(DVec3::ZERO)
+                })
+                .collect(),
+        },
+        None => image_of(&|p| p.background + p.radiance),
+    };
+    stats.composition_seconds = t_compose.elapsed().as_secs_f64();
+    let stderr = (env.settings.method == EnvMethod::Reference)
+        .then(|| image_of(&|p| DVec3::new(p.variance.x.sqrt(), p.variance.y.sqrt(), p.variance.z.sqrt())));
+    Some(EnvironmentOutput {
+        image,
+        stderr,
+        occluded,
+        occluded_filtered: filtered,
+        cones,
+        stats,
+    })
+}
+
+/// Passes 1–2 for pixel (x, y).
+#[allow(clippy::too_many_arguments)]
+fn shade_pixel(
+    ctx: &RenderContext,
+    env: &SceneEnvironment,
+    basis: &CameraBasis,
+    x: u32,
+    y: u32,
+    width: u32,
+    height: u32,
+    aa: u32,
+    s: &mut EnvScratch,
+) -> EnvPixel {
+    let mut px = EnvPixel::default();
+    let k = (aa * aa) as f64;
+    let pixel_index = u64::from(y) * u64::from(width) + u64::from(x);
+    for (sub, ray) in subpixel_rays(basis, x, y, aa, width, height).enumerate() {
+        let t0 = Instant::now();
+        let Some(hit) = ctx.primary_hit(&ray) else {
+            px.background += env.light.radiance(ray.dir.normalize());
+            px.nanos_gbuffer += t0.elapsed().as_nanos() as u64;
+            continue;
+        };
+        if sub == 0 {
+            let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
+            let d0 = basis.direction(cx, cy, width, height);
+            let d1 = basis.direction(cx + 1.0, cy, width, height);
+            let dist = (hit.point.position - basis.eye).length();
+            px.surface = hit.receiver.then_some(Surface {
+                position: hit.point.position,
+                normal: hit.point.normal,
+                footprint: dist * (d1 - d0).length(),
+            });
+        }
+        if !hit.receiver {
+            px.nanos_gbuffer += t0.elapsed().as_nanos() as u64;
+            continue;
+        }
+        let sp = hit.point;
+        let object = sp.object.unwrap_or(0) as usize;
+        let rho_pi = ctx.prepared.materials[object].kd / std::f64::consts::PI;
+        let stream = pixel_index * u64::from(aa * aa) + sub as u64;
+        let e_static = static_irradiance(ctx, env, &sp, &mut s.shading);
+        let t1 = Instant::now();
+        px.nanos_gbuffer += (t1 - t0).as_nanos() as u64;
+
+        let e_occluded = match env.settings.method {
+            EnvMethod::Unshadowed => DVec3::ZERO,
+            EnvMethod::Analytic => {
+                let r = environment_integrals(
+                    &ctx.prepared,
+                    &env.occluders,
+                    &sp,
+                    EnvironmentPass::Occluded,
+                    &|frame: &Frame, poly| env.light.integrate(frame, poly),
+                    &mut s.shading,
+                    &mut NoRecorder,
+                );
+                px.set_differences += r.set_differences;
+                r.occluded
+            }
+            EnvMethod::Rt | EnvMethod::RtUnculled => {
+                rt_occluded(ctx, env, &sp, stream, &mut s.cones, &mut px)
+            }
+            EnvMethod::Rtao => e_static * (1.0 - ambient_visibility(ctx, env, &sp, stream, &mut px)),
+            EnvMethod::Reference => {
+                let (mean, var) = reference_irradiance(ctx, env, &sp, stream);
+                px.radiance += rho_pi * mean / k;
+                px.variance += rho_pi * rho_pi * var / (k * k);
+                px.nanos_occlusion += t1.elapsed().as_nanos() as u64;
+                continue;
+            }
+        };
+        px.nanos_occlusion += t1.elapsed().as_nanos() as u64;
+        px.radiance += rho_pi * (e_static - e_occluded).max(DVec3::ZERO) / k;
+        px.base += rho_pi * e_static / k;
+        px.occluded += e_occluded / k;
+        px.albedo += rho_pi / k;
+    }
+    px.background /= k;
+    px
+}
+
+/// E_static at `sp`: the irradiance the static objects leave (Eq. 6), or Eq. 7 when none of
+/// them reaches the hemisphere.
+fn static_irradiance(
+    ctx: &RenderContext,
+    env: &SceneEnvironment,
+    sp: &ShadingPoint,
+    scratch: &mut ShadingScratch,
+) -> DVec3 {
+    let unshadowed = || env.light.irradiance(sp.normal);
+    if env.occluders.statics.is_empty() {
+        return unshadowed();
+    }
+    environment_integrals(
+        &ctx.prepared,
+        &env.occluders,
+        sp,
+        EnvironmentPass::StaticOnly,
+        &|frame: &Frame, poly| env.light.integrate(frame, poly),
+        scratch,
+        &mut NoRecorder,
+    )
+    .static_visible
+    .unwrap_or_else(unshadowed)
+}
+
+/// Whether the ray from `sp` may be blocked by scene object `o` (face `f`): occluders only,
+/// and never the face the point lies on.
+#[inline]
+fn blocks(ctx: &RenderContext, sp: &ShadingPoint, o: u32, f: u32) -> bool {
+    ctx.scene.objects[o as usize].flags.occluder && !(Some(o) == sp.object && Some(f) == sp.face)
+}
+
+/// 002 Alg. 1–2 at one sub-pixel sample: cones, culling, rays; E_occluded = π/N Σ L_SH(ω)
+/// over the rays whose first hit is a dynamic object (Eq. 8).
+fn rt_occluded(
+    ctx: &RenderContext,
+    env: &SceneEnvironment,
+    sp: &ShadingPoint,
+    stream: u64,
+    cones: &mut Vec<Cone>,
+    px: &mut EnvPixel,
+) -> DVec3 {
+    let culling = env.settings.culling;
+    construct_and_merge_cones(sp.position, sp.normal, &env.spheres, cones);
+    if let Some(max) = env.settings.max_cones {
+        crate::environment::cones::cluster_cones(cones, max);
+    }
+    px.cones += cones.len() as u32;
+    let n = env.samples.len();
+    px.rays_total += n as u32;
+    if culling != Culling::None && cones.is_empty() {
+        return DVec3::ZERO;
+    }
+    let frame = Frame::from_z(sp.normal);
+    let rot = pixel_rotation(env.settings.seed, stream);
+    let mut sum = DVec3::ZERO;
+    for i in 0..n {
+        let dir = frame.to_world(env.samples.rotated(i, rot));
+        let t_max = match culling {
+            Culling::None => f64::INFINITY,
+            Culling::Direction | Culling::DirectionAndLength => match ray_extent(cones, dir) {
+                None => continue,
+                Some(h) if culling == Culling::DirectionAndLength => h,
+                Some(_) => f64::INFINITY,
+            },
+        };
+        px.rays_traced += 1;
+        let ray = Ray {
+            origin: sp.position,
+            dir,
+        };
+        let hit = ctx
+            .bvh
+            .intersect_accept(&ray, env.t_min, t_max, |o, f| blocks(ctx, sp, o, f));
+        if let Some(h) = hit
+            && !ctx.scene.objects[h.object as usize].flags.is_static
+        {
+            sum += env.light.sh_radiance(dir);
+        }
+    }
+    sum * env.samples.weight()
+}
+
+/// The fraction of cosine-weighted rays that escape every occluder (RTAO, unbounded).
+fn ambient_visibility(
+    ctx: &RenderContext,
+    env: &SceneEnvironment,
+    sp: &ShadingPoint,
+    stream: u64,
+    px: &mut EnvPixel,
+) -> f64 {
+    let frame = Frame::from_z(sp.normal);
+    let rot = pixel_rotation(env.settings.seed, stream);
+    let n = env.samples.len();
+    px.rays_total += n as u32;
+    px.rays_traced += n as u32;
+    let mut open = 0usize;
+    for i in 0..n {
+        let ray = Ray {
+            origin: sp.position,
+            dir: frame.to_world(env.samples.rotated(i, rot)),
+        };
+        if !ctx
+            .bvh
+            .occluded(&ray, env.t_min, f64::INFINITY, |o, f| blocks(ctx, sp, o, f))
+        {
+            open += 1;
+        }
+    }
+    open as f64 / n.max(1) as f64
+}
+
+/// The reference: E = ∫ L_map(ω) V(ω) cos θ dω by Monte Carlo with the map's importance
+/// sampler and a shadow ray per sample; returns the mean and the variance of the mean.
+fn reference_irradiance(
+    ctx: &RenderContext,
+    env: &SceneEnvironment,
+    sp: &ShadingPoint,
+    stream: u64,
+) -> (DVec3, DVec3) {
+    let mut rng = Pcg32::new(env.settings.seed, stream);
+    let n = env.settings.spp.max(1);
+    let (mut sum, mut sum2) = (DVec3::ZERO, DVec3::ZERO);
+    for _ in 0..n {
+        let (dir, radiance, pdf) = env.light.sample(rng.next_f64(), rng.next_f64());
+        let cos = sp.normal.dot(dir);
+        if cos <= 0.0 || pdf <= 0.0 {
+            continue;
+        }
+        let ray = Ray {
+            origin: sp.position,
+            dir,
+        };
+        if ctx
+            .bvh
+            .occluded(&ray, env.t_min, f64::INFINITY, |o, f| blocks(ctx, sp, o, f))
+        {
+            continue;
+        }
+        let v = radiance * (cos / pdf);
+        sum += v;
+        sum2 += v * v;
+    }
+    let nf = n as f64;
+    let mean = sum / nf;
+    let var = ((sum2 / nf - mean * mean) / (nf - 1.0).max(1.0)).max(DVec3::ZERO);
+    (mean, var)
+}
