@@ -3,6 +3,8 @@
 //! The modules follow the pipeline of KT et al. 2021 (paper 000, Alg. 1):
 //!
 //! * [`app`]: the egui workbench (viewport, picked point, sphere view, stepping, plots, exports).
+//! * [`environment`]: the environment light of paper 002: equirectangular maps, 3-band SH
+//!   (Eq. 7, 8) and the closed-form SH integral over spherical polygons (occluded irradiance).
 //! * [`scene`]: OBJ/MTL and scene files, procedural shapes, the camera.
 //! * [`geometry`]: polyhedra, contour edges and silhouettes, spherical polygons,
 //!   horizon clipping, the planar projection and the set difference.
@@ -24,6 +26,7 @@ pub mod accel;
 pub mod app;
 pub mod bench;
 pub mod denoise;
+pub mod environment;
 pub mod geometry;
 pub mod inspect;
 pub mod ltc;
