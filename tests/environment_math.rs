@@ -376,7 +376,8 @@ fn polygon_integral_matches_quadrature_with_holes_touching_and_crossing() {
         check_polygon(&sh, frame, &[bowtie], "bowtie");
 
         // Two overlapping loops: the overlap counts twice.
-        let other = star(&mut rng, above(1.1, rng.range(0.0, 6.0)), 6, 0.2, 0.5, true);
+        let c2 = above(1.1, rng.range(0.0, 6.0));
+        let other = star(&mut rng, c2, 6, 0.2, 0.5, true);
         check_polygon(&sh, frame, &[outer, other], "overlap");
         let _ = case;
     }
@@ -458,8 +459,9 @@ fn polygon_integral_identities() {
 }
 
 /// Many edges of 1e-9 rad: each vertex of a hexagon replaced by a zig-zag chain of 100
-/// vertices within 1e-9 rad of it. The area changes by ~1e-16 sr, so the result must agree
-/// with the plain hexagon to rounding of a 600-term sum (relative 1e-12), with no NaN.
+/// vertices within 1e-9 rad of it, starting and ending at it. The long edges are unchanged and
+/// the zig-zags enclose ~1e-18 sr, so the result must agree with the plain hexagon to the
+/// rounding of a 600-term sum (relative 1e-12), with no NaN.
 #[test]
 fn tiny_edges_change_nothing() {
     let mut rng = Rng::new(11);
@@ -471,10 +473,12 @@ fn tiny_edges_change_nothing() {
     for &v in &p {
         let t1 = v.any_orthonormal_vector();
         let t2 = v.cross(t1);
-        for k in 0..100 {
+        tiny.push(v);
+        for k in 1..99 {
             let jitter = if k % 2 == 0 { 1e-9 } else { -1e-9 };
             tiny.push((v + (k as f64 * 1e-11) * t1 + jitter * t2).normalize());
         }
+        tiny.push(v);
     }
     let e = closed_form(&sh, frame, std::slice::from_ref(&p));
     let e_tiny = closed_form(&sh, frame, &[tiny]);
@@ -527,21 +531,28 @@ fn map_convention() {
 }
 
 /// rotate_deg = 90 moves what the map shows at +x to −z (and +z to +x); scale multiplies.
+/// The probes sit just inside the pixels below and after +x and +z (whose corners those
+/// directions are on an 8×4 map), away from pixel edges.
 #[test]
 fn map_rotation_and_scale() {
     let (w, h) = (8, 4);
     let mut px = vec![DVec3::ZERO; w * h];
     let probe = EnvironmentMap::new(w, h, px.clone()).unwrap();
-    let (i, j) = probe.pixel_of(DVec3::X);
+    let near_x = DVec3::new(1.0, -0.05, 0.05).normalize();
+    let near_z = DVec3::new(-0.05, -0.05, 1.0).normalize();
+    let (i, j) = probe.pixel_of(near_x);
+    assert_eq!((i, j), (2, 2));
     px[j * w + i] = DVec3::new(1.0, 2.0, 3.0);
-    let (i, j) = probe.pixel_of(DVec3::Z);
+    let (i, j) = probe.pixel_of(near_z);
+    assert_eq!((i, j), (4, 2));
     px[j * w + i] = DVec3::new(5.0, 0.0, 0.0);
-    // Probe slightly inside the pixels, away from their edges.
     let map = EnvironmentMap::new(w, h, px).unwrap().with_rotation(90.0).with_scale(2.0);
-    let nudge = |d: DVec3| (d + DVec3::new(0.05, 0.05, 0.05)).normalize();
-    assert_eq!(map.radiance(nudge(-DVec3::Z)), DVec3::new(2.0, 4.0, 6.0));
-    assert_eq!(map.radiance(nudge(DVec3::X)), DVec3::new(10.0, 0.0, 0.0));
-    assert_eq!(map.radiance(nudge(DVec3::Z)), DVec3::ZERO);
+    // Turning near_x by +90° about +y: (x, y, z) → (z, y, −x).
+    let turn = |d: DVec3| DVec3::new(d.z, d.y, -d.x);
+    assert!(turn(DVec3::X).abs_diff_eq(-DVec3::Z, 0.0));
+    assert_eq!(map.radiance(turn(near_x)), DVec3::new(2.0, 4.0, 6.0));
+    assert_eq!(map.radiance(turn(near_z)), DVec3::new(10.0, 0.0, 0.0));
+    assert_eq!(map.radiance(near_z), DVec3::ZERO);
 }
 
 #[test]

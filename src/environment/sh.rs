@@ -105,7 +105,7 @@ impl Sh9 {
     /// (the notes' "radiance as a quadratic"). Exact on the unit sphere, where x²+y²+z² = 1
     /// turned the constant of Y20 into part of c.
     pub fn quadratic(&self) -> ShQuadratic {
-        let l = &self.coeffs;
+        let l = self.coeffs;
         let channel = |k: usize| {
             let [l00, l1m1, l10, l11, l2m2, l2m1, l20, l21, l22] = l.map(|c| c[k]);
             let c = SH_Y00 * l00 - SH_Y20 * l20;
