@@ -88,7 +88,13 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 /// ∫ f over the spherical triangle (a, b, c), signed: positive when counter-clockwise seen
 /// from outside. The planar triangle is mapped from the unit square by the Duffy map
 /// p = a + s(b − a) + st(c − b) and projected to the sphere, dω = (p·n_plane) s dA / |p|³.
-fn triangle_integral(f: &dyn Fn(DVec3) -> DVec3, a: DVec3, b: DVec3, c: DVec3, gl: &[(f64, f64)]) -> DVec3 {
+fn triangle_integral(
+    f: &dyn Fn(DVec3) -> DVec3,
+    a: DVec3,
+    b: DVec3,
+    c: DVec3,
+    gl: &[(f64, f64)],
+) -> DVec3 {
     let cross = (b - a).cross(c - b);
     let mut sum = DVec3::ZERO;
     for &(s, ws) in gl {
@@ -225,16 +231,26 @@ fn sh_basis_is_orthonormal() {
 /// trigonometric polynomials of degree ≤ 4 < W), O(Δθ²) in θ. Per row the error is
 /// ∫ g − g(cos θ_c) Δz with cos θ_c ≠ the z-interval's midpoint by cos θ_c (1 − cos(Δθ/2)),
 /// i.e. about |g'| Δθ²/8 = 1.9e-5 |g'| at H = 256, relative to the coefficients' size.
-/// The measured worst error is below 1e-5 of the largest coefficient; tolerance 5e-5.
+/// The measured worst error is 1.3e-5 of the largest coefficient (on L22); tolerance 5e-5.
 #[test]
 fn sh_projection_round_trip() {
     let mut rng = Rng::new(1);
     let sh = rng.sh();
     let map = EnvironmentMap::from_sh(&sh, 512, 256);
     let back = Sh9::project(&map);
-    let scale = sh.coeffs.iter().map(|c| c.abs().max_element()).fold(0.0, f64::max);
+    let scale = sh
+        .coeffs
+        .iter()
+        .map(|c| c.abs().max_element())
+        .fold(0.0, f64::max);
     for k in 0..9 {
-        assert_close(back.coeffs[k], sh.coeffs[k], 5e-5, scale, &format!("L[{k}]"));
+        assert_close(
+            back.coeffs[k],
+            sh.coeffs[k],
+            5e-5,
+            scale,
+            &format!("L[{k}]"),
+        );
     }
 }
 
@@ -248,15 +264,21 @@ fn sh_projection_applies_scale_and_rotation() {
     let plain = Sh9::project(&map);
     let scaled = Sh9::project(&map.clone().with_scale(2.5));
     for k in 0..9 {
-        assert_close(scaled.coeffs[k], plain.coeffs[k] * 2.5, 1e-14, 10.0, "scale");
+        assert_close(
+            scaled.coeffs[k],
+            plain.coeffs[k] * 2.5,
+            1e-14,
+            10.0,
+            "scale",
+        );
     }
     let rotated = Sh9::project(&map.clone().with_rotation(70.0));
     let r = DMat3::from_rotation_y(70f64.to_radians());
     for _ in 0..20 {
         let d = rng.unit();
-        // Both sides carry the projection's O(Δθ²) error (about 1e-4 at 256x128, see the
-        // round-trip test), so compare to 1e-3 of the function's size (≈ 5).
-        assert_close(rotated.eval(r * d), plain.eval(d), 1e-3, 5.0, "rotation");
+        // The projection's error is all in θ (it is exact in φ), and a rotation about +y only
+        // shifts φ: the two projections agree to rounding (measured 2e-15 of 5).
+        assert_close(rotated.eval(r * d), plain.eval(d), 1e-12, 5.0, "rotation");
     }
 }
 
@@ -300,7 +322,13 @@ fn quadratic_matches_eval_world_and_local() {
         for _ in 0..20 {
             let d = rng.unit();
             assert_close(q.eval(d), sh.eval(d), 1e-12, 1.0, "world");
-            assert_close(local.eval(world_to_local * d), sh.eval(d), 1e-12, 1.0, "local");
+            assert_close(
+                local.eval(world_to_local * d),
+                sh.eval(d),
+                1e-12,
+                1.0,
+                "local",
+            );
         }
     }
 }
@@ -309,13 +337,14 @@ fn quadratic_matches_eval_world_and_local() {
 // The polygon integral.
 
 /// Checks one configuration against the fan quadrature. The oracle's error is that of 24×24
-/// Gauss–Legendre on analytic integrands over triangles with 0.25 rad bases, far below 1e-13;
-/// the closed form's is rounding. Tolerance 1e-11 of |L|max · (the polygon's |solid angle|).
+/// Gauss–Legendre on analytic integrands over triangles with 0.25 rad bases, at rounding
+/// level; the closed form's is rounding. Measured worst disagreement: 1.4e-15 absolute on
+/// results of size ≈ 1–10. Tolerance 2e-12 absolute (1e-13 × 20).
 fn check_polygon(sh: &Sh9, world_to_local: DMat3, loops: &[Vec<DVec3>], what: &str) {
     let got = closed_form(sh, world_to_local, loops);
     let want = oracle(sh, world_to_local, loops);
     assert!(got.is_finite(), "{what}: {got}");
-    assert_close(got, want, 1e-11, 20.0, what);
+    assert_close(got, want, 1e-13, 20.0, what);
 }
 
 #[test]
@@ -331,7 +360,12 @@ fn polygon_integral_matches_quadrature_convex_and_nonconvex() {
         let (r0, r1) = if convex { (0.5, 0.5) } else { (0.1, 0.6) };
         let p = star(&mut rng, centre, n, r0, r1, true);
         assert!(p.iter().all(|v| v.z > 0.0));
-        check_polygon(&sh, frame, &[p], &format!("case {case} convex {convex} n {n}"));
+        check_polygon(
+            &sh,
+            frame,
+            &[p],
+            &format!("case {case} convex {convex} n {n}"),
+        );
     }
 }
 
@@ -346,7 +380,11 @@ fn polygon_integral_matches_quadrature_around_the_normal_and_on_the_horizon() {
         let p: Vec<DVec3> = (0..n)
             .map(|k| {
                 let az = 2.0 * PI * (k as f64 + rng.range(-0.2, 0.2)) / n as f64;
-                let el = if k % 2 == 0 { 0.0 } else { rng.range(0.05, 1.2) };
+                let el = if k % 2 == 0 {
+                    0.0
+                } else {
+                    rng.range(0.05, 1.2)
+                };
                 above(el, az)
             })
             .collect();
@@ -372,7 +410,12 @@ fn polygon_integral_matches_quadrature_with_holes_touching_and_crossing() {
         check_polygon(&sh, frame, &[t1, t2], "touching");
 
         // A bowtie (self-crossing): the two lobes have opposite orientation.
-        let bowtie = vec![above(0.3, 0.0), above(1.2, 1.5), above(1.2, 0.0), above(0.3, 1.5)];
+        let bowtie = vec![
+            above(0.3, 0.0),
+            above(1.2, 1.5),
+            above(1.2, 0.0),
+            above(0.3, 1.5),
+        ];
         check_polygon(&sh, frame, &[bowtie], "bowtie");
 
         // Two overlapping loops: the overlap counts twice.
@@ -395,7 +438,11 @@ fn horizon_loop_gives_unshadowed_irradiance() {
         let (x, y, n) = (frame.x_axis, frame.y_axis, frame.z_axis);
         let square = [x, y, -x, -y];
         let m = PolygonMoments::of_loops([&square[..]], n);
-        assert!((m.omega - 2.0 * PI).abs() < 1e-13, "solid angle {}", m.omega);
+        assert!(
+            (m.omega - 2.0 * PI).abs() < 1e-13,
+            "solid angle {}",
+            m.omega
+        );
         let e = cosine_weighted_integral(&sh.quadratic(), &m, n);
         assert_close(e, sh.irradiance(n), 1e-12, 10.0, "four horizon points");
 
@@ -442,7 +489,13 @@ fn polygon_integral_identities() {
         let mut split = p.clone();
         let mid = (p[2] + p[3]).normalize();
         split.insert(3, mid);
-        assert_close(closed_form(&sh, frame, &[split]), e, 1e-13, 10.0, "mid-arc vertex");
+        assert_close(
+            closed_form(&sh, frame, &[split]),
+            e,
+            1e-13,
+            10.0,
+            "mid-arc vertex",
+        );
 
         let mut rev = p.clone();
         rev.reverse();
@@ -454,7 +507,13 @@ fn polygon_integral_identities() {
         let n = r * DVec3::Z;
         let m = PolygonMoments::of_loops([rotated.as_slice()], n);
         let q = sh.local_quadratic(frame).in_frame(r);
-        assert_close(cosine_weighted_integral(&q, &m, n), e, 1e-13, 10.0, "rotated");
+        assert_close(
+            cosine_weighted_integral(&q, &m, n),
+            e,
+            1e-13,
+            10.0,
+            "rotated",
+        );
     }
 }
 
@@ -489,7 +548,11 @@ fn tiny_edges_change_nothing() {
     let a = above(0.7, 0.1);
     m.accumulate_edge(a, a, DVec3::Z);
     assert_eq!(m, PolygonMoments::ZERO);
-    m.accumulate_edge(a, (a + 1e-9 * a.any_orthonormal_vector()).normalize(), DVec3::Z);
+    m.accumulate_edge(
+        a,
+        (a + 1e-9 * a.any_orthonormal_vector()).normalize(),
+        DVec3::Z,
+    );
     assert!(m.tau1.is_finite() && m.g1.is_finite() && m.g2.is_finite() && m.omega.is_finite());
 }
 
@@ -512,7 +575,11 @@ fn map_convention() {
     // Pixel centres: θ = π(j + ½)/H, φ = 2π(i + ½)/W.
     let d = map.direction(5, 2);
     let (theta, phi) = (PI * 2.5 / 8.0, 2.0 * PI * 5.5 / 16.0);
-    let want = DVec3::new(theta.sin() * phi.sin(), theta.cos(), -theta.sin() * phi.cos());
+    let want = DVec3::new(
+        theta.sin() * phi.sin(),
+        theta.cos(),
+        -theta.sin() * phi.cos(),
+    );
     assert!(close(d, want));
     assert_eq!(map.pixel_of(DVec3::X), (4, 4));
     assert_eq!(map.pixel_of(-DVec3::Z), (0, 4));
@@ -546,7 +613,10 @@ fn map_rotation_and_scale() {
     let (i, j) = probe.pixel_of(near_z);
     assert_eq!((i, j), (4, 2));
     px[j * w + i] = DVec3::new(5.0, 0.0, 0.0);
-    let map = EnvironmentMap::new(w, h, px).unwrap().with_rotation(90.0).with_scale(2.0);
+    let map = EnvironmentMap::new(w, h, px)
+        .unwrap()
+        .with_rotation(90.0)
+        .with_scale(2.0);
     // Turning near_x by +90° about +y: (x, y, z) → (z, y, −x).
     let turn = |d: DVec3| DVec3::new(d.z, d.y, -d.x);
     assert!(turn(DVec3::X).abs_diff_eq(-DVec3::Z, 0.0));
@@ -558,7 +628,11 @@ fn map_rotation_and_scale() {
 #[test]
 fn sky_is_finite_sunny_and_darker_below() {
     let sky = EnvironmentMap::sky(256, 128);
-    assert!(sky.pixels().iter().all(|p| p.is_finite() && p.min_element() > 0.0));
+    assert!(
+        sky.pixels()
+            .iter()
+            .all(|p| p.is_finite() && p.min_element() > 0.0)
+    );
     assert_eq!(sky, EnvironmentMap::sky(256, 128));
     let brightest = sky.pixels().iter().map(|p| p.y).fold(0.0, f64::max);
     let zenith = sky.pixel(0, 0).y;
@@ -576,7 +650,9 @@ fn sky_is_finite_sunny_and_darker_below() {
 /// Σ pdf ΔΩ over all pixels is 1, and the pdf of a sample is what `pdf` says.
 #[test]
 fn sampler_pdf_is_normalised_and_consistent() {
-    let map = EnvironmentMap::sky(64, 32).with_rotation(30.0).with_scale(2.0);
+    let map = EnvironmentMap::sky(64, 32)
+        .with_rotation(30.0)
+        .with_scale(2.0);
     let sampler = EnvironmentSampler::new(&map);
     let mut total = 0.0;
     for j in 0..32 {
@@ -592,7 +668,11 @@ fn sampler_pdf_is_normalised_and_consistent() {
     for _ in 0..1000 {
         let (d, l, pdf) = sampler.sample(rng.next_f64(), rng.next_f64());
         assert!((d.length() - 1.0).abs() < 1e-12);
-        assert!((sampler.pdf(d) - pdf).abs() <= 1e-9 * pdf, "{} vs {pdf}", sampler.pdf(d));
+        assert!(
+            (sampler.pdf(d) - pdf).abs() <= 1e-9 * pdf,
+            "{} vs {pdf}",
+            sampler.pdf(d)
+        );
         assert_eq!(l, map.radiance(d));
     }
 }
@@ -605,7 +685,9 @@ fn sampler_pdf_is_normalised_and_consistent() {
 #[test]
 fn sampler_monte_carlo_matches_pixel_sum() {
     let (w, h) = (64, 32);
-    let map = EnvironmentMap::sky(w, h).with_rotation(30.0).with_scale(2.0);
+    let map = EnvironmentMap::sky(w, h)
+        .with_rotation(30.0)
+        .with_scale(2.0);
     let sampler = EnvironmentSampler::new(&map);
 
     let mut exact_up = DVec3::ZERO;
@@ -716,7 +798,10 @@ fn load_exr_round_trip_and_repairs() {
     let path = temp("nan.exr");
     penumbra::render::image_io::write_exr(&path, w, h, &nan).unwrap();
     let err = format!("{:#}", EnvironmentMap::load(&path).unwrap_err());
-    assert!(err.contains("nan.exr") && err.contains("not finite"), "{err}");
+    assert!(
+        err.contains("nan.exr") && err.contains("not finite"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -735,6 +820,9 @@ fn load_errors_name_the_file() {
     let path = temp("sky.png");
     std::fs::write(&path, b"not used").unwrap();
     let err = format!("{:#}", EnvironmentMap::load(&path).unwrap_err());
-    assert!(err.contains("sky.png") && err.contains("unsupported"), "{err}");
+    assert!(
+        err.contains("sky.png") && err.contains("unsupported"),
+        "{err}"
+    );
     assert!(EnvironmentMap::new(0, 4, vec![]).is_err());
 }

@@ -303,7 +303,11 @@ impl EnvironmentSampler {
             .flat_map(|j| (0..w).map(move |i| (i, j)))
             .map(|(i, j)| weight(i, j))
             .sum();
-        let floor = if total > 0.0 { Self::UNIFORM_FLOOR } else { 1.0 };
+        let floor = if total > 0.0 {
+            Self::UNIFORM_FLOOR
+        } else {
+            1.0
+        };
         let mut pixel_prob = Vec::with_capacity(w * h);
         for j in 0..h {
             for i in 0..w {
