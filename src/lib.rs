@@ -10,8 +10,9 @@
 //! * [`shading`]: one shading point, light by light (Alg. 1), with an optional recorder.
 //! * [`accel`]: rays, triangles and the BVH for camera rays and the ray-cast oracle.
 //! * [`render`]: images, tiles, output files.
-//! * [`environment`]: the environment light of paper 002: SH lighting, conical ray culling,
-//!   and E_occluded computed exactly over spherical polygons.
+//! * [`environment`]: the environment light of paper 002: equirectangular maps, 3-band SH
+//!   (Eq. 7, 8), conical ray culling, and E_occluded computed exactly by the closed-form SH
+//!   integral over spherical polygons.
 //! * [`denoise`]: the ratio denoiser of paper 003 (Sect. 3.5, 4.1–4.2): `U × denoise[S_N] /
 //!   denoise[U_N]` with a noise-driven joint-bilateral filter.
 //! * [`inspect`]: one pixel under the microscope: the recorded stages and per-light numbers

@@ -18,6 +18,7 @@ mod bsp_nonconvex;
 mod cell_triangulation;
 mod cli;
 mod edge_hierarchy;
+mod environment_math;
 mod exact_silhouette;
 mod exporter_precision;
 mod image_io;
