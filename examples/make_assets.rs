@@ -10,8 +10,8 @@
 use glam::{DAffine3, DVec2, DVec3};
 use penumbra::scene::scene_file::load_scene;
 use penumbra::scene::shapes::{
-    capped_icosahedron, cuboid, cylinder, icosphere, l_shape, prism, quad, t_shape,
-    truncated_cone, u_shape, uv_ellipsoid,
+    capped_icosahedron, cuboid, cylinder, icosphere, l_shape, prism, quad, t_shape, truncated_cone,
+    u_shape, uv_ellipsoid,
 };
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use penumbra::scene::{Camera, Mesh};
@@ -490,8 +490,16 @@ fn env_atrium_scene() -> SceneDef {
         ..object(name, mesh, &stone)
     };
     const COLUMNS: [&str; 10] = [
-        "column_l0", "column_l1", "column_l2", "column_l3", "column_l4", "column_r0",
-        "column_r1", "column_r2", "column_r3", "column_r4",
+        "column_l0",
+        "column_l1",
+        "column_l2",
+        "column_l3",
+        "column_l4",
+        "column_r0",
+        "column_r1",
+        "column_r2",
+        "column_r3",
+        "column_r4",
     ];
     let mut objects = vec![env_floor(&diffuse("floor", [0.55, 0.55, 0.5]))];
     for (k, name) in COLUMNS.iter().enumerate() {
@@ -516,8 +524,16 @@ fn env_atrium_scene() -> SceneDef {
         cuboid(DVec3::new(0.0, 1.601, -5.0), DVec3::new(4.0, 1.6, 0.15)),
     ));
     let skin = diffuse("figure", [0.7, 0.6, 0.5]);
-    objects.push(object("figure_a", figure(DVec3::new(-0.6, 0.0, 0.3), 15.0), &skin));
-    objects.push(object("figure_b", figure(DVec3::new(0.8, 0.0, -0.8), -30.0), &skin));
+    objects.push(object(
+        "figure_a",
+        figure(DVec3::new(-0.6, 0.0, 0.3), 15.0),
+        &skin,
+    ));
+    objects.push(object(
+        "figure_b",
+        figure(DVec3::new(0.8, 0.0, -0.8), -30.0),
+        &skin,
+    ));
     SceneDef {
         name: "env_atrium",
         description: "Like 002's Sponza scene: a static colonnade (ten columns, two aisle roofs, \
@@ -540,7 +556,11 @@ fn env_crowd_scene() -> SceneDef {
     for (k, name) in NAMES.iter().enumerate() {
         let (row, col) = ((k / 5) as f64, (k % 5) as f64);
         let feet = DVec3::new(-2.4 + 1.2 * col + 0.3 * row, 0.0, -0.6 - 1.4 * row);
-        objects.push(object(name, figure(feet, -40.0 + 20.0 * col + 13.0 * row), &skin));
+        objects.push(object(
+            name,
+            figure(feet, -40.0 + 20.0 * col + 13.0 * row),
+            &skin,
+        ));
     }
     SceneDef {
         name: "env_crowd",

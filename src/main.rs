@@ -256,16 +256,16 @@ struct EnvArgs {
 /// says (002 Sect. 5 uses 128).
 const ENV_DEFAULT_SPP: u32 = 128;
 
-/// The environment `args` and the scene ask for, loaded and attached to `ctx`; prints what it
-/// uses. GGX lobes get no environment light (002 is diffuse): said once here.
-fn attach_environment(
-    ctx: &mut RenderContext,
-    scene: &Scene,
-    args: &RenderArgs,
-) -> Result<Option<EnvironmentSettings>> {
+/// Puts the environment `args` ask for into `scene.environment` (the command line overrides
+/// the scene file's `[environment]`; `--env none` removes it), so that the scene is prepared
+/// knowing it has one.
+fn resolve_environment(scene: &mut Scene, args: &RenderArgs) -> Result<()> {
     let e = &args.env;
     let mut spec = match (e.env.as_deref(), &scene.environment) {
-        (Some("none"), _) => return Ok(None),
+        (Some("none"), _) => {
+            scene.environment = None;
+            return Ok(());
+        }
         (Some(map), base) => {
             let mut spec =
                 EnvironmentSpec::new(map, None, None, None, None).map_err(anyhow::Error::msg)?;
@@ -280,9 +280,11 @@ fn attach_environment(
         (None, Some(base)) => base.clone(),
         (None, None) => {
             if e.env_method.is_some() || e.env_rotate.is_some() || e.env_scale.is_some() {
-                bail!("--env-method, --env-rotate and --env-scale need an environment: pass --env sky|sky-sh|FILE");
+                bail!(
+                    "--env-method, --env-rotate and --env-scale need an environment: pass --env sky|sky-sh|FILE"
+                );
             }
-            return Ok(None);
+            return Ok(());
         }
     };
     if let Some(r) = e.env_rotate {
@@ -291,28 +293,45 @@ fn attach_environment(
     if let Some(s) = e.env_scale {
         spec.scale = s;
     }
+    spec.method = e.env_method.or(spec.method);
+    spec.spp = args.spp.or(spec.spp);
     // Validate the merged values the same way a scene file's are.
-    let spec = EnvironmentSpec::new(
-        match &spec.source {
-            EnvironmentSource::Sky => "sky".to_string(),
-            EnvironmentSource::SkySh => "sky-sh".to_string(),
-            EnvironmentSource::File(p) => p.display().to_string(),
-        }
-        .as_str(),
-        Some(spec.rotate_deg),
-        Some(spec.scale),
-        e.env_method.or(spec.method),
-        args.spp.or(spec.spp),
-    )
-    .map_err(anyhow::Error::msg)?;
-    let light = EnvironmentLight::load(&spec)?;
+    let map = match &spec.source {
+        EnvironmentSource::Sky => "sky".to_string(),
+        EnvironmentSource::SkySh => "sky-sh".to_string(),
+        EnvironmentSource::File(p) => p.display().to_string(),
+    };
+    scene.environment = Some(
+        EnvironmentSpec::new(
+            &map,
+            Some(spec.rotate_deg),
+            Some(spec.scale),
+            spec.method,
+            spec.spp,
+        )
+        .map_err(anyhow::Error::msg)?,
+    );
+    Ok(())
+}
+
+/// Loads the scene's environment (after [`resolve_environment`]) and attaches it to `ctx`.
+/// GGX lobes get no environment light (002 is diffuse): said once here.
+fn attach_environment(
+    ctx: &mut RenderContext,
+    scene: &Scene,
+    args: &RenderArgs,
+) -> Result<Option<EnvironmentSettings>> {
+    let Some(spec) = &scene.environment else {
+        return Ok(None);
+    };
+    let light = EnvironmentLight::load(spec)?;
     let method = spec.method.unwrap_or(EnvMethod::Analytic);
     let mut settings =
         EnvironmentSettings::new(method, spec.spp.unwrap_or(ENV_DEFAULT_SPP), args.seed);
-    if e.env_no_filter {
+    if args.env.env_no_filter {
         settings.filter = false;
     }
-    settings.max_cones = e.env_max_cones;
+    settings.max_cones = args.env.env_max_cones;
     if scene.objects.iter().any(|o| o.material.has_specular()) {
         eprintln!(
             "note: the environment lights the diffuse lobe only (002 is diffuse); GGX lobes see the area lights alone"
@@ -416,7 +435,8 @@ fn settings(args: &RenderArgs) -> RenderSettings {
 }
 
 fn render(args: &RenderArgs) -> Result<()> {
-    let scene = load_scene(&args.scene)?;
+    let mut scene = load_scene(&args.scene)?;
+    resolve_environment(&mut scene, args)?;
     let cam = camera(&args.camera, &scene)?;
     let settings = settings(args);
     let mut ctx = RenderContext::for_render(&scene, &settings);
@@ -450,7 +470,9 @@ fn render(args: &RenderArgs) -> Result<()> {
         let t = &e.stats;
         say!(
             "environment {} method {} spp {}: g-buffer {:.3} s, occlusion {:.3} s, filter {:.3} s, composition {:.3} s; rays traced {} of {}",
-            ctx.environment.as_ref().map_or("", |x| x.light.label.as_str()),
+            ctx.environment
+                .as_ref()
+                .map_or("", |x| x.light.label.as_str()),
             env.method.name(),
             env.spp,
             t.gbuffer_seconds,

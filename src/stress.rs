@@ -713,6 +713,7 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         // Shaded at one point: a tree of its own could never pay for itself.
         build_trees: false,
         expected_rays: rays as u64,
+        environment: false,
     };
     let prepared = PreparedScene::prepare(&case.scene, LtcTable::embedded(), options);
     let diffuse = Material {

@@ -100,7 +100,11 @@ mod tests {
         for (i, p) in out.pixels.iter().enumerate() {
             let expect = img.pixels[i].x;
             // Normal weight across the crease: exp(−1/0.09) ≈ 1.5e-5 per tap.
-            assert!((p.x - expect).abs() < 1e-3, "pixel {i}: {} vs {expect}", p.x);
+            assert!(
+                (p.x - expect).abs() < 1e-3,
+                "pixel {i}: {} vs {expect}",
+                p.x
+            );
         }
     }
 }

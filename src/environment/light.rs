@@ -31,7 +31,10 @@ impl EnvironmentLight {
             EnvironmentSource::SkySh => {
                 let sky = EnvironmentMap::sky(SKY_WIDTH, SKY_HEIGHT);
                 let sh = Sh9::project(&sky);
-                (EnvironmentMap::from_sh(&sh, SKY_WIDTH, SKY_HEIGHT), "sky-sh".into())
+                (
+                    EnvironmentMap::from_sh(&sh, SKY_WIDTH, SKY_HEIGHT),
+                    "sky-sh".into(),
+                )
             }
             EnvironmentSource::File(p) => (EnvironmentMap::load(p)?, p.display().to_string()),
         };

@@ -20,8 +20,8 @@ use super::{Image, RenderContext, subpixel_rays};
 use crate::accel::Ray;
 use crate::denoise::gbuffer::{GBuffer, Surface};
 use crate::environment::{
-    BoundingSphere, Cone, EnvMethod, EnvironmentLight, HemisphereSamples, construct_and_merge_cones,
-    cross_bilateral_5x5, pixel_rotation, ray_extent,
+    BoundingSphere, Cone, EnvMethod, EnvironmentLight, HemisphereSamples,
+    construct_and_merge_cones, cross_bilateral_5x5, pixel_rotation, ray_extent,
 };
 use crate::math::{Frame, Pcg32};
 use crate::scene::camera::CameraBasis;
@@ -94,11 +94,14 @@ pub struct SceneEnvironment {
 }
 
 impl SceneEnvironment {
-    pub fn new(ctx: &RenderContext, light: Arc<EnvironmentLight>, settings: EnvironmentSettings) -> Self {
+    pub fn new(
+        ctx: &RenderContext,
+        light: Arc<EnvironmentLight>,
+        settings: EnvironmentSettings,
+    ) -> Self {
         let scene = &ctx.scene;
-        let occluders = EnvironmentOccluders::new(&ctx.prepared, |o| {
-            scene.objects[o as usize].flags.is_static
-        });
+        let occluders =
+            EnvironmentOccluders::new(&ctx.prepared, |o| scene.objects[o as usize].flags.is_static);
         let spheres = occluders
             .dynamics
             .iter()
@@ -255,16 +258,21 @@ pub fn render_environment(
             pixels: pixels
                 .iter()
                 .zip(&f.pixels)
-                .map(|(p, &occ)| {
-                    p.background + (p.base - p.albedo * occ).max(DVec3::ZERO)
-                })
+                .map(|(p, &occ)| p.background + (p.base - p.albedo * occ).max(DVec3::ZERO))
                 .collect(),
         },
         None => image_of(&|p| p.background + p.radiance),
     };
     stats.composition_seconds = t_compose.elapsed().as_secs_f64();
-    let stderr = (env.settings.method == EnvMethod::Reference)
-        .then(|| image_of(&|p| DVec3::new(p.variance.x.sqrt(), p.variance.y.sqrt(), p.variance.z.sqrt())));
+    let stderr = (env.settings.method == EnvMethod::Reference).then(|| {
+        image_of(&|p| {
+            DVec3::new(
+                p.variance.x.sqrt(),
+                p.variance.y.sqrt(),
+                p.variance.z.sqrt(),
+            )
+        })
+    });
     Some(EnvironmentOutput {
         image,
         stderr,
@@ -339,7 +347,9 @@ fn shade_pixel(
             EnvMethod::Rt | EnvMethod::RtUnculled => {
                 rt_occluded(ctx, env, &sp, stream, &mut s.cones, &mut px)
             }
-            EnvMethod::Rtao => e_static * (1.0 - ambient_visibility(ctx, env, &sp, stream, &mut px)),
+            EnvMethod::Rtao => {
+                e_static * (1.0 - ambient_visibility(ctx, env, &sp, stream, &mut px))
+            }
             EnvMethod::Reference => {
                 let (mean, var) = reference_irradiance(ctx, env, &sp, stream);
                 px.radiance += rho_pi * mean / k;

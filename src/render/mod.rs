@@ -268,6 +268,7 @@ impl RenderContext {
             u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.aa).pow(2);
         let options = PrepareOptions {
             expected_rays: rays,
+            environment: scene.environment.is_some(),
             ..PrepareOptions::default()
         };
         Self::with_options(Arc::new(scene.clone()), options)

@@ -446,8 +446,9 @@ fn parse_scene_toml(
     }
     if let Some(env) = &doc.environment {
         let e = env.get_ref();
-        let spec = crate::environment::EnvironmentSpec::new(&e.map, e.rotate, e.scale, e.method, e.spp)
-            .map_err(|m| at(env.span(), m))?;
+        let spec =
+            crate::environment::EnvironmentSpec::new(&e.map, e.rotate, e.scale, e.method, e.spp)
+                .map_err(|m| at(env.span(), m))?;
         scene.environment = Some(spec);
     }
 

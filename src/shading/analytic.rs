@@ -598,7 +598,9 @@ pub(super) fn subtract_occluder<R: Recorder>(
     // its polygon (all of them for small meshes), in index order as the scan visits them.
     scratch.face_list.clear();
     let cone = match (&faces.face_bvh, scratch.light_clip.loop_count()) {
-        (Some(_), 1) if piece.is_some() => window_cone(scratch.light_clip.loop_at(0), frame, &mut scratch.cone_buf),
+        (Some(_), 1) if piece.is_some() => {
+            window_cone(scratch.light_clip.loop_at(0), frame, &mut scratch.cone_buf)
+        }
         _ => None,
     };
     match (cone, &faces.face_bvh) {

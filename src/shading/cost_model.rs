@@ -33,6 +33,9 @@ const EXACT_BUILD_US_PER_LEAF_PER_FACE: f64 = 0.45;
 /// the rays per occluder).
 const LIGHT_QUERIES_PER_RAY: f64 = 1.0;
 const OCCLUDER_QUERIES_PER_RAY: f64 = 0.25;
+/// Under an environment light each ray asks every occluder above its horizon: about half of
+/// them in a scene of objects on a floor.
+const ENVIRONMENT_QUERIES_PER_RAY: f64 = 0.5;
 /// A tree is worth building if it saves this many times its build.
 pub const PAYBACK: f64 = 2.0;
 
@@ -45,6 +48,9 @@ pub struct MeshCostClass {
     pub light: bool,
     /// Without a tree it would take its silhouette inside each light's window only.
     pub windowed: bool,
+    /// An environment light lights the scene: every ray asks every occluder above its
+    /// horizon once more (`shading::environment`), and without a window.
+    pub environment: bool,
 }
 
 /// The tree the model would build for one mesh.
@@ -67,13 +73,19 @@ pub fn tree_budget(class: MeshCostClass, expected_rays: u64, limit: usize) -> Tr
     } else {
         OCCLUDER_QUERIES_PER_RAY
     };
+    // The environment's queries take the whole silhouette (no window), so a tree serves them.
+    let env_queries = if class.environment {
+        expected_rays as f64 * ENVIRONMENT_QUERIES_PER_RAY
+    } else {
+        0.0
+    };
     let queries = expected_rays as f64 * per_ray;
     let (saving_us, unit_us) = if class.convex {
         (
             (CONVEX_SAVING_US_PER_FACE * f).min(CONVEX_SAVING_MAX_US),
             CONVEX_BUILD_US_PER_CELL,
         )
-    } else if class.windowed && !class.light {
+    } else if class.windowed && !class.light && !class.environment {
         // A large occluder that finds its silhouette inside each light's window
         // (`ExactInWindow`, 0.03–0.05 µs per face) saves nothing with a tree: the tree hands
         // out the whole silhouette, and the set difference then pays for all of it where the
@@ -87,6 +99,7 @@ pub fn tree_budget(class: MeshCostClass, expected_rays: u64, limit: usize) -> Tr
             EXACT_BUILD_US_PER_LEAF_PER_FACE * f,
         )
     };
+    let queries = queries + env_queries;
     let saving_seconds = queries * saving_us * 1e-6;
     let units = (queries * saving_us / (PAYBACK * unit_us)).floor();
     TreeBudget {
@@ -110,6 +123,7 @@ mod tests {
             convex: true,
             light: true,
             windowed: false,
+            environment: false,
         };
         let small = tree_budget(class, 1 << 16, usize::MAX);
         let large = tree_budget(class, 1 << 22, usize::MAX);
@@ -125,6 +139,7 @@ mod tests {
             convex: false,
             light: false,
             windowed: true,
+            environment: false,
         };
         let light = MeshCostClass {
             light: true,

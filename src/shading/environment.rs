@@ -145,7 +145,10 @@ fn subtract_group<R: Recorder>(
         if sp.normal.dot(occ.poly.center - sp.position) < -occ.poly.radius {
             continue;
         }
-        let (differences, vertices) = (scratch.stats.set_differences, scratch.visible.vertex_count());
+        let (differences, vertices) = (
+            scratch.stats.set_differences,
+            scratch.visible.vertex_count(),
+        );
         subtract_occluder(ctx, oi as usize, None, scratch, rec);
         touched |= scratch.stats.set_differences != differences
             || scratch.visible.vertex_count() != vertices;

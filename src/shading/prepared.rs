@@ -93,7 +93,7 @@ pub const WINDOWED_MIN_FACES: usize = 64;
 
 /// Non-convex meshes whose tree would have more leaves than this keep computing their exact
 /// silhouette on the fly.
-pub const MAX_EXACT_BSP_LEAVES: usize = 20_000;
+pub const MAX_EXACT_BSP_LEAVES: usize = 200_000;
 
 /// Convex meshes whose face planes cut the scene into more cells than this keep computing
 /// their silhouette on the fly (the count grows with the cube of the face count).
@@ -484,6 +484,7 @@ fn build_silhouette_trees(
                 light,
                 windowed: base.poly.face_count() >= WINDOWED_MIN_FACES
                     && base.poly.face_bvh.is_some(),
+                environment: options.environment,
             };
             let limit = if d.convex { limits.0 } else { limits.1 };
             // Every instance of the group is queried.
@@ -594,6 +595,9 @@ pub struct PrepareOptions<'a> {
     /// Camera rays the scene is expected to be shaded for: the cost model gives each tree the
     /// budget that this many rays pay for (`cost_model::tree_budget`).
     pub expected_rays: u64,
+    /// The scene is lit by an environment light too (more queries per occluder: the cost
+    /// model gives its trees more).
+    pub environment: bool,
 }
 
 impl Default for PrepareOptions<'_> {
@@ -604,6 +608,7 @@ impl Default for PrepareOptions<'_> {
             library: None,
             build_trees: true,
             expected_rays: DEFAULT_EXPECTED_RAYS,
+            environment: false,
         }
     }
 }
