@@ -178,6 +178,10 @@ struct BenchArgs {
     /// analytic, per-triangle and unshadowed against the ray-cast reference).
     #[arg(long, value_enum)]
     suite: Option<BenchSuite>,
+    /// Benchmark the environment light of this scene instead (002 Tables 1 and 2: per-pass
+    /// times with and without culling, the ladder of rays against the exact method).
+    #[arg(long)]
+    env: Option<String>,
     /// With --suite: run only these scenes.
     #[arg(long, value_delimiter = ',')]
     only: Vec<String>,
@@ -244,7 +248,7 @@ struct EnvArgs {
     /// How the environment's shadows are computed [default: analytic].
     #[arg(long, value_enum)]
     env_method: Option<EnvMethod>,
-    /// `rt`: leave out the 5×5 cross-bilateral filter (002 Table 2's unfiltered images).
+    /// `rt`: leave out the 5×5 cross-bilateral filter (the unfiltered images of 002 Fig. 7d).
     #[arg(long)]
     env_no_filter: bool,
     /// `rt`: cluster each point's merged cones into at most this many.
@@ -562,6 +566,56 @@ fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> R
     Ok(())
 }
 
+/// `penumbra bench --env SCENE`.
+fn bench_environment(args: &BenchArgs, name: &str) -> Result<()> {
+    use penumbra::bench::environment::{
+        EnvBenchOptions, environment_markdown, run_environment_bench,
+    };
+    let mut scene = load_scene(name)?;
+    if scene.environment.is_none() {
+        scene.environment =
+            Some(EnvironmentSpec::new("sky", None, None, None, None).map_err(anyhow::Error::msg)?);
+    }
+    let cam = camera(&args.camera, &scene)?;
+    let ladder = if args.ladder == [1, 2, 4, 8, 16, 32, 64, 128, 256] {
+        vec![16, 32, 64, 128, 256, 512]
+    } else {
+        args.ladder.clone()
+    };
+    let opts = EnvBenchOptions {
+        width: args.size.0,
+        height: args.size.1,
+        aa: args.aa,
+        reference_spp: args.reference_spp,
+        ladder,
+        repeats: args.repeats,
+        seed: args.seed,
+    };
+    let report = run_environment_bench(name, &scene, &cam, &opts, |m| eprintln!("{m}"))
+        .map_err(anyhow::Error::msg)?;
+    let stem = Path::new(name)
+        .file_stem()
+        .map_or_else(|| name.to_string(), |s| s.to_string_lossy().into_owned());
+    let dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("out/bench/env_{stem}")));
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+    let md = environment_markdown(&report);
+    say!("{md}");
+    for (path, text) in [
+        (dir.join("environment.md"), md),
+        (
+            dir.join("environment.json"),
+            serde_json::to_string_pretty(&report)?,
+        ),
+    ] {
+        std::fs::write(&path, text).with_context(|| format!("{}", path.display()))?;
+        say!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
 fn bench(args: &BenchArgs) -> Result<()> {
     use penumbra::bench::{output, runner, scaling};
     if let Some(json) = &args.from_json {
@@ -579,6 +633,9 @@ fn bench(args: &BenchArgs) -> Result<()> {
     }
     if let Some(BenchSuite::Realworld) = args.suite {
         return bench_realworld(args);
+    }
+    if let Some(name) = &args.env {
+        return bench_environment(args, name);
     }
     if args.polyhedra {
         let report = penumbra::bench::polyhedra::run_polyhedra(

@@ -7,16 +7,23 @@
 //! those whose first hit is the front of a light face, an unbiased estimate of E. Errors are
 //! reported absolutely and in binomial standard deviations. The specular lobe is evaluated too
 //! (random roughness) and checked for NaN, Inf and negative values.
+//!
+//! The environment family ([`CaseKind::Environment`]) takes the geometry of an adversarial
+//! family (occluders across the horizon, a point inside bounding spheres, nearly touching
+//! boxes, non-convex polyhedra), makes every object a dynamic occluder, lights it with a random
+//! positive 3-band SH environment, and compares the exact irradiance of
+//! `shading::environment_integrals` with cosine-weighted rays that see the same SH radiance.
 
 use crate::accel::{Bvh, Ray};
+use crate::environment::{PolygonMoments, Sh9, cosine_weighted_integral_local};
 use crate::ltc::LtcTable;
 use crate::math::{Frame, Pcg32};
 use crate::scene::shapes::{cuboid, cylinder, icosahedron, quad};
 use crate::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use crate::scene::{Material, Mesh, ObjectFlags, Scene, SceneObject};
 use crate::shading::{
-    Lobe, Method, PrepareOptions, PreparedScene, Recorder, ShadingPoint, ShadingScratch,
-    TreeLibrary, shade,
+    EnvironmentOccluders, EnvironmentPass, Lobe, Method, PrepareOptions, PreparedScene, Recorder,
+    ShadingPoint, ShadingScratch, TreeLibrary, environment_integrals, shade,
 };
 use glam::{DAffine3, DMat3, DVec3};
 use rayon::prelude::*;
@@ -48,9 +55,12 @@ pub enum CaseKind {
     /// significant digits, nearly convex (a hull stands in), dented, large; as light and
     /// occluders.
     ExporterMeshes,
+    /// The environment light (paper 002): the geometry of another family, every object a
+    /// dynamic occluder, a random SH environment; the exact E against rays.
+    Environment,
 }
 
-const KINDS: [CaseKind; 10] = [
+const KINDS: [CaseKind; 11] = [
     CaseKind::Random,
     CaseKind::CoplanarWithLightFace,
     CaseKind::LightVerticesOnHorizon,
@@ -61,22 +71,35 @@ const KINDS: [CaseKind; 10] = [
     CaseKind::NearlyTouchingBoxes,
     CaseKind::NonConvex,
     CaseKind::ExporterMeshes,
+    CaseKind::Environment,
 ];
 
-/// Cases come in periods of [`KIND_PERIOD`]: five of each of the first nine kinds, then one of
-/// exporter meshes, whose cases cost about a hundred times more (hulls and exact silhouettes
-/// of meshes of hundreds of vertices, prepared for every case).
-pub const KIND_PERIOD: u64 = 46;
+/// Cases come in periods of [`KIND_PERIOD`]: five of each of the first nine kinds, five of the
+/// environment, then one of exporter meshes, whose cases cost about a hundred times more
+/// (hulls and exact silhouettes of meshes of hundreds of vertices, prepared for every case).
+pub const KIND_PERIOD: u64 = 51;
 
 /// The family of case `index`.
 pub fn kind_of(index: u64) -> CaseKind {
     let slot = index % KIND_PERIOD;
     if slot == KIND_PERIOD - 1 {
         CaseKind::ExporterMeshes
+    } else if slot >= 45 {
+        CaseKind::Environment
     } else {
         KINDS[(slot % 9) as usize]
     }
 }
+
+/// The families whose geometry the environment family borrows.
+const ENVIRONMENT_GEOMETRY: [CaseKind; 6] = [
+    CaseKind::Random,
+    CaseKind::LightVerticesOnHorizon,
+    CaseKind::OccluderVerticesOnHorizon,
+    CaseKind::CoveringOrInside,
+    CaseKind::NearlyTouchingBoxes,
+    CaseKind::NonConvex,
+];
 
 /// One generated configuration.
 pub struct Case {
@@ -324,8 +347,25 @@ fn light_among_occluders(
 
 /// Generates case `index` of the run with `seed` (deterministic).
 pub fn generate(seed: u64, index: u64) -> Case {
+    match kind_of(index) {
+        CaseKind::Environment => {
+            let g =
+                ENVIRONMENT_GEOMETRY[(index / KIND_PERIOD) as usize % ENVIRONMENT_GEOMETRY.len()];
+            let mut case = generate_kind(seed, index, g);
+            case.kind = CaseKind::Environment;
+            for o in &mut case.scene.objects {
+                o.flags.occluder = true;
+                o.flags.is_static = false;
+            }
+            case
+        }
+        kind => generate_kind(seed, index, kind),
+    }
+}
+
+/// Case `index` with the geometry of family `kind`.
+fn generate_kind(seed: u64, index: u64, kind: CaseKind) -> Case {
     let mut rng = Pcg32::new(seed, index);
-    let kind = kind_of(index);
     let scale = 10f64.powf(rng.range(-4.0, 4.0));
     let mut objects = Vec::new();
     let mut x = DVec3::ZERO;
@@ -496,7 +536,9 @@ pub fn generate(seed: u64, index: u64) -> Case {
         CaseKind::NonConvex => {
             n = light_among_occluders(&mut rng, &mut objects, random_thesis_polyhedron, 0);
         }
-        CaseKind::ExporterMeshes => {
+        // `generate` gives the environment family the geometry of another family; called
+        // with this kind directly it takes the exporter meshes.
+        CaseKind::ExporterMeshes | CaseKind::Environment => {
             n = light_among_occluders(&mut rng, &mut objects, random_exporter_mesh, 1);
         }
         CaseKind::CoveringOrInside => {
@@ -716,6 +758,9 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         environment: false,
     };
     let prepared = PreparedScene::prepare(&case.scene, LtcTable::embedded(), options);
+    if case.kind == CaseKind::Environment {
+        return run_environment_case(case, &prepared, rays, rng, scratch);
+    }
     let diffuse = Material {
         kd: DVec3::ONE,
         ks: DVec3::ZERO,
@@ -793,6 +838,96 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         nan,
         inf,
         negative,
+    }
+}
+
+/// A random 3-band SH environment, positive everywhere: L00 = 3 (0.85 after its basis
+/// constant) against at most 0.29 from band 1 and 0.28 from band 2.
+fn random_positive_sh(rng: &mut Pcg32) -> Sh9 {
+    let mut sh = Sh9::default();
+    for (k, c) in sh.coeffs.iter_mut().enumerate() {
+        let a = match k {
+            0 => 0.0,
+            1..=3 => 0.2,
+            _ => 0.1,
+        };
+        *c = DVec3::new(rng.range(-a, a), rng.range(-a, a), rng.range(-a, a));
+    }
+    sh.coeffs[0] += DVec3::splat(3.0);
+    sh
+}
+
+/// The environment family: exact E (red channel) against stratified cosine-weighted rays
+/// that see the same SH radiance, π L(ω) per unblocked ray.
+fn run_environment_case(
+    case: &Case,
+    prepared: &PreparedScene,
+    rays: u32,
+    rng: &mut Pcg32,
+    scratch: &mut ShadingScratch,
+) -> Outcome {
+    let sh = random_positive_sh(rng);
+    let sp = &case.point;
+    let occluders = EnvironmentOccluders::new(prepared, |_| false);
+    let integrate = |frame: &Frame, poly: &crate::geometry::SphericalPolygon| {
+        let q = sh.local_quadratic(frame.world_to_local());
+        cosine_weighted_integral_local(&q, &PolygonMoments::of_loops(poly.loops(), DVec3::Z))
+    };
+    let r = environment_integrals(
+        prepared,
+        &occluders,
+        sp,
+        EnvironmentPass::Occluded,
+        &integrate,
+        scratch,
+        &mut crate::shading::NoRecorder,
+    );
+    let unshadowed = sh.irradiance(sp.normal).x;
+    let e = unshadowed - r.occluded.x;
+
+    let bvh = Bvh::build(&case.scene);
+    let frame = Frame::from_z(sp.normal);
+    let k = (rays as f64).sqrt().ceil() as u32;
+    let (mut sum, mut sum2) = (0.0, 0.0);
+    for i in 0..k {
+        for j in 0..k {
+            let u1 = (i as f64 + rng.next_f64()) / k as f64;
+            let u2 = (j as f64 + rng.next_f64()) / k as f64;
+            let rr = u1.sqrt();
+            let phi = std::f64::consts::TAU * u2;
+            let d = frame.to_world(DVec3::new(
+                rr * phi.cos(),
+                rr * phi.sin(),
+                (1.0 - u1).max(0.0).sqrt(),
+            ));
+            let ray = Ray {
+                origin: sp.position,
+                dir: d,
+            };
+            let v = if bvh.occluded(&ray, 0.0, f64::INFINITY, |_, _| true) {
+                0.0
+            } else {
+                std::f64::consts::PI * sh.eval(d).x
+            };
+            sum += v;
+            sum2 += v * v;
+        }
+    }
+    let n = (k * k) as f64;
+    let estimate = sum / n;
+    // The sample variance of a stratified set bounds the variance of its mean from above.
+    let sigma = ((sum2 / n - estimate * estimate).max(0.0) / (n - 1.0)).sqrt();
+    // In the units of the other families (E/π of a unit radiance), so that the report's
+    // "sigmas" (error over σ + 1/rays) compare alike.
+    let unit = unshadowed.max(f64::MIN_POSITIVE);
+    Outcome {
+        trees_built: prepared.trees_built,
+        analytic: e / unit,
+        estimate: estimate / unit,
+        sigma: sigma / unit,
+        nan: e.is_nan(),
+        inf: e.is_infinite(),
+        negative: e < -1e-12 * unit,
     }
 }
 

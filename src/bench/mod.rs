@@ -11,8 +11,11 @@
 //! * [`scaling`]: run time against vertex counts (000 Figs. 5 and 7).
 //! * [`polyhedra`]: 001 Tables 7.2 and 7.4 on the nine polyhedra of Table 7.1.
 //! * [`realworld`]: `--suite realworld`, the scenes users load ([`realworld_scenes`]).
+//! * [`environment`](mod@environment): `--env SCENE`, the environment light in the form of
+//!   002's Tables 1 and 2.
 //! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].
 
+pub mod environment;
 pub mod equal_time;
 pub mod fit;
 pub mod font;

@@ -48,9 +48,11 @@ pub enum EnvMethod {
     /// `rt` tracing every ray to infinity (the tables' "without culling"); the same E_occluded
     /// bit for bit.
     RtUnculled,
-    /// Ray-traced ambient occlusion × E_unshadowed: the baseline 002 compares with.
+    /// Ray-traced ambient occlusion × E_static (E_unshadowed of Eq. 7 when nothing is static):
+    /// the baseline 002 compares with.
     Rtao,
-    /// E_unshadowed alone (Eq. 7): no shadows.
+    /// E_static alone: no shadows of dynamic objects (Eq. 7, no shadows at all, when nothing
+    /// is static).
     Unshadowed,
     /// Monte Carlo of the map itself (not its SH), importance-sampled, with shadow rays
     /// against every object: the independent oracle.

@@ -55,7 +55,7 @@ pub struct EnvironmentSettings {
     /// `rt`: culling (by default what the method's name says).
     pub culling: Culling,
     /// `rt`: the 5×5 cross-bilateral filter on E_occluded (002 Sect. 4); off for the
-    /// unfiltered images of 002 Table 2.
+    /// unfiltered images of 002 Fig. 7d.
     pub filter: bool,
     /// Cluster each point's merged cones into at most this many (002 Sect. 6's open
     /// problem; `environment::cones::cluster_cones`). `None`: 002's merging alone.
@@ -325,12 +325,17 @@ fn shade_pixel(
         let object = sp.object.unwrap_or(0) as usize;
         let rho_pi = ctx.prepared.materials[object].kd / std::f64::consts::PI;
         let stream = pixel_index * u64::from(aa * aa) + sub as u64;
-        let e_static = static_irradiance(ctx, env, &sp, &mut s.shading);
+        // The exact method finds E_static on its way (the static objects are subtracted
+        // first), the reference needs none; the others read it from the G-buffer pass.
+        let e_static = match env.settings.method {
+            EnvMethod::Analytic | EnvMethod::Reference => DVec3::ZERO,
+            _ => static_irradiance(ctx, env, &sp, &mut s.shading),
+        };
         let t1 = Instant::now();
         px.nanos_gbuffer += (t1 - t0).as_nanos() as u64;
 
-        let e_occluded = match env.settings.method {
-            EnvMethod::Unshadowed => DVec3::ZERO,
+        let (e_static, e_occluded) = match env.settings.method {
+            EnvMethod::Unshadowed => (e_static, DVec3::ZERO),
             EnvMethod::Analytic => {
                 let r = environment_integrals(
                     &ctx.prepared,
@@ -342,14 +347,19 @@ fn shade_pixel(
                     &mut NoRecorder,
                 );
                 px.set_differences += r.set_differences;
-                r.occluded
+                let e_static = r
+                    .static_visible
+                    .unwrap_or_else(|| env.light.irradiance(sp.normal));
+                (e_static, r.occluded)
             }
-            EnvMethod::Rt | EnvMethod::RtUnculled => {
-                rt_occluded(ctx, env, &sp, stream, &mut s.cones, &mut px)
-            }
-            EnvMethod::Rtao => {
-                e_static * (1.0 - ambient_visibility(ctx, env, &sp, stream, &mut px))
-            }
+            EnvMethod::Rt | EnvMethod::RtUnculled => (
+                e_static,
+                rt_occluded(ctx, env, &sp, stream, &mut s.cones, &mut px),
+            ),
+            EnvMethod::Rtao => (
+                e_static,
+                e_static * (1.0 - ambient_visibility(ctx, env, &sp, stream, &mut px)),
+            ),
             EnvMethod::Reference => {
                 let (mean, var) = reference_irradiance(ctx, env, &sp, stream);
                 px.radiance += rho_pi * mean / k;
