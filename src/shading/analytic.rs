@@ -124,6 +124,8 @@ pub struct ShadingScratch {
     pub(super) face_list: Vec<u32>,
     pub(super) cone_buf: Vec<DVec3>,
     pub(super) window_bufs: [Vec<DVec3>; 3],
+    /// The faces of an occluder taken face by face under the environment (`environment`).
+    pub(super) env_faces: Vec<u32>,
     pub stats: ShadingStats,
 }
 
@@ -638,6 +640,121 @@ pub(super) fn subtract_occluder<R: Recorder>(
             subtract_polygon(oi, Some(g), scratch, rec);
         }
     }
+}
+
+/// Puts occluder `oi`'s outline at the point, clipped to the horizon and projected, into
+/// `scratch.visible` (the environment's union of occluders, `super::environment`), and keeps
+/// it in the per-point cache like [`subtract_occluder`] does. Returns false when the occluder
+/// has no single outline there (it is taken face by face).
+pub(super) fn load_occluder<R: Recorder>(
+    ctx: &PointContext,
+    oi: usize,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> bool {
+    let (scene, sp, frame) = (ctx.scene, ctx.sp, &ctx.frame);
+    let occ = &scene.objects[scene.occluders[oi] as usize];
+    if !R::ENABLED && scratch.occluder_cache[oi].stamp == scratch.stamp {
+        scratch.visible.copy_from(&scratch.occluder_cache[oi].poly);
+        return true;
+    }
+    let on_this = sp.object == Some(occ.object);
+    let outline = occ.spherical_polygon(
+        sp.position,
+        frame,
+        Role::Occluder,
+        ctx.method,
+        on_this,
+        None,
+        &mut scratch.occ_sph,
+        &mut scratch.outline,
+    );
+    match outline {
+        Outline::Faces => false,
+        Outline::Nothing => {
+            scratch.visible.clear();
+            true
+        }
+        Outline::Whole { exact, from_tree } => {
+            if exact {
+                record_exact(
+                    occ,
+                    Some(oi),
+                    from_tree,
+                    sp,
+                    frame,
+                    &scratch.outline.exact,
+                    rec,
+                );
+            }
+            clip_and_project(oi, None, scratch, rec);
+            scratch.visible.copy_from(&scratch.occ_plane);
+            if !R::ENABLED {
+                std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
+                scratch.occluder_cache[oi].stamp = scratch.stamp;
+            }
+            true
+        }
+    }
+}
+
+/// The faces of occluder `oi` (taken face by face) that can hide anything from the point, for
+/// the environment: all but the point's own face and, for a closed mesh, those facing away
+/// (the front faces alone cover a closed mesh's projection). Into `scratch.env_faces`.
+pub(super) fn environment_faces(ctx: &PointContext, oi: usize, scratch: &mut ShadingScratch) {
+    let sp = ctx.sp;
+    let occ = &ctx.scene.objects[ctx.scene.occluders[oi] as usize];
+    let faces = occ.faces();
+    let on_this = sp.object == Some(occ.object);
+    let closed = faces.diagnostics.closed_manifold;
+    scratch.env_faces.clear();
+    for g in 0..faces.face_count() {
+        if (on_this && skip_own_face(occ, g, sp))
+            || (closed && faces.face_planes[g].eval(sp.position) <= 0.0)
+        {
+            continue;
+        }
+        scratch.env_faces.push(g as u32);
+    }
+}
+
+/// Face `g` of occluder `oi` at the point, clipped to the horizon and projected, into
+/// `scratch.occ_plane` (empty when nothing of it is above the horizon).
+pub(super) fn project_face<R: Recorder>(
+    ctx: &PointContext,
+    oi: usize,
+    g: usize,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) {
+    let occ = &ctx.scene.objects[ctx.scene.occluders[oi] as usize];
+    face_polygon(
+        occ.faces(),
+        g,
+        ctx.sp.position,
+        &ctx.frame,
+        Sidedness::TwoSided,
+        None,
+        &mut scratch.occ_sph,
+        &mut scratch.face_buf,
+    );
+    if scratch.occ_sph.is_empty() {
+        scratch.occ_plane.clear();
+        return;
+    }
+    clip_and_project(oi, Some(g), scratch, rec);
+}
+
+/// Subtracts face `g` of occluder `oi` from the visible polygon.
+pub(super) fn subtract_face<R: Recorder>(
+    ctx: &PointContext,
+    oi: usize,
+    g: usize,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) {
+    project_face(ctx, oi, g, scratch, rec);
+    subtract_planar(oi, scratch, rec);
 }
 
 /// Clips the occluder polygon in `scratch.occ_sph`, projects it and subtracts it from the

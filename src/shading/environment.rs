@@ -2,23 +2,32 @@
 //! (silhouette → horizon clip → projection → set difference), for 002's E_occluded computed
 //! exactly.
 //!
-//! The environment is at infinity, behind every object, so its "light polygon" is the whole
-//! upper hemisphere: four points on the horizon, which the projection sends to the line at
-//! infinity (the whole plane). The occluders are subtracted from it by the same
-//! `subtract_occluder` the area lights use, with no depth cut and no window. Static objects
-//! are subtracted first, then dynamic ones, and the region is integrated after each group:
+//! The environment is at infinity, behind every object, so what matters at a point is the
+//! union of the occluders' outlines on the hemisphere, without depth. With S the static and D
+//! the dynamic objects, V_s = H ∖ ∪S the hemisphere the static objects leave and
+//! V_a = V_s ∖ ∪D what every object leaves:
 //!
-//! * `I_s = ∫_{V_s} L cos`, V_s = the hemisphere minus the static objects (what diffuse PRT
-//!   with shadows holds, 002 Eq. 6);
-//! * `I_a = ∫_{V_a} L cos`, V_a = V_s minus the dynamic objects (the true irradiance);
+//! * `I_s = ∫_{V_s} L cos` (what diffuse PRT with shadows holds, 002 Eq. 6);
+//! * `I_a = ∫_{V_a} L cos` (the true irradiance);
 //! * `E_occluded = I_s − I_a`, so that `E = E_static − E_occluded` (002 Eq. 3) is exact.
+//!
+//! Both are sums over the occluders' own outlines, each minus what came before it
+//! ([`union_integrals`]), so that the subjects of the set differences are small polygons
+//! (most differences end at the disjoint test) and never the whole hemisphere, whose edges on
+//! the horizon would coincide with those of every occluder standing on the tangent plane. A
+//! mesh taken face by face (a non-convex mesh at a point on itself) contributes face by face.
+//! Every stage is the area lights' own: `subtract_occluder` with no light piece (no depth cut,
+//! no window), `face_polygon`, `clip_to_horizon`, the projection.
 //!
 //! (002's rays count a direction as occluded when its *first* hit is dynamic; where a dynamic
 //! object stands in front of a static one, that direction is subtracted a second time from a
 //! PRT term that never held it. `I_s − I_a` counts it once. Without static objects the two
 //! definitions agree; docs/environment.md.)
 
-use super::analytic::{PointContext, ShadingScratch, subtract_occluder};
+use super::analytic::{
+    PointContext, ShadingScratch, environment_faces, load_occluder, project_face, subtract_face,
+    subtract_occluder,
+};
 use super::recorder::Recorder;
 use super::{Method, PreparedScene, ShadingPoint};
 use crate::geometry::{ProjectionPlane, SphericalPolygon};
@@ -91,69 +100,125 @@ pub fn environment_integrals<R: Recorder>(
 ) -> EnvironmentIntegrals {
     scratch.begin_point(scene);
     let ctx = PointContext::for_environment(scene, sp);
-    hemisphere_polygon(&mut scratch.light_clip);
-    ProjectionPlane::NORMAL.project(&scratch.light_clip, &mut scratch.visible);
     let before = scratch.stats.set_differences;
-
-    let mut out = EnvironmentIntegrals::default();
-    let static_touched = subtract_group(&ctx, &occluders.statics, scratch, rec);
-    let visible_integral = |scratch: &mut ShadingScratch| {
-        ProjectionPlane::NORMAL.reproject(&scratch.visible, &mut scratch.visible_sph);
-        integrate(&ctx.frame, &scratch.visible_sph)
-    };
-    if static_touched {
-        out.static_visible = Some(visible_integral(scratch));
-    }
-    if pass == EnvironmentPass::Occluded {
-        let dynamic_touched = subtract_group(&ctx, &occluders.dynamics, scratch, rec);
-        if dynamic_touched {
-            let i_a = visible_integral(scratch);
-            let i_s = match out.static_visible {
-                Some(i_s) => i_s,
-                None => {
-                    hemisphere_polygon(&mut scratch.visible_sph);
-                    integrate(&ctx.frame, &scratch.visible_sph)
-                }
-            };
-            out.occluded = i_s - i_a;
-        }
-    }
+    let mut out = union_integrals(&ctx, occluders, pass, integrate, scratch, rec);
     out.set_differences = scratch.stats.set_differences - before;
     out
 }
 
-/// Subtracts the occluders `group` (indices into `scene.occluders`) that reach above the
-/// tangent plane from `scratch.visible`; returns whether the visible region changed.
-fn subtract_group<R: Recorder>(
+/// Whether occluder `oi` can hide anything from the point: it reaches above the tangent
+/// plane, and it is not a convex or flat mesh the point lies on.
+fn reaches_hemisphere(ctx: &PointContext, oi: u32) -> bool {
+    let (scene, sp) = (ctx.scene, ctx.sp);
+    let occ = &scene.objects[scene.occluders[oi as usize] as usize];
+    !(occ.simple && sp.object == Some(occ.object))
+        && sp.normal.dot(occ.poly.center - sp.position) >= -occ.poly.radius
+}
+
+/// The integrals as sums over the occluders' own outlines, each minus what came before it:
+///
+/// * ∫_{∪S} = Σ_k ∫ (S_k ∖ S_<k), and I_s = I_hemisphere − ∫_{∪S};
+/// * E_occluded = ∫_{(∪D) ∖ (∪S)} = Σ_i ∫ (D_i ∖ (∪S ∪ D_<i)), since
+///   V_s ∖ V_a = (H ∖ ∪S) ∖ (H ∖ (∪S ∪ ∪D)) = (∪D) ∖ (∪S).
+///
+/// The subjects are the outlines, small polygons that rarely overlap, instead of the whole
+/// plane with holes: most differences end at the disjoint test. An occluder with no single
+/// outline at the point (taken face by face) gives one term per face, each minus the faces
+/// before it.
+fn union_integrals<R: Recorder>(
     ctx: &PointContext,
-    group: &[u32],
+    occluders: &EnvironmentOccluders,
+    pass: EnvironmentPass,
+    integrate: &impl Fn(&Frame, &SphericalPolygon) -> DVec3,
     scratch: &mut ShadingScratch,
     rec: &mut R,
-) -> bool {
-    let (scene, sp) = (ctx.scene, ctx.sp);
-    let mut touched = false;
-    for &oi in group {
+) -> EnvironmentIntegrals {
+    let mut out = EnvironmentIntegrals::default();
+    // Subtracts `before` (whole occluders: statics first, then earlier dynamics) and the
+    // faces `own_before` of occluder `own` from the loaded region and integrates the rest.
+    let finish = |before: [&[u32]; 2],
+                  own: Option<(usize, usize)>,
+                  scratch: &mut ShadingScratch,
+                  rec: &mut R|
+     -> Option<DVec3> {
+        'subtract: for group in before {
+            for &oj in group {
+                if scratch.visible.is_empty() {
+                    break 'subtract;
+                }
+                if reaches_hemisphere(ctx, oj) {
+                    subtract_occluder(ctx, oj as usize, None, scratch, rec);
+                }
+            }
+        }
+        if let Some((oi, n)) = own {
+            for k in 0..n {
+                if scratch.visible.is_empty() {
+                    break;
+                }
+                let g = scratch.env_faces[k] as usize;
+                subtract_face(ctx, oi, g, scratch, rec);
+            }
+        }
         if scratch.visible.is_empty() {
-            break;
+            return None;
         }
-        let occ = &scene.objects[scene.occluders[oi as usize] as usize];
-        // A convex or flat mesh cannot hide anything from a point on itself.
-        if occ.simple && sp.object == Some(occ.object) {
-            continue;
+        ProjectionPlane::NORMAL.reproject(&scratch.visible, &mut scratch.visible_sph);
+        Some(integrate(&ctx.frame, &scratch.visible_sph))
+    };
+    // ∫ (occluder oi ∖ before): its outline as one term, or, taken face by face, one term per
+    // face minus the faces before it.
+    let mut terms = |oi: u32, before: [&[u32]; 2], scratch: &mut ShadingScratch| -> Option<DVec3> {
+        let mut sum: Option<DVec3> = None;
+        if load_occluder(ctx, oi as usize, scratch, rec) {
+            if !scratch.visible.is_empty()
+                && let Some(i) = finish(before, None, scratch, rec)
+            {
+                sum = Some(i);
+            }
+            return sum;
         }
-        // Entirely below the tangent plane: clipped away anyway.
-        if sp.normal.dot(occ.poly.center - sp.position) < -occ.poly.radius {
-            continue;
+        environment_faces(ctx, oi as usize, scratch);
+        for k in 0..scratch.env_faces.len() {
+            let g = scratch.env_faces[k] as usize;
+            project_face(ctx, oi as usize, g, scratch, rec);
+            if scratch.occ_plane.is_empty() {
+                continue;
+            }
+            std::mem::swap(&mut scratch.visible, &mut scratch.occ_plane);
+            if let Some(i) = finish(before, Some((oi as usize, k)), scratch, rec) {
+                *sum.get_or_insert(DVec3::ZERO) += i;
+            }
         }
-        let (differences, vertices) = (
-            scratch.stats.set_differences,
-            scratch.visible.vertex_count(),
-        );
-        subtract_occluder(ctx, oi as usize, None, scratch, rec);
-        touched |= scratch.stats.set_differences != differences
-            || scratch.visible.vertex_count() != vertices;
+        sum
+    };
+    let statics = &occluders.statics;
+    let mut static_union: Option<DVec3> = None;
+    for (k, &oi) in statics.iter().enumerate() {
+        if reaches_hemisphere(ctx, oi)
+            && let Some(i) = terms(oi, [&statics[..k], &[]], scratch)
+        {
+            *static_union.get_or_insert(DVec3::ZERO) += i;
+        }
     }
-    touched
+    let hemisphere = |scratch: &mut ShadingScratch| {
+        hemisphere_polygon(&mut scratch.visible_sph);
+        integrate(&ctx.frame, &scratch.visible_sph)
+    };
+    if let Some(u) = static_union {
+        out.static_visible = Some(hemisphere(scratch) - u);
+    }
+    if pass == EnvironmentPass::Occluded {
+        let dynamics = &occluders.dynamics;
+        for (k, &oi) in dynamics.iter().enumerate() {
+            if reaches_hemisphere(ctx, oi)
+                && let Some(i) = terms(oi, [statics, &dynamics[..k]], scratch)
+            {
+                out.occluded += i;
+            }
+        }
+    }
+    out
 }
 
 impl<'a> PointContext<'a> {
