@@ -132,7 +132,17 @@ fn silhouette_path_equals_per_triangle_path_on_convex_scenes() {
 fn embedded_scenes_render_without_invalid_pixels() {
     for name in scene_file::embedded_scene_names() {
         let scene = scene_file::load_embedded(name).unwrap();
-        let ctx = RenderContext::new(&scene);
+        let mut ctx = RenderContext::new(&scene);
+        // The environment scenes are lit by their sky alone.
+        if let Some(spec) = &scene.environment {
+            let light = penumbra::environment::EnvironmentLight::load(spec).unwrap();
+            let env = penumbra::render::environment::EnvironmentSettings::new(
+                penumbra::environment::EnvMethod::Analytic,
+                1,
+                1,
+            );
+            ctx.set_environment(std::sync::Arc::new(light), env);
+        }
         for method in [Method::Analytic, Method::PerTriangle, Method::Unshadowed] {
             let settings = RenderSettings {
                 width: 48,

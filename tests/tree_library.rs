@@ -20,7 +20,8 @@ fn borrowed_trees_shade_like_own_trees_and_like_the_silhouette_at_the_point() {
     };
     let mut scratch = ShadingScratch::default();
     let (mut borrowed_objects, mut inside, mut cases, mut worst) = (0, 0, 0, 0.0f64);
-    for index in 0..4000 {
+    // 4,500 cases hold about 870 of these two kinds (10 of every 51).
+    for index in 0..4500 {
         let case = generate(3, index);
         if !matches!(case.kind, CaseKind::NonConvex | CaseKind::Random) {
             continue;
