@@ -799,33 +799,18 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
 
     // Ray-cast oracle: stratified cosine-weighted directions.
     let bvh = Bvh::build(&case.scene);
-    let frame = Frame::from_z(case.point.normal);
-    let k = (rays as f64).sqrt().ceil() as u32;
     let mut hits = 0u32;
-    let mut total = 0u32;
-    for i in 0..k {
-        for j in 0..k {
-            let u1 = (i as f64 + rng.next_f64()) / k as f64;
-            let u2 = (j as f64 + rng.next_f64()) / k as f64;
-            let r = u1.sqrt();
-            let phi = std::f64::consts::TAU * u2;
-            let d = frame.to_world(DVec3::new(
-                r * phi.cos(),
-                r * phi.sin(),
-                (1.0 - u1).max(0.0).sqrt(),
-            ));
-            total += 1;
-            let ray = Ray {
-                origin: case.point.position,
-                dir: d,
-            };
-            // Counted when the first surface along the ray is the front of a light face.
-            let seen = bvh.intersect(&ray, 0.0, f64::INFINITY);
-            if seen.is_some_and(|hit| hit.object == 0 && hit.geometric_normal.dot(d) < 0.0) {
-                hits += 1;
-            }
+    let total = stratified_cosine_directions(case.point.normal, rays, rng, |d| {
+        let ray = Ray {
+            origin: case.point.position,
+            dir: d,
+        };
+        // Counted when the first surface along the ray is the front of a light face.
+        let seen = bvh.intersect(&ray, 0.0, f64::INFINITY);
+        if seen.is_some_and(|hit| hit.object == 0 && hit.geometric_normal.dot(d) < 0.0) {
+            hits += 1;
         }
-    }
+    });
     let estimate = hits as f64 / total as f64;
     let p = e.clamp(0.0, 1.0);
     // Stratification only lowers the variance: the binomial σ is a conservative bound.
@@ -839,6 +824,33 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         inf,
         negative,
     }
+}
+
+/// The oracle's rays: `rays` (rounded up to a square k×k) cosine-weighted directions about
+/// `normal`, one per jittered cell of the unit square mapped by Malley's method (pdf cos θ/π);
+/// returns how many were visited.
+fn stratified_cosine_directions(
+    normal: DVec3,
+    rays: u32,
+    rng: &mut Pcg32,
+    mut visit: impl FnMut(DVec3),
+) -> u32 {
+    let frame = Frame::from_z(normal);
+    let k = (rays as f64).sqrt().ceil() as u32;
+    for i in 0..k {
+        for j in 0..k {
+            let u1 = (i as f64 + rng.next_f64()) / k as f64;
+            let u2 = (j as f64 + rng.next_f64()) / k as f64;
+            let r = u1.sqrt();
+            let phi = std::f64::consts::TAU * u2;
+            visit(frame.to_world(DVec3::new(
+                r * phi.cos(),
+                r * phi.sin(),
+                (1.0 - u1).max(0.0).sqrt(),
+            )));
+        }
+    }
+    k * k
 }
 
 /// A random 3-band SH environment, positive everywhere: L00 = 3 (0.85 after its basis
@@ -886,34 +898,21 @@ fn run_environment_case(
     let e = unshadowed - r.occluded.x;
 
     let bvh = Bvh::build(&case.scene);
-    let frame = Frame::from_z(sp.normal);
-    let k = (rays as f64).sqrt().ceil() as u32;
     let (mut sum, mut sum2) = (0.0, 0.0);
-    for i in 0..k {
-        for j in 0..k {
-            let u1 = (i as f64 + rng.next_f64()) / k as f64;
-            let u2 = (j as f64 + rng.next_f64()) / k as f64;
-            let rr = u1.sqrt();
-            let phi = std::f64::consts::TAU * u2;
-            let d = frame.to_world(DVec3::new(
-                rr * phi.cos(),
-                rr * phi.sin(),
-                (1.0 - u1).max(0.0).sqrt(),
-            ));
-            let ray = Ray {
-                origin: sp.position,
-                dir: d,
-            };
-            let v = if bvh.occluded(&ray, 0.0, f64::INFINITY, |_, _| true) {
-                0.0
-            } else {
-                std::f64::consts::PI * sh.eval(d).x
-            };
-            sum += v;
-            sum2 += v * v;
-        }
-    }
-    let n = (k * k) as f64;
+    let count = stratified_cosine_directions(sp.normal, rays, rng, |d| {
+        let ray = Ray {
+            origin: sp.position,
+            dir: d,
+        };
+        let v = if bvh.occluded(&ray, 0.0, f64::INFINITY, |_, _| true) {
+            0.0
+        } else {
+            std::f64::consts::PI * sh.eval(d).x
+        };
+        sum += v;
+        sum2 += v * v;
+    });
+    let n = count as f64;
     let estimate = sum / n;
     // The sample variance of a stratified set bounds the variance of its mean from above.
     let sigma = ((sum2 / n - estimate * estimate).max(0.0) / (n - 1.0)).sqrt();

@@ -3,6 +3,7 @@
 //! Every check compares against an independent oracle (quadrature, Monte Carlo, an exact
 //! identity); each tolerance says where it comes from.
 
+use crate::ltc_common::gauss_legendre;
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
@@ -57,32 +58,6 @@ impl Rng {
         coeffs[0] += DVec3::splat(3.0);
         Sh9 { coeffs }
     }
-}
-
-/// Gauss–Legendre nodes and weights on [0, 1] (Newton on P_n, converged to rounding).
-fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    (0..n)
-        .map(|k| {
-            let mut x = (PI * (k as f64 + 0.75) / (n as f64 + 0.5)).cos();
-            let mut dp = 0.0;
-            for _ in 0..100 {
-                let (mut p0, mut p1) = (1.0, x);
-                for m in 2..=n {
-                    let p2 = ((2 * m - 1) as f64 * x * p1 - (m - 1) as f64 * p0) / m as f64;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-                let dx = p1 / dp;
-                x -= dx;
-                if dx.abs() < 1e-16 {
-                    break;
-                }
-            }
-            let w = 2.0 / ((1.0 - x * x) * dp * dp);
-            (0.5 * (x + 1.0), 0.5 * w)
-        })
-        .collect()
 }
 
 /// ∫ f over the spherical triangle (a, b, c), signed: positive when counter-clockwise seen
