@@ -253,6 +253,22 @@ impl WorkbenchApp {
         if !self.use_trees {
             ctx.prepared.drop_silhouette_trees();
         }
+        // A scene file's environment lights the viewport with the exact method (the workbench
+        // has no environment panel yet: docs/environment.md, "Not yet done").
+        if let Some(spec) = ctx.scene.environment.clone() {
+            match crate::environment::EnvironmentLight::load(&spec) {
+                Ok(light) => {
+                    let settings = crate::render::environment::EnvironmentSettings::new(
+                        spec.method
+                            .unwrap_or(crate::environment::EnvMethod::Analytic),
+                        spec.spp.unwrap_or(128),
+                        0,
+                    );
+                    ctx.set_environment(Arc::new(light), settings);
+                }
+                Err(e) => eprintln!("warning: the scene's environment is left out: {e:#}"),
+            }
+        }
         Arc::new(ctx)
     }
 

@@ -258,7 +258,11 @@ impl RenderContext {
 
     /// Prepares `scene`: shading data, BVH, area-sampling tables.
     pub fn from_arc(scene: Arc<Scene>) -> Self {
-        Self::with_options(scene, PrepareOptions::default())
+        let options = PrepareOptions {
+            environment: scene.environment.is_some(),
+            ..PrepareOptions::default()
+        };
+        Self::with_options(scene, options)
     }
 
     /// Prepares `scene` for about `settings`' camera rays (the cost model sizes the trees of
