@@ -191,22 +191,23 @@ impl EnvironmentMap {
     /// blended over a few degrees so nothing is discontinuous. Deterministic; evaluated at the
     /// pixel centres. 256×128 is plenty.
     pub fn sky(width: usize, height: usize) -> Self {
-        let mut pixels = Vec::with_capacity(width * height);
-        for j in 0..height {
-            for i in 0..width {
-                let d = Self::direction_at(
-                    (i as f64 + 0.5) / width as f64,
-                    (j as f64 + 0.5) / height as f64,
-                );
-                pixels.push(sky_radiance(d));
-            }
-        }
-        Self::new(width.max(1), height.max(1), pixels).expect("the procedural sky is finite")
+        Self::from_fn(width.max(1), height.max(1), sky_radiance)
+            .expect("the procedural sky is finite")
     }
 
     /// The band-limited map whose pixels are the SH reconstruction (Eq. 8) at the pixel
     /// centres; no rotation, scale 1. Can have negative pixels where the SH rings.
     pub fn from_sh(sh: &Sh9, width: usize, height: usize) -> Self {
+        Self::from_fn(width, height, |d| sh.eval(d))
+            .expect("SH reconstruction of finite coefficients")
+    }
+
+    /// The map whose pixel (i, j) is `radiance` at its centre's direction (map frame).
+    fn from_fn(
+        width: usize,
+        height: usize,
+        radiance: impl Fn(DVec3) -> DVec3,
+    ) -> anyhow::Result<Self> {
         let mut pixels = Vec::with_capacity(width * height);
         for j in 0..height {
             for i in 0..width {
@@ -214,10 +215,10 @@ impl EnvironmentMap {
                     (i as f64 + 0.5) / width as f64,
                     (j as f64 + 0.5) / height as f64,
                 );
-                pixels.push(sh.eval(d));
+                pixels.push(radiance(d));
             }
         }
-        Self::new(width, height, pixels).expect("SH reconstruction of finite coefficients")
+        Self::new(width, height, pixels)
     }
 }
 
