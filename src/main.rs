@@ -4,7 +4,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
 use penumbra::environment::{EnvMethod, EnvironmentLight, EnvironmentSource, EnvironmentSpec};
-use penumbra::render::environment::EnvironmentSettings;
+use penumbra::render::environment::{EnvironmentSettings, StaticTerm};
 use penumbra::render::{Image, RenderContext, RenderMethod, RenderSettings, image_io};
 use penumbra::scene::{Camera, Scene, scene_file};
 use penumbra::stochastic::LightSampling;
@@ -254,6 +254,11 @@ struct EnvArgs {
     /// `rt`: cluster each point's merged cones into at most this many.
     #[arg(long)]
     env_max_cones: Option<usize>,
+    /// How the ray methods (`rt`, `rt-unculled`, `rtao`, `unshadowed`) find E_static on static
+    /// surfaces: `prt`, transfer vectors precomputed by ray casting and cached (002 as
+    /// published), or `exact`, the polygon integral at every point [default: prt].
+    #[arg(long, value_enum)]
+    env_static: Option<StaticTerm>,
 }
 
 /// Rays per camera ray of the environment's ray methods when neither `--spp` nor the scene
@@ -336,6 +341,9 @@ fn attach_environment(
         settings.filter = false;
     }
     settings.max_cones = args.env.env_max_cones;
+    if let Some(t) = args.env.env_static {
+        settings.static_term = t;
+    }
     if scene.objects.iter().any(|o| o.material.has_specular()) {
         eprintln!(
             "note: the environment lights the diffuse lobe only (002 is diffuse); GGX lobes see the area lights alone"
@@ -486,6 +494,19 @@ fn render(args: &RenderArgs) -> Result<()> {
             t.rays_traced,
             t.rays_total
         );
+        if let Some(r) = ctx.environment.as_ref().and_then(|x| x.transfer_report) {
+            say!(
+                "precomputed transfer (PRT) of the static surfaces: {} nodes × {} rays, {:.3} s{}",
+                r.nodes,
+                r.rays / r.nodes.max(1),
+                r.seconds,
+                if r.from_cache {
+                    " (read from the cache)"
+                } else {
+                    ""
+                }
+            );
+        }
     }
     if nan + inf + neg > 0 {
         eprintln!("warning: {nan} NaN, {inf} infinite and {neg} negative pixel values");

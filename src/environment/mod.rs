@@ -19,6 +19,7 @@ pub mod hemisphere_samples;
 pub mod light;
 pub mod map;
 pub mod polygon_integral;
+pub mod prt;
 pub mod sh;
 
 pub use cones::{BoundingSphere, Cone, construct_and_merge_cones, ray_extent};

@@ -19,6 +19,7 @@
 use super::{Image, RenderContext, subpixel_rays};
 use crate::accel::Ray;
 use crate::denoise::gbuffer::{GBuffer, Surface};
+use crate::environment::prt::{PrtReport, PrtSettings, TransferField, transferred_irradiance};
 use crate::environment::{
     BoundingSphere, Cone, EnvMethod, EnvironmentLight, HemisphereSamples,
     construct_and_merge_cones, cross_bilateral_5x5, pixel_rotation, ray_extent,
@@ -60,6 +61,34 @@ pub struct EnvironmentSettings {
     /// Cluster each point's merged cones into at most this many (002 Sect. 6's open
     /// problem; `environment::cones::cluster_cones`). `None`: 002's merging alone.
     pub max_cones: Option<usize>,
+    /// How `E_static` is found on static surfaces by the methods that read it from the
+    /// G-buffer pass (`rt`, `rt-unculled`, `rtao`, `unshadowed`). `analytic` finds the exact
+    /// value on its way, the `reference` needs none.
+    #[serde(default)]
+    pub static_term: StaticTerm,
+}
+
+/// How the methods of 002 obtain `E_static` (002 Eq. 6); `penumbra render --env-static`.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum StaticTerm {
+    /// 002 as published: diffuse PRT, transfer vectors precomputed by ray casting on the
+    /// static surfaces and interpolated (`environment::prt`). Points the field does not
+    /// cover (dynamic objects, back sides) take the exact value.
+    #[default]
+    Prt,
+    /// The exact polygon integral over what the static objects leave, at every point.
+    Exact,
 }
 
 impl EnvironmentSettings {
@@ -75,6 +104,7 @@ impl EnvironmentSettings {
             },
             filter: matches!(method, EnvMethod::Rt | EnvMethod::RtUnculled),
             max_cones: None,
+            static_term: StaticTerm::Prt,
         }
     }
 }
@@ -89,15 +119,22 @@ pub struct SceneEnvironment {
     pub spheres: Vec<BoundingSphere>,
     /// The rays of `rt`, `rt-unculled` and `rtao`.
     pub samples: HemisphereSamples,
+    /// The precomputed transfer of the static surfaces, when the method reads `E_static` from
+    /// it (see [`StaticTerm`]), and what it cost.
+    pub transfer: Option<Arc<TransferField>>,
+    pub transfer_report: Option<PrtReport>,
     /// Smallest ray parameter of a shadow ray (self-intersection), relative to the scene.
     t_min: f64,
 }
 
 impl SceneEnvironment {
+    /// The environment `light` rendered as `settings` say. `transfer`: a transfer field already
+    /// computed for this scene (with what it cost), used instead of reading or computing one.
     pub fn new(
         ctx: &RenderContext,
         light: Arc<EnvironmentLight>,
         settings: EnvironmentSettings,
+        transfer: Option<(Arc<TransferField>, PrtReport)>,
     ) -> Self {
         let scene = &ctx.scene;
         let occluders =
@@ -117,12 +154,32 @@ impl SceneEnvironment {
             .bvh
             .bounds()
             .map_or(1.0, |(lo, hi)| (hi - lo).length().max(1e-300));
+        let reads_static = !matches!(settings.method, EnvMethod::Analytic | EnvMethod::Reference);
+        let (transfer, transfer_report) = if reads_static
+            && settings.static_term == StaticTerm::Prt
+            && !occluders.statics.is_empty()
+        {
+            let (field, report) = transfer.unwrap_or_else(|| {
+                let (field, report) = TransferField::cached_or_computed(
+                    scene,
+                    &ctx.bvh,
+                    PrtSettings::default(),
+                    ctx.prepared.cache.as_ref(),
+                );
+                (Arc::new(field), report)
+            });
+            (Some(field), Some(report))
+        } else {
+            (None, None)
+        };
         SceneEnvironment {
             light,
             settings,
             occluders,
             spheres,
             samples: HemisphereSamples::new(settings.spp.max(1)),
+            transfer,
+            transfer_report,
             t_min: 1e-9 * extent,
         }
     }
@@ -378,8 +435,9 @@ fn shade_pixel(
     px
 }
 
-/// E_static at `sp`: the irradiance the static objects leave (Eq. 6), or Eq. 7 when none of
-/// them reaches the hemisphere.
+/// E_static at `sp`: the irradiance the static objects leave (Eq. 6): from the precomputed
+/// transfer where it covers the point, else exact; Eq. 7 when no static object reaches the
+/// hemisphere.
 fn static_irradiance(
     ctx: &RenderContext,
     env: &SceneEnvironment,
@@ -389,6 +447,11 @@ fn static_irradiance(
     let unshadowed = || env.light.irradiance(sp.normal);
     if env.occluders.statics.is_empty() {
         return unshadowed();
+    }
+    if let (Some(field), Some(o), Some(f)) = (&env.transfer, sp.object, sp.face)
+        && let Some(t) = field.transfer(o, f, sp.position, sp.normal)
+    {
+        return transferred_irradiance(&env.light.sh, &t);
     }
     environment_integrals(
         &ctx.prepared,

@@ -297,7 +297,15 @@ impl RenderContext {
         light: Arc<crate::environment::EnvironmentLight>,
         settings: environment::EnvironmentSettings,
     ) {
-        self.environment = Some(environment::SceneEnvironment::new(self, light, settings));
+        // The precomputed transfer depends on the scene alone: a new map, rotation or method
+        // reuses it.
+        let transfer = self
+            .environment
+            .take()
+            .and_then(|e| e.transfer.zip(e.transfer_report));
+        self.environment = Some(environment::SceneEnvironment::new(
+            self, light, settings, transfer,
+        ));
     }
 
     /// The first surface along `ray`, as a shading point with the geometric normal turned toward

@@ -15,6 +15,7 @@
 //! bound; a tree larger than the bound is not written at all. Scenes that are generated and
 //! thrown away (stress cases) do not use the cache (`PrepareOptions::disk_cache`).
 
+use crate::environment::prt::TransferField;
 use crate::geometry::{ExactSilhouetteBsp, Polyhedron, SilhouetteBsp, SilhouetteTriangulation};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -36,6 +37,9 @@ pub enum CachedTree {
     Exact(ExactSilhouetteBsp),
     /// Triangulations of the silhouettes of an `Exact` tree (stored under a key of its own).
     Triangulation(SilhouetteTriangulation),
+    /// The environment's precomputed transfer over a scene's static surfaces (002 Eq. 6),
+    /// under a key of the static geometry (`environment::prt`).
+    Transfer(TransferField),
     /// The tree would exceed its size budget: it needs more than `tried` cells or leaves
     /// (a later, larger budget tries again).
     OverLimit {
@@ -118,23 +122,39 @@ impl TreeCache {
     /// The cached tree for `key`, if a valid one is on disk; a hit marks the file as recently
     /// used.
     pub fn load(&self, key: u64, poly: &Polyhedron) -> Option<CachedTree> {
-        let path = self.path(key);
-        let text = std::fs::read_to_string(&path).ok()?;
-        let file: CacheFile = serde_json::from_str(&text).ok()?;
-        if file.format != FORMAT || file.key != key {
-            return None;
-        }
         let (nv, ne) = (poly.vertices.len(), poly.edges.len());
-        let ok = match &file.tree {
+        self.load_checked(key, |tree| match tree {
             CachedTree::Convex(t) => t.is_well_formed(nv),
             CachedTree::Exact(t) => t.is_well_formed(nv, ne),
             CachedTree::Triangulation(t) => t.is_well_formed(nv),
+            CachedTree::Transfer(_) => false,
             CachedTree::OverLimit { .. } => true,
-        };
-        if ok {
-            touch(&path);
+        })
+    }
+
+    /// The cached transfer field for `key`, if one is on disk and `check` accepts it.
+    pub fn load_transfer(
+        &self,
+        key: u64,
+        check: impl Fn(&TransferField) -> bool,
+    ) -> Option<TransferField> {
+        match self.load_checked(key, |t| matches!(t, CachedTree::Transfer(f) if check(f)))? {
+            CachedTree::Transfer(f) => Some(f),
+            _ => None,
         }
-        ok.then_some(file.tree)
+    }
+
+    /// The file for `key` if it names that key and this format and `ok` accepts its content;
+    /// a hit marks the file as recently used.
+    fn load_checked(&self, key: u64, ok: impl Fn(&CachedTree) -> bool) -> Option<CachedTree> {
+        let path = self.path(key);
+        let text = std::fs::read_to_string(&path).ok()?;
+        let file: CacheFile = serde_json::from_str(&text).ok()?;
+        if file.format != FORMAT || file.key != key || !ok(&file.tree) {
+            return None;
+        }
+        touch(&path);
+        Some(file.tree)
     }
 
     /// Stores `tree` for `key`, then evicts the least recently used files beyond the bound
