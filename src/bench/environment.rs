@@ -14,7 +14,8 @@
 
 use crate::environment::{EnvMethod, EnvironmentLight, EnvironmentMap};
 use crate::render::compare::{Comparison, compare};
-use crate::render::environment::{Culling, EnvironmentSettings, EnvironmentStats};
+use crate::environment::prt::PrtReport;
+use crate::render::environment::{Culling, EnvironmentSettings, EnvironmentStats, StaticTerm};
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::{Camera, Scene};
 use crate::shading::PrepareOptions;
@@ -58,6 +59,10 @@ pub struct EnvBenchReport {
     /// needs to reach the exact method's RMSE against the reference (`None` when the ladder
     /// does not reach it), by log–log interpolation.
     pub time_to_analytic_error: Vec<(String, Option<f64>)>,
+    /// The precomputed transfer of the static surfaces the ray methods read E_static from
+    /// (002 Eq. 6): computed (or read from the cache) once, before the first `rt` row.
+    #[serde(default)]
+    pub prt: Option<PrtReport>,
 }
 
 /// What the bench runs.
@@ -109,11 +114,15 @@ pub fn run_environment_bench(
         ..RenderSettings::default()
     };
     let stderr: std::cell::RefCell<Option<Image>> = std::cell::RefCell::new(None);
+    let prt: std::cell::Cell<Option<PrtReport>> = std::cell::Cell::new(None);
     let mut run = |label: &str,
                    env: EnvironmentSettings,
                    repeats: u32|
      -> Result<(EnvBenchRow, Image), String> {
         ctx.set_environment(light.clone(), env);
+        if prt.get().is_none() {
+            prt.set(ctx.environment.as_ref().and_then(|e| e.transfer_report));
+        }
         let mut best: Option<(f64, EnvironmentStats, Image)> = None;
         for _ in 0..repeats.max(1) {
             let out = ctx.render_full(camera, &settings, None)?;
@@ -194,6 +203,19 @@ pub fn run_environment_bench(
         let mut env = EnvironmentSettings::new(EnvMethod::Rt, 128, opts.seed);
         env.culling = culling;
         let (mut row, img) = run(label, env, opts.repeats)?;
+        errors(&mut row, &img);
+        report.table1.push(row);
+    }
+    report.prt = prt.get();
+    if report.prt.is_some() {
+        // What the precomputed transfer buys: the same rays, E_static exact at every point.
+        let mut env = EnvironmentSettings::new(EnvMethod::Rt, 128, opts.seed);
+        env.static_term = StaticTerm::Exact;
+        let (mut row, img) = run(
+            "rt 128, direction + length culling, E_static exact (no PRT)",
+            env,
+            opts.repeats,
+        )?;
         errors(&mut row, &img);
         report.table1.push(row);
     }
@@ -298,6 +320,16 @@ pub fn environment_markdown(r: &EnvBenchReport) -> String {
         "### `{}`, {}×{} `--aa {}` (prepare {:.2} s; reference {} rays per camera ray, {:.1} s)\n",
         r.scene, r.width, r.height, r.aa, r.prepare_seconds, r.reference_spp, r.reference_seconds
     );
+    if let Some(p) = &r.prt {
+        let _ = writeln!(
+            s,
+            "Precomputed transfer of the static surfaces (PRT, 002 Eq. 6): {} nodes × {} rays, {:.2} s{} (once per static geometry; the `rt` rows read E_static from it)\n",
+            p.nodes,
+            p.rays / p.nodes.max(1),
+            p.seconds,
+            if p.from_cache { ", read from the cache" } else { "" }
+        );
+    }
     let _ = writeln!(
         s,
         "Table 1: seconds per pass (G-buffer, occlusion, filter, composition)\n\n| variant | G-buffer | occlusion | filter | composition | total | rays traced | speed-up of occlusion |\n|---|---|---|---|---|---|---|---|"
