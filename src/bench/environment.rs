@@ -12,9 +12,9 @@
 //! reconstruction of a file's map) so that the errors measure the methods, not the
 //! truncation to three bands that every method but the reference shares.
 
+use crate::environment::prt::PrtReport;
 use crate::environment::{EnvMethod, EnvironmentLight, EnvironmentMap};
 use crate::render::compare::{Comparison, compare};
-use crate::environment::prt::PrtReport;
 use crate::render::environment::{Culling, EnvironmentSettings, EnvironmentStats, StaticTerm};
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::{Camera, Scene};
@@ -327,7 +327,11 @@ pub fn environment_markdown(r: &EnvBenchReport) -> String {
             p.nodes,
             p.rays / p.nodes.max(1),
             p.seconds,
-            if p.from_cache { ", read from the cache" } else { "" }
+            if p.from_cache {
+                ", read from the cache"
+            } else {
+                ""
+            }
         );
     }
     let _ = writeln!(

@@ -25,13 +25,19 @@ pub fn is_convex_loop(lp: &[DVec3]) -> bool {
     n >= 3 && (0..n).all(|i| orient(lp[(i + n - 1) % n], lp[i], lp[(i + 1) % n]) >= 0.0)
 }
 
-/// Classifies `subject` against the convex loop `clip` (positively oriented, within a
-/// hemisphere). Returns [`Overlap::Unknown`] when `clip` is not convex.
+/// Classifies `subject` against the loop `clip` (positively oriented, within the hemisphere
+/// w ≥ 0 of the projection). Any clip may be found disjoint by a plane through the normal
+/// ([`separated_about_normal`]); the other answers need a convex clip, and
+/// [`Overlap::Unknown`] is returned for the rest.
 pub fn classify(subject: &PolygonLoops, clip: &[DVec3]) -> Overlap {
-    if !is_convex_loop(clip) {
-        return Overlap::Unknown;
-    }
     let verts = subject.vertices();
+    if !is_convex_loop(clip) {
+        return if separated_about_normal(verts, clip) {
+            Overlap::Disjoint
+        } else {
+            Overlap::Unknown
+        };
+    }
     let n = clip.len();
     let mut all_inside = true;
     for i in 0..n {
@@ -52,6 +58,51 @@ pub fn classify(subject: &PolygonLoops, clip: &[DVec3]) -> Overlap {
     } else {
         Overlap::Unknown
     }
+}
+
+/// The side of the plane through the normal (the w axis) and `r` on which `v` lies: positive
+/// counter-clockwise of `r` seen from above. Homogeneous points with w ≥ 0 keep their sign.
+#[inline]
+fn side_of_meridian(r: DVec3, v: DVec3) -> f64 {
+    r.x * v.y - r.y * v.x
+}
+
+/// The extreme vertices (clockwise-most, counter-clockwise-most) of a vertex set that spans
+/// less than half a turn about the normal; `None` otherwise (it surrounds the normal, or a
+/// vertex lies on it).
+fn azimuth_wedge(verts: &[DVec3]) -> Option<(DVec3, DVec3)> {
+    let (&first, rest) = verts.split_first()?;
+    let (mut lo, mut hi) = (first, first);
+    for &v in rest {
+        if side_of_meridian(lo, v) < 0.0 {
+            lo = v;
+        }
+        if side_of_meridian(hi, v) > 0.0 {
+            hi = v;
+        }
+    }
+    // The scan is right only for a span below π: check it.
+    let spans = side_of_meridian(lo, hi) > 0.0
+        && verts
+            .iter()
+            .all(|&v| side_of_meridian(lo, v) >= 0.0 && side_of_meridian(hi, v) <= 0.0);
+    spans.then_some((lo, hi))
+}
+
+/// Whether a plane through the normal has every vertex of `a` on one closed side and every
+/// vertex of `b` strictly on the other. Both regions are then on their sides (a region within
+/// the upper hemisphere whose boundary arcs lie in a half-space through the centre lies in
+/// it), so they are disjoint. The planes tried bound the azimuth wedge of either set: this
+/// is what separates two occluders seen in different directions around the normal, which
+/// bounding boxes of the projection (stretched toward the horizon) often do not. O(|a| + |b|).
+pub fn separated_about_normal(a: &[DVec3], b: &[DVec3]) -> bool {
+    let beyond = |wedge: &[DVec3], other: &[DVec3]| {
+        azimuth_wedge(wedge).is_some_and(|(lo, hi)| {
+            other.iter().all(|&v| side_of_meridian(lo, v) < 0.0)
+                || other.iter().all(|&v| side_of_meridian(hi, v) > 0.0)
+        })
+    };
+    beyond(a, b) || beyond(b, a)
 }
 
 #[cfg(test)]
@@ -106,5 +157,48 @@ mod tests {
             }
         }
         assert!(seen.iter().all(|&n| n > 10), "every class occurs: {seen:?}");
+    }
+
+    /// Two star-shaped (non-convex) loops at random places in the upper hemisphere: whenever
+    /// the test says they are separated about the normal, no sampled direction is in both,
+    /// and it does say so for loops in clearly different directions.
+    #[test]
+    fn separation_about_the_normal_agrees_with_point_sampling() {
+        let mut rng = Pcg32::new(9, 2);
+        let (mut separated, mut far_apart) = (0usize, 0usize);
+        for _ in 0..400 {
+            let mut loops = [SphericalPolygon::new(), SphericalPolygon::new()];
+            let mut centres = [DVec3::ZERO; 2];
+            for (l, c) in loops.iter_mut().zip(&mut centres) {
+                let phi = rng.range(0.0, std::f64::consts::TAU);
+                // Elevation ≥ 0.30 rad, star radius ≤ atan(0.25) = 0.245 rad: above the
+                // horizon.
+                let z = rng.range(0.3, 0.9);
+                let r = (1.0 - z * z).sqrt();
+                *c = DVec3::new(r * phi.cos(), r * phi.sin(), z);
+                random_star_loop(l, &Frame::from_z(*c), 7, rng.range(0.05, 0.25), &mut rng);
+            }
+            let (a, b) = (&loops[0], &loops[1]);
+            let sep = separated_about_normal(a.vertices(), b.vertices());
+            if sep {
+                separated += 1;
+                for _ in 0..2000 {
+                    let mut d = rng.unit_vector();
+                    d.z = d.z.abs();
+                    assert!(!(contains(a, d, -DVec3::Z) && contains(b, d, -DVec3::Z)));
+                }
+            }
+            // A cap of radius 0.245 rad at elevation ≤ asin(0.6) spans at most
+            // asin(sin 0.245 / 0.8) = 0.31 rad of azimuth each side of its centre: centres
+            // more than 1 rad apart in azimuth must be found separated.
+            let az = |c: DVec3| c.y.atan2(c.x);
+            let mut d = (az(centres[0]) - az(centres[1])).abs();
+            d = d.min(std::f64::consts::TAU - d);
+            if d > 1.0 && centres.iter().all(|c| c.z < 0.6) {
+                far_apart += 1;
+                assert!(sep, "loops {d} rad apart in azimuth not separated");
+            }
+        }
+        assert!(separated > 50 && far_apart > 20, "{separated} {far_apart}");
     }
 }
