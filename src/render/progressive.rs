@@ -6,6 +6,7 @@
 use super::stochastic::{
     StochasticBuffers, compose, compose_cancellable, render_buffers, render_buffers_with,
 };
+use super::environment::render_environment;
 use super::{RenderContext, RenderMethod, RenderOutput, RenderSettings};
 use crate::scene::Camera;
 use std::sync::Arc;
@@ -47,6 +48,10 @@ impl ProgressiveFrame {
             let mut out = compose_cancellable(method, &buffers, cancel);
             out.buffers = Some(buffers);
             out.stats = self.output.stats;
+            // The environment's term, rendered beside the buffers, adds to the composed image.
+            if let Some(e) = self.output.environment.take() {
+                out.add_environment(e);
+            }
             self.output = out;
         }
         self.composed = true;
@@ -126,8 +131,20 @@ pub fn render_progressive_with(
             let Some(buffers) = render_buffers(ctx, &basis, &s, Some(cancel)) else {
                 return Ok(last);
             };
+            // The environment's term is added when the frame is composed.
+            let environment = match &ctx.environment {
+                Some(env) => {
+                    let Some(e) = render_environment(ctx, env, &basis, s.width, s.height, s.aa, Some(cancel))
+                    else {
+                        return Ok(last);
+                    };
+                    Some(e)
+                }
+                None => None,
+            };
             RenderOutput {
                 buffers: Some(Arc::new(buffers)),
+                environment,
                 ..RenderOutput::default()
             }
         } else {
@@ -158,6 +175,9 @@ pub fn render_progressive_with(
     else {
         return Ok(last);
     };
+    // The environment's term does not change from pass to pass (its rays depend on the
+    // environment's own seed, not the pass's): the first pass's is added to every later one.
+    let environment = last.as_ref().and_then(|f| f.output.environment.clone());
     for pass in 1..max_passes {
         if stop() {
             break;
@@ -182,11 +202,15 @@ pub fn render_progressive_with(
         let output = if defer {
             RenderOutput {
                 buffers: Some(acc.clone()),
+                environment: environment.clone(),
                 ..RenderOutput::default()
             }
         } else {
             let mut output = compose(settings.method, &acc);
             output.buffers = Some(acc.clone());
+            if let Some(e) = &environment {
+                output.add_environment(e.clone());
+            }
             output
         };
         let frame = ProgressiveFrame {
