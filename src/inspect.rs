@@ -92,7 +92,11 @@ pub const SKY_GRID: (u32, u32) = (16, 32);
 pub fn sky_grid_direction(rows: u32, cols: u32, r: f64, c: f64) -> DVec3 {
     let theta = std::f64::consts::PI * r / rows as f64;
     let phi = std::f64::consts::TAU * c / cols as f64;
-    DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos())
+    DVec3::new(
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    )
 }
 
 /// Everything known about one probed pixel: the debug dump.

@@ -297,7 +297,18 @@ pub fn environment_pixel<R: Recorder>(
     height: u32,
     rec: &mut R,
 ) -> DVec3 {
-    let p = shade_pixel(ctx, env, basis, x, y, width, height, 1, &mut EnvScratch::default(), rec);
+    let p = shade_pixel(
+        ctx,
+        env,
+        basis,
+        x,
+        y,
+        width,
+        height,
+        1,
+        &mut EnvScratch::default(),
+        rec,
+    );
     p.background + p.radiance
 }
 

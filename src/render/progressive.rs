@@ -3,10 +3,10 @@
 //! passes with new seeds averaged into the buffers. Each step is handed to `emit` as soon as it
 //! is done; `cancel` stops the work between tiles.
 
+use super::environment::render_environment;
 use super::stochastic::{
     StochasticBuffers, compose, compose_cancellable, render_buffers, render_buffers_with,
 };
-use super::environment::render_environment;
 use super::{RenderContext, RenderMethod, RenderOutput, RenderSettings};
 use crate::scene::Camera;
 use std::sync::Arc;
@@ -134,7 +134,8 @@ pub fn render_progressive_with(
             // The environment's term is added when the frame is composed.
             let environment = match &ctx.environment {
                 Some(env) => {
-                    let Some(e) = render_environment(ctx, env, &basis, s.width, s.height, s.aa, Some(cancel))
+                    let Some(e) =
+                        render_environment(ctx, env, &basis, s.width, s.height, s.aa, Some(cancel))
                     else {
                         return Ok(last);
                     };

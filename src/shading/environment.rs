@@ -218,7 +218,12 @@ fn union_integrals<R: Recorder>(
         let dynamics = &occluders.dynamics;
         for (k, &oi) in dynamics.iter().enumerate() {
             if reaches_hemisphere(ctx, oi)
-                && let Some(i) = terms(EnvironmentSide::Dynamic, oi, [statics, &dynamics[..k]], scratch)
+                && let Some(i) = terms(
+                    EnvironmentSide::Dynamic,
+                    oi,
+                    [statics, &dynamics[..k]],
+                    scratch,
+                )
             {
                 out.occluded += i;
             }
