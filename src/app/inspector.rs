@@ -265,8 +265,8 @@ impl Inspector {
                 ui.end_row();
                 for t in terms {
                     ui.label(match t.side {
-                        EnvironmentSide::Static => "S_k ∖ S_<k",
-                        EnvironmentSide::Dynamic => "D_i ∖ (∪S ∪ D_<i)",
+                        EnvironmentSide::Static => "S_k − S_<k",
+                        EnvironmentSide::Dynamic => "D_i − S − D_<i",
                     });
                     ui.label(name(t.occluder));
                     ui.label(t.polygon.vertices().len().to_string());

@@ -944,8 +944,12 @@ impl WorkbenchApp {
                     let fr = &f.frame;
                     let (w, h) = (fr.output.image.width, fr.output.image.height);
                     let px = (w * h) as f64 * fr.passes as f64;
+                    let env = match (&fr.output.environment, &self.state.environment) {
+                        (Some(_), c) => format!(" + environment {}", c.method.name()),
+                        _ => String::new(),
+                    };
                     ui.label(format!(
-                        "{} {}×{} (1/{}), pass {}, {} spp, {:.2} s, {:.0} kpixels/s{}",
+                        "{}{env} {}×{} (1/{}), pass {}, {} spp, {:.2} s, {:.0} kpixels/s{}",
                         f.settings.method.name(),
                         w,
                         h,

@@ -376,11 +376,11 @@ fn environment_curves(
         for t in terms {
             let (colour, legend, side) = match t.side {
                 EnvironmentSide::Static => {
-                    (colours::STATIC_TERM, "static term S_k ∖ S_<k", "static")
+                    (colours::STATIC_TERM, "static term S_k − S_<k", "static")
                 }
                 EnvironmentSide::Dynamic => (
                     colours::DYNAMIC_TERM,
-                    "dynamic term D_i ∖ (∪S ∪ D_<i)",
+                    "dynamic term D_i − S − D_<i",
                     "dynamic",
                 ),
             };
@@ -446,6 +446,12 @@ fn environment_curves(
     }
     if layers.rays {
         for r in &rec.rays {
+            // Culled rays smaller: the traced ones are what the eye should find.
+            let width = if r.outcome == RayOutcome::Culled {
+                0.6
+            } else {
+                1.4
+            };
             let (colour, legend) = match r.outcome {
                 RayOutcome::Culled => (colours::RAY_CULLED, "ray culled"),
                 RayOutcome::Escaped => (colours::RAY_ESCAPED, "ray traced, escaped"),
@@ -455,7 +461,7 @@ fn environment_curves(
             out.push(Curve {
                 points: vec![r.dir],
                 colour,
-                width: 1.0,
+                width,
                 closed: false,
                 marker: false,
                 dot: true,
@@ -841,7 +847,7 @@ fn draw_curve(painter: &egui::Painter, cv: &Curve, project: &dyn Fn(DVec3) -> (P
             } else {
                 cv.colour.gamma_multiply(0.25)
             };
-            painter.circle_filled(q, 2.2, colour);
+            painter.circle_filled(q, 1.0 + cv.width, colour);
         }
     } else if cv.marker {
         for &p in &cv.points {
