@@ -289,3 +289,51 @@ fn dumps_with_and_without_the_environment_load() {
     let old = Probe::from_json(&old.to_string(), "old.json").unwrap();
     assert!(old.environment.is_none() && old.recording.environment.is_empty());
 }
+
+/// Every frame of the progressive render carries the environment's term, at every scale and
+/// in every later pass of a stochastic area-light method, composed at once or deferred: on a
+/// scene with no area lights the frame's image is exactly the environment's image.
+#[test]
+fn progressive_frames_keep_the_environment_term() {
+    use penumbra::render::RenderMethod;
+    use penumbra::render::progressive::render_progressive_with;
+    use std::sync::atomic::AtomicBool;
+    let (ctx, cam) = context(
+        "env_figures",
+        EnvironmentSettings::new(EnvMethod::Analytic, 1, 0),
+    );
+    for (method, defer) in [
+        (RenderMethod::Analytic, false),
+        (RenderMethod::Ratio, false),
+        (RenderMethod::RatioDenoised, true),
+    ] {
+        let settings = RenderSettings {
+            width: 128,
+            height: 96,
+            method,
+            spp: 2,
+            ..RenderSettings::default()
+        };
+        let cancel = AtomicBool::new(false);
+        let mut frames = 0;
+        let last = render_progressive_with(&ctx, &cam, &settings, 3, &cancel, defer, |f| {
+            let mut f = f.clone();
+            f.compose(method);
+            let env = f
+                .output
+                .environment
+                .as_ref()
+                .expect("the environment's term");
+            assert_eq!(
+                f.output.image.pixels, env.image.pixels,
+                "{method:?} scale {}",
+                f.scale
+            );
+            assert!(env.image.pixels.iter().any(|p| p.max_element() > 0.0));
+            frames += 1;
+        })
+        .unwrap()
+        .unwrap();
+        assert!(last.finished && frames >= 2, "{method:?}: {frames} frames");
+    }
+}
