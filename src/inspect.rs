@@ -4,11 +4,13 @@
 //! workbench reads it back and replays the sphere view without the scene.
 
 use crate::accel::Ray;
-use crate::math::Pcg32;
+use crate::math::{Frame, Pcg32};
 use crate::render::RenderContext;
+use crate::render::environment::{EnvironmentSettings, environment_pixel};
 use crate::scene::{Camera, Material};
 use crate::shading::{
-    Method, NoRecorder, ShadingPoint, ShadingScratch, ShadingStats, Stage, StageRecording, shade,
+    EnvironmentPass, EnvironmentSample, EnvironmentTerm, Method, NoRecorder, ShadingPoint,
+    ShadingScratch, ShadingStats, Stage, StageRecording, environment_integrals, shade,
 };
 use crate::stochastic::{EstimatorScratch, LightSampling, direct_samples};
 use glam::DVec3;
@@ -49,6 +51,54 @@ pub struct MonteCarloEstimate {
     pub stderr: DVec3,
 }
 
+/// The environment light at the probed pixel (paper 002): which light, how it is rendered,
+/// and what the renderer computed there.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct EnvironmentProbe {
+    /// The map (`sky`, `sky-sh` or a file) with its rotation about +y (degrees) and scale.
+    pub label: String,
+    pub rotate_deg: f64,
+    pub scale: f64,
+    pub settings: Option<EnvironmentSettings>,
+    /// The pixel's environment radiance as `render::environment` composes it before the
+    /// filter: ρ/π · E on a surface, the map itself where the camera ray misses.
+    pub radiance: DVec3,
+    /// `rt` with the 5×5 filter: the render's pixel uses the filtered E_occluded of its
+    /// neighbourhood, so it differs from `radiance` (which is the unfiltered value).
+    pub filtered_in_render: bool,
+    /// The renderer's numbers at the point (none where the ray misses or the surface does not
+    /// receive light).
+    pub sample: Option<EnvironmentSample>,
+    /// E_static and E_occluded by the exact method (`environment_integrals`) at the same
+    /// point, to compare a ray-traced method with.
+    pub exact_static: Option<DVec3>,
+    pub exact_occluded: Option<DVec3>,
+    /// The exact method's terms when the render's method is not `analytic` (with `analytic`
+    /// they are in `recording.environment`, recorded by the render's own call).
+    pub exact_terms: Vec<EnvironmentTerm>,
+    /// The map's radiance at the centres of a coarse latitude–longitude grid of the whole
+    /// sphere in the shading frame: row r at θ = π(r + ½)/rows from the normal, column c at
+    /// φ = 2π(c + ½)/cols from the frame's x axis; row-major. The sphere view's background.
+    pub sky_rows: u32,
+    pub sky_cols: u32,
+    pub sky: Vec<DVec3>,
+}
+
+/// Rows and columns of [`EnvironmentProbe::sky`].
+pub const SKY_GRID: (u32, u32) = (16, 32);
+
+/// The direction of cell (r, c) of a `rows`×`cols` grid (see [`EnvironmentProbe::sky`]),
+/// at fractional position (r + a, c + b), in the shading frame.
+pub fn sky_grid_direction(rows: u32, cols: u32, r: f64, c: f64) -> DVec3 {
+    let theta = std::f64::consts::PI * r / rows as f64;
+    let phi = std::f64::consts::TAU * c / cols as f64;
+    DVec3::new(
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    )
+}
+
 /// Everything known about one probed pixel: the debug dump.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Probe {
@@ -75,6 +125,9 @@ pub struct Probe {
     pub occluder_names: Vec<String>,
     pub recording: StageRecording,
     pub monte_carlo: Option<MonteCarloEstimate>,
+    /// The environment light at the pixel, when the scene has one (absent in older dumps).
+    #[serde(default)]
+    pub environment: Option<EnvironmentProbe>,
 }
 
 impl Probe {
@@ -118,6 +171,25 @@ impl Probe {
                 ));
             }
         }
+        let env = &self.recording.environment;
+        let exact_terms = self.environment.iter().flat_map(|e| &e.exact_terms);
+        let terms_ok = env.terms.iter().chain(exact_terms).all(|t| ok(&t.polygon));
+        let cones_ok = env
+            .cones
+            .iter()
+            .chain(&env.merged_cones)
+            .all(|c| unit(c.axis) && c.half_angle.is_finite());
+        let rays_ok = env.rays.iter().all(|r| unit(r.dir));
+        let sky_ok = self.environment.as_ref().is_none_or(|e| {
+            e.sky.len() == (e.sky_rows * e.sky_cols) as usize && e.sky.iter().all(|c| c.is_finite())
+        });
+        if !(terms_ok && cones_ok && rays_ok && sky_ok) {
+            return Err(
+                "recorded environment: a direction is not a unit vector or the sky grid is \
+                 malformed (the dump was edited?)"
+                    .into(),
+            );
+        }
         Ok(())
     }
 }
@@ -157,7 +229,54 @@ pub fn probe(
             .collect(),
         ..Probe::default()
     };
+    // The environment's term of the pixel: the renderer's own passes with the recorder on.
+    let mut recording = StageRecording::new(gh_steps);
+    let environment = match &ctx.environment {
+        Some(env) => {
+            let (x, y) = pixel;
+            if x.fract() != 0.0 || y.fract() != 0.0 || x < 0.0 || y < 0.0 {
+                return Err(format!(
+                    "pixel ({x}, {y}): with an environment light the pixel must be whole \
+                     (its rays' rotation is keyed by the pixel index, 002 Sect. 4)"
+                ));
+            }
+            let basis = camera.basis()?;
+            // A recording of its own: the exact method's set differences would otherwise go
+            // to a light record of the area lights. Only its environment part is kept.
+            let mut env_recording = StageRecording::new(false);
+            let radiance = environment_pixel(
+                ctx,
+                env,
+                &basis,
+                x as u32,
+                y as u32,
+                size.0,
+                size.1,
+                &mut env_recording,
+            );
+            recording.environment = env_recording.environment;
+            let map = &env.light.map;
+            Some(EnvironmentProbe {
+                label: env.light.label.clone(),
+                rotate_deg: map.rotate_deg,
+                scale: map.scale,
+                settings: Some(env.settings),
+                radiance,
+                filtered_in_render: matches!(
+                    env.settings.method,
+                    crate::environment::EnvMethod::Rt | crate::environment::EnvMethod::RtUnculled
+                ) && env.settings.filter,
+                sample: recording.environment.samples.first().copied(),
+                ..EnvironmentProbe::default()
+            })
+        }
+        None => None,
+    };
+    let env_radiance = environment.as_ref().map_or(DVec3::ZERO, |e| e.radiance);
+    probe.environment = environment;
     let Some(hit) = ctx.primary_hit(&ray) else {
+        probe.radiance = env_radiance;
+        probe.recording = recording;
         return Ok(probe);
     };
     let sp = hit.point;
@@ -170,14 +289,19 @@ pub fn probe(
     probe.frame_x = frame.to_world(DVec3::X);
     probe.frame_y = frame.to_world(DVec3::Y);
     probe.frame_z = frame.to_world(DVec3::Z);
+    if let (Some(env), Some(e)) = (&ctx.environment, &mut probe.environment) {
+        fill_environment_probe(ctx, env, &sp, &frame, e);
+    }
     if !hit.receiver {
+        probe.radiance += env_radiance;
+        probe.recording = recording;
         return Ok(probe);
     }
     let material = ctx.prepared.materials[object].clone();
     let mut scratch = ShadingScratch::default();
-    let mut recording = StageRecording::new(gh_steps);
-    // The pixel's value: exactly what `RenderContext::radiance` computes.
-    probe.radiance = ctx.radiance(&ray, method, &mut scratch, &mut recording);
+    // The pixel's value: exactly what `RenderContext::radiance` computes, plus the
+    // environment's term as `RenderContext::render_full` adds it.
+    probe.radiance = ctx.radiance(&ray, method, &mut scratch, &mut recording) + env_radiance;
     probe.stats = scratch.stats;
     let mut unshadowed = StageRecording::new(false);
     shade(
@@ -218,6 +342,47 @@ pub fn probe(
     probe.material = Some(material);
     probe.recording = recording;
     Ok(probe)
+}
+
+/// The parts of an [`EnvironmentProbe`] that do not come from the render's own passes: the
+/// exact integrals at the point for comparison (the analytic method's own
+/// `environment_integrals`, recorded) and the map on a coarse grid of the sphere.
+fn fill_environment_probe(
+    ctx: &RenderContext,
+    env: &crate::render::environment::SceneEnvironment,
+    sp: &ShadingPoint,
+    frame: &Frame,
+    out: &mut EnvironmentProbe,
+) {
+    let (rows, cols) = SKY_GRID;
+    out.sky_rows = rows;
+    out.sky_cols = cols;
+    out.sky = (0..rows)
+        .flat_map(|r| (0..cols).map(move |c| (r, c)))
+        .map(|(r, c)| {
+            let local = sky_grid_direction(rows, cols, r as f64 + 0.5, c as f64 + 0.5);
+            env.light.radiance(frame.to_world(local))
+        })
+        .collect();
+    let mut recording = StageRecording::new(false);
+    let exact = environment_integrals(
+        &ctx.prepared,
+        &env.occluders,
+        sp,
+        EnvironmentPass::Occluded,
+        &|f: &Frame, poly| env.light.integrate(f, poly),
+        &mut ShadingScratch::default(),
+        &mut recording,
+    );
+    out.exact_static = Some(
+        exact
+            .static_visible
+            .unwrap_or_else(|| env.light.irradiance(sp.normal)),
+    );
+    out.exact_occluded = Some(exact.occluded);
+    if env.settings.method != crate::environment::EnvMethod::Analytic {
+        out.exact_terms = recording.environment.terms;
+    }
 }
 
 /// The `mc` method's estimator at the probed point with `samples` samples: an independent

@@ -541,9 +541,12 @@ fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
 
 /// Writes the debug dump of one shading point (`penumbra probe`).
 fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> Result<()> {
-    let scene = load_scene(&args.scene)?;
+    let mut scene = load_scene(&args.scene)?;
+    // The environment exactly as `render` resolves and attaches it (the same --env options).
+    resolve_environment(&mut scene, args)?;
     let cam = camera(&args.camera, &scene)?;
-    let ctx = RenderContext::new(&scene);
+    let mut ctx = RenderContext::new(&scene);
+    attach_environment(&mut ctx, &scene, args)?;
     let Some(method) = args.method.analytic() else {
         bail!(
             "probe records the analytic stages: --method must be analytic, per-triangle or unshadowed"
@@ -581,6 +584,50 @@ fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> R
             mc.samples,
             mc.mean,
             mc.stderr
+        );
+    }
+    if let Some(e) = &dump.environment {
+        let env = &dump.recording.environment;
+        say!(
+            "  environment {} (rotate {}°, scale {}), {}: radiance {}{}",
+            e.label,
+            e.rotate_deg,
+            e.scale,
+            e.settings.map_or("", |s| s.method.name()),
+            e.radiance,
+            if e.filtered_in_render {
+                " (before the 5×5 filter)"
+            } else {
+                ""
+            }
+        );
+        if let Some(s) = &e.sample {
+            say!(
+                "    E_unshadowed {} E_static {:?} E_occluded {:?} E {}",
+                s.unshadowed,
+                s.e_static,
+                s.occluded,
+                s.irradiance
+            );
+        }
+        if let (Some(st), Some(oc)) = (e.exact_static, e.exact_occluded) {
+            say!("    exact: E_static {st} E_occluded {oc}");
+        }
+        let terms = if env.terms.is_empty() {
+            &e.exact_terms
+        } else {
+            &env.terms
+        };
+        say!(
+            "    {} union terms, {} cones ({} merged), {} rays ({} traced)",
+            terms.len(),
+            env.cones.len(),
+            env.merged_cones.len(),
+            env.rays.len(),
+            env.rays
+                .iter()
+                .filter(|r| r.outcome != penumbra::shading::RayOutcome::Culled)
+                .count()
         );
     }
     say!("wrote {}", json.display());

@@ -19,6 +19,7 @@ mod cell_triangulation;
 mod cli;
 mod edge_hierarchy;
 mod environment_math;
+mod environment_probe;
 mod environment_render;
 mod exact_silhouette;
 mod exporter_precision;

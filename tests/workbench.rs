@@ -247,3 +247,75 @@ fn the_light_view_draws_the_bsp_planes_of_a_non_convex_light() {
     });
     assert!((1..=3).contains(&drawn.level_planes), "{drawn:?}");
 }
+
+/// The environment light in the workbench (issue 13 item 6): a scene file's `[environment]`
+/// lights the viewport through the panel's choice; a picked point shows the environment's
+/// numbers and union terms; switching the panel's method to `rt` restarts the render, whose
+/// frames carry the environment's rays, and picks the point again with its rays recorded.
+#[test]
+fn the_environment_panel_drives_the_render_and_the_picked_point() {
+    use penumbra::environment::EnvMethod;
+    use penumbra::shading::RayOutcome;
+    let state = Persisted {
+        scene: "env_figures".into(),
+        ..Persisted::default()
+    };
+    let mut h = harness(state);
+    wait_for_render(&mut h);
+    assert_eq!(
+        h.state().state.environment.map,
+        penumbra::app::environment_panel::MapChoice::Sky
+    );
+    let frame = h.state().latest_frame().expect("a frame");
+    assert!(frame.frame.output.environment.is_some());
+    let size = (
+        frame.frame.output.image.width,
+        frame.frame.output.image.height,
+    );
+    // A floor point in a figure's shadow: the figures stand at the middle of the image.
+    let mut target = None;
+    'scan: for y in (size.1 * 3 / 4..size.1 - 2).step_by(5) {
+        for x in (size.0 / 4..size.0 * 3 / 4).step_by(5) {
+            h.state_mut().pick(x as f64, y as f64);
+            let p = &h.state().inspector.as_ref().unwrap().probe;
+            if p.recording
+                .environment
+                .samples
+                .first()
+                .is_some_and(|s| s.occluded.is_some_and(|o| o.max_element() > 1e-3))
+            {
+                target = Some((x, y));
+                break 'scan;
+            }
+        }
+    }
+    let (x, y) = target.expect("env_figures has floor points in a figure's shadow");
+    let ins = h.state().inspector.as_ref().unwrap();
+    assert_eq!(ins.probe.radiance, frame.frame.output.image.at(x, y));
+    assert!(!ins.probe.recording.environment.terms.is_empty());
+    h.run_steps(2);
+    h.get_by_label("E_occluded");
+    h.get_by_label("union terms integrated:");
+
+    let mut choice = h.state().state.environment.clone();
+    choice.method = EnvMethod::Rt;
+    choice.spp = 16;
+    h.state_mut().set_environment(choice);
+    wait_for_render(&mut h);
+    let frame = h.state().latest_frame().unwrap();
+    let stats = frame.frame.output.environment.as_ref().unwrap().stats;
+    assert!(stats.rays_traced > 0 && stats.rays_traced < stats.rays_total);
+    let rec = &h
+        .state()
+        .inspector
+        .as_ref()
+        .unwrap()
+        .probe
+        .recording
+        .environment;
+    assert_eq!(rec.rays.len(), 16);
+    assert!(rec.rays.iter().any(|r| r.outcome != RayOutcome::Culled));
+    h.run_steps(2);
+    // The rays' row of the numbers, and the layer's check box.
+    assert_eq!(h.query_all_by_label("rays").count(), 2);
+}

@@ -14,6 +14,8 @@ pub enum Opened {
     Dump(Box<Probe>),
     Bench(Box<BenchReport>),
     Reference(Image),
+    /// An equirectangular environment map (.hdr, .exr) to light the scene with.
+    Environment(std::path::PathBuf),
 }
 
 /// Loads a scene by embedded name or path.
@@ -41,6 +43,7 @@ pub fn open(path: &Path) -> Result<Opened> {
     let name = path.display().to_string();
     match ext.as_str() {
         "toml" | "obj" => Ok(Opened::Scene(name.clone(), load_scene(&name)?)),
+        "hdr" | "exr" => Ok(Opened::Environment(path.to_path_buf())),
         "pfm" => Ok(Opened::Reference(
             image_io::read_pfm_image(path).with_context(|| name.clone())?,
         )),

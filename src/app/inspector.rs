@@ -6,6 +6,7 @@ use super::planar_view::planar_ui;
 use super::sphere_view::SphereView;
 use super::stages::{Step, StepKind, steps};
 use crate::inspect::{MonteCarloEstimate, Probe};
+use crate::shading::{EnvironmentSide, RayOutcome};
 use egui::{RichText, Ui};
 
 /// The picked point and where the stepper stands.
@@ -158,6 +159,139 @@ impl Inspector {
             });
     }
 
+    /// The environment's numbers at the point (paper 002): E_unshadowed (Eq. 7), E_static,
+    /// E_occluded, E (Eq. 3) and ρ/π·E, the exact integrals beside a ray-traced method's,
+    /// and the union terms with their integrals and sums.
+    pub fn environment_ui(&self, ui: &mut Ui) {
+        let p = &self.probe;
+        let Some(e) = &p.environment else {
+            return;
+        };
+        let rec = &p.recording.environment;
+        ui.add_space(4.0);
+        let method = e.settings.map_or("?", |s| s.method.name());
+        ui.strong(format!(
+            "environment {} (rotate {:.0}°, scale {}), {method}",
+            e.label, e.rotate_deg, e.scale
+        ));
+        egui::Grid::new("environment_numbers")
+            .num_columns(2)
+            .striped(true)
+            .show(ui, |ui| {
+                let mut row = |name: &str, value: String| {
+                    ui.label(name);
+                    ui.label(value);
+                    ui.end_row();
+                };
+                if let Some(s) = &e.sample {
+                    row("E_unshadowed (Eq. 7)", fmt3(s.unshadowed));
+                    if let Some(st) = s.e_static {
+                        row("E_static", fmt3(st));
+                    }
+                    if let Some(oc) = s.occluded {
+                        row("E_occluded", fmt3(oc));
+                    }
+                    row("E (Eq. 3)", fmt3(s.irradiance));
+                    if let Some(se) = s.stderr {
+                        row("standard error of E", fmt3(se));
+                    }
+                    row("ρ/π · E", fmt3(s.radiance));
+                }
+                if e.filtered_in_render {
+                    row(
+                        "",
+                        "(the render filters E_occluded 5×5: its pixel differs)".into(),
+                    );
+                }
+                if method != "analytic" {
+                    if let Some(st) = e.exact_static {
+                        row("exact E_static", fmt3(st));
+                    }
+                    if let Some(oc) = e.exact_occluded {
+                        row("exact E_occluded", fmt3(oc));
+                    }
+                }
+                if !rec.rays.is_empty() {
+                    let count = |o: RayOutcome| rec.rays.iter().filter(|r| r.outcome == o).count();
+                    row(
+                        "rays",
+                        format!(
+                            "{} traced ({} hit dynamic, {} static, {} escaped), {} culled of {}",
+                            rec.rays.len() - count(RayOutcome::Culled),
+                            count(RayOutcome::Dynamic),
+                            count(RayOutcome::Static),
+                            count(RayOutcome::Escaped),
+                            count(RayOutcome::Culled),
+                            rec.rays.len()
+                        ),
+                    );
+                    row(
+                        "cones",
+                        format!(
+                            "{} (Eq. 4), {} merged (Alg. 1)",
+                            rec.cones.len(),
+                            rec.merged_cones.len()
+                        ),
+                    );
+                }
+            });
+        let terms = if rec.terms.is_empty() {
+            &e.exact_terms
+        } else {
+            &rec.terms
+        };
+        if terms.is_empty() {
+            return;
+        }
+        ui.label(if rec.terms.is_empty() {
+            "union terms of the exact method (for comparison):"
+        } else {
+            "union terms integrated:"
+        });
+        let name = |i: usize| {
+            p.occluder_names
+                .get(i)
+                .cloned()
+                .unwrap_or_else(|| format!("#{i}"))
+        };
+        egui::Grid::new("environment_terms")
+            .num_columns(4)
+            .striped(true)
+            .show(ui, |ui| {
+                ui.strong("term");
+                ui.strong("occluder");
+                ui.strong("vertices");
+                ui.strong("∫ L cos (RGB)");
+                ui.end_row();
+                for t in terms {
+                    ui.label(match t.side {
+                        EnvironmentSide::Static => "S_k − S_<k",
+                        EnvironmentSide::Dynamic => "D_i − S − D_<i",
+                    });
+                    ui.label(name(t.occluder));
+                    ui.label(t.polygon.vertices().len().to_string());
+                    ui.label(fmt3(t.integral));
+                    ui.end_row();
+                }
+                let sums = [
+                    (EnvironmentSide::Static, "Σ static"),
+                    (EnvironmentSide::Dynamic, "Σ dynamic = E_occluded"),
+                ];
+                for (side, label) in sums {
+                    let sum: glam::DVec3 = terms
+                        .iter()
+                        .filter(|t| t.side == side)
+                        .map(|t| t.integral)
+                        .sum();
+                    ui.strong(label);
+                    ui.label("");
+                    ui.label("");
+                    ui.strong(fmt3(sum));
+                    ui.end_row();
+                }
+            });
+    }
+
     /// Previous / next / play and the step list.
     pub fn stepper_ui(&mut self, ui: &mut Ui) {
         ui.horizontal(|ui| {
@@ -229,6 +363,12 @@ impl Inspector {
             ui.checkbox(&mut l.visible, "visible");
             ui.checkbox(&mut l.ltc, "LTC space");
             ui.checkbox(&mut l.directions, "n, v, r");
+            if self.probe.environment.is_some() {
+                ui.checkbox(&mut l.environment, "environment map");
+                ui.checkbox(&mut l.env_terms, "union terms");
+                ui.checkbox(&mut l.cones, "cones");
+                ui.checkbox(&mut l.rays, "rays");
+            }
             ui.checkbox(&mut sphere.fit, "zoom the flat view to fit");
         });
         let step = self.current().cloned();

@@ -9,6 +9,7 @@
 //! * [`files`]: scenes, dumps, bench reports, images, the CLI command.
 
 pub mod bench_job;
+pub mod environment_panel;
 pub mod files;
 pub mod inspector;
 pub mod light_view;
@@ -51,6 +52,10 @@ pub struct Persisted {
     pub dark: bool,
     pub recent: Vec<String>,
     pub sphere: SphereView,
+    /// The environment panel's choice (a scene file's `[environment]` replaces the map,
+    /// rotation and scale when it loads; a scene without one starts with none).
+    #[serde(default)]
+    pub environment: environment_panel::EnvironmentChoice,
 }
 
 impl Default for Persisted {
@@ -69,6 +74,7 @@ impl Default for Persisted {
             dark: true,
             recent: Vec::new(),
             sphere: SphereView::default(),
+            environment: Default::default(),
         }
     }
 }
@@ -124,6 +130,8 @@ pub struct WorkbenchApp {
     /// silhouette is computed at its point, and the recording then holds the contour pieces
     /// the exact silhouette's ray test rejected there.
     pub use_trees: bool,
+    env_panel: environment_panel::EnvironmentPanel,
+    env_maps: environment_panel::MapCache,
 }
 
 /// Keyboard shortcuts, listed in the help panel.
@@ -181,6 +189,8 @@ impl WorkbenchApp {
             reveal_light: false,
             reveal_views: false,
             use_trees: true,
+            env_panel: Default::default(),
+            env_maps: Default::default(),
             state,
         };
         let scene = app.state.scene.clone();
@@ -236,6 +246,7 @@ impl WorkbenchApp {
                 format!(", {} warnings", scene.warnings.len())
             }
         );
+        self.state.environment = self.state.environment.from_spec(scene.environment.as_ref());
         self.ctx = Some(self.context(Arc::new(scene)));
         self.scene_error = None;
         self.scene_generation += 1;
@@ -247,29 +258,59 @@ impl WorkbenchApp {
         self.state.scene = name;
     }
 
-    /// The render context of `scene`, with or without its silhouette trees.
-    fn context(&self, scene: Arc<crate::scene::Scene>) -> Arc<RenderContext> {
+    /// The render context of `scene`, with or without its silhouette trees, lit by the
+    /// environment panel's choice.
+    fn context(&mut self, scene: Arc<crate::scene::Scene>) -> Arc<RenderContext> {
         let mut ctx = RenderContext::from_arc(scene);
         if !self.use_trees {
             ctx.prepared.drop_silhouette_trees();
         }
-        // A scene file's environment lights the viewport with the exact method (the workbench
-        // has no environment panel yet: docs/environment.md, "Not yet done").
-        if let Some(spec) = ctx.scene.environment.clone() {
-            match crate::environment::EnvironmentLight::load(&spec) {
-                Ok(light) => {
-                    let settings = crate::render::environment::EnvironmentSettings::new(
-                        spec.method
-                            .unwrap_or(crate::environment::EnvMethod::Analytic),
-                        spec.spp.unwrap_or(128),
-                        0,
-                    );
-                    ctx.set_environment(Arc::new(light), settings);
-                }
-                Err(e) => eprintln!("warning: the scene's environment is left out: {e:#}"),
-            }
+        if let Some((light, settings)) = self.environment_light() {
+            ctx.set_environment(light, settings);
         }
         Arc::new(ctx)
+    }
+
+    /// The light and settings of the environment panel's choice (`None`: no environment, or
+    /// the map failed to load, said in the panel).
+    fn environment_light(
+        &mut self,
+    ) -> Option<(
+        Arc<crate::environment::EnvironmentLight>,
+        crate::render::environment::EnvironmentSettings,
+    )> {
+        match self.env_maps.light(&self.state.environment) {
+            Ok(light) => {
+                self.env_panel.error = None;
+                light.map(|l| (l, self.state.environment.settings()))
+            }
+            Err(e) => {
+                let msg = format!("environment: {e:#}");
+                self.status = msg.clone();
+                self.env_panel.error = Some(msg);
+                None
+            }
+        }
+    }
+
+    /// Lights the scene with `choice` (the environment panel, a dropped map): the prepared
+    /// scene is copied with the new light, the progressive render restarts, and the picked
+    /// pixel (if any) is picked again.
+    pub fn set_environment(&mut self, choice: environment_panel::EnvironmentChoice) {
+        self.state.environment = choice;
+        let Some(ctx) = self.ctx.clone() else {
+            return;
+        };
+        let env = self.environment_light();
+        self.ctx = Some(Arc::new(ctx.with_environment(env)));
+        self.scene_generation += 1;
+        self.monte_carlo = None;
+        if let Some(ins) = &self.inspector
+            && ins.probe.scene == self.state.scene
+        {
+            let (x, y) = ins.probe.pixel;
+            self.pick(x, y);
+        }
     }
 
     /// Switches the silhouette trees on or off: the scene is prepared again, rendered again,
@@ -384,6 +425,11 @@ impl WorkbenchApp {
                 self.status = format!("bench report of {}", r.scene);
                 self.bench = Some(*r);
                 self.show_plots = true;
+            }
+            Ok(Opened::Environment(p)) => {
+                let mut choice = self.state.environment.clone();
+                choice.map = environment_panel::MapChoice::File(p);
+                self.set_environment(choice);
             }
             Ok(Opened::Reference(img)) => {
                 self.status = format!("reference {}×{} loaded", img.width, img.height);
@@ -539,7 +585,10 @@ impl WorkbenchApp {
 
     fn open_dialog(&mut self) {
         if let Some(p) = rfd::FileDialog::new()
-            .add_filter("penumbra files", &["toml", "obj", "json", "pfm"])
+            .add_filter(
+                "penumbra files",
+                &["toml", "obj", "json", "pfm", "hdr", "exr"],
+            )
             .pick_file()
         {
             self.open_path(&p);
@@ -716,6 +765,12 @@ impl WorkbenchApp {
             ui.label(format!("false colour: {lo:.3} … {hi:.3}"));
         }
         ui.separator();
+        ui.heading("Environment");
+        let mut choice = self.state.environment.clone();
+        if self.env_panel.ui(ui, &mut choice) {
+            self.set_environment(choice);
+        }
+        ui.separator();
         self.scene_ui(ui);
     }
 
@@ -889,8 +944,12 @@ impl WorkbenchApp {
                     let fr = &f.frame;
                     let (w, h) = (fr.output.image.width, fr.output.image.height);
                     let px = (w * h) as f64 * fr.passes as f64;
+                    let env = match (&fr.output.environment, &self.state.environment) {
+                        (Some(_), c) => format!(" + environment {}", c.method.name()),
+                        _ => String::new(),
+                    };
                     ui.label(format!(
-                        "{} {}×{} (1/{}), pass {}, {} spp, {:.2} s, {:.0} kpixels/s{}",
+                        "{}{env} {}×{} (1/{}), pass {}, {} spp, {:.2} s, {:.0} kpixels/s{}",
                         f.settings.method.name(),
                         w,
                         h,
@@ -923,6 +982,7 @@ impl WorkbenchApp {
             return;
         };
         ins.numbers_ui(ui, self.monte_carlo.as_ref());
+        ins.environment_ui(ui);
         let mut mc = false;
         ui.horizontal(|ui| {
             mc = ui.button("Monte Carlo check (65536 samples)").clicked();
@@ -1184,6 +1244,12 @@ pub struct RunOptions {
     /// Render method at start.
     #[arg(long, value_enum)]
     pub method: Option<RenderMethod>,
+    /// The environment's shadows at start (the scene needs an environment, or pass --env).
+    #[arg(long, value_enum)]
+    pub env_method: Option<crate::environment::EnvMethod>,
+    /// Light the scene with this environment at start: sky, sky-sh, an .hdr/.exr file, none.
+    #[arg(long)]
+    pub env: Option<String>,
     /// Show this light (by object name) in the light structure view at start.
     #[arg(long)]
     pub light: Option<String>,
@@ -1235,6 +1301,16 @@ pub fn run(opts: RunOptions) -> eframe::Result {
             }
             if let Some(m) = opts.method {
                 app.state.method = m;
+            }
+            if opts.env.is_some() || opts.env_method.is_some() {
+                let mut choice = app.state.environment.clone();
+                if let Some(map) = &opts.env {
+                    choice.map = environment_panel::MapChoice::parse(map);
+                }
+                if let Some(m) = opts.env_method {
+                    choice.method = m;
+                }
+                app.set_environment(choice);
             }
             if opts.fit {
                 app.state.sphere.fit = true;

@@ -4,9 +4,10 @@
 //! its diffuse form factor, Nusselt's analogue). Everything is in the shading frame (z = n).
 
 use super::stages::{Step, StepKind};
-use crate::inspect::Probe;
+use super::tonemap::{ToneMap, tonemap};
+use crate::inspect::{Probe, sky_grid_direction};
 use crate::ltc::edge_integral;
-use crate::shading::{LightRecord, Stage};
+use crate::shading::{EnvironmentSide, LightRecord, RayOutcome, Stage};
 use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Ui, Vec2};
 use glam::DVec3;
 
@@ -22,6 +23,17 @@ pub struct Layers {
     pub visible: bool,
     pub ltc: bool,
     pub directions: bool,
+    /// The environment map's radiance as the sphere's background.
+    #[serde(default = "yes")]
+    pub environment: bool,
+    /// The exact method's union terms (static and dynamic).
+    #[serde(default = "yes")]
+    pub env_terms: bool,
+    /// `rt`'s cones (Eq. 4 and merged) and rays.
+    #[serde(default = "yes")]
+    pub cones: bool,
+    #[serde(default = "yes")]
+    pub rays: bool,
 }
 
 fn yes() -> bool {
@@ -38,6 +50,10 @@ impl Default for Layers {
             visible: true,
             ltc: false,
             directions: true,
+            environment: true,
+            env_terms: true,
+            cones: true,
+            rays: true,
         }
     }
 }
@@ -57,6 +73,14 @@ pub mod colours {
     pub const NORMAL: Color32 = Color32::from_rgb(80, 150, 255);
     pub const VIEW: Color32 = Color32::from_rgb(200, 200, 200);
     pub const MIRROR: Color32 = Color32::from_rgb(120, 220, 220);
+    pub const STATIC_TERM: Color32 = Color32::from_rgb(110, 150, 255);
+    pub const DYNAMIC_TERM: Color32 = Color32::from_rgb(255, 90, 40);
+    pub const CONE: Color32 = Color32::from_rgb(190, 190, 130);
+    pub const MERGED_CONE: Color32 = Color32::from_rgb(255, 225, 0);
+    pub const RAY_CULLED: Color32 = Color32::from_rgb(90, 90, 90);
+    pub const RAY_ESCAPED: Color32 = Color32::from_rgb(235, 235, 235);
+    pub const RAY_STATIC: Color32 = Color32::from_rgb(60, 110, 255);
+    pub const RAY_DYNAMIC: Color32 = Color32::from_rgb(255, 30, 30);
 }
 
 /// State of the sphere view: orientation, layers, the vertex under the mouse.
@@ -98,6 +122,8 @@ struct Curve {
     closed: bool,
     /// A single direction drawn as a small circle of fixed size on screen.
     marker: bool,
+    /// Directions drawn as small filled dots (rays).
+    dot: bool,
     label: String,
     /// Its entry in the legend.
     legend: &'static str,
@@ -141,6 +167,7 @@ fn loops_to_curves(
             width,
             closed: true,
             marker: false,
+            dot: false,
             label: label.into(),
             legend,
         });
@@ -193,6 +220,7 @@ fn curves_of(
                     width: 1.0,
                     closed: false,
                     marker: false,
+                    dot: false,
                     label: label.clone(),
                     legend: "contour edge",
                 });
@@ -221,6 +249,7 @@ fn curves_of(
                     width: 1.5,
                     closed: false,
                     marker: false,
+                    dot: false,
                     label: format!("{who}: contour piece rejected by the ray test"),
                     legend: "rejected contour piece",
                 });
@@ -239,6 +268,7 @@ fn curves_of(
                     width: 1.5,
                     closed: false,
                     marker: true,
+                    dot: false,
                     label: format!("{who}: apparent intersection (Eq. 4.4), silhouette {source}"),
                     legend: "apparent intersection",
                 });
@@ -329,6 +359,177 @@ fn curves_of(
     }
 }
 
+/// The environment's layers at the picked point: the exact method's union terms, `rt`'s cones
+/// and rays, as curves on the sphere (shading frame).
+fn environment_curves(
+    probe: &Probe,
+    layers: &Layers,
+    occluder_name: &dyn Fn(usize) -> String,
+    out: &mut Vec<Curve>,
+) {
+    let rec = &probe.recording.environment;
+    let terms = match &probe.environment {
+        Some(e) if rec.terms.is_empty() => &e.exact_terms,
+        _ => &rec.terms,
+    };
+    if layers.env_terms {
+        for t in terms {
+            let (colour, legend, side) = match t.side {
+                EnvironmentSide::Static => {
+                    (colours::STATIC_TERM, "static term S_k − S_<k", "static")
+                }
+                EnvironmentSide::Dynamic => (
+                    colours::DYNAMIC_TERM,
+                    "dynamic term D_i − S − D_<i",
+                    "dynamic",
+                ),
+            };
+            let name = format!(
+                "{side} term of {}: ∫ L cos = {}",
+                occluder_name(t.occluder),
+                super::inspector::fmt3(t.integral)
+            );
+            loops_to_curves(
+                t.polygon.loops().map(|l| l.to_vec()),
+                colour,
+                2.0,
+                (&name, legend),
+                out,
+            );
+        }
+    }
+    if layers.cones {
+        let circle = |c: &crate::environment::Cone| -> Vec<DVec3> {
+            let a = c.axis.normalize_or_zero();
+            let u = a.any_orthonormal_vector();
+            let v = a.cross(u);
+            let (s, co) = c.half_angle.min(std::f64::consts::PI).sin_cos();
+            (0..96)
+                .map(|k| {
+                    let t = k as f64 / 96.0 * std::f64::consts::TAU;
+                    (a * co + (u * t.cos() + v * t.sin()) * s).normalize_or_zero()
+                })
+                .collect()
+        };
+        for (i, c) in rec.cones.iter().enumerate() {
+            out.push(Curve {
+                points: circle(c),
+                colour: colours::CONE,
+                width: 1.0,
+                closed: true,
+                marker: false,
+                dot: false,
+                label: format!(
+                    "cone {i} (002 Eq. 4): ψ = {:.2}°, h = {:.3}",
+                    c.half_angle.to_degrees(),
+                    c.height
+                ),
+                legend: "cone (Eq. 4)",
+            });
+        }
+        for (i, c) in rec.merged_cones.iter().enumerate() {
+            out.push(Curve {
+                points: circle(c),
+                colour: colours::MERGED_CONE,
+                width: 2.0,
+                closed: true,
+                marker: false,
+                dot: false,
+                label: format!(
+                    "merged cone {i} (Alg. 1): ψ = {:.2}°, h = {:.3}",
+                    c.half_angle.to_degrees(),
+                    c.height
+                ),
+                legend: "merged cone (Alg. 1)",
+            });
+        }
+    }
+    if layers.rays {
+        for r in &rec.rays {
+            // Culled rays smaller: the traced ones are what the eye should find.
+            let width = if r.outcome == RayOutcome::Culled {
+                0.6
+            } else {
+                1.4
+            };
+            let (colour, legend) = match r.outcome {
+                RayOutcome::Culled => (colours::RAY_CULLED, "ray culled"),
+                RayOutcome::Escaped => (colours::RAY_ESCAPED, "ray traced, escaped"),
+                RayOutcome::Static => (colours::RAY_STATIC, "ray traced, hit static"),
+                RayOutcome::Dynamic => (colours::RAY_DYNAMIC, "ray traced, hit dynamic"),
+            };
+            out.push(Curve {
+                points: vec![r.dir],
+                colour,
+                width,
+                closed: false,
+                marker: false,
+                dot: true,
+                label: legend.to_string(),
+                legend,
+            });
+        }
+    }
+}
+
+/// The map's radiance on the probe's coarse grid, drawn as filled cells under everything
+/// else: on the 3D sphere (cells facing the eye; below the horizon dimmed) and on the flat
+/// hemisphere (cells above the horizon). Tone-mapped so that the mean radiance of the grid
+/// is mid-grey (Reinhard), and dimmed so the curves stay legible.
+fn draw_sky(
+    painter: &egui::Painter,
+    env: &crate::inspect::EnvironmentProbe,
+    project: &dyn Fn(DVec3) -> (Pos2, bool),
+    hemisphere_only: bool,
+    facing: &dyn Fn(DVec3) -> bool,
+) {
+    let (rows, cols) = (env.sky_rows, env.sky_cols);
+    if env.sky.len() != (rows * cols) as usize || rows == 0 {
+        return;
+    }
+    let mean = env
+        .sky
+        .iter()
+        .map(|c| crate::environment::luminance(*c))
+        .sum::<f64>()
+        / env.sky.len() as f64;
+    let exposure = if mean > 0.0 { -mean.log2() } else { 0.0 };
+    let mut mesh = egui::Mesh::default();
+    for r in 0..rows {
+        for c in 0..cols {
+            let (rf, cf) = (r as f64, c as f64);
+            let centre = sky_grid_direction(rows, cols, rf + 0.5, cf + 0.5);
+            if hemisphere_only && centre.z < 0.0 {
+                continue;
+            }
+            if !facing(centre) {
+                continue;
+            }
+            let corners = [
+                (rf, cf),
+                (rf + 1.0, cf),
+                (rf + 1.0, cf + 1.0),
+                (rf, cf + 1.0),
+            ]
+            .map(|(a, b)| project(sky_grid_direction(rows, cols, a, b)).0);
+            let colour = tonemap(
+                env.sky[(r * cols + c) as usize],
+                exposure,
+                ToneMap::Reinhard,
+            )
+            .gamma_multiply(if centre.z < 0.0 { 0.25 } else { 0.7 });
+            // One mesh, no anti-aliasing: neighbouring cells meet without seams.
+            let base = mesh.vertices.len() as u32;
+            for p in corners {
+                mesh.colored_vertex(p, colour);
+            }
+            mesh.add_triangle(base, base + 1, base + 2);
+            mesh.add_triangle(base, base + 2, base + 3);
+        }
+    }
+    painter.add(Shape::mesh(mesh));
+}
+
 /// Orthographic eye basis: (right, up, toward the eye).
 fn eye_basis(yaw: f32, pitch: f32) -> (DVec3, DVec3, DVec3) {
     let (yaw, pitch) = (yaw as f64, pitch as f64);
@@ -359,6 +560,14 @@ impl SphereView {
                 _ => curves_of(rec, step, &self.layers, &names, &mut curves),
             }
         }
+        // The environment's layers do not belong to a light's stages: shown at every step.
+        if probe.environment.is_some() {
+            environment_curves(probe, &self.layers, &names, &mut curves);
+        }
+        let sky = probe
+            .environment
+            .as_ref()
+            .filter(|_| self.layers.environment);
         // Shading-frame directions.
         let mut arrows: Vec<(DVec3, Color32, &str)> = Vec::new();
         if self.layers.directions {
@@ -405,6 +614,9 @@ impl SphereView {
             };
             let bg = ui.visuals().extreme_bg_color;
             painter.rect_filled(rect, 4.0, bg);
+            if let Some(env) = sky {
+                draw_sky(&painter, env, &project, false, &|d| d.dot(eye) >= 0.0);
+            }
             painter.circle_stroke(c, radius, Stroke::new(1.0, ui.visuals().weak_text_color()));
             // Horizon: the great circle z = 0.
             let mut horizon = Vec::new();
@@ -461,6 +673,9 @@ impl SphereView {
                     p.z >= 0.0,
                 )
             };
+            if let Some(env) = sky {
+                draw_sky(&painter2, env, &flat, true, &|_| true);
+            }
             painter2.circle_stroke(flat(DVec3::ZERO).0, scale as f32, Stroke::new(1.0, hcol));
             if self.fit {
                 painter2.text(
@@ -606,7 +821,9 @@ fn legend_ui(ui: &mut Ui, curves: &[Curve]) {
         for k in kinds {
             let (rect, _) = ui.allocate_exact_size(Vec2::new(16.0, 10.0), Sense::hover());
             let p = ui.painter();
-            if k.marker {
+            if k.dot {
+                p.circle_filled(rect.center(), 3.0, k.colour);
+            } else if k.marker {
                 p.circle_stroke(rect.center(), 4.0, Stroke::new(k.width, k.colour));
             } else {
                 p.line_segment(
@@ -619,9 +836,20 @@ fn legend_ui(ui: &mut Ui, curves: &[Curve]) {
     });
 }
 
-/// Draws a curve: a marker as a small circle (faint on the far side), else a polyline.
+/// Draws a curve: a marker as a small circle (faint on the far side), dots as small filled
+/// circles, else a polyline.
 fn draw_curve(painter: &egui::Painter, cv: &Curve, project: &dyn Fn(DVec3) -> (Pos2, bool)) {
-    if cv.marker {
+    if cv.dot {
+        for &p in &cv.points {
+            let (q, front) = project(p);
+            let colour = if front {
+                cv.colour
+            } else {
+                cv.colour.gamma_multiply(0.25)
+            };
+            painter.circle_filled(q, 1.0 + cv.width, colour);
+        }
+    } else if cv.marker {
         for &p in &cv.points {
             let (q, front) = project(p);
             let colour = if front {

@@ -25,7 +25,7 @@ pub struct BoundingSphere {
 
 /// A cone `C = (a, d, h, ψ)` of Eq. 4, with the apex at the shading point (not stored) and
 /// `cos ψ` kept instead of ψ: the culling test is a dot product.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Cone {
     /// Unit axis from the shading point toward the sphere's centre (or the normal when the
     /// point is inside the sphere).

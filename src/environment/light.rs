@@ -26,7 +26,17 @@ pub struct EnvironmentLight {
 impl EnvironmentLight {
     /// Loads (or builds) the map `spec` names, with its rotation and scale, and projects it.
     pub fn load(spec: &EnvironmentSpec) -> anyhow::Result<Self> {
-        let (map, label) = match &spec.source {
+        let (map, label) = Self::load_map(&spec.source)?;
+        Ok(Self::from_map(
+            map.with_rotation(spec.rotate_deg).with_scale(spec.scale),
+            label,
+        ))
+    }
+
+    /// The map `source` names, unrotated and unscaled, with its label (the workbench keeps it
+    /// to rotate and scale it again without reading the file).
+    pub fn load_map(source: &EnvironmentSource) -> anyhow::Result<(EnvironmentMap, String)> {
+        Ok(match source {
             EnvironmentSource::Sky => (EnvironmentMap::sky(SKY_WIDTH, SKY_HEIGHT), "sky".into()),
             EnvironmentSource::SkySh => {
                 let sky = EnvironmentMap::sky(SKY_WIDTH, SKY_HEIGHT);
@@ -37,11 +47,7 @@ impl EnvironmentLight {
                 )
             }
             EnvironmentSource::File(p) => (EnvironmentMap::load(p)?, p.display().to_string()),
-        };
-        Ok(Self::from_map(
-            map.with_rotation(spec.rotate_deg).with_scale(spec.scale),
-            label,
-        ))
+        })
     }
 
     /// The light of a map whose rotation and scale are already set.

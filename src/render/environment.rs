@@ -27,8 +27,8 @@ use crate::environment::{
 use crate::math::{Frame, Pcg32};
 use crate::scene::camera::CameraBasis;
 use crate::shading::{
-    EnvironmentOccluders, EnvironmentPass, NoRecorder, ShadingPoint, ShadingScratch,
-    environment_integrals,
+    EnvironmentOccluders, EnvironmentPass, EnvironmentSample, NoRecorder, RayOutcome, Recorder,
+    ShadingPoint, ShadingScratch, environment_integrals,
 };
 use glam::DVec3;
 use std::sync::Arc;
@@ -263,7 +263,7 @@ pub fn render_environment(
     let nanos_g = AtomicU64::new(0);
     let nanos_o = AtomicU64::new(0);
     let pixels = super::render_tiles(width, height, cancel, EnvScratch::default, |s, x, y| {
-        let px = shade_pixel(ctx, env, basis, x, y, width, height, aa, s);
+        let px = shade_pixel(ctx, env, basis, x, y, width, height, aa, s, &mut NoRecorder);
         nanos_g.fetch_add(px.nanos_gbuffer, Ordering::Relaxed);
         nanos_o.fetch_add(px.nanos_occlusion, Ordering::Relaxed);
         px
@@ -340,9 +340,38 @@ pub fn render_environment(
     })
 }
 
+/// The environment term of pixel (x, y) of an `--aa 1` render before the filter, shaded by
+/// the renderer's own passes 1–2 with `rec` attached (the workbench's probe): bit for bit
+/// the render's pixel for every method but filtered `rt`.
+#[allow(clippy::too_many_arguments)]
+pub fn environment_pixel<R: Recorder>(
+    ctx: &RenderContext,
+    env: &SceneEnvironment,
+    basis: &CameraBasis,
+    x: u32,
+    y: u32,
+    width: u32,
+    height: u32,
+    rec: &mut R,
+) -> DVec3 {
+    let p = shade_pixel(
+        ctx,
+        env,
+        basis,
+        x,
+        y,
+        width,
+        height,
+        1,
+        &mut EnvScratch::default(),
+        rec,
+    );
+    p.background + p.radiance
+}
+
 /// Passes 1–2 for pixel (x, y).
 #[allow(clippy::too_many_arguments)]
-fn shade_pixel(
+fn shade_pixel<R: Recorder>(
     ctx: &RenderContext,
     env: &SceneEnvironment,
     basis: &CameraBasis,
@@ -352,6 +381,7 @@ fn shade_pixel(
     height: u32,
     aa: u32,
     s: &mut EnvScratch,
+    rec: &mut R,
 ) -> EnvPixel {
     let mut px = EnvPixel::default();
     let k = (aa * aa) as f64;
@@ -401,7 +431,7 @@ fn shade_pixel(
                     EnvironmentPass::Occluded,
                     &|frame: &Frame, poly| env.light.integrate(frame, poly),
                     &mut s.shading,
-                    &mut NoRecorder,
+                    rec,
                 );
                 px.set_differences += r.set_differences;
                 let e_static = r
@@ -411,7 +441,7 @@ fn shade_pixel(
             }
             EnvMethod::Rt | EnvMethod::RtUnculled => (
                 e_static,
-                rt_occluded(ctx, env, &sp, stream, &mut s.cones, &mut px),
+                rt_occluded(ctx, env, &sp, stream, &mut s.cones, &mut px, rec),
             ),
             EnvMethod::Rtao => (
                 e_static,
@@ -419,6 +449,18 @@ fn shade_pixel(
             ),
             EnvMethod::Reference => {
                 let (mean, var) = reference_irradiance(ctx, env, &sp, stream);
+                if R::ENABLED {
+                    rec.environment_sample(&EnvironmentSample {
+                        method: env.settings.method,
+                        unshadowed: env.light.irradiance(sp.normal),
+                        e_static: None,
+                        occluded: None,
+                        irradiance: mean,
+                        stderr: Some(var.map(f64::sqrt)),
+                        albedo_over_pi: rho_pi,
+                        radiance: rho_pi * mean,
+                    });
+                }
                 px.radiance += rho_pi * mean / k;
                 px.variance += rho_pi * rho_pi * var / (k * k);
                 px.nanos_occlusion += t1.elapsed().as_nanos() as u64;
@@ -426,6 +468,19 @@ fn shade_pixel(
             }
         };
         px.nanos_occlusion += t1.elapsed().as_nanos() as u64;
+        if R::ENABLED {
+            let e = (e_static - e_occluded).max(DVec3::ZERO);
+            rec.environment_sample(&EnvironmentSample {
+                method: env.settings.method,
+                unshadowed: env.light.irradiance(sp.normal),
+                e_static: Some(e_static),
+                occluded: Some(e_occluded),
+                irradiance: e,
+                stderr: None,
+                albedo_over_pi: rho_pi,
+                radiance: rho_pi * e,
+            });
+        }
         px.radiance += rho_pi * (e_static - e_occluded).max(DVec3::ZERO) / k;
         px.base += rho_pi * e_static / k;
         px.occluded += e_occluded / k;
@@ -474,35 +529,65 @@ fn blocks(ctx: &RenderContext, sp: &ShadingPoint, o: u32, f: u32) -> bool {
 }
 
 /// 002 Alg. 1–2 at one sub-pixel sample: cones, culling, rays; E_occluded = π/N Σ L_SH(ω)
-/// over the rays whose first hit is a dynamic object (Eq. 8).
-fn rt_occluded(
+/// over the rays whose first hit is a dynamic object (Eq. 8). `rec` receives the cones and
+/// every ray, in the shading frame of the area lights (`Frame::from_normal_and_view`).
+#[allow(clippy::too_many_arguments)]
+fn rt_occluded<R: Recorder>(
     ctx: &RenderContext,
     env: &SceneEnvironment,
     sp: &ShadingPoint,
     stream: u64,
     cones: &mut Vec<Cone>,
     px: &mut EnvPixel,
+    rec: &mut R,
 ) -> DVec3 {
     let culling = env.settings.culling;
     construct_and_merge_cones(sp.position, sp.normal, &env.spheres, cones);
     if let Some(max) = env.settings.max_cones {
         crate::environment::cones::cluster_cones(cones, max);
     }
+    // The recording's frame, and the cones of Eq. 4 before merging (for the view only).
+    let shading = R::ENABLED.then(|| Frame::from_normal_and_view(sp.normal, sp.view));
+    if let Some(f) = &shading {
+        let local = |c: &Cone| Cone {
+            axis: f.to_local(c.axis),
+            ..*c
+        };
+        let eq4: Vec<Cone> = env
+            .spheres
+            .iter()
+            .filter_map(|s| crate::environment::cones::cone_of_sphere(sp.position, sp.normal, s))
+            .map(|c| local(&c))
+            .collect();
+        let merged: Vec<Cone> = cones.iter().map(local).collect();
+        rec.environment_cones(&eq4, &merged);
+    }
     px.cones += cones.len() as u32;
     let n = env.samples.len();
     px.rays_total += n as u32;
-    if culling != Culling::None && cones.is_empty() {
-        return DVec3::ZERO;
-    }
     let frame = Frame::from_z(sp.normal);
     let rot = pixel_rotation(env.settings.seed, stream);
+    if culling != Culling::None && cones.is_empty() {
+        if let Some(f) = &shading {
+            for i in 0..n {
+                let dir = frame.to_world(env.samples.rotated(i, rot));
+                rec.environment_ray(f.to_local(dir), RayOutcome::Culled);
+            }
+        }
+        return DVec3::ZERO;
+    }
     let mut sum = DVec3::ZERO;
     for i in 0..n {
         let dir = frame.to_world(env.samples.rotated(i, rot));
         let t_max = match culling {
             Culling::None => f64::INFINITY,
             Culling::Direction | Culling::DirectionAndLength => match ray_extent(cones, dir) {
-                None => continue,
+                None => {
+                    if let Some(f) = &shading {
+                        rec.environment_ray(f.to_local(dir), RayOutcome::Culled);
+                    }
+                    continue;
+                }
                 Some(h) if culling == Culling::DirectionAndLength => h,
                 Some(_) => f64::INFINITY,
             },
@@ -515,6 +600,16 @@ fn rt_occluded(
         let hit = ctx
             .bvh
             .intersect_accept(&ray, env.t_min, t_max, |o, f| blocks(ctx, sp, o, f));
+        if let Some(f) = &shading {
+            let outcome = match hit {
+                None => RayOutcome::Escaped,
+                Some(h) if ctx.scene.objects[h.object as usize].flags.is_static => {
+                    RayOutcome::Static
+                }
+                Some(_) => RayOutcome::Dynamic,
+            };
+            rec.environment_ray(f.to_local(dir), outcome);
+        }
         if let Some(h) = hit
             && !ctx.scene.objects[h.object as usize].flags.is_static
         {

@@ -308,6 +308,29 @@ impl RenderContext {
         ));
     }
 
+    /// A copy of this context lit by `environment` instead (or by none): the prepared data and
+    /// the BVH are copied, not prepared again, so that the workbench's environment panel can
+    /// switch maps and methods while a render still reads the old context.
+    pub fn with_environment(
+        &self,
+        environment: Option<(
+            Arc<crate::environment::EnvironmentLight>,
+            environment::EnvironmentSettings,
+        )>,
+    ) -> RenderContext {
+        let mut ctx = RenderContext {
+            scene: self.scene.clone(),
+            prepared: self.prepared.clone(),
+            bvh: self.bvh.clone(),
+            area_lights: self.area_lights.clone(),
+            environment: None,
+        };
+        if let Some((light, settings)) = environment {
+            ctx.set_environment(light, settings);
+        }
+        ctx
+    }
+
     /// The first surface along `ray`, as a shading point with the geometric normal turned toward
     /// the viewer (two-sided shading). Shared by the renderer and the workbench's pick.
     pub fn primary_hit(&self, ray: &Ray) -> Option<PrimaryHit> {
@@ -399,25 +422,7 @@ impl RenderContext {
             else {
                 return Ok(RenderOutput::default());
             };
-            if out.image.pixels.len() == e.image.pixels.len() {
-                for (p, q) in out.image.pixels.iter_mut().zip(&e.image.pixels) {
-                    *p += *q;
-                }
-            }
-            out.stderr = match (out.stderr.take(), &e.stderr) {
-                (Some(a), Some(b)) => Some(Image {
-                    width: w,
-                    height: h,
-                    pixels: a
-                        .pixels
-                        .iter()
-                        .zip(&b.pixels)
-                        .map(|(x, y)| (*x * *x + *y * *y).map(f64::sqrt))
-                        .collect(),
-                }),
-                (a, b) => a.or_else(|| b.clone()),
-            };
-            out.environment = Some(e);
+            out.add_environment(e);
         }
         let seconds = start.elapsed().as_secs_f64();
         out.stats = RenderStats {
@@ -490,6 +495,34 @@ pub struct RenderOutput {
     /// The environment's term and its passes (when the scene has an environment light).
     pub environment: Option<environment::EnvironmentOutput>,
     pub stats: RenderStats,
+}
+
+impl RenderOutput {
+    /// Adds the environment's term `e` to the image (both terms are linear in the radiance;
+    /// an image of another size, from a cancelled render, is left alone) and combines the
+    /// standard errors of two references.
+    pub fn add_environment(&mut self, e: environment::EnvironmentOutput) {
+        if self.image.pixels.len() == e.image.pixels.len() {
+            for (p, q) in self.image.pixels.iter_mut().zip(&e.image.pixels) {
+                *p += *q;
+            }
+        }
+        let (w, h) = (e.image.width, e.image.height);
+        self.stderr = match (self.stderr.take(), &e.stderr) {
+            (Some(a), Some(b)) => Some(Image {
+                width: w,
+                height: h,
+                pixels: a
+                    .pixels
+                    .iter()
+                    .zip(&b.pixels)
+                    .map(|(x, y)| (*x * *x + *y * *y).map(f64::sqrt))
+                    .collect(),
+            }),
+            (a, b) => a.or_else(|| b.clone()),
+        };
+        self.environment = Some(e);
+    }
 }
 
 /// Evaluates `pixel(scratch, x, y)` for every pixel in 16×16 tiles spread over rayon's

@@ -3,6 +3,7 @@
 //! passes with new seeds averaged into the buffers. Each step is handed to `emit` as soon as it
 //! is done; `cancel` stops the work between tiles.
 
+use super::environment::render_environment;
 use super::stochastic::{
     StochasticBuffers, compose, compose_cancellable, render_buffers, render_buffers_with,
 };
@@ -47,6 +48,10 @@ impl ProgressiveFrame {
             let mut out = compose_cancellable(method, &buffers, cancel);
             out.buffers = Some(buffers);
             out.stats = self.output.stats;
+            // The environment's term, rendered beside the buffers, adds to the composed image.
+            if let Some(e) = self.output.environment.take() {
+                out.add_environment(e);
+            }
             self.output = out;
         }
         self.composed = true;
@@ -126,8 +131,21 @@ pub fn render_progressive_with(
             let Some(buffers) = render_buffers(ctx, &basis, &s, Some(cancel)) else {
                 return Ok(last);
             };
+            // The environment's term is added when the frame is composed.
+            let environment = match &ctx.environment {
+                Some(env) => {
+                    let Some(e) =
+                        render_environment(ctx, env, &basis, s.width, s.height, s.aa, Some(cancel))
+                    else {
+                        return Ok(last);
+                    };
+                    Some(e)
+                }
+                None => None,
+            };
             RenderOutput {
                 buffers: Some(Arc::new(buffers)),
+                environment,
                 ..RenderOutput::default()
             }
         } else {
@@ -158,6 +176,9 @@ pub fn render_progressive_with(
     else {
         return Ok(last);
     };
+    // The environment's term does not change from pass to pass (its rays depend on the
+    // environment's own seed, not the pass's): the first pass's is added to every later one.
+    let environment = last.as_ref().and_then(|f| f.output.environment.clone());
     for pass in 1..max_passes {
         if stop() {
             break;
@@ -182,11 +203,15 @@ pub fn render_progressive_with(
         let output = if defer {
             RenderOutput {
                 buffers: Some(acc.clone()),
+                environment: environment.clone(),
                 ..RenderOutput::default()
             }
         } else {
             let mut output = compose(settings.method, &acc);
             output.buffers = Some(acc.clone());
+            if let Some(e) = &environment {
+                output.add_environment(e.clone());
+            }
             output
         };
         let frame = ProgressiveFrame {

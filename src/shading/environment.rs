@@ -28,7 +28,7 @@ use super::analytic::{
     PointContext, ShadingScratch, environment_faces, load_occluder, project_face, subtract_face,
     subtract_occluder,
 };
-use super::recorder::Recorder;
+use super::recorder::{EnvironmentSide, Recorder};
 use super::{Method, PreparedScene, ShadingPoint};
 use crate::geometry::{ProjectionPlane, SphericalPolygon};
 use crate::math::Frame;
@@ -167,13 +167,18 @@ fn union_integrals<R: Recorder>(
         Some(integrate(&ctx.frame, &scratch.visible_sph))
     };
     // ∫ (occluder oi ∖ before): its outline as one term, or, taken face by face, one term per
-    // face minus the faces before it.
-    let mut terms = |oi: u32, before: [&[u32]; 2], scratch: &mut ShadingScratch| -> Option<DVec3> {
+    // face minus the faces before it. Each term goes to the recorder as it is integrated.
+    let mut terms = |side: EnvironmentSide,
+                     oi: u32,
+                     before: [&[u32]; 2],
+                     scratch: &mut ShadingScratch|
+     -> Option<DVec3> {
         let mut sum: Option<DVec3> = None;
         if load_occluder(ctx, oi as usize, scratch, rec) {
             if !scratch.visible.is_empty()
                 && let Some(i) = finish(before, None, scratch, rec)
             {
+                rec.environment_term(side, oi as usize, &scratch.visible_sph, i);
                 sum = Some(i);
             }
             return sum;
@@ -187,6 +192,7 @@ fn union_integrals<R: Recorder>(
             }
             std::mem::swap(&mut scratch.visible, &mut scratch.occ_plane);
             if let Some(i) = finish(before, Some((oi as usize, k)), scratch, rec) {
+                rec.environment_term(side, oi as usize, &scratch.visible_sph, i);
                 *sum.get_or_insert(DVec3::ZERO) += i;
             }
         }
@@ -196,7 +202,7 @@ fn union_integrals<R: Recorder>(
     let mut static_union: Option<DVec3> = None;
     for (k, &oi) in statics.iter().enumerate() {
         if reaches_hemisphere(ctx, oi)
-            && let Some(i) = terms(oi, [&statics[..k], &[]], scratch)
+            && let Some(i) = terms(EnvironmentSide::Static, oi, [&statics[..k], &[]], scratch)
         {
             *static_union.get_or_insert(DVec3::ZERO) += i;
         }
@@ -212,7 +218,12 @@ fn union_integrals<R: Recorder>(
         let dynamics = &occluders.dynamics;
         for (k, &oi) in dynamics.iter().enumerate() {
             if reaches_hemisphere(ctx, oi)
-                && let Some(i) = terms(oi, [statics, &dynamics[..k]], scratch)
+                && let Some(i) = terms(
+                    EnvironmentSide::Dynamic,
+                    oi,
+                    [statics, &dynamics[..k]],
+                    scratch,
+                )
             {
                 out.occluded += i;
             }

@@ -18,8 +18,9 @@ pub use environment::{
 pub use outline::{Outline, OutlineScratch, Role};
 pub use prepared::{MeshPath, PrepareOptions, PreparedObject, PreparedScene};
 pub use recorder::{
-    ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, Recorder, SetDifferenceRecord, Stage,
-    StageRecording,
+    EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide, EnvironmentTerm,
+    ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, RayOutcome, Recorder,
+    SetDifferenceRecord, Stage, StageRecording,
 };
 pub use tree_library::TreeLibrary;
 

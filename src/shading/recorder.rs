@@ -5,6 +5,7 @@
 //! methods are empty and inline away, so recording is free when off; the workbench passes a
 //! [`StageRecording`] and receives copies of every intermediate polygon of the *same* call.
 
+use crate::environment::{Cone, EnvMethod};
 use crate::geometry::{GreinerHormannSteps, PlanarPolygon, SphericalPolygon};
 use glam::DVec3;
 
@@ -70,6 +71,24 @@ pub trait Recorder {
     fn gh_steps(&mut self) -> Option<&mut GreinerHormannSteps> {
         None
     }
+    /// One term of the exact environment integrals (`shading::environment`): occluder
+    /// `occluder`'s outline (or one of its faces) minus what came before it, in the shading
+    /// frame, and ∫ L_SH cos over it.
+    fn environment_term(
+        &mut self,
+        _side: EnvironmentSide,
+        _occluder: usize,
+        _poly: &SphericalPolygon,
+        _integral: DVec3,
+    ) {
+    }
+    /// `rt`'s cones at the point, in the shading frame: those of 002 Eq. 4 and the merged
+    /// ones (Alg. 1, Eq. 5, and any clustering) that cull the rays.
+    fn environment_cones(&mut self, _cones: &[Cone], _merged: &[Cone]) {}
+    /// One ray of `rt` (direction in the shading frame) and what became of it (Alg. 2).
+    fn environment_ray(&mut self, _dir: DVec3, _outcome: RayOutcome) {}
+    /// The environment's numbers at one sub-pixel sample.
+    fn environment_sample(&mut self, _sample: &EnvironmentSample) {}
 }
 
 /// The recorder of the renderer: records nothing, costs nothing.
@@ -128,10 +147,112 @@ pub struct LightRecord {
     pub specular: DVec3,
 }
 
+/// Which of 002's two kinds of object an environment term belongs to (Sect. 3.2): static
+/// objects' shadows are in E_static (Eq. 6), dynamic objects' in E_occluded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum EnvironmentSide {
+    /// A term `S_k ∖ S_<k` of the static union (∫ over it is subtracted from the hemisphere's
+    /// to give E_static).
+    Static,
+    /// A term `D_i ∖ (∪S ∪ D_<i)` of E_occluded.
+    Dynamic,
+}
+
+/// One term of the exact environment integrals (`shading::environment::union_integrals`): an
+/// occluder's outline (or one of its faces) minus what came before it, in the shading frame,
+/// and ∫ L_SH cos over it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EnvironmentTerm {
+    pub side: EnvironmentSide,
+    /// Index into the prepared scene's occluders (`Probe::occluder_names`).
+    pub occluder: usize,
+    pub polygon: SphericalPolygon,
+    pub integral: DVec3,
+}
+
+/// What became of one ray of `rt` (002 Alg. 2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum RayOutcome {
+    /// Outside every merged cone: not traced (direction culling).
+    Culled,
+    /// Traced, hit nothing within its length.
+    Escaped,
+    /// Traced, first hit a static object (its shadow is in E_static already).
+    Static,
+    /// Traced, first hit a dynamic object: counts toward E_occluded.
+    Dynamic,
+}
+
+/// One recorded ray of `rt`: its direction in the shading frame and what became of it.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EnvironmentRay {
+    pub dir: DVec3,
+    pub outcome: RayOutcome,
+}
+
+/// The environment's numbers at one sub-pixel sample, as `render::environment` composed them.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EnvironmentSample {
+    pub method: EnvMethod,
+    /// E_unshadowed(n), 002 Eq. 7.
+    pub unshadowed: DVec3,
+    /// E_static (Eq. 6, or Eq. 7 when no static object reaches the hemisphere); `None` for
+    /// the reference, which estimates E directly.
+    pub e_static: Option<DVec3>,
+    /// E_occluded (unfiltered); `None` for the reference.
+    pub occluded: Option<DVec3>,
+    /// E = max(E_static − E_occluded, 0) (Eq. 3), or the reference's estimate.
+    pub irradiance: DVec3,
+    /// The reference's standard error of E.
+    pub stderr: Option<DVec3>,
+    /// ρ/π of the surface.
+    pub albedo_over_pi: DVec3,
+    /// ρ/π · E: the sample's environment radiance (Eq. 2).
+    pub radiance: DVec3,
+}
+
+/// Everything recorded of the environment light at one shading point.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EnvironmentRecord {
+    /// The exact method's terms, in the order they were integrated.
+    pub terms: Vec<EnvironmentTerm>,
+    /// `rt`: the cones of 002 Eq. 4 (one per bounding sphere above the tangent plane) and
+    /// the cones after merging (Alg. 1, Eq. 5) and any clustering, in the shading frame.
+    pub cones: Vec<Cone>,
+    pub merged_cones: Vec<Cone>,
+    /// `rt`: every ray, traced or culled.
+    pub rays: Vec<EnvironmentRay>,
+    /// One per sub-pixel sample shaded.
+    pub samples: Vec<EnvironmentSample>,
+}
+
+impl EnvironmentRecord {
+    /// Σ of the recorded terms' integrals on one side.
+    pub fn sum(&self, side: EnvironmentSide) -> DVec3 {
+        self.terms
+            .iter()
+            .filter(|t| t.side == side)
+            .map(|t| t.integral)
+            .sum()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.terms.is_empty()
+            && self.cones.is_empty()
+            && self.merged_cones.is_empty()
+            && self.rays.is_empty()
+            && self.samples.is_empty()
+    }
+}
+
 /// A full recording of one shading point: serialisable as the workbench's debug dump.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct StageRecording {
     pub lights: Vec<LightRecord>,
+    /// The environment light's terms, cones, rays and numbers (absent in dumps written
+    /// before the environment light existed).
+    #[serde(default)]
+    pub environment: EnvironmentRecord,
     /// Record the Greiner–Hormann phases too (larger dumps).
     pub record_gh_steps: bool,
     #[serde(skip)]
@@ -223,6 +344,30 @@ impl Recorder for StageRecording {
         let cur = self.current();
         cur.diffuse = diffuse;
         cur.specular = specular;
+    }
+    fn environment_term(
+        &mut self,
+        side: EnvironmentSide,
+        occluder: usize,
+        poly: &SphericalPolygon,
+        integral: DVec3,
+    ) {
+        self.environment.terms.push(EnvironmentTerm {
+            side,
+            occluder,
+            polygon: poly.clone(),
+            integral,
+        });
+    }
+    fn environment_cones(&mut self, cones: &[Cone], merged: &[Cone]) {
+        self.environment.cones.extend_from_slice(cones);
+        self.environment.merged_cones.extend_from_slice(merged);
+    }
+    fn environment_ray(&mut self, dir: DVec3, outcome: RayOutcome) {
+        self.environment.rays.push(EnvironmentRay { dir, outcome });
+    }
+    fn environment_sample(&mut self, sample: &EnvironmentSample) {
+        self.environment.samples.push(*sample);
     }
     fn gh_steps(&mut self) -> Option<&mut GreinerHormannSteps> {
         if self.record_gh_steps {
