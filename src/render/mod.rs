@@ -326,7 +326,14 @@ impl RenderContext {
             environment: None,
         };
         if let Some((light, settings)) = environment {
-            ctx.set_environment(light, settings);
+            // The precomputed transfer belongs to the scene: a new map or method keeps it.
+            let transfer = self
+                .environment
+                .as_ref()
+                .and_then(|e| e.transfer.clone().zip(e.transfer_report));
+            ctx.environment = Some(environment::SceneEnvironment::new(
+                &ctx, light, settings, transfer,
+            ));
         }
         ctx
     }
