@@ -495,17 +495,7 @@ fn render(args: &RenderArgs) -> Result<()> {
             t.rays_total
         );
         if let Some(r) = ctx.environment.as_ref().and_then(|x| x.transfer_report) {
-            say!(
-                "precomputed transfer (PRT) of the static surfaces: {} nodes × {} rays, {:.3} s{}",
-                r.nodes,
-                r.rays / r.nodes.max(1),
-                r.seconds,
-                if r.from_cache {
-                    " (read from the cache)"
-                } else {
-                    ""
-                }
-            );
+            say!("precomputed transfer (PRT) of the static surfaces: {r}");
         }
     }
     if nan + inf + neg > 0 {

@@ -303,6 +303,12 @@ impl WorkbenchApp {
         };
         let env = self.environment_light();
         self.ctx = Some(Arc::new(ctx.with_environment(env)));
+        self.context_replaced();
+    }
+
+    /// After the render context changed under the same scene: render again, and pick the
+    /// picked pixel (if any) again.
+    fn context_replaced(&mut self) {
         self.scene_generation += 1;
         self.monte_carlo = None;
         if let Some(ins) = &self.inspector
@@ -321,14 +327,7 @@ impl WorkbenchApp {
             return;
         };
         self.ctx = Some(self.context(scene));
-        self.scene_generation += 1;
-        self.monte_carlo = None;
-        if let Some(ins) = &self.inspector
-            && ins.probe.scene == self.state.scene
-        {
-            let (x, y) = ins.probe.pixel;
-            self.pick(x, y);
-        }
+        self.context_replaced();
     }
 
     /// The settings of the full-resolution render.

@@ -323,15 +323,7 @@ pub fn environment_markdown(r: &EnvBenchReport) -> String {
     if let Some(p) = &r.prt {
         let _ = writeln!(
             s,
-            "Precomputed transfer of the static surfaces (PRT, 002 Eq. 6): {} nodes × {} rays, {:.2} s{} (once per static geometry; the `rt` rows read E_static from it)\n",
-            p.nodes,
-            p.rays / p.nodes.max(1),
-            p.seconds,
-            if p.from_cache {
-                ", read from the cache"
-            } else {
-                ""
-            }
+            "Precomputed transfer of the static surfaces (PRT, 002 Eq. 6): {p} (once per static geometry; the `rt` rows read E_static from it)\n"
         );
     }
     let _ = writeln!(
