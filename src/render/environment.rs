@@ -565,10 +565,17 @@ fn rt_occluded<R: Recorder>(
     px.cones += cones.len() as u32;
     let n = env.samples.len();
     px.rays_total += n as u32;
-    let frame = Frame::from_z(sp.normal);
-    let rot = pixel_rotation(env.settings.seed, stream);
+    // The rays' frame and rotation (a sine and a cosine) are found only when a ray can be
+    // traced or the culled rays are recorded: many points have no cone at all.
+    let directions = || {
+        (
+            Frame::from_z(sp.normal),
+            pixel_rotation(env.settings.seed, stream),
+        )
+    };
     if culling != Culling::None && cones.is_empty() {
         if let Some(f) = &shading {
+            let (frame, rot) = directions();
             for i in 0..n {
                 let dir = frame.to_world(env.samples.rotated(i, rot));
                 rec.environment_ray(f.to_local(dir), RayOutcome::Culled);
@@ -576,6 +583,7 @@ fn rt_occluded<R: Recorder>(
         }
         return DVec3::ZERO;
     }
+    let (frame, rot) = directions();
     let mut sum = DVec3::ZERO;
     for i in 0..n {
         let dir = frame.to_world(env.samples.rotated(i, rot));
