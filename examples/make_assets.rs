@@ -381,6 +381,39 @@ fn letters_scene() -> SceneDef {
     }
 }
 
+/// Issue 14's glossy test: a pure GGX floor (Kd 0, F0 = 1, α = Pr² ≈ 0.30) lit by one tilted
+/// quad light, with a box between them whose shadow crosses the highlight.
+fn glossy_scene() -> SceneDef {
+    let objects = vec![
+        floor(&glossy("ggx_floor", [0.0, 0.0, 0.0], 1.0, 0.55)),
+        // 0.8 m x 0.5 m, front (u x v) facing (0, -0.6, 0.8): down toward the camera.
+        object(
+            "quad_light",
+            quad(
+                DVec3::new(0.0, 1.0, -1.2),
+                DVec3::X * 0.4,
+                DVec3::new(0.0, 0.8, 0.6) * 0.25,
+            ),
+            &emitter("quad_light", [1.0, 0.95, 0.9], 1.0),
+        ),
+        object(
+            "box",
+            cuboid(DVec3::new(0.1, 0.3, 0.05), DVec3::splat(0.12)),
+            &diffuse("box", [0.5, 0.5, 0.5]),
+        ),
+    ];
+    SceneDef {
+        name: "glossy",
+        description: "Glossy GGX floor (Kd 0, Ks 1, Pr 0.55: alpha 0.30) lit by a tilted quad \
+                      light, a box casting a shadow across the highlight.",
+        camera: camera([0.0, 0.7, 3.2], [0.0, 0.0, -0.2], 40.0),
+        calibration_point: DVec3::new(0.0, 0.0, 0.3),
+        target: 1.0,
+        objects,
+        extra_toml: "",
+    }
+}
+
 /// Snaps values within 1e-12 of a multiple of 1e-9 onto it (0.47000000000000003 -> 0.47,
 /// 6e-17 -> 0), so the files are readable; the shapes move by less than 1e-12.
 fn clean(v: f64) -> f64 {
@@ -685,6 +718,7 @@ fn main() -> anyhow::Result<()> {
         env_figures_scene(),
         env_atrium_scene(),
         env_crowd_scene(),
+        glossy_scene(),
     ] {
         write_scene(&dir, &def)?;
         // Read the files back through the loader and report.

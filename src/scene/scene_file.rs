@@ -136,6 +136,9 @@ const EMBEDDED_FILES: &[(&str, &str)] = &[
         "env_crowd.mtl",
         include_str!("../../assets/scenes/env_crowd.mtl"),
     ),
+    ("glossy.toml", include_str!("../../assets/scenes/glossy.toml")),
+    ("glossy.obj", include_str!("../../assets/scenes/glossy.obj")),
+    ("glossy.mtl", include_str!("../../assets/scenes/glossy.mtl")),
 ];
 
 const EMBEDDED_SCENES: &[&str] = &[
@@ -149,6 +152,7 @@ const EMBEDDED_SCENES: &[&str] = &[
     "env_figures",
     "env_atrium",
     "env_crowd",
+    "glossy",
 ];
 
 /// Names of the scenes compiled into the binary (`load_embedded` takes these).
