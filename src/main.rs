@@ -221,6 +221,10 @@ struct RenderArgs {
     /// Stochastic methods: how lights are sampled.
     #[arg(long, value_enum, default_value_t = LightSampling::SolidAngle)]
     light_sampling: LightSampling,
+    /// Ratio and control-variate methods: an unbiased U, the LTC plus its correction sampled
+    /// over the unshadowed light (as `analytic-exact` does over the visible one).
+    #[arg(long)]
+    exact_u: bool,
     /// Output path; the extension is replaced by .pfm, .exr and .png.
     #[arg(long, default_value = "out/render.png")]
     out: PathBuf,
@@ -443,6 +447,7 @@ fn settings(args: &RenderArgs) -> RenderSettings {
         seed: args.seed,
         light_sampling: args.light_sampling,
         collect_stats: false,
+        exact_u: args.exact_u,
     }
 }
 

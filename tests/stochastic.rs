@@ -20,6 +20,7 @@ fn settings(method: RenderMethod, w: u32, h: u32, spp: u32, seed: u64) -> Render
         seed,
         light_sampling: LightSampling::SolidAngle,
         collect_stats: false,
+        exact_u: false,
     }
 }
 

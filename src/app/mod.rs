@@ -344,6 +344,7 @@ impl WorkbenchApp {
                 self.state.aov,
                 Aov::OccludersKept | Aov::SilhouetteEdges | Aov::Cost
             ),
+            exact_u: false,
         }
     }
 

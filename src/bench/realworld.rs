@@ -158,6 +158,7 @@ pub fn run_realworld(
             light_sampling: LightSampling::SolidAngle,
             // Per-pixel counters of the deterministic methods: the shortcuts they took.
             collect_stats: method.analytic().is_some(),
+            exact_u: false,
         };
         let t = Instant::now();
         // Sized for one render of the suite's camera rays, as `penumbra render` prepares.

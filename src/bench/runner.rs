@@ -71,6 +71,7 @@ impl BenchConfig {
             seed,
             light_sampling,
             collect_stats: false,
+            exact_u: false,
         }
     }
 }

@@ -117,10 +117,14 @@ pub enum RenderMethod {
     RatioBilateral,
     /// A converged full-stochastic image with its per-pixel standard error.
     Reference,
+    /// 000 Alg. 1 with the LTC's error sampled inside each exact visible polygon: the LTC
+    /// image plus `∫_V (f_GGX − f_LTC) cos`, no shadow rays; converges to GGX (`--spp`
+    /// directions per light per camera ray and pass).
+    AnalyticExact,
 }
 
 impl RenderMethod {
-    pub const ALL: [RenderMethod; 10] = [
+    pub const ALL: [RenderMethod; 11] = [
         RenderMethod::Analytic,
         RenderMethod::PerTriangle,
         RenderMethod::Unshadowed,
@@ -131,6 +135,7 @@ impl RenderMethod {
         RenderMethod::RatioDenoised,
         RenderMethod::RatioBilateral,
         RenderMethod::Reference,
+        RenderMethod::AnalyticExact,
     ];
 
     pub fn name(self) -> &'static str {
@@ -145,6 +150,7 @@ impl RenderMethod {
             RenderMethod::RatioDenoised => "ratio-denoised",
             RenderMethod::RatioBilateral => "ratio-bilateral",
             RenderMethod::Reference => "reference",
+            RenderMethod::AnalyticExact => "analytic-exact",
         }
     }
 
@@ -190,6 +196,11 @@ pub struct RenderSettings {
     pub light_sampling: LightSampling,
     /// Also record per-pixel work counters and time ([`PixelStats`]) for the AOVs.
     pub collect_stats: bool,
+    /// Ratio and control-variate methods: U = the LTC plus its sampled correction over the
+    /// unshadowed light (`shading::ltc_correction`, `spp` directions), an unbiased estimate of
+    /// the GGX's unshadowed radiance, instead of the LTC alone.
+    #[serde(default)]
+    pub exact_u: bool,
 }
 
 /// Work done for one pixel (summed over its camera rays): for the workbench's AOVs.
@@ -218,6 +229,7 @@ impl Default for RenderSettings {
             seed: 0,
             light_sampling: LightSampling::SolidAngle,
             collect_stats: false,
+            exact_u: false,
         }
     }
 }
@@ -413,7 +425,11 @@ impl RenderContext {
         if settings.width == 0 || settings.height == 0 || settings.aa == 0 {
             return Err("image size and --aa must be positive".into());
         }
-        if settings.method.is_stochastic() && settings.spp == 0 {
+        // analytic-exact with no sample is the LTC image (its progressive previews).
+        if settings.method.is_stochastic()
+            && settings.spp == 0
+            && settings.method != RenderMethod::AnalyticExact
+        {
             return Err("--spp must be positive".into());
         }
         let start = Instant::now();

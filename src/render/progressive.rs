@@ -113,8 +113,10 @@ pub fn render_progressive_with(
         }
         // The coarsest previews of a stochastic method take one sample per camera ray: what
         // matters there is how soon the new view appears (the status bar shows the spp).
+        // analytic-exact previews are the LTC image (no correction sample): the LTC first,
+        // then passes converging to GGX.
         let spp = if scale >= PREVIEW_SCALE {
-            1
+            u32::from(settings.method != RenderMethod::AnalyticExact)
         } else {
             settings.spp
         };
@@ -188,7 +190,8 @@ pub fn render_progressive_with(
             ..*settings
         };
         // U is deterministic: the first pass computed it, the others take it from there.
-        let Some(mut next) = render_buffers_with(ctx, &basis, &s, Some(cancel), false) else {
+        // (A sampled U, `exact_u`, is averaged like S_N instead.)
+        let Some(mut next) = render_buffers_with(ctx, &basis, &s, Some(cancel), s.exact_u) else {
             break;
         };
         next.accumulate_onto(&acc, pass);

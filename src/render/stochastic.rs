@@ -12,7 +12,9 @@ use crate::denoise::{
 };
 use crate::math::Pcg32;
 use crate::scene::camera::CameraBasis;
-use crate::shading::{Method, NoRecorder, ShadingScratch, shade};
+use crate::shading::{
+    CorrectionSampling, Method, NoRecorder, ShadingScratch, shade, shade_corrected,
+};
 use crate::stochastic::{Estimator, EstimatorScratch, combine, direct_samples};
 use glam::DVec3;
 use std::sync::atomic::AtomicBool;
@@ -22,8 +24,12 @@ use std::sync::atomic::AtomicBool;
 pub struct StochasticBuffers {
     /// Radiance emitted toward the eye (lights seen directly).
     pub emitted: Image,
-    /// Analytic unshadowed illumination U (zero when the method does not need it).
+    /// Analytic unshadowed illumination U (zero when the method does not need it); for
+    /// `analytic-exact`, the LTC image (exact visibility) whose correction is in `s_n`.
     pub u: Image,
+    /// U holds a sampled estimate (`exact_u`): passes average it like S_N instead of keeping
+    /// the first pass's.
+    pub u_sampled: bool,
     /// S_N and U_N (003 Eq. 21, 22 divided by N).
     pub s_n: Image,
     pub u_n: Image,
@@ -104,7 +110,40 @@ pub fn render_buffers_with(
                 continue;
             }
             let material = &ctx.prepared.materials[hit.point.object.unwrap_or(0) as usize];
-            if with_u {
+            // Each camera ray its own stream of correction samples.
+            let correction = CorrectionSampling {
+                samples: settings.spp,
+                seed: settings.seed,
+                stream: (y as u64 * w as u64 + x as u64) * (aa * aa) as u64 + i as u64,
+            };
+            if settings.method == RenderMethod::AnalyticExact {
+                // The LTC image in U, its correction in S_N: no shadow ray.
+                let c = shade_corrected(
+                    &ctx.prepared,
+                    &hit.point,
+                    material,
+                    Method::Analytic,
+                    &correction,
+                    &mut scratch.shading,
+                    &mut NoRecorder,
+                );
+                px.u += c.ltc;
+                px.s_n += c.correction;
+                px.s_var += c.variance;
+                continue;
+            }
+            if settings.exact_u && with_u {
+                px.u += shade_corrected(
+                    &ctx.prepared,
+                    &hit.point,
+                    material,
+                    Method::Unshadowed,
+                    &correction,
+                    &mut scratch.shading,
+                    &mut NoRecorder,
+                )
+                .total();
+            } else if with_u {
                 px.u += shade(
                     &ctx.prepared,
                     &hit.point,
@@ -157,6 +196,7 @@ pub fn render_buffers_with(
         pixels: values.iter().map(f).collect(),
     };
     Some(StochasticBuffers {
+        u_sampled: settings.exact_u && needs_u(settings.method),
         emitted: image(&|p| p.emitted),
         u: image(&|p| p.u),
         s_n: image(&|p| p.s_n),
@@ -240,6 +280,27 @@ pub fn compose_cancellable(
                     .collect(),
             });
         }
+        RenderMethod::AnalyticExact => {
+            out.image = Image {
+                width: w,
+                height: h,
+                pixels: (0..buffers.u.pixels.len())
+                    .map(|i| {
+                        buffers.emitted.pixels[i] + buffers.u.pixels[i] + buffers.s_n.pixels[i]
+                    })
+                    .collect(),
+            };
+            out.stderr = Some(Image {
+                width: w,
+                height: h,
+                pixels: buffers
+                    .s_variance
+                    .pixels
+                    .iter()
+                    .map(|v| v.map(f64::sqrt))
+                    .collect(),
+            });
+        }
         RenderMethod::ControlVariate => out.image = per_pixel(Estimator::ControlVariate),
         RenderMethod::Ratio => out.image = per_pixel(Estimator::Ratio),
         RenderMethod::RatioGray => out.image = per_pixel(Estimator::RatioGray),
@@ -305,6 +366,9 @@ impl StochasticBuffers {
         };
         mean(&mut self.s_n, &previous.s_n);
         mean(&mut self.u_n, &previous.u_n);
+        if self.u_sampled {
+            mean(&mut self.u, &previous.u);
+        }
         // Var(mean of k+1 passes) = (k² Var_k + Var_1) / (k+1)².
         for (x, p) in self
             .s_variance
@@ -314,6 +378,8 @@ impl StochasticBuffers {
         {
             *x = (*p * (k * k) + *x) / ((k + 1.0) * (k + 1.0));
         }
-        self.u.pixels.clone_from(&previous.u.pixels);
+        if !self.u_sampled {
+            self.u.pixels.clone_from(&previous.u.pixels);
+        }
     }
 }

@@ -136,7 +136,10 @@ const EMBEDDED_FILES: &[(&str, &str)] = &[
         "env_crowd.mtl",
         include_str!("../../assets/scenes/env_crowd.mtl"),
     ),
-    ("glossy.toml", include_str!("../../assets/scenes/glossy.toml")),
+    (
+        "glossy.toml",
+        include_str!("../../assets/scenes/glossy.toml"),
+    ),
     ("glossy.obj", include_str!("../../assets/scenes/glossy.obj")),
     ("glossy.mtl", include_str!("../../assets/scenes/glossy.mtl")),
 ];

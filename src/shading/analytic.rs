@@ -25,6 +25,9 @@
 //! a set difference; once an occluder covers it, the others are not looked at.
 
 use super::get_between::get_between;
+use super::ltc_correction::{
+    CorrectionEstimate, CorrectionSampling, CorrectionScratch, GlossyLobe, estimate_correction,
+};
 use super::outline::{Outline, OutlineScratch, Role};
 use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage};
 use super::{MeshPath, Method, PreparedObject, PreparedScene, ShadingPoint};
@@ -126,6 +129,10 @@ pub struct ShadingScratch {
     pub(super) window_bufs: [Vec<DVec3>; 3],
     /// The faces of an occluder taken face by face under the environment (`environment`).
     pub(super) env_faces: Vec<u32>,
+    pub(super) correction: CorrectionScratch,
+    /// The sampled correction of the LTC at the last shading point (`shade_corrected`), summed
+    /// over lights and weighted by their radiance, and its variance.
+    pub(super) correction_sum: CorrectionEstimate,
     pub stats: ShadingStats,
 }
 
@@ -133,6 +140,7 @@ impl ShadingScratch {
     /// Starts a new shading point: counters reset, the occluder cache invalidated.
     pub(super) fn begin_point(&mut self, scene: &PreparedScene) {
         self.stats = ShadingStats::default();
+        self.correction_sum = CorrectionEstimate::default();
         self.stamp += 1;
         if self.occluder_cache.len() < scene.occluders.len() {
             self.occluder_cache
@@ -163,6 +171,8 @@ const COPLANAR: f64 = 1e-9;
 pub(super) struct Lobes {
     pub(super) kd: DVec3,
     pub(super) specular: Option<(LtcEntry, DVec3)>,
+    /// The GGX lobe against its LTC, when the LTC's error is to be corrected.
+    pub(super) glossy: Option<GlossyLobe>,
 }
 
 /// What every stage at one shading point reads.
@@ -172,6 +182,8 @@ pub(super) struct PointContext<'a> {
     pub(super) frame: Frame,
     pub(super) lobes: Lobes,
     pub(super) method: Method,
+    /// Samples of the LTC's correction (`shade_corrected`), if any.
+    pub(super) correction: Option<CorrectionSampling>,
 }
 
 /// Outgoing radiance at `sp` toward the viewer, by 000 Alg. 1 (diffuse + specular). `rec`
@@ -184,24 +196,85 @@ pub fn shade<R: Recorder>(
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> DVec3 {
+    shade_point(scene, sp, material, method, None, scratch, rec)
+}
+
+/// Radiance at a shading point split into the LTC's value and a sampled correction of it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CorrectedRadiance {
+    /// What [`shade`] returns: exact visibility, LTC shading.
+    pub ltc: DVec3,
+    /// Estimate of `∫_V (f_GGX cos − s D̂_M) L` summed over lights (zero for a Lambertian
+    /// material): `ltc + correction` is an unbiased estimate of the GGX radiance.
+    pub correction: DVec3,
+    /// Variance of `correction`.
+    pub variance: DVec3,
+}
+
+impl CorrectedRadiance {
+    pub fn total(&self) -> DVec3 {
+        self.ltc + self.correction
+    }
+}
+
+/// [`shade`] plus the LTC's error sampled inside each exact visible polygon
+/// ([`super::ltc_correction`]): `--method analytic-exact`, and the unbiased U of the ratio
+/// estimator with `Method::Unshadowed`.
+pub fn shade_corrected<R: Recorder>(
+    scene: &PreparedScene,
+    sp: &ShadingPoint,
+    material: &Material,
+    method: Method,
+    sampling: &CorrectionSampling,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> CorrectedRadiance {
+    let ltc = shade_point(scene, sp, material, method, Some(sampling), scratch, rec);
+    CorrectedRadiance {
+        ltc,
+        correction: scratch.correction_sum.mean,
+        variance: scratch.correction_sum.variance,
+    }
+}
+
+fn shade_point<R: Recorder>(
+    scene: &PreparedScene,
+    sp: &ShadingPoint,
+    material: &Material,
+    method: Method,
+    correction: Option<&CorrectionSampling>,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> DVec3 {
     scratch.begin_point(scene);
+    let frame = Frame::from_normal_and_view(sp.normal, sp.view);
+    let correction = correction.filter(|c| c.samples > 0 && material.has_specular());
+    let specular = material.has_specular().then(|| {
+        let entry = scene
+            .ltc
+            .lookup(sp.normal.dot(sp.view).clamp(0.0, 1.0), material.alpha);
+        // Schlick's Fresnel per channel: F0 (norm − fresnel) + fresnel (see docs/ltc.md).
+        let scale = material.ks.map(|f0| entry.specular_scale(f0));
+        (entry, scale)
+    });
+    let glossy = correction
+        .and(specular.as_ref())
+        .and_then(|(entry, scale)| {
+            let v = frame.to_local(sp.view);
+            GlossyLobe::new(entry, *scale, v, material.alpha, material.ks)
+        });
     let lobes = Lobes {
         kd: material.kd,
-        specular: material.has_specular().then(|| {
-            let entry = scene
-                .ltc
-                .lookup(sp.normal.dot(sp.view).clamp(0.0, 1.0), material.alpha);
-            // Schlick's Fresnel per channel: F0 (norm − fresnel) + fresnel (see docs/ltc.md).
-            let scale = material.ks.map(|f0| entry.specular_scale(f0));
-            (entry, scale)
-        }),
+        specular,
+        glossy,
     };
     let ctx = PointContext {
         scene,
         sp,
-        frame: Frame::from_normal_and_view(sp.normal, sp.view),
+        frame,
         lobes,
         method,
+        correction: correction.copied(),
     };
     let mut total = DVec3::ZERO;
     for l in 0..scene.lights.len() {
@@ -463,7 +536,7 @@ fn shade_light_piece<R: Recorder>(
 
     plane.reproject(&scratch.visible, &mut scratch.visible_sph);
     rec.light_polygon(Stage::Visible, &scratch.visible_sph);
-    let (diffuse, specular) = integrate_lobes(&ctx.lobes, piece.radiance, scratch, rec);
+    let (diffuse, specular) = integrate_lobes(ctx, piece, scratch, rec);
     rec.end_light(diffuse, specular);
     diffuse + specular
 }
@@ -827,11 +900,12 @@ fn subtract_planar<R: Recorder>(oi: usize, scratch: &mut ShadingScratch, rec: &m
 /// polygon directly (the identity LTC, exact); the specular lobe transforms it by M⁻¹, clips it
 /// to the horizon again and integrates. Returns (diffuse, specular) radiance.
 fn integrate_lobes<R: Recorder>(
-    lobes: &Lobes,
-    radiance: DVec3,
+    ctx: &PointContext,
+    piece: &LightPiece,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> (DVec3, DVec3) {
+    let (lobes, radiance) = (&ctx.lobes, piece.radiance);
     // Rounding can leave a value a few ulps below zero for an empty visible region.
     let e_diffuse = form_factor(scratch.visible_sph.loops()).max(0.0);
     rec.lobe(
@@ -862,6 +936,19 @@ fn integrate_lobes<R: Recorder>(
             e_spec,
         );
         specular = *scale * radiance * e_spec;
+    }
+    if let (Some(glossy), Some(sampling)) = (&lobes.glossy, &ctx.correction) {
+        let mut rng = sampling.rng(piece.light, piece.face.map(|(f, _)| f));
+        let c = estimate_correction(
+            &scratch.visible_sph,
+            glossy,
+            sampling.samples,
+            &mut rng,
+            &mut scratch.correction,
+        );
+        rec.correction(c.mean * radiance);
+        scratch.correction_sum.mean += c.mean * radiance;
+        scratch.correction_sum.variance += c.variance * radiance * radiance;
     }
     (diffuse, specular)
 }

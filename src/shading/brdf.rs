@@ -21,12 +21,22 @@ pub fn eval_cos(material: &Material, v: DVec3, l: DVec3) -> DVec3 {
     }
     let mut f = material.kd * (FRAC_1_PI * l.z);
     if material.has_specular() {
-        let h = (v + l).normalize();
-        let w = ggx::schlick_weight(v.dot(h));
-        let spec = ggx::brdf_cos(v, l, material.alpha);
-        f += material.ks.map(|f0| (f0 + (1.0 - f0) * w) * spec);
+        f += specular_cos(material.ks, material.alpha, v, l);
     }
     f
+}
+
+/// The GGX term of [`eval_cos`]: `ρ_s(v, l) cosθl` per channel with Schlick's Fresnel of
+/// reflectance `ks` at normal incidence; 0 when `v` or `l` is on or below the horizon.
+#[inline]
+pub fn specular_cos(ks: DVec3, alpha: f64, v: DVec3, l: DVec3) -> DVec3 {
+    if v.z <= 0.0 || l.z <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let h = (v + l).normalize();
+    let w = ggx::schlick_weight(v.dot(h));
+    let spec = ggx::brdf_cos(v, l, alpha);
+    ks.map(|f0| (f0 + (1.0 - f0) * w) * spec)
 }
 
 /// How a material is importance sampled: the probability of drawing from the specular lobe

@@ -243,8 +243,10 @@ impl<'a> PointContext<'a> {
             lobes: super::analytic::Lobes {
                 kd: DVec3::ZERO,
                 specular: None,
+                glossy: None,
             },
             method: Method::Analytic,
+            correction: None,
         }
     }
 }

@@ -5,16 +5,20 @@ pub mod brdf;
 pub mod cost_model;
 pub mod environment;
 pub mod get_between;
+pub mod ltc_correction;
 pub mod outline;
 pub mod prepared;
 pub mod recorder;
 pub mod tree_cache;
 pub mod tree_library;
 
-pub use analytic::{ShadingScratch, ShadingStats, Shortcuts, shade};
+pub use analytic::{
+    CorrectedRadiance, ShadingScratch, ShadingStats, Shortcuts, shade, shade_corrected,
+};
 pub use environment::{
     EnvironmentIntegrals, EnvironmentOccluders, EnvironmentPass, environment_integrals,
 };
+pub use ltc_correction::CorrectionSampling;
 pub use outline::{Outline, OutlineScratch, Role};
 pub use prepared::{MeshPath, PrepareOptions, PreparedObject, PreparedScene};
 pub use recorder::{

@@ -67,6 +67,9 @@ pub trait Recorder {
     ) {
     }
     fn end_light(&mut self, _diffuse: DVec3, _specular: DVec3) {}
+    /// The sampled correction of the LTC over the light's visible polygon (radiance, per
+    /// channel), for `--method analytic-exact` (`shading::ltc_correction`).
+    fn correction(&mut self, _correction: DVec3) {}
     /// Storage for the Greiner–Hormann phases of the next set difference, if recorded.
     fn gh_steps(&mut self) -> Option<&mut GreinerHormannSteps> {
         None
@@ -145,6 +148,10 @@ pub struct LightRecord {
     pub lobes: Vec<(Lobe, SphericalPolygon, SphericalPolygon, f64)>,
     pub diffuse: DVec3,
     pub specular: DVec3,
+    /// The sampled correction of the LTC (`analytic-exact`): `specular + correction` is an
+    /// unbiased estimate of the GGX radiance.
+    #[serde(default)]
+    pub correction: DVec3,
 }
 
 /// Which of 002's two kinds of object an environment term belongs to (Sect. 3.2): static
@@ -344,6 +351,9 @@ impl Recorder for StageRecording {
         let cur = self.current();
         cur.diffuse = diffuse;
         cur.specular = specular;
+    }
+    fn correction(&mut self, correction: DVec3) {
+        self.current().correction = correction;
     }
     fn environment_term(
         &mut self,
