@@ -26,6 +26,7 @@ mod exporter_precision;
 mod image_io;
 mod instances;
 mod loader_fuzz;
+mod ltc_correction;
 mod ltc_edge_integral;
 mod ltc_fit_accuracy;
 mod ltc_generate;
