@@ -9,8 +9,9 @@ use crate::render::RenderContext;
 use crate::render::environment::{EnvironmentSettings, environment_pixel};
 use crate::scene::{Camera, Material};
 use crate::shading::{
-    EnvironmentPass, EnvironmentSample, EnvironmentTerm, Method, NoRecorder, ShadingPoint,
-    ShadingScratch, ShadingStats, Stage, StageRecording, environment_integrals, shade,
+    CorrectionSampling, EnvironmentPass, EnvironmentSample, EnvironmentTerm, Method, NoRecorder,
+    ShadingPoint, ShadingScratch, ShadingStats, Stage, StageRecording, environment_integrals,
+    shade, shade_corrected,
 };
 use crate::stochastic::{EstimatorScratch, LightSampling, direct_samples};
 use glam::DVec3;
@@ -29,6 +30,10 @@ pub struct LightSummary {
     pub solid_angle: f64,
     /// Solid angle of the visible polygon(s) after the set differences.
     pub visible_solid_angle: f64,
+    /// `analytic-exact`: the sampled correction of the LTC over the visible polygon
+    /// (`shadowed + correction` estimates the GGX value).
+    #[serde(default)]
+    pub correction: DVec3,
 }
 
 impl LightSummary {
@@ -99,6 +104,17 @@ pub fn sky_grid_direction(rows: u32, cols: u32, r: f64, c: f64) -> DVec3 {
     )
 }
 
+/// The correction of the LTC at a probed point (`analytic-exact`).
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct CorrectionProbe {
+    /// Directions per light piece.
+    pub samples: u32,
+    pub seed: u64,
+    /// Summed over lights; `radiance` includes it.
+    pub value: DVec3,
+    pub stderr: DVec3,
+}
+
 /// Everything known about one probed pixel: the debug dump.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Probe {
@@ -128,6 +144,10 @@ pub struct Probe {
     /// The environment light at the pixel, when the scene has one (absent in older dumps).
     #[serde(default)]
     pub environment: Option<EnvironmentProbe>,
+    /// `analytic-exact`: how the LTC's correction was sampled, and its standard error
+    /// (`radiance` then includes the correction).
+    #[serde(default)]
+    pub correction: Option<CorrectionProbe>,
 }
 
 impl Probe {
@@ -212,6 +232,29 @@ pub fn probe(
     size: (u32, u32),
     pixel: (f64, f64),
     method: Method,
+    gh_steps: bool,
+) -> Result<Probe, String> {
+    probe_corrected(ctx, scene_name, camera, size, pixel, method, None, gh_steps)
+}
+
+/// The stream of correction samples `analytic-exact` gives pixel (x, y) of a `width`-wide
+/// `--aa 1` render (`render::stochastic`), so that a probe with the render's seed and sample
+/// count records the render's own value.
+pub fn correction_stream(pixel: (f64, f64), width: u32) -> u64 {
+    pixel.1.max(0.0) as u64 * width as u64 + pixel.0.max(0.0) as u64
+}
+
+/// [`probe`], with the LTC's correction sampled as `analytic-exact` does when `correction` is
+/// given (`method` is then the visibility method, `Method::Analytic`).
+#[allow(clippy::too_many_arguments)]
+pub fn probe_corrected(
+    ctx: &RenderContext,
+    scene_name: &str,
+    camera: &Camera,
+    size: (u32, u32),
+    pixel: (f64, f64),
+    method: Method,
+    correction: Option<CorrectionSampling>,
     gh_steps: bool,
 ) -> Result<Probe, String> {
     let ray = pixel_ray(camera, size, pixel)?;
@@ -301,7 +344,28 @@ pub fn probe(
     let mut scratch = ShadingScratch::default();
     // The pixel's value: exactly what `RenderContext::radiance` computes, plus the
     // environment's term as `RenderContext::render_full` adds it.
-    probe.radiance = ctx.radiance(&ray, method, &mut scratch, &mut recording) + env_radiance;
+    probe.radiance = match &correction {
+        // `RenderContext::radiance` with the correction: emitted + `shade_corrected`.
+        Some(c) => {
+            let r = shade_corrected(
+                &ctx.prepared,
+                &sp,
+                &material,
+                method,
+                c,
+                &mut scratch,
+                &mut recording,
+            );
+            probe.correction = Some(CorrectionProbe {
+                samples: c.samples,
+                seed: c.seed,
+                value: r.correction,
+                stderr: r.variance.map(f64::sqrt),
+            });
+            hit.emitted + r.total()
+        }
+        None => ctx.radiance(&ray, method, &mut scratch, &mut recording),
+    } + env_radiance;
     probe.stats = scratch.stats;
     let mut unshadowed = StageRecording::new(false);
     shade(
@@ -325,6 +389,7 @@ pub fn probe(
             };
             for r in recording.lights.iter().filter(|r| r.light == l) {
                 s.shadowed += r.diffuse + r.specular;
+                s.correction += r.correction;
                 for (stage, poly) in &r.polygons {
                     match stage {
                         Stage::HorizonClipped => s.solid_angle += poly.signed_solid_angle(),

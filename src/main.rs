@@ -542,14 +542,34 @@ fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> R
     let cam = camera(&args.camera, &scene)?;
     let mut ctx = RenderContext::new(&scene);
     attach_environment(&mut ctx, &scene, args)?;
-    let Some(method) = args.method.analytic() else {
-        bail!(
-            "probe records the analytic stages: --method must be analytic, per-triangle or unshadowed"
-        );
+    // analytic-exact: the analytic stages plus the LTC's correction, sampled as the first
+    // pass of an `--aa 1` render with the same --spp and --seed samples this pixel.
+    let (method, correction) = match (args.method, args.method.analytic()) {
+        (_, Some(m)) => (m, None),
+        (RenderMethod::AnalyticExact, None) => (
+            penumbra::shading::Method::Analytic,
+            Some(penumbra::shading::CorrectionSampling {
+                samples: args.spp.unwrap_or(16),
+                seed: args.seed,
+                stream: penumbra::inspect::correction_stream(pixel, args.size.0),
+            }),
+        ),
+        _ => bail!(
+            "probe records the analytic stages: --method must be analytic, analytic-exact, \
+             per-triangle or unshadowed"
+        ),
     };
-    let mut dump =
-        penumbra::inspect::probe(&ctx, &args.scene, &cam, args.size, pixel, method, gh_steps)
-            .map_err(anyhow::Error::msg)?;
+    let mut dump = penumbra::inspect::probe_corrected(
+        &ctx,
+        &args.scene,
+        &cam,
+        args.size,
+        pixel,
+        method,
+        correction,
+        gh_steps,
+    )
+    .map_err(anyhow::Error::msg)?;
     if let (Some(sp), Some(m)) = (dump.point, dump.material.clone()) {
         dump.monte_carlo = Some(penumbra::inspect::monte_carlo(
             &ctx, &sp, &m, 65536, args.seed,

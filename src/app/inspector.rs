@@ -126,6 +126,17 @@ impl Inspector {
                 ui.label("radiance");
                 ui.label(RichText::new(fmt3(p.radiance)).strong());
                 ui.end_row();
+                if let Some(c) = &p.correction {
+                    // analytic-exact: radiance = LTC + this sampled correction.
+                    ui.label("GGX − LTC (sampled)");
+                    ui.label(format!(
+                        "{} ± {} (95 %, {} directions per light)",
+                        fmt3(c.value),
+                        fmt3(c.stderr * 1.96),
+                        c.samples
+                    ));
+                    ui.end_row();
+                }
                 if let Some(mc) = monte_carlo {
                     ui.label("Monte Carlo");
                     ui.label(format!(
@@ -138,13 +149,17 @@ impl Inspector {
                 }
             });
         ui.add_space(4.0);
+        let corrected = p.correction.is_some();
         egui::Grid::new("light_numbers")
-            .num_columns(5)
+            .num_columns(5 + usize::from(corrected))
             .striped(true)
             .show(ui, |ui| {
                 ui.strong("light");
                 ui.strong("unshadowed U");
                 ui.strong("shadowed S");
+                if corrected {
+                    ui.strong("GGX − LTC");
+                }
                 ui.strong("solid angle (sr)");
                 ui.strong("visible");
                 ui.end_row();
@@ -152,6 +167,9 @@ impl Inspector {
                     ui.label(&l.name);
                     ui.label(fmt3(l.unshadowed));
                     ui.label(fmt3(l.shadowed));
+                    if corrected {
+                        ui.label(fmt3(l.correction));
+                    }
                     ui.label(format!("{:.5}", l.solid_angle));
                     ui.label(format!("{:.1} %", 100.0 * l.visible_fraction()));
                     ui.end_row();

@@ -21,10 +21,10 @@ pub mod tonemap;
 pub mod viewport;
 
 use crate::bench::BenchReport;
-use crate::inspect::{MonteCarloEstimate, monte_carlo, probe};
+use crate::inspect::{MonteCarloEstimate, correction_stream, monte_carlo, probe_corrected};
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::scene_file;
-use crate::shading::Method;
+use crate::shading::{CorrectionSampling, Method};
 use egui::{Color32, Key, RichText, Sense, TextureHandle, TextureOptions, Ui};
 use files::Opened;
 use inspector::Inspector;
@@ -380,14 +380,25 @@ impl WorkbenchApp {
             return;
         };
         let method = self.state.method.analytic().unwrap_or(Method::Analytic);
+        // analytic-exact records the LTC's correction too, sampled as the render's first pass
+        // samples this pixel (at `--aa 1`).
+        let correction = (self.state.method == RenderMethod::AnalyticExact).then(|| {
+            let s = self.settings();
+            CorrectionSampling {
+                samples: s.spp,
+                seed: s.seed,
+                stream: correction_stream((x, y), self.render_size.0),
+            }
+        });
         let cam = self.orbit.camera();
-        match probe(
+        match probe_corrected(
             &ctx,
             &self.state.scene,
             &cam,
             self.render_size,
             (x, y),
             method,
+            correction,
             true,
         ) {
             Ok(p) => {

@@ -130,6 +130,7 @@ pub fn equal_time_markdown(report: &BenchReport) -> String {
             floor
         );
     }
+    s.push_str(&noise_markdown(report));
     let sr = &report.speed_ratios;
     let f = |x: Option<f64>| x.map_or("–".into(), |v| format!("{v:.2}"));
     let _ = writeln!(
@@ -142,6 +143,75 @@ pub fn equal_time_markdown(report: &BenchReport) -> String {
         f(sr.per_triangle_over_analytic),
         f(sr.analytic_over_unshadowed)
     );
+    s
+}
+
+/// The method the noise table compares with: the LTC corrected by sampling inside the exact
+/// visible polygon (issue 14).
+const NOISE_TARGET: &str = "analytic-exact";
+
+/// How long each stochastic method takes to bring its corrected RMSE (its own error, the
+/// reference's noise taken out) down to the reference's noise (its rms standard error), and
+/// how many times longer than `analytic-exact` that is. A biased method never gets there.
+/// Read from the ladder in log–log like the equal-time table; `*` marks an extrapolation.
+pub fn noise_markdown(report: &BenchReport) -> String {
+    let noise = report.reference.rms_stderr;
+    let mut methods: Vec<&str> = Vec::new();
+    for r in report.rows.iter().filter(|r| r.spp.is_some()) {
+        if !methods.contains(&r.method.as_str()) {
+            methods.push(&r.method);
+        }
+    }
+    if methods.is_empty() || !(noise > 0.0) {
+        return String::new();
+    }
+    let time_to_noise = |method: &str| -> (Option<Estimate>, f64) {
+        let rows = || report.rows.iter().filter(move |x| x.method == method);
+        let longest = rows()
+            .map(|x| x.seconds)
+            .filter(|t| t.is_finite())
+            .fold(0.0f64, f64::max);
+        // Already at the noise on some rung: the cheapest such rung.
+        let reached = rows()
+            .filter(|x| x.rmse_corrected <= noise && x.seconds.is_finite())
+            .map(|x| x.seconds)
+            .min_by(f64::total_cmp);
+        let crossing = LogLadder::new(rows().map(|x| (x.seconds, x.rmse_corrected)))
+            .time_for(noise)
+            .filter(|e| !e.extrapolated || e.value <= 100.0 * longest);
+        let e = match (crossing, reached) {
+            (Some(c), _) if !c.extrapolated => Some(c),
+            (_, Some(t)) => Some(Estimate {
+                value: t,
+                extrapolated: false,
+                basis: super::equal_time::Basis::Bracketed,
+            }),
+            (c, None) => c,
+        };
+        (e, longest)
+    };
+    let (target, _) = time_to_noise(NOISE_TARGET);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "\nTime to reach the reference's noise (corrected RMSE ≤ rms stderr {noise:.2e}):\n"
+    );
+    let _ = writeln!(s, "| method | time | × {NOISE_TARGET} |");
+    let _ = writeln!(s, "|---|---|---|");
+    for m in methods {
+        let (e, longest) = time_to_noise(m);
+        let (time, ratio) = match e {
+            Some(e) => {
+                let star = if e.extrapolated { "*" } else { "" };
+                let ratio = target.map_or("–".into(), |t| {
+                    format!("{:.1}{star}", e.value / t.value.max(1e-12))
+                });
+                (format!("{:.3} s{star}", e.value), ratio)
+            }
+            None => (format!("not reached in {longest:.2} s"), "–".into()),
+        };
+        let _ = writeln!(s, "| {m} | {time} | {ratio} |");
+    }
     s
 }
 

@@ -27,6 +27,10 @@ pub struct BenchConfig {
     /// Also run `mc` with area sampling of the lights (001 Sect. 3.6's baseline), reported as
     /// `mc-area`.
     pub area_baseline: bool,
+    /// Also run `ratio` and `control-variate` with the unbiased U of `--exact-u` (the LTC plus
+    /// its sampled correction), reported as `ratio+exact-u` and `control-variate+exact-u`.
+    #[serde(default)]
+    pub exact_u_variants: bool,
 }
 
 impl BenchConfig {
@@ -48,11 +52,12 @@ impl BenchConfig {
             light_sampling: LightSampling::SolidAngle,
             repeats: 2,
             area_baseline: true,
+            exact_u_variants: true,
         }
     }
 
     fn settings(&self, method: RenderMethod, spp: u32, seed: u64) -> RenderSettings {
-        self.settings_with(method, spp, seed, self.light_sampling)
+        self.settings_with(method, spp, seed, self.light_sampling, false)
     }
 
     fn settings_with(
@@ -61,6 +66,7 @@ impl BenchConfig {
         spp: u32,
         seed: u64,
         light_sampling: LightSampling,
+        exact_u: bool,
     ) -> RenderSettings {
         RenderSettings {
             width: self.width,
@@ -71,7 +77,7 @@ impl BenchConfig {
             seed,
             light_sampling,
             collect_stats: false,
-            exact_u: false,
+            exact_u,
         }
     }
 }
@@ -138,15 +144,15 @@ pub fn run_bench(
     let ref_rgb = reference.image.to_rgb32();
     let err_rgb = reference.stderr.to_rgb32();
     let info = ReferenceInfo::from_stderr(reference.spp, reference.seconds, &err_rgb);
-    // (name in the report, method, spp, light sampling)
-    let mut jobs: Vec<(String, RenderMethod, Option<u32>, LightSampling)> = Vec::new();
+    // (name in the report, method, spp, light sampling, exact U)
+    let mut jobs: Vec<(String, RenderMethod, Option<u32>, LightSampling, bool)> = Vec::new();
     for &m in &config.methods {
         if m.is_stochastic() {
             for &n in &config.ladder {
-                jobs.push((m.name().into(), m, Some(n), config.light_sampling));
+                jobs.push((m.name().into(), m, Some(n), config.light_sampling, false));
             }
         } else {
-            jobs.push((m.name().into(), m, None, config.light_sampling));
+            jobs.push((m.name().into(), m, None, config.light_sampling, false));
         }
     }
     if config.area_baseline && config.methods.contains(&RenderMethod::Mc) {
@@ -156,19 +162,31 @@ pub fn run_bench(
                 RenderMethod::Mc,
                 Some(n),
                 LightSampling::Area,
+                false,
             ));
+        }
+    }
+    if config.exact_u_variants {
+        for m in [RenderMethod::Ratio, RenderMethod::ControlVariate] {
+            if config.methods.contains(&m) {
+                for &n in &config.ladder {
+                    let name = format!("{}+exact-u", m.name());
+                    jobs.push((name, m, Some(n), config.light_sampling, true));
+                }
+            }
         }
     }
     let mut rows = Vec::with_capacity(jobs.len());
     let mut images: Vec<BenchImage> = Vec::new();
-    for (k, (name, method, spp, sampling)) in jobs.iter().enumerate() {
+    for (k, (name, method, spp, sampling, exact_u)) in jobs.iter().enumerate() {
         let (method, spp) = (*method, *spp);
         let label = match spp {
             Some(n) => format!("{name} {n} spp"),
             None => name.clone(),
         };
         progress(k, jobs.len(), &label);
-        let settings = config.settings_with(method, spp.unwrap_or(1), config.seed, *sampling);
+        let settings =
+            config.settings_with(method, spp.unwrap_or(1), config.seed, *sampling, *exact_u);
         let repeats = if spp.is_some() {
             1
         } else {
