@@ -236,3 +236,131 @@ fn analytic_exact_image_is_unbiased_against_a_ray_cast_reference() {
         "mean difference of the LTC image {d_ltc} (standard error {se})"
     );
 }
+
+/// The progressive renderer shows the LTC image first and converges from there: the previews
+/// of `analytic-exact` are the analytic images of their size bit for bit, every full-resolution
+/// pass keeps that LTC image (less what the lights emit toward the eye) as its U, and the correction of the last frame is the mean of the
+/// passes' corrections (its standard error falls as passes accumulate).
+#[test]
+fn progressive_analytic_exact_starts_from_the_ltc_image() {
+    use penumbra::render::progressive::{PREVIEW_SCALE, render_progressive};
+    use std::sync::atomic::AtomicBool;
+    let scene = scene_file::load_embedded("glossy").unwrap();
+    let ctx = RenderContext::new(&scene);
+    let cam = scene.camera.unwrap();
+    let settings = RenderSettings {
+        width: 320,
+        height: 256,
+        method: RenderMethod::AnalyticExact,
+        spp: 4,
+        ..RenderSettings::default()
+    };
+    let cancel = AtomicBool::new(false);
+    let mut previews = 0;
+    let mut stderr_first = None;
+    let last = render_progressive(&ctx, &cam, &settings, 4, &cancel, |f| {
+        let (w, h) = (f.output.image.width, f.output.image.height);
+        if f.scale >= PREVIEW_SCALE {
+            let analytic = ctx
+                .render(
+                    &cam,
+                    &RenderSettings {
+                        width: w,
+                        height: h,
+                        method: RenderMethod::Analytic,
+                        ..settings
+                    },
+                    None,
+                )
+                .unwrap()
+                .0;
+            let same = f.output.image.pixels == analytic.pixels;
+            let first = (0..analytic.pixels.len())
+                .find(|&i| f.output.image.pixels[i] != analytic.pixels[i]);
+            assert!(same, "preview 1/{}: pixel {first:?} differs", f.scale);
+            previews += 1;
+        } else if f.scale == 1 && f.passes == 1 {
+            stderr_first = f.output.stderr.clone();
+        }
+    })
+    .unwrap()
+    .unwrap();
+    assert!(previews >= 2);
+    assert_eq!(last.passes, 4);
+    let analytic = ctx
+        .render(
+            &cam,
+            &RenderSettings {
+                method: RenderMethod::Analytic,
+                ..settings
+            },
+            None,
+        )
+        .unwrap()
+        .0;
+    let b = last.output.buffers.unwrap();
+    let ltc: Vec<DVec3> =
+        b.u.pixels
+            .iter()
+            .zip(&b.emitted.pixels)
+            .map(|(u, e)| *e + *u)
+            .collect();
+    assert!(ltc == analytic.pixels, "emitted + U is not the LTC image");
+    // Four passes: the standard error of the mean halves (summed over the image).
+    let total = |img: &penumbra::render::Image| img.pixels.iter().map(|p| p.x).sum::<f64>();
+    let ratio = total(last.output.stderr.as_ref().unwrap()) / total(&stderr_first.unwrap());
+    assert!(
+        (0.4..0.6).contains(&ratio),
+        "stderr ratio after 4 passes {ratio}"
+    );
+}
+
+/// `penumbra probe --method analytic-exact` records the render's own value: with the render's
+/// seed and sample count, the probe's radiance is the pixel of an `--aa 1` render bit for bit,
+/// and its per-light corrections add up to the probe's correction.
+#[test]
+fn probe_records_the_rendered_correction() {
+    use penumbra::inspect::{correction_stream, probe_corrected};
+    let scene = scene_file::load_embedded("glossy").unwrap();
+    let ctx = RenderContext::new(&scene);
+    let cam = scene.camera.unwrap();
+    let settings = RenderSettings {
+        width: 32,
+        height: 24,
+        method: RenderMethod::AnalyticExact,
+        spp: 8,
+        seed: 11,
+        ..RenderSettings::default()
+    };
+    let image = ctx.render(&cam, &settings, None).unwrap().0;
+    let mut checked = 0;
+    for &(x, y) in &[(16.0, 18.0), (10.0, 20.0), (20.0, 14.0)] {
+        let p = probe_corrected(
+            &ctx,
+            "glossy",
+            &cam,
+            (32, 24),
+            (x, y),
+            Method::Analytic,
+            Some(CorrectionSampling {
+                samples: settings.spp,
+                seed: settings.seed,
+                stream: correction_stream((x, y), 32),
+            }),
+            false,
+        )
+        .unwrap();
+        let i = (y as usize) * 32 + x as usize;
+        assert_eq!(p.radiance, image.pixels[i], "pixel ({x}, {y})");
+        let c = p.correction.unwrap();
+        let sum: DVec3 = p.lights.iter().map(|l| l.correction).sum();
+        assert!((sum - c.value).length() <= 1e-12 * c.value.length().max(1e-300));
+        if c.value != DVec3::ZERO {
+            checked += 1;
+        }
+    }
+    assert!(
+        checked >= 2,
+        "only {checked} probed points had a correction"
+    );
+}
