@@ -916,6 +916,7 @@ fn integrate_lobes<R: Recorder>(
     );
     let diffuse = lobes.kd * radiance * e_diffuse;
     let mut specular = DVec3::ZERO;
+    let mut lobe_mass = 0.0;
     if let Some((entry, scale)) = &lobes.specular {
         scratch.lobe_poly.copy_from(&scratch.visible_sph);
         scratch.lobe_poly.map_vertices(|w| entry.transform(w));
@@ -936,12 +937,14 @@ fn integrate_lobes<R: Recorder>(
             e_spec,
         );
         specular = *scale * radiance * e_spec;
+        lobe_mass = e_spec;
     }
     if let (Some(glossy), Some(sampling)) = (&lobes.glossy, &ctx.correction) {
         let mut rng = sampling.rng(piece.light, piece.face.map(|(f, _)| f));
         let c = estimate_correction(
             &scratch.visible_sph,
             glossy,
+            lobe_mass,
             sampling.samples,
             &mut rng,
             &mut scratch.correction,

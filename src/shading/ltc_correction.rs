@@ -11,7 +11,9 @@
 //! ```
 //!
 //! The second term is estimated by directions drawn from a mixture of three densities
-//! (one-sample MIS with the balance heuristic, Veach 1997 Sect. 9.2.2):
+//! (one-sample MIS with the balance heuristic, Veach 1997 Sect. 9.2.2), the lobe's share being
+//! the LTC's own mass inside `V` (`∫_V D̂_M`, known exactly: the fraction of lobe samples that
+//! land in `V`), clamped to [0.05, 0.95]:
 //!
 //! * `p_ltc = D̂_M`: the LTC itself (a cosine sample mapped by `M`),
 //! * `p_ggx`: GGX visible normals (Heitz 2018), reflected, for the tail the LTC lacks,
@@ -32,12 +34,10 @@ use crate::sampling::spherical_triangle::{SphericalTriangle, solid_angle_of_tria
 use glam::{DMat3, DVec3};
 use std::f64::consts::{FRAC_1_PI, TAU};
 
-/// Probabilities of the three sampling strategies (LTC, GGX visible normals, fan of `V`).
-/// Half the samples go to the polygon, the other half to the lobe: either can carry the
-/// difference (a light small against the lobe, or a lobe small against the light).
-const P_LTC: f64 = 0.25;
-const P_GGX: f64 = 0.25;
-const P_FAN: f64 = 0.5;
+/// Bounds of the share of samples drawn from the lobe (LTC and GGX, half each); the rest are
+/// drawn from the fan of `V`. Neither strategy is ever switched off (defensive mixture).
+const LOBE_SHARE_MIN: f64 = 0.05;
+const LOBE_SHARE_MAX: f64 = 0.95;
 
 /// How many correction samples to take at a shading point, and from which random stream.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -161,10 +161,13 @@ pub struct CorrectionEstimate {
 }
 
 /// Estimates `∫_V (f_GGX cos − s D̂_M) dω` over the visible polygon `visible` (local frame,
-/// clipped to the horizon, holes clockwise) with `samples` directions from `rng`.
+/// clipped to the horizon, holes clockwise) with `samples` directions from `rng`. `lobe_mass`
+/// is `∫_V D̂_M` (the LTC integral of `V`, which the caller has just computed): it sets how
+/// many samples are drawn from the lobe rather than from `V`.
 pub fn estimate_correction(
     visible: &SphericalPolygon,
     lobe: &GlossyLobe,
+    lobe_mass: f64,
     samples: u32,
     rng: &mut Pcg32,
     scratch: &mut CorrectionScratch,
@@ -196,16 +199,21 @@ pub fn estimate_correction(
     if samples == 0 || fan.is_empty() || !(total > 0.0) {
         return CorrectionEstimate::default();
     }
+    // A lobe sample lands in V with probability ∫_V D̂ (LTC) or about that (GGX): where V holds
+    // most of the lobe, the lobe's samples follow the integrand; where V is a small part of it,
+    // the fan's do.
+    let lobe_share = lobe_mass.clamp(LOBE_SHARE_MIN, LOBE_SHARE_MAX);
+    let (p_ltc, p_ggx, p_fan) = (0.5 * lobe_share, 0.5 * lobe_share, 1.0 - lobe_share);
     let (mut sum, mut sum2) = (DVec3::ZERO, DVec3::ZERO);
     for _ in 0..samples {
         let (u0, u1, u2) = (rng.next_f64(), rng.next_f64(), rng.next_f64());
-        let w = if u0 < P_LTC {
+        let w = if u0 < p_ltc {
             lobe.sample_ltc(u1, u2)
-        } else if u0 < P_LTC + P_GGX {
+        } else if u0 < p_ltc + p_ggx {
             ggx::reflect(lobe.v, ggx::sample_vndf(lobe.v, lobe.alpha, u1, u2))
         } else {
             // Reuse u0 to pick the triangle, in proportion to its solid angle.
-            let t = (u0 - P_LTC - P_GGX) / P_FAN * total;
+            let t = (u0 - p_ltc - p_ggx) / p_fan * total;
             let k = fan
                 .partition_point(|f| f.cumulative <= t)
                 .min(fan.len() - 1);
@@ -224,9 +232,9 @@ pub fn estimate_correction(
         if winding < 0.5 {
             continue; // outside V, or in a hole
         }
-        let pdf = P_LTC * lobe.ltc_density(w)
-            + P_GGX * ggx::pdf_vndf_reflect(lobe.v, w, lobe.alpha)
-            + P_FAN * covering as f64 / total;
+        let pdf = p_ltc * lobe.ltc_density(w)
+            + p_ggx * ggx::pdf_vndf_reflect(lobe.v, w, lobe.alpha)
+            + p_fan * covering as f64 / total;
         let x = lobe.difference(w) / pdf;
         sum += x;
         sum2 += x * x;
