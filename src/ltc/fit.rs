@@ -31,6 +31,52 @@ pub const FIT_SAMPLES: usize = 64;
 /// Samples per axis of the midpoint rule for `norm`, `fresnel` and the average direction.
 pub const MOMENT_SAMPLES: usize = 1024;
 
+/// What the fitter minimises (docs/ltc.md, "Fitting" and "Candidates").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum Objective {
+    /// `∫_{S²} |f − D̂_M|³ dω` (the LTC paper's metric; the first committed table).
+    L3Sphere,
+    /// `∫_{z>0} |f − D̂_M/H(M)|³ dω`: the error of the horizon-renormalised LTC over the
+    /// upper hemisphere only (what a renderer integrates).
+    L3Upper,
+    /// As `L3Upper` with the squared error.
+    L2Upper,
+}
+
+/// Options of [`fit_cell`] and the table fits.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct FitOptions {
+    pub objective: Objective,
+    /// Store `scale = 1/H(M)` (horizon renormalisation); otherwise `scale = 1`.
+    pub renormalize: bool,
+}
+
+impl Default for FitOptions {
+    /// The committed table's options.
+    fn default() -> Self {
+        FitOptions {
+            objective: Objective::L3Upper,
+            renormalize: true,
+        }
+    }
+}
+
+impl FitOptions {
+    /// The first committed table (format version 1): L3 over the sphere, no renormalisation.
+    pub const ORIGINAL: FitOptions = FitOptions {
+        objective: Objective::L3Sphere,
+        renormalize: false,
+    };
+}
+
+/// `H(M) = ∫_{z>0} D̂_M dω` for the LTC matrix `m` (see [`LtcEntry::horizon_fraction`]):
+/// `(1 + cosβ)/2`, β the angle between `Mᵀz` and `z`.
+#[inline]
+pub fn horizon_fraction_of(m: &DMat3) -> f64 {
+    let n = DVec3::new(m.x_axis.z, m.y_axis.z, m.z_axis.z);
+    0.5 * (1.0 + n.z / n.length())
+}
+
 /// Moments of the cosine-weighted GGX lobe (`F = 1`).
 #[derive(Clone, Copy, Debug)]
 pub struct LobeMoments {
@@ -95,10 +141,16 @@ pub fn lobe_moments(v: DVec3, alpha: f64, k: usize) -> LobeMoments {
 /// `∫ |f − D̂|³ dω ≈ (1/N) Σ_{l ~ f-sampler} |f − D̂|³/(p + D̂) + (1/N) Σ_{l ~ D̂} |f − D̂|³/(p + D̂)`
 /// with `p = pdf_vndf_reflect` (balance heuristic; `D̂` is its own pdf). Both sample sets
 /// are fixed midpoint grids, so the objective is deterministic in `M`.
+///
+/// With [`Objective::L3Upper`] / [`Objective::L2Upper`] the integral is over `z > 0` only
+/// (samples below the horizon are dropped; the estimator stays unbiased for that domain)
+/// and `D̂` is replaced by the renormalised `D̂/H(M)`; the sampling pdfs are unchanged.
 pub struct L3Error {
     v: DVec3,
     alpha: f64,
     inv_norm: f64,
+    upper: bool,
+    square: bool,
     /// VNDF-reflected directions with `f` and the VNDF pdf, independent of `M`.
     brdf_samples: Vec<(DVec3, f64, f64)>,
     /// Cosine-distributed directions (to be mapped by `M`).
@@ -123,6 +175,10 @@ fn cosine_grid(k: usize) -> Vec<DVec3> {
 
 impl L3Error {
     pub fn new(v: DVec3, alpha: f64, norm: f64, k: usize) -> Self {
+        Self::with_objective(v, alpha, norm, k, Objective::L3Sphere)
+    }
+
+    pub fn with_objective(v: DVec3, alpha: f64, norm: f64, k: usize, objective: Objective) -> Self {
         let inv_norm = 1.0 / norm;
         let inv = 1.0 / k as f64;
         let mut brdf_samples = Vec::with_capacity(k * k);
@@ -141,6 +197,8 @@ impl L3Error {
             v,
             alpha,
             inv_norm,
+            upper: objective != Objective::L3Sphere,
+            square: objective == Objective::L2Upper,
             brdf_samples,
             cos_samples: cosine_grid(k),
         }
@@ -155,8 +213,22 @@ impl L3Error {
             return f64::INFINITY;
         }
         let k = det_inv / PI;
+        // D̂ (the sampling pdf) and the compared distribution r · D̂.
+        let r = if self.upper {
+            let h = horizon_fraction_of(m);
+            if !(h > 1e-9) {
+                return f64::INFINITY;
+            }
+            1.0 / h
+        } else {
+            1.0
+        };
+        let pw = |d: f64| if self.square { d * d } else { d * d * d };
         let mut e_brdf = 0.0;
         for &(l, f, p) in &self.brdf_samples {
+            if self.upper && l.z <= 0.0 {
+                continue;
+            }
             let x = m_inv * l;
             let len2 = x.length_squared();
             let g = if x.z > 0.0 {
@@ -164,18 +236,19 @@ impl L3Error {
             } else {
                 0.0
             };
-            let d = (f - g).abs();
-            e_brdf += d * d * d / (p + g);
+            e_brdf += pw((f - r * g).abs()) / (p + g);
         }
         let mut e_ltc = 0.0;
         for &wo in &self.cos_samples {
             let y = *m * wo;
             let len = y.length();
             let l = y * (1.0 / len);
+            if self.upper && l.z <= 0.0 {
+                continue;
+            }
             let g = wo.z * k * len * len * len;
             let (f, p) = brdf_cos_and_pdf(self.v, l, self.alpha);
-            let d = (f * self.inv_norm - g).abs();
-            e_ltc += d * d * d / (p + g);
+            e_ltc += pw((f * self.inv_norm - r * g).abs()) / (p + g);
         }
         (e_brdf + e_ltc) / self.cos_samples.len() as f64
     }
@@ -229,10 +302,10 @@ fn nm_options() -> Options {
 /// Fit one cell from the starting parameters `start` (see [`CellFit::params`]). At normal
 /// incidence (`cosθv == 1`) the lobe is rotationally symmetric and the fit is the
 /// one-parameter `K = diag(m, m, 1)`.
-pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4]) -> CellFit {
+pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4], fo: &FitOptions) -> CellFit {
     let v = view_dir(cos_theta_v);
     let mom = lobe_moments(v, alpha, MOMENT_SAMPLES);
-    let err = L3Error::new(v, alpha, mom.norm, FIT_SAMPLES);
+    let err = L3Error::with_objective(v, alpha, mom.norm, FIT_SAMPLES, fo.objective);
     let opts = nm_options();
     let (params, basis, l3, evals) = if v.x == 0.0 {
         let r = nelder_mead::minimize(
@@ -261,11 +334,17 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4]) -> CellFit {
     let m = basis * k_matrix(&params).expect("the minimum is feasible");
     let m_inv = m.inverse();
     let lobe_l3 = lobe_l3(&err);
+    let scale = if fo.renormalize {
+        1.0 / horizon_fraction_of(&m)
+    } else {
+        1.0
+    };
     CellFit {
         entry: LtcEntry {
             m_inv: m_inv * (1.0 / m_inv.y_axis.y),
             norm: mom.norm,
             fresnel: mom.fresnel,
+            scale,
         },
         params,
         l3_error: l3,
@@ -274,11 +353,12 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4]) -> CellFit {
     }
 }
 
-/// `∫ f³ dω` estimated with the BRDF samples of `err`.
+/// `∫ f³ dω` (`∫ f² dω` for [`Objective::L2Upper`]) estimated with the BRDF samples of
+/// `err`.
 fn lobe_l3(err: &L3Error) -> f64 {
     err.brdf_samples
         .iter()
-        .map(|&(_, f, p)| f * f * f / p)
+        .map(|&(_, f, p)| if err.square { f * f / p } else { f * f * f / p })
         .sum::<f64>()
         / err.cos_samples.len() as f64
 }
@@ -289,14 +369,42 @@ pub fn fit_table(n: usize, progress: impl Fn(usize, usize) + Sync) -> LtcTable {
     fit_table_cells(n, progress).0
 }
 
-/// [`fit_table`] that also returns every [`CellFit`] (`cells[i * n + j]`).
+/// [`fit_table_cells`] with the default [`FitOptions`].
 pub fn fit_table_cells(
     n: usize,
     progress: impl Fn(usize, usize) + Sync,
 ) -> (LtcTable, Vec<CellFit>) {
+    fit_table_cells_with(n, &FitOptions::default(), progress)
+}
+
+/// [`fit_table`] with options `fo` that also returns every [`CellFit`] (`cells[i * n + j]`).
+pub fn fit_table_cells_with(
+    n: usize,
+    fo: &FitOptions,
+    progress: impl Fn(usize, usize) + Sync,
+) -> (LtcTable, Vec<CellFit>) {
     assert!(n >= 2);
     let (alphas, cosines) = nodes(n, ALPHA_MIN, COS_THETA_MIN);
-    let total = n * n;
+    let cells = fit_grid(&alphas, &cosines, fo, progress);
+    let entries: Vec<LtcEntry> = cells.iter().map(|c| c.entry).collect();
+    (
+        LtcTable::from_entries(n, ALPHA_MIN, COS_THETA_MIN, &entries),
+        cells,
+    )
+}
+
+/// Fit every `(alphas[i], cosines[j])`, `cells[i * cosines.len() + j]`, with the warm start
+/// of the module doc; `alphas` increasing, `cosines` decreasing with `cosines[0] == 1`
+/// (the table's nodes, or any other grid: `penumbra ltc-error --fit`).
+pub fn fit_grid(
+    alphas: &[f64],
+    cosines: &[f64],
+    fo: &FitOptions,
+    progress: impl Fn(usize, usize) + Sync,
+) -> Vec<CellFit> {
+    assert!(cosines[0] == 1.0);
+    let n = alphas.len();
+    let total = n * cosines.len();
     let done = AtomicUsize::new(0);
     let tick = || progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
 
@@ -307,7 +415,7 @@ pub fn fit_table_cells(
         if i + 1 < n {
             ln_m += (alphas[i] / alphas[i + 1]).ln();
         }
-        let fit = fit_cell(1.0, alphas[i], [ln_m, ln_m, 0.0, 0.0]);
+        let fit = fit_cell(1.0, alphas[i], [ln_m, ln_m, 0.0, 0.0], fo);
         ln_m = fit.params[0];
         col0[i] = Some(fit);
         tick();
@@ -318,11 +426,11 @@ pub fn fit_table_cells(
         .into_par_iter()
         .map(|i| {
             let first = col0[i].expect("fitted above");
-            let mut row = Vec::with_capacity(n);
+            let mut row = Vec::with_capacity(cosines.len());
             row.push(first);
             let mut q = first.params;
             for &cos_theta in &cosines[1..] {
-                let fit = fit_cell(cos_theta, alphas[i], q);
+                let fit = fit_cell(cos_theta, alphas[i], q, fo);
                 q = fit.params;
                 row.push(fit);
                 tick();
@@ -330,10 +438,5 @@ pub fn fit_table_cells(
             row
         })
         .collect();
-    let cells: Vec<CellFit> = rows.into_iter().flatten().collect();
-    let entries: Vec<LtcEntry> = cells.iter().map(|c| c.entry).collect();
-    (
-        LtcTable::from_entries(n, ALPHA_MIN, COS_THETA_MIN, &entries),
-        cells,
-    )
+    rows.into_iter().flatten().collect()
 }
