@@ -79,6 +79,12 @@ enum Command {
         /// Store scale = 1 instead of the horizon renormalisation 1/H.
         #[arg(long)]
         no_renorm: bool,
+        /// Refit only rows FIRST-LAST (roughness rows) of --base, keep the others (experiments).
+        #[arg(long, requires = "base", value_parser = parse_rows)]
+        rows: Option<(usize, usize)>,
+        /// The table whose other rows --rows keeps (as for `render --ltc-table`).
+        #[arg(long)]
+        base: Option<String>,
     },
     /// The error of LTC tables on polygon integrals over (view angle, roughness): CSV and a
     /// PNG heat map (docs/ltc.md, "Error on polygon integrals").
@@ -970,6 +976,15 @@ fn command_line() -> clap::Command {
     Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true))
 }
 
+/// `FIRST-LAST` (inclusive).
+fn parse_rows(s: &str) -> Result<(usize, usize), String> {
+    let (a, b) = s.split_once('-').ok_or("expected FIRST-LAST")?;
+    Ok((
+        a.trim().parse().map_err(|e| format!("{e}"))?,
+        b.trim().parse().map_err(|e| format!("{e}"))?,
+    ))
+}
+
 /// `--ltc-table`: `embedded`, `published` or a table file, optionally followed by `+renorm`
 /// (horizon renormalisation). Tables other than the embedded ones live for the whole run.
 fn ltc_table(spec: &str) -> Result<&'static penumbra::ltc::LtcTable> {
@@ -1153,6 +1168,8 @@ fn run() -> Result<()> {
             size,
             objective,
             no_renorm,
+            rows,
+            base,
         }) => {
             let start = std::time::Instant::now();
             let mut fo = penumbra::ltc::fit::FitOptions::default();
@@ -1160,11 +1177,34 @@ fn run() -> Result<()> {
                 fo.objective = o;
             }
             fo.renormalize = !no_renorm;
-            let (table, _) = penumbra::ltc::fit::fit_table_cells_with(size, &fo, |done, total| {
-                if done % size == 0 {
-                    eprintln!("  {done}/{total}");
+            let table = match (rows, base) {
+                (Some((first, last)), Some(base)) => {
+                    let base = ltc_table(&base)?;
+                    let n = base.size();
+                    if last >= n || first > last {
+                        bail!("--rows {first}-{last} outside the table's 0-{}", n - 1);
+                    }
+                    let alphas: Vec<f64> = (first..=last).map(|i| base.alpha_at(i)).collect();
+                    let mut cosines: Vec<f64> = (0..n).map(|j| base.cos_theta_at(j)).collect();
+                    cosines[0] = 1.0;
+                    let cells = penumbra::ltc::fit::fit_grid(&alphas, &cosines, &fo, |_, _| {});
+                    base.map_entries_indexed(|i, j, e| {
+                        if (first..=last).contains(&i) {
+                            cells[(i - first) * n + j].entry
+                        } else {
+                            e
+                        }
+                    })
                 }
-            });
+                _ => {
+                    penumbra::ltc::fit::fit_table_cells_with(size, &fo, |done, total| {
+                        if done % size == 0 {
+                            eprintln!("  {done}/{total}");
+                        }
+                    })
+                    .0
+                }
+            };
             table
                 .save(&out)
                 .with_context(|| format!("{}", out.display()))?;

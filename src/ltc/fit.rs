@@ -28,6 +28,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// Samples per axis of each of the two stratified sample sets of the error estimate
 /// (`FIT_SAMPLES²` from the BRDF and as many from the LTC).
 pub const FIT_SAMPLES: usize = 64;
+/// Oracle strata per axis of [`Objective::Polygons`].
+pub const POLYGON_ORACLE_SAMPLES: usize = 512;
 /// Samples per axis of the midpoint rule for `norm`, `fresnel` and the average direction.
 pub const MOMENT_SAMPLES: usize = 1024;
 
@@ -41,6 +43,78 @@ pub enum Objective {
     L3Upper,
     /// As `L3Upper` with the squared error.
     L2Upper,
+    /// The mean squared error of the renormalised LTC's integrals over a fixed set of
+    /// polygons ([`FitPolygons`]: quads of three sizes on a grid of directions over the
+    /// upper hemisphere) against a Monte Carlo oracle, in units of the albedo.
+    Polygons,
+}
+
+/// The polygon set and oracle values of [`Objective::Polygons`] for one cell.
+pub struct FitPolygons {
+    pieces: Vec<Vec<DVec3>>,
+    /// Oracle `∫_P brdf_cos dω / norm` per polygon.
+    targets: Vec<f64>,
+}
+
+impl FitPolygons {
+    /// Gnomonic quads of tangent half-size 0.08, 0.25 and 0.6 centred at elevations
+    /// 2°, 8°, 18°, 32°, 50°, 75° and azimuths 180°, 155°, 125°, 90°, 45°, 0° (the reflection
+    /// direction is at azimuth 180°; by symmetry one side suffices), clipped to the horizon,
+    /// with `k × k` oracle samples.
+    pub fn new(cos_theta_v: f64, alpha: f64, k: usize) -> Self {
+        use super::polygon_error::{TestPolygon, oracle_integrals};
+        let deg = PI / 180.0;
+        let mut polys = Vec::new();
+        for &e in &[2.0, 8.0, 18.0, 32.0, 50.0, 75.0] {
+            for &a in &[180.0, 155.0, 125.0, 90.0, 45.0, 0.0] {
+                for &s in &[0.08, 0.25, 0.6] {
+                    let c = DVec3::new(
+                        (e * deg).cos() * (a * deg).cos(),
+                        (e * deg).cos() * (a * deg).sin(),
+                        (e * deg).sin(),
+                    );
+                    let q = super::polygon_error::gnomonic(c, s, 4, PI / 4.0);
+                    let q = super::polygon_error::clip_vec(&q);
+                    if q.len() >= 3 {
+                        polys.push(TestPolygon {
+                            name: "fit",
+                            pieces: vec![q],
+                        });
+                    }
+                }
+            }
+        }
+        let o = oracle_integrals(cos_theta_v, alpha, &polys, k, 0x00f1_7000);
+        let norm = o.albedo.0;
+        FitPolygons {
+            pieces: polys.into_iter().map(|p| p.pieces[0].clone()).collect(),
+            targets: o.values.iter().map(|v| v.0 / norm).collect(),
+        }
+    }
+
+    /// Mean of `(E(M⁻¹P)/H(M) − target)²` (allocation-free).
+    pub fn eval(&self, m: &DMat3) -> f64 {
+        let m_inv = m.inverse();
+        if !(m_inv.determinant() > 0.0) {
+            return f64::INFINITY;
+        }
+        let h = horizon_fraction_of(m);
+        if !(h > 1e-9) {
+            return f64::INFINITY;
+        }
+        let e = LtcEntry {
+            m_inv,
+            norm: 1.0,
+            fresnel: 0.0,
+            scale: 1.0 / h,
+        };
+        let mut sq = 0.0;
+        for (p, &t) in self.pieces.iter().zip(&self.targets) {
+            let d = e.scale * super::polygon_error::ltc_form_factor(&e, p) - t;
+            sq += d * d;
+        }
+        sq / self.targets.len() as f64
+    }
 }
 
 /// Options of [`fit_cell`] and the table fits.
@@ -306,11 +380,17 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4], fo: &FitOptions) 
     let v = view_dir(cos_theta_v);
     let mom = lobe_moments(v, alpha, MOMENT_SAMPLES);
     let err = L3Error::with_objective(v, alpha, mom.norm, FIT_SAMPLES, fo.objective);
+    let polys = (fo.objective == Objective::Polygons)
+        .then(|| FitPolygons::new(cos_theta_v, alpha, POLYGON_ORACLE_SAMPLES));
+    let objective = |m: &DMat3| match &polys {
+        Some(p) => p.eval(m),
+        None => err.eval(m),
+    };
     let opts = nm_options();
     let (params, basis, l3, evals) = if v.x == 0.0 {
         let r = nelder_mead::minimize(
             |p: &[f64; 1]| match k_matrix(&[p[0], p[0], 0.0, 0.0]) {
-                Some(k) => err.eval(&k),
+                Some(k) => objective(&k),
                 None => f64::INFINITY,
             },
             [start[0]],
@@ -322,7 +402,7 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4], fo: &FitOptions) 
         let basis = lobe_basis(mom.avg_dir);
         let r = nelder_mead::minimize(
             |q: &[f64; 4]| match k_matrix(q) {
-                Some(k) => err.eval(&(basis * k)),
+                Some(k) => objective(&(basis * k)),
                 None => f64::INFINITY,
             },
             start,
@@ -347,7 +427,13 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4], fo: &FitOptions) 
             scale,
         },
         params,
-        l3_error: l3,
+        // The fit's own L3-type error (for the polygon objective: the upper-hemisphere L3
+        // of the renormalised LTC), so that the report compares like with like.
+        l3_error: if fo.objective == Objective::Polygons {
+            err.eval(&m)
+        } else {
+            l3
+        },
         lobe_l3,
         evals,
     }

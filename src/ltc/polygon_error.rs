@@ -56,7 +56,7 @@ fn dir(elevation: f64, azimuth: f64) -> DVec3 {
 /// A regular `sides`-gon of tangent half-size `s` around the unit direction `c`, as the
 /// gnomonic image of a planar polygon in the tangent plane at `c` (convex for any `s`),
 /// rotated by `phase` radians about `c`.
-fn gnomonic(c: DVec3, s: f64, sides: usize, phase: f64) -> Vec<DVec3> {
+pub fn gnomonic(c: DVec3, s: f64, sides: usize, phase: f64) -> Vec<DVec3> {
     let t1 = if c.z.abs() > 0.999_999 {
         DVec3::Y
     } else {
@@ -95,7 +95,7 @@ fn clip_into(poly: &[DVec3], out: &mut [DVec3; MAX_CLIPPED]) -> usize {
     n
 }
 
-fn clip_vec(poly: &[DVec3]) -> Vec<DVec3> {
+pub fn clip_vec(poly: &[DVec3]) -> Vec<DVec3> {
     let mut buf = [DVec3::ZERO; MAX_CLIPPED];
     let n = clip_into(poly, &mut buf);
     buf[..n].to_vec()
@@ -241,6 +241,26 @@ pub fn oracle_integrals(
     let mut rng = SplitMix(seed ^ 0x5851_f42d_4c95_7f2d);
     let inv = 1.0 / k as f64;
     let mut y = [vec![0.0; np + 1], vec![0.0; np + 1]];
+    // Bounding caps `c·l >= cmin` of the pieces (a rejection test only: for an arc shorter
+    // than π whose great circle's farthest point from `c` lies outside the polygon, `c·l` is
+    // smallest at a vertex; used only for pieces within 90° of their centre, with a margin).
+    let caps: Vec<Vec<(DVec3, f64)>> = polys
+        .iter()
+        .map(|p| {
+            p.pieces
+                .iter()
+                .map(|q| {
+                    let c = q.iter().copied().sum::<DVec3>().normalize();
+                    let cmin = q.iter().map(|v| c.dot(*v)).fold(1.0, f64::min);
+                    if cmin > 0.05 {
+                        (c, cmin - 1e-6)
+                    } else {
+                        (c, -2.0)
+                    }
+                })
+                .collect()
+        })
+        .collect();
     for a in 0..k {
         for b in (0..k).step_by(2) {
             for (q, yq) in y.iter_mut().enumerate() {
@@ -256,7 +276,12 @@ pub fn oracle_integrals(
                 if wt > 0.0 && l.z > 0.0 {
                     yq[np] = wt;
                     for (p, poly) in polys.iter().enumerate() {
-                        if poly.pieces.iter().any(|q| inside(q, l)) {
+                        if poly
+                            .pieces
+                            .iter()
+                            .zip(&caps[p])
+                            .any(|(q, &(c, cmin))| c.dot(l) >= cmin && inside(q, l))
+                        {
                             yq[p] = wt;
                         }
                     }

@@ -296,6 +296,14 @@ impl LtcTable {
         LtcTable::from_entries(self.n, self.alpha_min, self.cos_theta_min, &entries)
     }
 
+    /// [`LtcTable::map_entries`] with the row `i` and column `j` of each entry.
+    pub fn map_entries_indexed(&self, f: impl Fn(usize, usize, LtcEntry) -> LtcEntry) -> LtcTable {
+        let entries: Vec<LtcEntry> = (0..self.n * self.n)
+            .map(|k| f(k / self.n, k % self.n, LtcEntry::from_record(&self.records[k])))
+            .collect();
+        LtcTable::from_entries(self.n, self.alpha_min, self.cos_theta_min, &entries)
+    }
+
     /// [`LtcTable::map_entries`] setting `scale = 1/H` (candidate (a) of docs/ltc.md).
     pub fn horizon_renormalized(&self) -> LtcTable {
         self.map_entries(|e| LtcEntry {
