@@ -73,6 +73,45 @@ enum Command {
         out: PathBuf,
         #[arg(long, default_value_t = 64)]
         size: usize,
+        /// The fit's error metric (docs/ltc.md) [default: the committed table's].
+        #[arg(long, value_enum)]
+        objective: Option<penumbra::ltc::fit::Objective>,
+        /// Store scale = 1 instead of the horizon renormalisation 1/H.
+        #[arg(long)]
+        no_renorm: bool,
+        /// Refit only rows FIRST-LAST (roughness rows) of --base, keep the others (experiments).
+        #[arg(long, requires = "base", value_parser = parse_rows)]
+        rows: Option<(usize, usize)>,
+        /// The table whose other rows --rows keeps (as for `render --ltc-table`).
+        #[arg(long)]
+        base: Option<String>,
+    },
+    /// The error of LTC tables on polygon integrals over (view angle, roughness): CSV and a
+    /// PNG heat map (docs/ltc.md, "Error on polygon integrals").
+    LtcError {
+        /// Tables as for `render --ltc-table` (repeatable).
+        #[arg(long = "table", default_values_t = ["embedded".to_string(), "published".to_string()])]
+        tables: Vec<String>,
+        /// Also fit an LTC at every map cell itself with this objective (`OBJ` or
+        /// `OBJ+renorm`, OBJ one of l3-sphere, l3-upper, l2-upper; repeatable): candidates
+        /// without building a table.
+        #[arg(long)]
+        fit: Vec<String>,
+        #[arg(long, default_value = "out/ltc-error")]
+        out: PathBuf,
+        /// Map cells per axis.
+        #[arg(long, default_value_t = 16)]
+        grid: usize,
+        /// Oracle strata per axis (k × k samples per cell).
+        #[arg(long, default_value_t = 1024)]
+        samples: usize,
+    },
+    /// Convert three.js's RectAreaLightTexturesLib.js (Heitz et al.'s published LTC table)
+    /// into our table format.
+    LtcImportThree {
+        js: PathBuf,
+        #[arg(long, default_value = "assets/ltc/heitz2016_ggx_ltc_64.bin")]
+        out: PathBuf,
     },
     /// Shade one pixel with the stage recorder and write every intermediate polygon as JSON
     /// (the debug dump the workbench replays).
@@ -233,6 +272,11 @@ struct RenderArgs {
     /// Exposure in stops for the tone-mapped PNG.
     #[arg(long, default_value_t = 0.0)]
     exposure: f64,
+    /// The LTC table of the analytic specular term: `embedded`, `published` (Heitz et al.
+    /// 2016, assets/ltc/heitz2016_ggx_ltc_64.bin) or a table file; `+renorm` appended applies
+    /// the horizon renormalisation (docs/ltc.md).
+    #[arg(long, default_value = "embedded")]
+    ltc_table: String,
 }
 
 /// The environment light (paper 002), on top of or instead of the scene file's
@@ -457,6 +501,7 @@ fn render(args: &RenderArgs) -> Result<()> {
     let cam = camera(&args.camera, &scene)?;
     let settings = settings(args);
     let mut ctx = RenderContext::for_render(&scene, &settings);
+    ctx.prepared.ltc = ltc_table(&args.ltc_table)?;
     for n in &ctx.prepared.notes {
         eprintln!("note: {n}");
     }
@@ -541,6 +586,7 @@ fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> R
     resolve_environment(&mut scene, args)?;
     let cam = camera(&args.camera, &scene)?;
     let mut ctx = RenderContext::new(&scene);
+    ctx.prepared.ltc = ltc_table(&args.ltc_table)?;
     attach_environment(&mut ctx, &scene, args)?;
     // analytic-exact: the analytic stages plus the LTC's correction, sampled as the first
     // pass of an `--aa 1` render with the same --spp and --seed samples this pixel.
@@ -955,6 +1001,105 @@ fn command_line() -> clap::Command {
     Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true))
 }
 
+/// `FIRST-LAST` (inclusive).
+fn parse_rows(s: &str) -> Result<(usize, usize), String> {
+    let (a, b) = s.split_once('-').ok_or("expected FIRST-LAST")?;
+    Ok((
+        a.trim().parse().map_err(|e| format!("{e}"))?,
+        b.trim().parse().map_err(|e| format!("{e}"))?,
+    ))
+}
+
+/// `--ltc-table`: `embedded`, `published` or a table file, optionally followed by `+renorm`
+/// (horizon renormalisation). Tables other than the embedded ones live for the whole run.
+fn ltc_table(spec: &str) -> Result<&'static penumbra::ltc::LtcTable> {
+    use penumbra::ltc::LtcTable;
+    let (name, renorm) = match spec.strip_suffix("+renorm") {
+        Some(n) => (n, true),
+        None => (spec, false),
+    };
+    let base: &'static LtcTable = match name {
+        "embedded" => LtcTable::embedded(),
+        "published" => penumbra::ltc::published::published(),
+        path => Box::leak(Box::new(
+            LtcTable::load(path).with_context(|| format!("LTC table {path}"))?,
+        )),
+    };
+    Ok(if renorm {
+        Box::leak(Box::new(base.horizon_renormalized()))
+    } else {
+        base
+    })
+}
+
+/// `penumbra ltc-error`: the polygon-integral error map of `tables` (and of LTCs fitted at
+/// the map's cells with the objectives `fits`), as CSV, PNG and a printed summary.
+fn ltc_error(tables: &[String], fits: &[String], out: &Path, m: usize, k: usize) -> Result<()> {
+    use clap::ValueEnum;
+    use penumbra::ltc::error_map::{Source, compute_map, heat_map_png, summarize, to_csv};
+    use penumbra::ltc::fit::{FitOptions, Objective, fit_grid};
+    std::fs::create_dir_all(out).with_context(|| format!("{}", out.display()))?;
+    let start = std::time::Instant::now();
+    let mut sources = Vec::new();
+    let mut names: Vec<String> = Vec::new();
+    for t in tables {
+        sources.push(Source::Table(ltc_table(t)?));
+        names.push(t.clone());
+    }
+    for f in fits {
+        let (obj, renorm) = match f.strip_suffix("+renorm") {
+            Some(o) => (o, true),
+            None => (f.as_str(), false),
+        };
+        let objective = Objective::from_str(obj, true).map_err(anyhow::Error::msg)?;
+        let fo = FitOptions {
+            objective,
+            renormalize: renorm,
+        };
+        // The map's grid plus a normal-incidence column to start every row from.
+        let grid = penumbra::ltc::polygon_error::map_grid(m);
+        let alphas: Vec<f64> = (0..m).map(|i| grid[i * m].3).collect();
+        let mut cosines = vec![1.0];
+        cosines.extend((0..m).map(|j| grid[j].2));
+        let cells = fit_grid(&alphas, &cosines, &fo, |_, _| {});
+        let entries = (0..m * m)
+            .map(|q| cells[(q / m) * (m + 1) + q % m + 1].entry)
+            .collect();
+        eprintln!("fitted {f} at the map's cells: {:.1} s", start.elapsed().as_secs_f64());
+        sources.push(Source::Entries(entries));
+        names.push(format!("fit {f}"));
+    }
+    let cells = compute_map(&sources, m, k);
+    let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    std::fs::write(out.join("ltc_error.csv"), to_csv(&cells, &name_refs))?;
+    heat_map_png(&cells, &name_refs, m, &out.join("ltc_error.png"))?;
+    say!(
+        "{m}x{m} configurations, {} polygons each, {k}x{k} oracle samples, {:.1} s",
+        cells[0].oracle.values.len(),
+        start.elapsed().as_secs_f64()
+    );
+    say!(
+        "table | RMS all | RMS (θv>=60°, α<=0.4) | median cell RMS | max cell RMS (cosθv, α) | max rel (>=10% lobe) | mean signed | max CI"
+    );
+    for (t, name) in names.iter().enumerate() {
+        let s = summarize(&cells, t);
+        say!(
+            "{name} | {:.4} | {:.4} | {:.4} | {:.4} ({:.3}, {:.3}) | {:.3} | {:+.4} | {:.1e}",
+            s.rms_all,
+            s.rms_grazing_glossy,
+            s.median_cell_rms,
+            s.max_cell_rms.0,
+            s.max_cell_rms.1,
+            s.max_cell_rms.2,
+            s.max_rel_big,
+            s.mean_signed,
+            s.max_ci
+        );
+    }
+    say!("wrote {}", out.display());
+    Ok(())
+}
+
 /// Errors are printed alone, with their causes, whatever `RUST_BACKTRACE` says.
 fn main() -> std::process::ExitCode {
     match run() {
@@ -1025,13 +1170,66 @@ fn run() -> Result<()> {
             }
             Ok(())
         }
-        Some(Command::FitLtc { out, size }) => {
+        Some(Command::LtcError {
+            tables,
+            fit,
+            out,
+            grid,
+            samples,
+        }) => ltc_error(&tables, &fit, &out, grid, samples),
+        Some(Command::LtcImportThree { js, out }) => {
+            let text =
+                std::fs::read_to_string(&js).with_context(|| format!("{}", js.display()))?;
+            let table = penumbra::ltc::published::from_three_js(&text)
+                .with_context(|| format!("{}", js.display()))?;
+            table
+                .save(&out)
+                .with_context(|| format!("{}", out.display()))?;
+            say!("wrote {}", out.display());
+            Ok(())
+        }
+        Some(Command::FitLtc {
+            out,
+            size,
+            objective,
+            no_renorm,
+            rows,
+            base,
+        }) => {
             let start = std::time::Instant::now();
-            let table = penumbra::ltc::fit::fit_table(size, |done, total| {
-                if done % size == 0 {
-                    eprintln!("  {done}/{total}");
+            let mut fo = penumbra::ltc::fit::FitOptions::default();
+            if let Some(o) = objective {
+                fo.objective = o;
+            }
+            fo.renormalize = !no_renorm;
+            let table = match (rows, base) {
+                (Some((first, last)), Some(base)) => {
+                    let base = ltc_table(&base)?;
+                    let n = base.size();
+                    if last >= n || first > last {
+                        bail!("--rows {first}-{last} outside the table's 0-{}", n - 1);
+                    }
+                    let alphas: Vec<f64> = (first..=last).map(|i| base.alpha_at(i)).collect();
+                    let mut cosines: Vec<f64> = (0..n).map(|j| base.cos_theta_at(j)).collect();
+                    cosines[0] = 1.0;
+                    let cells = penumbra::ltc::fit::fit_grid(&alphas, &cosines, &fo, |_, _| {});
+                    base.map_entries_indexed(|i, j, e| {
+                        if (first..=last).contains(&i) {
+                            cells[(i - first) * n + j].entry
+                        } else {
+                            e
+                        }
+                    })
                 }
-            });
+                _ => {
+                    penumbra::ltc::fit::fit_table_cells_with(size, &fo, |done, total| {
+                        if done % size == 0 {
+                            eprintln!("  {done}/{total}");
+                        }
+                    })
+                    .0
+                }
+            };
             table
                 .save(&out)
                 .with_context(|| format!("{}", out.display()))?;

@@ -28,8 +28,128 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// Samples per axis of each of the two stratified sample sets of the error estimate
 /// (`FIT_SAMPLES²` from the BRDF and as many from the LTC).
 pub const FIT_SAMPLES: usize = 64;
+/// Oracle strata per axis of [`Objective::Polygons`].
+pub const POLYGON_ORACLE_SAMPLES: usize = 512;
 /// Samples per axis of the midpoint rule for `norm`, `fresnel` and the average direction.
 pub const MOMENT_SAMPLES: usize = 1024;
+
+/// What the fitter minimises (docs/ltc.md, "Fitting" and "Candidates").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum Objective {
+    /// `∫_{S²} |f − D̂_M|³ dω` (the LTC paper's metric; the first committed table).
+    L3Sphere,
+    /// `∫_{z>0} |f − D̂_M/H(M)|³ dω`: the error of the horizon-renormalised LTC over the
+    /// upper hemisphere only (what a renderer integrates).
+    L3Upper,
+    /// As `L3Upper` with the squared error.
+    L2Upper,
+    /// The mean squared error of the renormalised LTC's integrals over a fixed set of
+    /// polygons ([`FitPolygons`]: quads of three sizes on a grid of directions over the
+    /// upper hemisphere) against a Monte Carlo oracle, in units of the albedo.
+    Polygons,
+}
+
+/// The polygon set and oracle values of [`Objective::Polygons`] for one cell.
+pub struct FitPolygons {
+    pieces: Vec<Vec<DVec3>>,
+    /// Oracle `∫_P brdf_cos dω / norm` per polygon.
+    targets: Vec<f64>,
+}
+
+impl FitPolygons {
+    /// Gnomonic quads of tangent half-size 0.08, 0.25 and 0.6 centred at elevations
+    /// 2°, 8°, 18°, 32°, 50°, 75° and azimuths 180°, 155°, 125°, 90°, 45°, 0° (the reflection
+    /// direction is at azimuth 180°; by symmetry one side suffices), clipped to the horizon,
+    /// with `k × k` oracle samples.
+    pub fn new(cos_theta_v: f64, alpha: f64, k: usize) -> Self {
+        use super::polygon_error::{TestPolygon, oracle_integrals};
+        let deg = PI / 180.0;
+        let mut polys = Vec::new();
+        for &e in &[2.0, 8.0, 18.0, 32.0, 50.0, 75.0] {
+            for &a in &[180.0, 155.0, 125.0, 90.0, 45.0, 0.0] {
+                for &s in &[0.08, 0.25, 0.6] {
+                    let c = DVec3::new(
+                        (e * deg).cos() * (a * deg).cos(),
+                        (e * deg).cos() * (a * deg).sin(),
+                        (e * deg).sin(),
+                    );
+                    let q = super::polygon_error::gnomonic(c, s, 4, PI / 4.0);
+                    let q = super::polygon_error::clip_vec(&q);
+                    if q.len() >= 3 {
+                        polys.push(TestPolygon {
+                            name: "fit",
+                            pieces: vec![q],
+                        });
+                    }
+                }
+            }
+        }
+        let o = oracle_integrals(cos_theta_v, alpha, &polys, k, 0x00f1_7000);
+        let norm = o.albedo.0;
+        FitPolygons {
+            pieces: polys.into_iter().map(|p| p.pieces[0].clone()).collect(),
+            targets: o.values.iter().map(|v| v.0 / norm).collect(),
+        }
+    }
+
+    /// Mean of `(E(M⁻¹P)/H(M) − target)²` (allocation-free).
+    pub fn eval(&self, m: &DMat3) -> f64 {
+        let m_inv = m.inverse();
+        if !(m_inv.determinant() > 0.0) {
+            return f64::INFINITY;
+        }
+        let h = horizon_fraction_of(m);
+        if !(h > 1e-9) {
+            return f64::INFINITY;
+        }
+        let e = LtcEntry {
+            m_inv,
+            norm: 1.0,
+            fresnel: 0.0,
+            scale: 1.0 / h,
+        };
+        let mut sq = 0.0;
+        for (p, &t) in self.pieces.iter().zip(&self.targets) {
+            let d = e.scale * super::polygon_error::ltc_form_factor(&e, p) - t;
+            sq += d * d;
+        }
+        sq / self.targets.len() as f64
+    }
+}
+
+/// Options of [`fit_cell`] and the table fits.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct FitOptions {
+    pub objective: Objective,
+    /// Store `scale = 1/H(M)` (horizon renormalisation); otherwise `scale = 1`.
+    pub renormalize: bool,
+}
+
+impl Default for FitOptions {
+    /// The committed table's options.
+    fn default() -> Self {
+        FitOptions {
+            objective: Objective::L3Upper,
+            renormalize: true,
+        }
+    }
+}
+
+impl FitOptions {
+    /// The first committed table (format version 1): L3 over the sphere, no renormalisation.
+    pub const ORIGINAL: FitOptions = FitOptions {
+        objective: Objective::L3Sphere,
+        renormalize: false,
+    };
+}
+
+/// `H(M) = ∫_{z>0} D̂_M dω` for the LTC matrix `m` (see [`LtcEntry::horizon_fraction`]):
+/// `(1 + cosβ)/2`, β the angle between `Mᵀz` and `z`.
+#[inline]
+pub fn horizon_fraction_of(m: &DMat3) -> f64 {
+    let n = DVec3::new(m.x_axis.z, m.y_axis.z, m.z_axis.z);
+    0.5 * (1.0 + n.z / n.length())
+}
 
 /// Moments of the cosine-weighted GGX lobe (`F = 1`).
 #[derive(Clone, Copy, Debug)]
@@ -95,10 +215,16 @@ pub fn lobe_moments(v: DVec3, alpha: f64, k: usize) -> LobeMoments {
 /// `∫ |f − D̂|³ dω ≈ (1/N) Σ_{l ~ f-sampler} |f − D̂|³/(p + D̂) + (1/N) Σ_{l ~ D̂} |f − D̂|³/(p + D̂)`
 /// with `p = pdf_vndf_reflect` (balance heuristic; `D̂` is its own pdf). Both sample sets
 /// are fixed midpoint grids, so the objective is deterministic in `M`.
+///
+/// With [`Objective::L3Upper`] / [`Objective::L2Upper`] the integral is over `z > 0` only
+/// (samples below the horizon are dropped; the estimator stays unbiased for that domain)
+/// and `D̂` is replaced by the renormalised `D̂/H(M)`; the sampling pdfs are unchanged.
 pub struct L3Error {
     v: DVec3,
     alpha: f64,
     inv_norm: f64,
+    upper: bool,
+    square: bool,
     /// VNDF-reflected directions with `f` and the VNDF pdf, independent of `M`.
     brdf_samples: Vec<(DVec3, f64, f64)>,
     /// Cosine-distributed directions (to be mapped by `M`).
@@ -123,6 +249,10 @@ fn cosine_grid(k: usize) -> Vec<DVec3> {
 
 impl L3Error {
     pub fn new(v: DVec3, alpha: f64, norm: f64, k: usize) -> Self {
+        Self::with_objective(v, alpha, norm, k, Objective::L3Sphere)
+    }
+
+    pub fn with_objective(v: DVec3, alpha: f64, norm: f64, k: usize, objective: Objective) -> Self {
         let inv_norm = 1.0 / norm;
         let inv = 1.0 / k as f64;
         let mut brdf_samples = Vec::with_capacity(k * k);
@@ -141,6 +271,8 @@ impl L3Error {
             v,
             alpha,
             inv_norm,
+            upper: objective != Objective::L3Sphere,
+            square: objective == Objective::L2Upper,
             brdf_samples,
             cos_samples: cosine_grid(k),
         }
@@ -155,8 +287,22 @@ impl L3Error {
             return f64::INFINITY;
         }
         let k = det_inv / PI;
+        // D̂ (the sampling pdf) and the compared distribution r · D̂.
+        let r = if self.upper {
+            let h = horizon_fraction_of(m);
+            if !(h > 1e-9) {
+                return f64::INFINITY;
+            }
+            1.0 / h
+        } else {
+            1.0
+        };
+        let pw = |d: f64| if self.square { d * d } else { d * d * d };
         let mut e_brdf = 0.0;
         for &(l, f, p) in &self.brdf_samples {
+            if self.upper && l.z <= 0.0 {
+                continue;
+            }
             let x = m_inv * l;
             let len2 = x.length_squared();
             let g = if x.z > 0.0 {
@@ -164,18 +310,19 @@ impl L3Error {
             } else {
                 0.0
             };
-            let d = (f - g).abs();
-            e_brdf += d * d * d / (p + g);
+            e_brdf += pw((f - r * g).abs()) / (p + g);
         }
         let mut e_ltc = 0.0;
         for &wo in &self.cos_samples {
             let y = *m * wo;
             let len = y.length();
             let l = y * (1.0 / len);
+            if self.upper && l.z <= 0.0 {
+                continue;
+            }
             let g = wo.z * k * len * len * len;
             let (f, p) = brdf_cos_and_pdf(self.v, l, self.alpha);
-            let d = (f * self.inv_norm - g).abs();
-            e_ltc += d * d * d / (p + g);
+            e_ltc += pw((f * self.inv_norm - r * g).abs()) / (p + g);
         }
         (e_brdf + e_ltc) / self.cos_samples.len() as f64
     }
@@ -229,15 +376,21 @@ fn nm_options() -> Options {
 /// Fit one cell from the starting parameters `start` (see [`CellFit::params`]). At normal
 /// incidence (`cosθv == 1`) the lobe is rotationally symmetric and the fit is the
 /// one-parameter `K = diag(m, m, 1)`.
-pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4]) -> CellFit {
+pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4], fo: &FitOptions) -> CellFit {
     let v = view_dir(cos_theta_v);
     let mom = lobe_moments(v, alpha, MOMENT_SAMPLES);
-    let err = L3Error::new(v, alpha, mom.norm, FIT_SAMPLES);
+    let err = L3Error::with_objective(v, alpha, mom.norm, FIT_SAMPLES, fo.objective);
+    let polys = (fo.objective == Objective::Polygons)
+        .then(|| FitPolygons::new(cos_theta_v, alpha, POLYGON_ORACLE_SAMPLES));
+    let objective = |m: &DMat3| match &polys {
+        Some(p) => p.eval(m),
+        None => err.eval(m),
+    };
     let opts = nm_options();
     let (params, basis, l3, evals) = if v.x == 0.0 {
         let r = nelder_mead::minimize(
             |p: &[f64; 1]| match k_matrix(&[p[0], p[0], 0.0, 0.0]) {
-                Some(k) => err.eval(&k),
+                Some(k) => objective(&k),
                 None => f64::INFINITY,
             },
             [start[0]],
@@ -249,7 +402,7 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4]) -> CellFit {
         let basis = lobe_basis(mom.avg_dir);
         let r = nelder_mead::minimize(
             |q: &[f64; 4]| match k_matrix(q) {
-                Some(k) => err.eval(&(basis * k)),
+                Some(k) => objective(&(basis * k)),
                 None => f64::INFINITY,
             },
             start,
@@ -261,24 +414,37 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4]) -> CellFit {
     let m = basis * k_matrix(&params).expect("the minimum is feasible");
     let m_inv = m.inverse();
     let lobe_l3 = lobe_l3(&err);
+    let scale = if fo.renormalize {
+        1.0 / horizon_fraction_of(&m)
+    } else {
+        1.0
+    };
     CellFit {
         entry: LtcEntry {
             m_inv: m_inv * (1.0 / m_inv.y_axis.y),
             norm: mom.norm,
             fresnel: mom.fresnel,
+            scale,
         },
         params,
-        l3_error: l3,
+        // The fit's own L3-type error (for the polygon objective: the upper-hemisphere L3
+        // of the renormalised LTC), so that the report compares like with like.
+        l3_error: if fo.objective == Objective::Polygons {
+            err.eval(&m)
+        } else {
+            l3
+        },
         lobe_l3,
         evals,
     }
 }
 
-/// `∫ f³ dω` estimated with the BRDF samples of `err`.
+/// `∫ f³ dω` (`∫ f² dω` for [`Objective::L2Upper`]) estimated with the BRDF samples of
+/// `err`.
 fn lobe_l3(err: &L3Error) -> f64 {
     err.brdf_samples
         .iter()
-        .map(|&(_, f, p)| f * f * f / p)
+        .map(|&(_, f, p)| if err.square { f * f / p } else { f * f * f / p })
         .sum::<f64>()
         / err.cos_samples.len() as f64
 }
@@ -289,14 +455,42 @@ pub fn fit_table(n: usize, progress: impl Fn(usize, usize) + Sync) -> LtcTable {
     fit_table_cells(n, progress).0
 }
 
-/// [`fit_table`] that also returns every [`CellFit`] (`cells[i * n + j]`).
+/// [`fit_table_cells`] with the default [`FitOptions`].
 pub fn fit_table_cells(
     n: usize,
     progress: impl Fn(usize, usize) + Sync,
 ) -> (LtcTable, Vec<CellFit>) {
+    fit_table_cells_with(n, &FitOptions::default(), progress)
+}
+
+/// [`fit_table`] with options `fo` that also returns every [`CellFit`] (`cells[i * n + j]`).
+pub fn fit_table_cells_with(
+    n: usize,
+    fo: &FitOptions,
+    progress: impl Fn(usize, usize) + Sync,
+) -> (LtcTable, Vec<CellFit>) {
     assert!(n >= 2);
     let (alphas, cosines) = nodes(n, ALPHA_MIN, COS_THETA_MIN);
-    let total = n * n;
+    let cells = fit_grid(&alphas, &cosines, fo, progress);
+    let entries: Vec<LtcEntry> = cells.iter().map(|c| c.entry).collect();
+    (
+        LtcTable::from_entries(n, ALPHA_MIN, COS_THETA_MIN, &entries),
+        cells,
+    )
+}
+
+/// Fit every `(alphas[i], cosines[j])`, `cells[i * cosines.len() + j]`, with the warm start
+/// of the module doc; `alphas` increasing, `cosines` decreasing with `cosines[0] == 1`
+/// (the table's nodes, or any other grid: `penumbra ltc-error --fit`).
+pub fn fit_grid(
+    alphas: &[f64],
+    cosines: &[f64],
+    fo: &FitOptions,
+    progress: impl Fn(usize, usize) + Sync,
+) -> Vec<CellFit> {
+    assert!(cosines[0] == 1.0);
+    let n = alphas.len();
+    let total = n * cosines.len();
     let done = AtomicUsize::new(0);
     let tick = || progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
 
@@ -307,7 +501,7 @@ pub fn fit_table_cells(
         if i + 1 < n {
             ln_m += (alphas[i] / alphas[i + 1]).ln();
         }
-        let fit = fit_cell(1.0, alphas[i], [ln_m, ln_m, 0.0, 0.0]);
+        let fit = fit_cell(1.0, alphas[i], [ln_m, ln_m, 0.0, 0.0], fo);
         ln_m = fit.params[0];
         col0[i] = Some(fit);
         tick();
@@ -318,11 +512,11 @@ pub fn fit_table_cells(
         .into_par_iter()
         .map(|i| {
             let first = col0[i].expect("fitted above");
-            let mut row = Vec::with_capacity(n);
+            let mut row = Vec::with_capacity(cosines.len());
             row.push(first);
             let mut q = first.params;
             for &cos_theta in &cosines[1..] {
-                let fit = fit_cell(cos_theta, alphas[i], q);
+                let fit = fit_cell(cos_theta, alphas[i], q, fo);
                 q = fit.params;
                 row.push(fit);
                 tick();
@@ -330,10 +524,5 @@ pub fn fit_table_cells(
             row
         })
         .collect();
-    let cells: Vec<CellFit> = rows.into_iter().flatten().collect();
-    let entries: Vec<LtcEntry> = cells.iter().map(|c| c.entry).collect();
-    (
-        LtcTable::from_entries(n, ALPHA_MIN, COS_THETA_MIN, &entries),
-        cells,
-    )
+    rows.into_iter().flatten().collect()
 }

@@ -8,9 +8,12 @@
 //! vertex and `E` = [`form_factor`].
 
 pub mod edge_integral;
+pub mod error_map;
 pub mod fit;
 pub mod ggx;
 pub mod nelder_mead;
+pub mod polygon_error;
+pub mod published;
 pub mod table;
 
 pub use edge_integral::{edge_integral, form_factor};

@@ -9,6 +9,9 @@
 //!
 //! `M⁻¹` is stored normalised so that its `(y, y)` entry is 1:
 //! `M⁻¹ = [[m00, 0, m02], [0, 1, 0], [m20, 0, m22]]`.
+//!
+//! Format version 2 adds a per-entry `scale` (the horizon renormalisation, docs/ltc.md):
+//! the specular integral is `scale · (F0 (norm − fresnel) + fresnel) · E(M⁻¹P)`.
 
 use glam::{DMat3, DVec3};
 use std::io;
@@ -24,9 +27,11 @@ pub const COS_THETA_MIN: f64 = 1e-3;
 
 /// File magic of the binary table format (docs/ltc.md).
 pub const MAGIC: [u8; 8] = *b"PNBRLTC\x01";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
 const HEADER_LEN: usize = 32;
-const RECORD_LEN: usize = 6 * 8;
+/// Values per entry: `m00, m02, m20, m22, norm, fresnel, scale`.
+pub const RECORD_VALUES: usize = 7;
+const RECORD_LEN: usize = RECORD_VALUES * 8;
 
 /// One fitted LTC.
 #[derive(Clone, Copy, Debug)]
@@ -38,6 +43,9 @@ pub struct LtcEntry {
     pub norm: f64,
     /// `∫ brdf_cos · (1 − v·h)⁵ dω`.
     pub fresnel: f64,
+    /// Factor of the whole specular integral: `1/H` with `H = ∫_{z>0} D̂_M dω` the part of
+    /// the LTC distribution above the horizon (horizon renormalisation, docs/ltc.md), or 1.
+    pub scale: f64,
 }
 
 impl LtcEntry {
@@ -51,14 +59,26 @@ impl LtcEntry {
     }
 
     /// Scale of the specular integral for Schlick reflectance `f0`:
-    /// `∫_P ρ F cosθl dω ≈ E(M⁻¹P) · (f0 (norm − fresnel) + fresnel)`.
+    /// `∫_P ρ F cosθl dω ≈ E(M⁻¹P) · scale · (f0 (norm − fresnel) + fresnel)`.
     #[inline]
     pub fn specular_scale(&self, f0: f64) -> f64 {
-        f0 * (self.norm - self.fresnel) + self.fresnel
+        self.scale * (f0 * (self.norm - self.fresnel) + self.fresnel)
     }
 
-    /// `[m00, m02, m20, m22, norm, fresnel]` of `M⁻¹ / M⁻¹[y][y]` (`mRC` = row R, column C).
-    pub fn to_record(&self) -> [f64; 6] {
+    /// `H = ∫_{z>0} D̂_M dω`, the part of the LTC distribution above the horizon. The
+    /// half-space `z > 0` is `{ω' : (Mᵀz)·ω' > 0}` in the cosine's space, and the clamped
+    /// cosine's integral over the half-space whose normal makes the angle β with `z` is
+    /// `(1 + cosβ)/2` (the view factor of a tilted plane; 001 Eq. 3.12 with `P` the
+    /// hemisphere).
+    pub fn horizon_fraction(&self) -> f64 {
+        let m = self.m_inv.inverse();
+        let n = DVec3::new(m.x_axis.z, m.y_axis.z, m.z_axis.z);
+        0.5 * (1.0 + n.z / n.length())
+    }
+
+    /// `[m00, m02, m20, m22, norm, fresnel, scale]` of `M⁻¹ / M⁻¹[y][y]` (`mRC` = row R,
+    /// column C).
+    pub fn to_record(&self) -> [f64; RECORD_VALUES] {
         let m = self.m_inv * (1.0 / self.m_inv.y_axis.y);
         [
             m.x_axis.x,
@@ -67,12 +87,13 @@ impl LtcEntry {
             m.z_axis.z,
             self.norm,
             self.fresnel,
+            self.scale,
         ]
     }
 
     /// Inverse of [`LtcEntry::to_record`].
     #[inline]
-    pub fn from_record(r: &[f64; 6]) -> Self {
+    pub fn from_record(r: &[f64; RECORD_VALUES]) -> Self {
         LtcEntry {
             m_inv: DMat3::from_cols(
                 DVec3::new(r[0], 0.0, r[2]),
@@ -81,6 +102,7 @@ impl LtcEntry {
             ),
             norm: r[4],
             fresnel: r[5],
+            scale: r[6],
         }
     }
 }
@@ -96,7 +118,7 @@ pub struct LtcTable {
     alphas: Vec<f64>,
     cosines: Vec<f64>,
     /// `records[i * n + j]`, see [`LtcEntry::to_record`].
-    records: Vec<[f64; 6]>,
+    records: Vec<[f64; RECORD_VALUES]>,
 }
 
 /// Error of [`LtcTable::from_bytes`].
@@ -112,7 +134,7 @@ pub enum TableFormatError {
     Length { got: usize, expected: usize },
     #[error("LTC table checksum mismatch")]
     Checksum,
-    #[error("LTC table record {0} holds a non-finite value")]
+    #[error("LTC table record {0} holds a non-finite value or a scale <= 0")]
     Record(usize),
 }
 
@@ -258,11 +280,36 @@ impl LtcTable {
             ta * (1.0 - tc),
             ta * tc,
         );
-        let mut r = [0.0; 6];
-        for k in 0..6 {
+        let mut r = [0.0; RECORD_VALUES];
+        for k in 0..RECORD_VALUES {
             r[k] = w00 * r00[k] + w01 * r01[k] + w10 * r10[k] + w11 * r11[k];
         }
         LtcEntry::from_record(&r)
+    }
+
+    /// The same table with `f` applied to every stored entry (e.g. the horizon
+    /// renormalisation `scale = 1/H`, [`LtcEntry::horizon_fraction`]).
+    pub fn map_entries(&self, f: impl Fn(LtcEntry) -> LtcEntry) -> LtcTable {
+        let entries: Vec<LtcEntry> = (0..self.n * self.n)
+            .map(|k| f(LtcEntry::from_record(&self.records[k])))
+            .collect();
+        LtcTable::from_entries(self.n, self.alpha_min, self.cos_theta_min, &entries)
+    }
+
+    /// [`LtcTable::map_entries`] with the row `i` and column `j` of each entry.
+    pub fn map_entries_indexed(&self, f: impl Fn(usize, usize, LtcEntry) -> LtcEntry) -> LtcTable {
+        let entries: Vec<LtcEntry> = (0..self.n * self.n)
+            .map(|k| f(k / self.n, k % self.n, LtcEntry::from_record(&self.records[k])))
+            .collect();
+        LtcTable::from_entries(self.n, self.alpha_min, self.cos_theta_min, &entries)
+    }
+
+    /// [`LtcTable::map_entries`] setting `scale = 1/H` (candidate (a) of docs/ltc.md).
+    pub fn horizon_renormalized(&self) -> LtcTable {
+        self.map_entries(|e| LtcEntry {
+            scale: 1.0 / e.horizon_fraction(),
+            ..e
+        })
     }
 
     /// Serialise (little-endian binary, docs/ltc.md).
@@ -320,11 +367,11 @@ impl LtcTable {
         let mut records = Vec::with_capacity(n * n);
         for k in 0..n * n {
             let off = HEADER_LEN + k * RECORD_LEN;
-            let mut r = [0.0; 6];
+            let mut r = [0.0; RECORD_VALUES];
             for (q, x) in r.iter_mut().enumerate() {
                 *x = f64_at(bytes, off + 8 * q);
             }
-            if !r.iter().all(|x| x.is_finite()) {
+            if !(r.iter().all(|x| x.is_finite()) && r[6] > 0.0) {
                 return Err(TableFormatError::Record(k));
             }
             records.push(r);
