@@ -79,6 +79,10 @@ enum Command {
         /// Store scale = 1 instead of the horizon renormalisation 1/H.
         #[arg(long)]
         no_renorm: bool,
+        /// Fit a clamped cosine about the normal beside the LTC (its share per entry;
+        /// `--objective polygons` only; docs/ltc.md, "The cosine tail").
+        #[arg(long)]
+        cosine_tail: bool,
         /// Refit only rows FIRST-LAST (roughness rows) of --base, keep the others (experiments).
         #[arg(long, requires = "base", value_parser = parse_rows)]
         rows: Option<(usize, usize)>,
@@ -92,9 +96,9 @@ enum Command {
         /// Tables as for `render --ltc-table` (repeatable).
         #[arg(long = "table", default_values_t = ["embedded".to_string(), "published".to_string()])]
         tables: Vec<String>,
-        /// Also fit an LTC at every map cell itself with this objective (`OBJ` or
-        /// `OBJ+renorm`, OBJ one of l3-sphere, l3-upper, l2-upper; repeatable): candidates
-        /// without building a table.
+        /// Also fit an LTC at every map cell itself with this objective (`OBJ`, `OBJ+renorm`,
+        /// `polygons+renorm+cosine`; OBJ one of l3-sphere, l3-upper, l2-upper, polygons;
+        /// repeatable): candidates without building a table.
         #[arg(long)]
         fit: Vec<String>,
         #[arg(long, default_value = "out/ltc-error")]
@@ -1047,15 +1051,23 @@ fn ltc_error(tables: &[String], fits: &[String], out: &Path, m: usize, k: usize)
         names.push(t.clone());
     }
     for f in fits {
-        let (obj, renorm) = match f.strip_suffix("+renorm") {
-            Some(o) => (o, true),
-            None => (f.as_str(), false),
-        };
+        let mut parts = f.split('+');
+        let obj = parts.next().unwrap_or_default();
         let objective = Objective::from_str(obj, true).map_err(anyhow::Error::msg)?;
-        let fo = FitOptions {
+        let mut fo = FitOptions {
             objective,
-            renormalize: renorm,
+            renormalize: false,
+            cosine_tail: false,
         };
+        for flag in parts {
+            match flag {
+                "renorm" => fo.renormalize = true,
+                "cosine" if objective == Objective::Polygons => fo.cosine_tail = true,
+                _ => bail!(
+                    "--fit {f}: unknown option +{flag} (expected +renorm, or +cosine with polygons)"
+                ),
+            }
+        }
         // The map's grid plus a normal-incidence column to start every row from.
         let grid = penumbra::ltc::polygon_error::map_grid(m);
         let alphas: Vec<f64> = (0..m).map(|i| grid[i * m].3).collect();
@@ -1065,7 +1077,10 @@ fn ltc_error(tables: &[String], fits: &[String], out: &Path, m: usize, k: usize)
         let entries = (0..m * m)
             .map(|q| cells[(q / m) * (m + 1) + q % m + 1].entry)
             .collect();
-        eprintln!("fitted {f} at the map's cells: {:.1} s", start.elapsed().as_secs_f64());
+        eprintln!(
+            "fitted {f} at the map's cells: {:.1} s",
+            start.elapsed().as_secs_f64()
+        );
         sources.push(Source::Entries(entries));
         names.push(format!("fit {f}"));
     }
@@ -1178,8 +1193,7 @@ fn run() -> Result<()> {
             samples,
         }) => ltc_error(&tables, &fit, &out, grid, samples),
         Some(Command::LtcImportThree { js, out }) => {
-            let text =
-                std::fs::read_to_string(&js).with_context(|| format!("{}", js.display()))?;
+            let text = std::fs::read_to_string(&js).with_context(|| format!("{}", js.display()))?;
             let table = penumbra::ltc::published::from_three_js(&text)
                 .with_context(|| format!("{}", js.display()))?;
             table
@@ -1193,6 +1207,7 @@ fn run() -> Result<()> {
             size,
             objective,
             no_renorm,
+            cosine_tail,
             rows,
             base,
         }) => {
@@ -1202,6 +1217,10 @@ fn run() -> Result<()> {
                 fo.objective = o;
             }
             fo.renormalize = !no_renorm;
+            fo.cosine_tail = cosine_tail;
+            if cosine_tail && fo.objective != penumbra::ltc::fit::Objective::Polygons {
+                bail!("--cosine-tail needs --objective polygons");
+            }
             let table = match (rows, base) {
                 (Some((first, last)), Some(base)) => {
                     let base = ltc_table(&base)?;

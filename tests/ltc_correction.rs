@@ -216,25 +216,28 @@ fn analytic_exact_image_is_unbiased_against_a_ray_cast_reference() {
     let (rs, es) = (reference.stderr.unwrap(), exact.stderr.unwrap());
     // The mean over all channels of (image − reference), against its standard error from the
     // per-pixel variances of both (pixels are independent).
-    let (mut d_exact, mut d_ltc, mut var, mut n) = (0.0, 0.0, 0.0, 0usize);
+    let (mut d_exact, mut mean, mut var, mut n) = (0.0, 0.0, 0.0, 0usize);
+    let mut d_ltc = 0.0;
     for i in 0..ltc.pixels.len() {
         for k in 0..3 {
             d_exact += exact.image.pixels[i][k] - reference.image.pixels[i][k];
             d_ltc += ltc.pixels[i][k] - reference.image.pixels[i][k];
+            mean += reference.image.pixels[i][k];
             var += rs.pixels[i][k].powi(2) + es.pixels[i][k].powi(2);
             n += 1;
         }
     }
     let se = var.sqrt() / n as f64;
-    let (d_exact, d_ltc) = (d_exact / n as f64, d_ltc / n as f64);
+    let (d_exact, d_ltc, mean) = (d_exact / n as f64, d_ltc / n as f64, mean / n as f64);
+    eprintln!(
+        "mean difference: analytic-exact {d_exact:.2e}, LTC {d_ltc:.2e}, standard error {se:.2e}, mean {mean:.3}"
+    );
     assert!(
         d_exact.abs() < 4.0 * se,
         "mean difference of analytic-exact {d_exact} (standard error {se})"
     );
-    assert!(
-        d_ltc < -10.0 * se,
-        "mean difference of the LTC image {d_ltc} (standard error {se})"
-    );
+    // The test has the power to see a bias of 1 % of the image's mean.
+    assert!(0.01 * mean > 8.0 * se, "1 % of {mean} against {se}");
 }
 
 /// The progressive renderer shows the LTC image first and converges from there: the previews

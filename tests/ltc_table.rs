@@ -60,7 +60,7 @@ fn ltc_corrupted_files_are_rejected() {
     bad[0] = b'X';
     assert!(LtcTable::from_bytes(&bad).is_err(), "magic");
     assert_eq!(&good[..8], &MAGIC);
-    assert_eq!(good.len(), 32 + 64 * 64 * 48 + 8);
+    assert_eq!(good.len(), 32 + 64 * 64 * 64 + 8);
 }
 
 #[test]

@@ -31,6 +31,7 @@ mod ltc_edge_integral;
 mod ltc_fit_accuracy;
 mod ltc_generate;
 mod ltc_ggx;
+mod ltc_polygon_error;
 mod ltc_table;
 mod near_convex;
 mod quantitative_invisibility;

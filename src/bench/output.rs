@@ -162,7 +162,7 @@ pub fn noise_markdown(report: &BenchReport) -> String {
             methods.push(&r.method);
         }
     }
-    if methods.is_empty() || !(noise > 0.0) {
+    if methods.is_empty() || noise.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return String::new();
     }
     let time_to_noise = |method: &str| -> (Option<Estimate>, f64) {

@@ -721,7 +721,12 @@ pub fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
 /// Renders `chart` and writes it as an 8-bit RGBA PNG.
 pub fn save_chart_png(chart: &Chart, width: u32, height: u32, path: &Path) -> anyhow::Result<()> {
     use anyhow::Context;
-    let pm = render_chart(chart, width, height);
+    save_pixmap_png(&render_chart(chart, width, height), path)
+        .with_context(|| format!("{}: writing PNG", path.display()))
+}
+
+/// Writes a tiny-skia pixmap (premultiplied) as an 8-bit straight-alpha RGBA PNG.
+pub fn save_pixmap_png(pm: &tiny_skia::Pixmap, path: &Path) -> image::ImageResult<()> {
     let rgba: Vec<u8> = pm
         .pixels()
         .iter()
@@ -738,7 +743,6 @@ pub fn save_chart_png(chart: &Chart, width: u32, height: u32, path: &Path) -> an
         image::ExtendedColorType::Rgba8,
         image::ImageFormat::Png,
     )
-    .with_context(|| format!("{}: writing PNG", path.display()))
 }
 
 #[cfg(test)]

@@ -4,8 +4,7 @@
 //! polygon integrals").
 
 use super::polygon_error::{
-    CellError, OracleIntegrals, cell_error, entry_error, map_grid, oracle_integrals,
-    test_polygons,
+    CellError, OracleIntegrals, cell_error, entry_error, map_grid, oracle_integrals, test_polygons,
 };
 use super::table::{LtcEntry, LtcTable};
 use crate::bench::font::{Align, TextStyle, draw_text};
@@ -167,7 +166,12 @@ fn fill(pm: &mut Pixmap, x: f32, y: f32, w: f32, h: f32, c: [u8; 3]) {
 
 /// The heat map: one panel per table, cells coloured by their RMS polygon error (log scale),
 /// labelled with it in percent of the albedo; α grows downward, θv to the right.
-pub fn heat_map_png(cells: &[MapCell], names: &[&str], m: usize, path: &Path) -> anyhow::Result<()> {
+pub fn heat_map_png(
+    cells: &[MapCell],
+    names: &[&str],
+    m: usize,
+    path: &Path,
+) -> anyhow::Result<()> {
     let cs = 34.0f32;
     let (left, top, gap) = (70.0f32, 46.0f32, 30.0f32);
     let panel = cs * m as f32;
@@ -193,7 +197,11 @@ pub fn heat_map_png(cells: &[MapCell], names: &[&str], m: usize, path: &Path) ->
             let col = colour(e);
             fill(&mut pm, x, y, cs - 1.0, cs - 1.0, col);
             let lum = 0.3 * col[0] as f32 + 0.59 * col[1] as f32 + 0.11 * col[2] as f32;
-            let ink = if lum > 140.0 { [0, 0, 0] } else { [255, 255, 255] };
+            let ink = if lum > 140.0 {
+                [0, 0, 0]
+            } else {
+                [255, 255, 255]
+            };
             let pct = 100.0 * e;
             let label = if pct >= 9.95 {
                 format!("{pct:.0}")
@@ -241,7 +249,9 @@ pub fn heat_map_png(cells: &[MapCell], names: &[&str], m: usize, path: &Path) ->
         "alpha",
         14.0,
         top + 0.5 * panel,
-        &TextStyle::new(11.0, black).align(Align::Center).rotate(-90.0),
+        &TextStyle::new(11.0, black)
+            .align(Align::Center)
+            .rotate(-90.0),
     );
     // Colour bar, 0.1 % to 10 %.
     let bx = w - bar + 10.0;
@@ -268,21 +278,6 @@ pub fn heat_map_png(cells: &[MapCell], names: &[&str], m: usize, path: &Path) ->
         h - 14.0,
         &TextStyle::new(11.0, black),
     );
-    let rgba: Vec<u8> = pm
-        .pixels()
-        .iter()
-        .flat_map(|p| {
-            let c = p.demultiply();
-            [c.red(), c.green(), c.blue(), c.alpha()]
-        })
-        .collect();
-    image::save_buffer_with_format(
-        path,
-        &rgba,
-        pm.width(),
-        pm.height(),
-        image::ExtendedColorType::Rgba8,
-        image::ImageFormat::Png,
-    )?;
+    crate::bench::plot::save_pixmap_png(&pm, path)?;
     Ok(())
 }

@@ -52,6 +52,8 @@ pub enum Objective {
 /// The polygon set and oracle values of [`Objective::Polygons`] for one cell.
 pub struct FitPolygons {
     pieces: Vec<Vec<DVec3>>,
+    /// `E(P)` per polygon: the integral of the cosine tail ([`LtcEntry::cosine`]).
+    cos_form_factors: Vec<f64>,
     /// Oracle `∫_P brdf_cos dω / norm` per polygon.
     targets: Vec<f64>,
 }
@@ -86,31 +88,45 @@ impl FitPolygons {
         }
         let o = oracle_integrals(cos_theta_v, alpha, &polys, k, 0x00f1_7000);
         let norm = o.albedo.0;
+        let pieces: Vec<Vec<DVec3>> = polys.into_iter().map(|p| p.pieces[0].clone()).collect();
         FitPolygons {
-            pieces: polys.into_iter().map(|p| p.pieces[0].clone()).collect(),
+            cos_form_factors: pieces
+                .iter()
+                .map(|p| super::form_factor([p.as_slice()]).max(0.0))
+                .collect(),
+            pieces,
             targets: o.values.iter().map(|v| v.0 / norm).collect(),
         }
     }
 
-    /// Mean of `(E(M⁻¹P)/H(M) − target)²` (allocation-free).
-    pub fn eval(&self, m: &DMat3) -> f64 {
+    /// Mean of `(mix(E(M⁻¹P), E(P))/H − target)²` for the distribution
+    /// `(1 − c) D̂_M + c D_o` renormalised to the upper hemisphere (allocation-free).
+    pub fn eval(&self, m: &DMat3, cosine: f64) -> f64 {
         let m_inv = m.inverse();
-        if !(m_inv.determinant() > 0.0) {
+        if m_inv.determinant().is_nan() || m_inv.determinant() <= 0.0 {
             return f64::INFINITY;
         }
-        let h = horizon_fraction_of(m);
-        if !(h > 1e-9) {
-            return f64::INFINITY;
-        }
-        let e = LtcEntry {
+        let mut e = LtcEntry {
             m_inv,
             norm: 1.0,
             fresnel: 0.0,
-            scale: 1.0 / h,
+            scale: 1.0,
+            cosine,
         };
+        let h = e.horizon_fraction();
+        if h.is_nan() || h <= 1e-9 {
+            return f64::INFINITY;
+        }
+        e.scale = 1.0 / h;
         let mut sq = 0.0;
-        for (p, &t) in self.pieces.iter().zip(&self.targets) {
-            let d = e.scale * super::polygon_error::ltc_form_factor(&e, p) - t;
+        for ((p, &t), &e_cos) in self
+            .pieces
+            .iter()
+            .zip(&self.targets)
+            .zip(&self.cos_form_factors)
+        {
+            let e_ltc = super::polygon_error::ltc_form_factor(&LtcEntry { cosine: 0.0, ..e }, p);
+            let d = e.scale * e.mix(e_ltc, e_cos) - t;
             sq += d * d;
         }
         sq / self.targets.len() as f64
@@ -121,6 +137,9 @@ impl FitPolygons {
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct FitOptions {
     pub objective: Objective,
+    /// Fit the share of a clamped cosine about the normal beside the LTC
+    /// ([`LtcEntry::cosine`]; only with [`Objective::Polygons`]); otherwise the share is 0.
+    pub cosine_tail: bool,
     /// Store `scale = 1/H(M)` (horizon renormalisation); otherwise `scale = 1`.
     pub renormalize: bool,
 }
@@ -129,8 +148,9 @@ impl Default for FitOptions {
     /// The committed table's options.
     fn default() -> Self {
         FitOptions {
-            objective: Objective::L3Upper,
+            objective: Objective::Polygons,
             renormalize: true,
+            cosine_tail: false,
         }
     }
 }
@@ -140,6 +160,7 @@ impl FitOptions {
     pub const ORIGINAL: FitOptions = FitOptions {
         objective: Objective::L3Sphere,
         renormalize: false,
+        cosine_tail: false,
     };
 }
 
@@ -290,7 +311,7 @@ impl L3Error {
         // D̂ (the sampling pdf) and the compared distribution r · D̂.
         let r = if self.upper {
             let h = horizon_fraction_of(m);
-            if !(h > 1e-9) {
+            if h.is_nan() || h <= 1e-9 {
                 return f64::INFINITY;
             }
             1.0 / h
@@ -354,13 +375,31 @@ fn k_matrix(q: &[f64; 4]) -> Option<DMat3> {
 #[derive(Clone, Copy, Debug)]
 pub struct CellFit {
     pub entry: LtcEntry,
-    /// Fit parameters `[ln m11, ln m22, m13/m11, m31]` in the lobe basis (warm start).
-    pub params: [f64; 4],
+    /// Fit parameters `[ln m11, ln m22, m13/m11, m31, logit c]` in the lobe basis (warm
+    /// start; the last only with [`FitOptions::cosine_tail`]).
+    pub params: [f64; 5],
     /// The minimised L3 error estimate, and the same for the lobe itself against the
     /// zero function (`∫ f³ dω`), so that `(error / lobe_l3)^(1/3)` is a relative L3 error.
     pub l3_error: f64,
     pub lobe_l3: f64,
     pub evals: usize,
+}
+
+/// Starting `logit c` of the cosine tail: a share of 5 %.
+pub const COSINE_TAIL_START: f64 = -2.944;
+
+/// A neighbour's tail parameter as a starting point, kept off the logistic's flat ends
+/// (`c ∈ [0.0025, 0.88]`), from where the simplex could not come back.
+#[inline]
+fn warm_tail(t: f64) -> f64 {
+    t.clamp(-6.0, 2.0)
+}
+
+/// The cosine tail's share from its parameter: the logistic function, so that every real
+/// parameter is a share in `(0, 1)`.
+#[inline]
+fn cosine_share(t: f64) -> f64 {
+    1.0 / (1.0 + (-t).exp())
 }
 
 fn nm_options() -> Options {
@@ -375,57 +414,83 @@ fn nm_options() -> Options {
 
 /// Fit one cell from the starting parameters `start` (see [`CellFit::params`]). At normal
 /// incidence (`cosθv == 1`) the lobe is rotationally symmetric and the fit is the
-/// one-parameter `K = diag(m, m, 1)`.
-pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 4], fo: &FitOptions) -> CellFit {
+/// one-parameter `K = diag(m, m, 1)` (two with the cosine tail).
+pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 5], fo: &FitOptions) -> CellFit {
     let v = view_dir(cos_theta_v);
     let mom = lobe_moments(v, alpha, MOMENT_SAMPLES);
     let err = L3Error::with_objective(v, alpha, mom.norm, FIT_SAMPLES, fo.objective);
     let polys = (fo.objective == Objective::Polygons)
         .then(|| FitPolygons::new(cos_theta_v, alpha, POLYGON_ORACLE_SAMPLES));
-    let objective = |m: &DMat3| match &polys {
-        Some(p) => p.eval(m),
+    let tail = fo.cosine_tail && polys.is_some();
+    let objective = |m: &DMat3, t: f64| match &polys {
+        Some(p) => p.eval(m, if tail { cosine_share(t) } else { 0.0 }),
         None => err.eval(m),
     };
     let opts = nm_options();
-    let (params, basis, l3, evals) = if v.x == 0.0 {
-        let r = nelder_mead::minimize(
-            |p: &[f64; 1]| match k_matrix(&[p[0], p[0], 0.0, 0.0]) {
-                Some(k) => objective(&k),
-                None => f64::INFINITY,
-            },
-            [start[0]],
-            [0.1],
-            &opts,
-        );
-        ([r.x[0], r.x[0], 0.0, 0.0], DMat3::IDENTITY, r.f, r.evals)
+    let normal = v.x == 0.0;
+    let basis = if normal {
+        DMat3::IDENTITY
     } else {
-        let basis = lobe_basis(mom.avg_dir);
-        let r = nelder_mead::minimize(
-            |q: &[f64; 4]| match k_matrix(q) {
-                Some(k) => objective(&(basis * k)),
-                None => f64::INFINITY,
-            },
-            start,
-            [0.1, 0.1, 0.05, 0.05],
-            &opts,
-        );
-        (r.x, basis, r.f, r.evals)
+        lobe_basis(mom.avg_dir)
     };
-    let m = basis * k_matrix(&params).expect("the minimum is feasible");
+    let at = |q: [f64; 4], t: f64| match k_matrix(&q) {
+        Some(k) => objective(&(basis * k), t),
+        None => f64::INFINITY,
+    };
+    let (params, l3, evals) = match (normal, tail) {
+        (true, false) => {
+            let r = nelder_mead::minimize(
+                |p: &[f64; 1]| at([p[0], p[0], 0.0, 0.0], 0.0),
+                [start[0]],
+                [0.1],
+                &opts,
+            );
+            ([r.x[0], r.x[0], 0.0, 0.0, start[4]], r.f, r.evals)
+        }
+        (true, true) => {
+            let r = nelder_mead::minimize(
+                |p: &[f64; 2]| at([p[0], p[0], 0.0, 0.0], p[1]),
+                [start[0], start[4]],
+                [0.1, 0.5],
+                &opts,
+            );
+            ([r.x[0], r.x[0], 0.0, 0.0, r.x[1]], r.f, r.evals)
+        }
+        (false, false) => {
+            let r = nelder_mead::minimize(
+                |q: &[f64; 4]| at(*q, 0.0),
+                [start[0], start[1], start[2], start[3]],
+                [0.1, 0.1, 0.05, 0.05],
+                &opts,
+            );
+            ([r.x[0], r.x[1], r.x[2], r.x[3], start[4]], r.f, r.evals)
+        }
+        (false, true) => {
+            let r = nelder_mead::minimize(
+                |q: &[f64; 5]| at([q[0], q[1], q[2], q[3]], q[4]),
+                start,
+                [0.1, 0.1, 0.05, 0.05, 0.5],
+                &opts,
+            );
+            (r.x, r.f, r.evals)
+        }
+    };
+    let m = basis
+        * k_matrix(&[params[0], params[1], params[2], params[3]]).expect("the minimum is feasible");
     let m_inv = m.inverse();
     let lobe_l3 = lobe_l3(&err);
-    let scale = if fo.renormalize {
-        1.0 / horizon_fraction_of(&m)
-    } else {
-        1.0
+    let mut entry = LtcEntry {
+        m_inv: m_inv * (1.0 / m_inv.y_axis.y),
+        norm: mom.norm,
+        fresnel: mom.fresnel,
+        scale: 1.0,
+        cosine: if tail { cosine_share(params[4]) } else { 0.0 },
     };
+    if fo.renormalize {
+        entry.scale = 1.0 / entry.horizon_fraction();
+    }
     CellFit {
-        entry: LtcEntry {
-            m_inv: m_inv * (1.0 / m_inv.y_axis.y),
-            norm: mom.norm,
-            fresnel: mom.fresnel,
-            scale,
-        },
+        entry,
         params,
         // The fit's own L3-type error (for the polygon objective: the upper-hemisphere L3
         // of the renormalised LTC), so that the report compares like with like.
@@ -497,11 +562,13 @@ pub fn fit_grid(
     // Normal incidence, from rough to smooth; the LTC width scales like α for small α.
     let mut col0: Vec<Option<CellFit>> = vec![None; n];
     let mut ln_m = 0.0;
+    let mut t = COSINE_TAIL_START;
     for i in (0..n).rev() {
         if i + 1 < n {
             ln_m += (alphas[i] / alphas[i + 1]).ln();
         }
-        let fit = fit_cell(1.0, alphas[i], [ln_m, ln_m, 0.0, 0.0], fo);
+        let fit = fit_cell(1.0, alphas[i], [ln_m, ln_m, 0.0, 0.0, t], fo);
+        t = warm_tail(fit.params[4]);
         ln_m = fit.params[0];
         col0[i] = Some(fit);
         tick();
@@ -518,6 +585,7 @@ pub fn fit_grid(
             for &cos_theta in &cosines[1..] {
                 let fit = fit_cell(cos_theta, alphas[i], q, fo);
                 q = fit.params;
+                q[4] = warm_tail(q[4]);
                 row.push(fit);
                 tick();
             }

@@ -125,9 +125,15 @@ pub fn test_polygons(cos_theta_v: f64) -> Vec<TestPolygon> {
         ("refl-quad-large", quad(r, 0.6)),
         ("refl-tri-medium", tri(r, 0.3)),
         ("beside-quad-medium", quad(dir(el_r, PI - 40.0 * deg), 0.2)),
-        ("beside-tri-large", tri(dir(el_r.max(20.0 * deg), PI / 2.0), 0.5)),
+        (
+            "beside-tri-large",
+            tri(dir(el_r.max(20.0 * deg), PI / 2.0), 0.5),
+        ),
         ("between-quad-small", quad(dir(0.5 * el_r, PI), 0.1)),
-        ("above-quad-medium", quad(dir(0.5 * (el_r + PI / 2.0), PI), 0.2)),
+        (
+            "above-quad-medium",
+            quad(dir(0.5 * (el_r + PI / 2.0), PI), 0.2),
+        ),
         ("high-quad-medium", quad(DVec3::Z, 0.3)),
         ("high-quad-large", quad(dir(60.0 * deg, PI), 0.8)),
         ("near-horizon-quad", quad(dir(8.0 * deg, PI), 0.12)),
@@ -169,7 +175,8 @@ pub fn ltc_integral(entry: &LtcEntry, poly: &TestPolygon) -> f64 {
             .sum::<f64>()
 }
 
-/// `E(clip(M⁻¹ P))`: the LTC distribution's integral over `P` (clipped to the horizon).
+/// `mix(E(clip(M⁻¹ P)), E(P))`: the fitted distribution's integral over `P` (already
+/// clipped to the horizon), [`LtcEntry::mix`].
 #[inline]
 pub fn ltc_form_factor(entry: &LtcEntry, poly: &[DVec3]) -> f64 {
     let mut t = [DVec3::ZERO; MAX_CLIPPED];
@@ -182,7 +189,9 @@ pub fn ltc_form_factor(entry: &LtcEntry, poly: &[DVec3]) -> f64 {
     }
     let mut c = [DVec3::ZERO; MAX_CLIPPED];
     let m = clip_into(&t[..n], &mut c);
-    form_factor([&c[..m]]).max(0.0)
+    let e_ltc = form_factor([&c[..m]]).max(0.0);
+    let e_cos = form_factor([&poly[..n]]).max(0.0);
+    entry.mix(e_ltc, e_cos)
 }
 
 /// Oracle values of one configuration.
@@ -233,7 +242,7 @@ pub fn oracle_integrals(
     k: usize,
     seed: u64,
 ) -> OracleIntegrals {
-    assert!(k >= 2 && k % 2 == 0);
+    assert!(k >= 2 && k.is_multiple_of(2));
     let v = view_dir(cos_theta_v);
     let np = polys.len();
     let mut sum = vec![0.0; np + 1];
@@ -346,7 +355,13 @@ pub fn cell_error(
     polys: &[TestPolygon],
     oracle: &OracleIntegrals,
 ) -> CellError {
-    entry_error(&table.lookup(cos_theta_v, alpha), cos_theta_v, alpha, polys, oracle)
+    entry_error(
+        &table.lookup(cos_theta_v, alpha),
+        cos_theta_v,
+        alpha,
+        polys,
+        oracle,
+    )
 }
 
 /// [`cell_error`] of the LTC `e` fitted at `(cosθv, α)`.

@@ -79,6 +79,7 @@ pub fn entry_from_texels(t1: [f64; 4], t2: [f64; 4]) -> LtcEntry {
         norm: t2[0],
         fresnel: t2[1],
         scale: 1.0,
+        cosine: 0.0,
     }
 }
 
@@ -110,7 +111,7 @@ pub fn from_three_js(js: &str) -> Result<LtcTable, ImportError> {
             // Row i = roughness = texel x, column j = view = texel y.
             let e = entry_from_texels(texel(&m1, i, j), texel(&m2, i, j));
             let det = e.m_inv.determinant();
-            if !(det > 0.0) {
+            if det.is_nan() || det <= 0.0 {
                 return Err(ImportError::Determinant { x: i, y: j, det });
             }
             entries.push(e);

@@ -10,8 +10,10 @@
 //! `M⁻¹` is stored normalised so that its `(y, y)` entry is 1:
 //! `M⁻¹ = [[m00, 0, m02], [0, 1, 0], [m20, 0, m22]]`.
 //!
-//! Format version 2 adds a per-entry `scale` (the horizon renormalisation, docs/ltc.md):
-//! the specular integral is `scale · (F0 (norm − fresnel) + fresnel) · E(M⁻¹P)`.
+//! Format version 3 stores per entry a `scale` (the horizon renormalisation, docs/ltc.md)
+//! and the share `cosine` of a second lobe, the clamped cosine about the normal: the specular
+//! integral is `scale · (F0 (norm − fresnel) + fresnel) · ((1 − cosine) E(M⁻¹P) + cosine E(P))`
+//! (docs/ltc.md, "The cosine tail").
 
 use glam::{DMat3, DVec3};
 use std::io;
@@ -27,10 +29,10 @@ pub const COS_THETA_MIN: f64 = 1e-3;
 
 /// File magic of the binary table format (docs/ltc.md).
 pub const MAGIC: [u8; 8] = *b"PNBRLTC\x01";
-const VERSION: u32 = 2;
+const VERSION: u32 = 3;
 const HEADER_LEN: usize = 32;
-/// Values per entry: `m00, m02, m20, m22, norm, fresnel, scale`.
-pub const RECORD_VALUES: usize = 7;
+/// Values per entry: `m00, m02, m20, m22, norm, fresnel, scale, cosine`.
+pub const RECORD_VALUES: usize = 8;
 const RECORD_LEN: usize = RECORD_VALUES * 8;
 
 /// One fitted LTC.
@@ -43,9 +45,15 @@ pub struct LtcEntry {
     pub norm: f64,
     /// `∫ brdf_cos · (1 − v·h)⁵ dω`.
     pub fresnel: f64,
-    /// Factor of the whole specular integral: `1/H` with `H = ∫_{z>0} D̂_M dω` the part of
-    /// the LTC distribution above the horizon (horizon renormalisation, docs/ltc.md), or 1.
+    /// Factor of the whole specular integral: `1/H` with `H` the part of the distribution
+    /// above the horizon ([`LtcEntry::horizon_fraction`]; horizon renormalisation,
+    /// docs/ltc.md), or 1.
     pub scale: f64,
+    /// Share `c ∈ [0, 1)` of the clamped cosine about the normal in the fitted distribution
+    /// `D̂ = (1 − c) D̂_M + c D_o`: the GGX lobe's broad upper tail at grazing views, which no
+    /// single LTC follows. Its polygon integral is the diffuse form factor the renderer
+    /// computes anyway, so the second lobe costs nothing (docs/ltc.md, "The cosine tail").
+    pub cosine: f64,
 }
 
 impl LtcEntry {
@@ -58,26 +66,33 @@ impl LtcEntry {
         x * (1.0 / x.length())
     }
 
+    /// The distribution's integral over a horizon-clipped polygon `P` from its two parts:
+    /// `e_ltc = E(clip(M⁻¹P))` and `e_cos = E(P)`.
+    #[inline]
+    pub fn mix(&self, e_ltc: f64, e_cos: f64) -> f64 {
+        (1.0 - self.cosine) * e_ltc + self.cosine * e_cos
+    }
+
     /// Scale of the specular integral for Schlick reflectance `f0`:
-    /// `∫_P ρ F cosθl dω ≈ E(M⁻¹P) · scale · (f0 (norm − fresnel) + fresnel)`.
+    /// `∫_P ρ F cosθl dω ≈ mix(E(M⁻¹P), E(P)) · scale · (f0 (norm − fresnel) + fresnel)`.
     #[inline]
     pub fn specular_scale(&self, f0: f64) -> f64 {
         self.scale * (f0 * (self.norm - self.fresnel) + self.fresnel)
     }
 
-    /// `H = ∫_{z>0} D̂_M dω`, the part of the LTC distribution above the horizon. The
-    /// half-space `z > 0` is `{ω' : (Mᵀz)·ω' > 0}` in the cosine's space, and the clamped
-    /// cosine's integral over the half-space whose normal makes the angle β with `z` is
-    /// `(1 + cosβ)/2` (the view factor of a tilted plane; 001 Eq. 3.12 with `P` the
-    /// hemisphere).
+    /// `H = ∫_{z>0} D̂ dω = (1 − c) H_M + c`, the part of the distribution above the
+    /// horizon. For the LTC part the half-space `z > 0` is `{ω' : (Mᵀz)·ω' > 0}` in the
+    /// cosine's space, and the clamped cosine's integral over the half-space whose normal
+    /// makes the angle β with `z` is `H_M = (1 + cosβ)/2` (the view factor of a tilted plane;
+    /// 001 Eq. 3.12 with `P` the hemisphere); the cosine about the normal lies wholly above.
     pub fn horizon_fraction(&self) -> f64 {
         let m = self.m_inv.inverse();
         let n = DVec3::new(m.x_axis.z, m.y_axis.z, m.z_axis.z);
-        0.5 * (1.0 + n.z / n.length())
+        self.mix(0.5 * (1.0 + n.z / n.length()), 1.0)
     }
 
-    /// `[m00, m02, m20, m22, norm, fresnel, scale]` of `M⁻¹ / M⁻¹[y][y]` (`mRC` = row R,
-    /// column C).
+    /// `[m00, m02, m20, m22, norm, fresnel, scale, cosine]` of `M⁻¹ / M⁻¹[y][y]` (`mRC` =
+    /// row R, column C).
     pub fn to_record(&self) -> [f64; RECORD_VALUES] {
         let m = self.m_inv * (1.0 / self.m_inv.y_axis.y);
         [
@@ -88,6 +103,7 @@ impl LtcEntry {
             self.norm,
             self.fresnel,
             self.scale,
+            self.cosine,
         ]
     }
 
@@ -103,6 +119,7 @@ impl LtcEntry {
             norm: r[4],
             fresnel: r[5],
             scale: r[6],
+            cosine: r[7],
         }
     }
 }
@@ -134,7 +151,9 @@ pub enum TableFormatError {
     Length { got: usize, expected: usize },
     #[error("LTC table checksum mismatch")]
     Checksum,
-    #[error("LTC table record {0} holds a non-finite value or a scale <= 0")]
+    #[error(
+        "LTC table record {0} holds a non-finite value, a scale <= 0 or a cosine share outside [0, 1)"
+    )]
     Record(usize),
 }
 
@@ -299,7 +318,13 @@ impl LtcTable {
     /// [`LtcTable::map_entries`] with the row `i` and column `j` of each entry.
     pub fn map_entries_indexed(&self, f: impl Fn(usize, usize, LtcEntry) -> LtcEntry) -> LtcTable {
         let entries: Vec<LtcEntry> = (0..self.n * self.n)
-            .map(|k| f(k / self.n, k % self.n, LtcEntry::from_record(&self.records[k])))
+            .map(|k| {
+                f(
+                    k / self.n,
+                    k % self.n,
+                    LtcEntry::from_record(&self.records[k]),
+                )
+            })
             .collect();
         LtcTable::from_entries(self.n, self.alpha_min, self.cos_theta_min, &entries)
     }
@@ -371,7 +396,7 @@ impl LtcTable {
             for (q, x) in r.iter_mut().enumerate() {
                 *x = f64_at(bytes, off + 8 * q);
             }
-            if !(r.iter().all(|x| x.is_finite()) && r[6] > 0.0) {
+            if !(r.iter().all(|x| x.is_finite()) && r[6] > 0.0 && (0.0..1.0).contains(&r[7])) {
                 return Err(TableFormatError::Record(k));
             }
             records.push(r);

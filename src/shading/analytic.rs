@@ -929,7 +929,9 @@ fn integrate_lobes<R: Recorder>(
             &mut scratch.lobe_clip,
             &mut scratch.horizon,
         );
-        let e_spec = form_factor(scratch.lobe_clip.loops()).max(0.0);
+        // The fitted distribution: the LTC plus its cosine tail, whose integral over the
+        // visible polygon is the diffuse form factor (LtcEntry::mix).
+        let e_spec = entry.mix(form_factor(scratch.lobe_clip.loops()).max(0.0), e_diffuse);
         rec.lobe(
             Lobe::Specular,
             &scratch.lobe_poly,

@@ -2,20 +2,21 @@
 //! "Converging to GGX").
 //!
 //! Alg. 1 finds the visible spherical polygon `V` exactly; only the LTC is approximate. With
-//! `s · D̂_M` the integrand the LTC integrates (`integrate_lobes`: `s` = `specular_scale(F0)`,
-//! `D̂_M(ω) = D_o(M⁻¹ω/‖M⁻¹ω‖) |M⁻¹| / ‖M⁻¹ω‖³`, 001 Eq. 3.11),
+//! `s · D̂` the integrand the LTC integrates (`integrate_lobes`: `s` = `specular_scale(F0)`,
+//! `D̂ = (1 − c) D̂_M + c D_o` the LTC `D̂_M(ω) = D_o(M⁻¹ω/‖M⁻¹ω‖) |M⁻¹| / ‖M⁻¹ω‖³` of
+//! 001 Eq. 3.11 with the table's cosine tail `c`, docs/ltc.md),
 //!
 //! ```text
-//! ∫_V f_GGX cos dω = s ∫_V D̂_M dω  +  ∫_V (f_GGX cos − s D̂_M) dω
+//! ∫_V f_GGX cos dω = s ∫_V D̂ dω  +  ∫_V (f_GGX cos − s D̂) dω
 //!                    (analytic, LTC)    (estimated here)
 //! ```
 //!
 //! The second term is estimated by directions drawn from a mixture of three densities
 //! (one-sample MIS with the balance heuristic, Veach 1997 Sect. 9.2.2), the lobe's share being
-//! the LTC's own mass inside `V` (`∫_V D̂_M`, known exactly: the fraction of lobe samples that
+//! the LTC's own mass inside `V` (`∫_V D̂`, known exactly: the fraction of lobe samples that
 //! land in `V`), clamped to [0.05, 0.95]:
 //!
-//! * `p_ltc = D̂_M`: the LTC itself (a cosine sample mapped by `M`),
+//! * `p_ltc = D̂`: the LTC itself (a cosine sample, mapped by `M` outside the tail's share),
 //! * `p_ggx`: GGX visible normals (Heitz 2018), reflected, for the tail the LTC lacks,
 //! * `p_fan = c(ω) / S`: uniform over the fan triangles of `V`'s loops, each loop fanned from
 //!   its own first vertex (`S` the sum of their unsigned solid angles, `c(ω)` how many of them
@@ -67,12 +68,14 @@ pub struct GlossyLobe {
     v: DVec3,
     alpha: f64,
     ks: DVec3,
-    /// `s = specular_scale(F0)` per channel: the LTC's integrand is `s · D̂_M`.
+    /// `s = specular_scale(F0)` per channel: the LTC's integrand is `s · D̂`.
     scale: DVec3,
     m: DMat3,
     m_inv: DMat3,
     /// `|det M⁻¹|`.
     det_inv: f64,
+    /// Share of the cosine tail ([`LtcEntry::cosine`]).
+    cosine: f64,
 }
 
 impl GlossyLobe {
@@ -90,31 +93,41 @@ impl GlossyLobe {
             m: entry.m_inv.inverse(),
             m_inv: entry.m_inv,
             det_inv: det.abs(),
+            cosine: entry.cosine,
         })
     }
 
-    /// `D̂_M(ω)` (001 Eq. 3.11): the LTC's normalised density.
+    /// `D̂(ω) = (1 − c) D̂_M(ω) + c D_o(ω)`: the fitted distribution's normalised density,
+    /// `D̂_M` of 001 Eq. 3.11 and the cosine tail `D_o(ω) = max(0, ω_z)/π`.
     #[inline]
     pub fn ltc_density(&self, w: DVec3) -> f64 {
         let x = self.m_inv * w;
         let len2 = x.length_squared();
-        if !(x.z > 0.0 && len2 > 0.0) {
-            return 0.0;
-        }
         // D_o(x/|x|) = (x.z/|x|)/π, times |M⁻¹| / |x|³.
-        FRAC_1_PI * x.z * self.det_inv / (len2 * len2)
+        let d_m = if x.z > 0.0 && len2 > 0.0 {
+            FRAC_1_PI * x.z * self.det_inv / (len2 * len2)
+        } else {
+            0.0
+        };
+        (1.0 - self.cosine) * d_m + self.cosine * FRAC_1_PI * w.z.max(0.0)
     }
 
-    /// A direction distributed as `D̂_M`: a cosine-distributed `ω_o` mapped by `M`.
+    /// A direction distributed as `D̂`: a cosine-distributed `ω_o`, mapped by `M` unless `u1`
+    /// falls in the tail's share (then rescaled to `[0, 1)`).
     #[inline]
     fn sample_ltc(&self, u1: f64, u2: f64) -> DVec3 {
+        let (u1, tail) = if u1 < self.cosine {
+            (u1 / self.cosine, true)
+        } else {
+            ((u1 - self.cosine) / (1.0 - self.cosine), false)
+        };
         let r = u1.sqrt();
         let (s, c) = (TAU * u2).sin_cos();
         let wo = DVec3::new(r * c, r * s, (1.0 - u1).max(0.0).sqrt());
-        (self.m * wo).normalize()
+        if tail { wo } else { (self.m * wo).normalize() }
     }
 
-    /// `f_GGX cos − s D̂_M` per channel at `ω` (above the horizon).
+    /// `f_GGX cos − s D̂` per channel at `ω` (above the horizon).
     #[inline]
     pub fn difference(&self, w: DVec3) -> DVec3 {
         specular_cos(self.ks, self.alpha, self.v, w) - self.scale * self.ltc_density(w)
@@ -154,15 +167,15 @@ pub struct CorrectionScratch {
 /// The mean and its variance of one light piece's correction estimate.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CorrectionEstimate {
-    /// Estimate of `∫_V (f_GGX cos − s D̂_M) dω` per channel (unit radiance).
+    /// Estimate of `∫_V (f_GGX cos − s D̂) dω` per channel (unit radiance).
     pub mean: DVec3,
     /// Variance of `mean` (the sample variance over `samples`).
     pub variance: DVec3,
 }
 
-/// Estimates `∫_V (f_GGX cos − s D̂_M) dω` over the visible polygon `visible` (local frame,
+/// Estimates `∫_V (f_GGX cos − s D̂) dω` over the visible polygon `visible` (local frame,
 /// clipped to the horizon, holes clockwise) with `samples` directions from `rng`. `lobe_mass`
-/// is `∫_V D̂_M` (the LTC integral of `V`, which the caller has just computed): it sets how
+/// is `∫_V D̂` (the LTC integral of `V`, which the caller has just computed): it sets how
 /// many samples are drawn from the lobe rather than from `V`.
 pub fn estimate_correction(
     visible: &SphericalPolygon,
@@ -196,7 +209,7 @@ pub fn estimate_correction(
             });
         }
     }
-    if samples == 0 || fan.is_empty() || !(total > 0.0) {
+    if samples == 0 || fan.is_empty() || total.is_nan() || total <= 0.0 {
         return CorrectionEstimate::default();
     }
     // A lobe sample lands in V with probability ∫_V D̂ (LTC) or about that (GGX): where V holds
