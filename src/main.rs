@@ -79,16 +79,19 @@ enum Command {
         /// Store scale = 1 instead of the horizon renormalisation 1/H.
         #[arg(long)]
         no_renorm: bool,
-        /// Fit a clamped cosine about the normal beside the LTC (its share per entry;
-        /// `--objective polygons` only; docs/ltc.md, "The cosine tail").
+        /// Fit no clamped cosine beside the LTC (share 0 in every entry; the committed table
+        /// fits one with `--objective polygons`, docs/ltc.md "Candidates").
         #[arg(long)]
-        cosine_tail: bool,
+        no_cosine_tail: bool,
         /// Refit only rows FIRST-LAST (roughness rows) of --base, keep the others (experiments).
         #[arg(long, requires = "base", value_parser = parse_rows)]
         rows: Option<(usize, usize)>,
         /// The table whose other rows --rows keeps (as for `render --ltc-table`).
         #[arg(long)]
         base: Option<String>,
+        /// Also write the per-cell fit report (TSV, as assets/ltc/fit_report.tsv).
+        #[arg(long, conflicts_with = "rows")]
+        report: Option<PathBuf>,
     },
     /// The error of LTC tables on polygon integrals over (view angle, roughness): CSV and a
     /// PNG heat map (docs/ltc.md, "Error on polygon integrals").
@@ -1062,7 +1065,9 @@ fn ltc_error(tables: &[String], fits: &[String], out: &Path, m: usize, k: usize)
         for flag in parts {
             match flag {
                 "renorm" => fo.renormalize = true,
-                "cosine" if objective == Objective::Polygons => fo.cosine_tail = true,
+                "cosine" if matches!(objective, Objective::Polygons | Objective::Combined) => {
+                    fo.cosine_tail = true
+                }
                 _ => bail!(
                     "--fit {f}: unknown option +{flag} (expected +renorm, or +cosine with polygons)"
                 ),
@@ -1207,9 +1212,10 @@ fn run() -> Result<()> {
             size,
             objective,
             no_renorm,
-            cosine_tail,
+            no_cosine_tail,
             rows,
             base,
+            report,
         }) => {
             let start = std::time::Instant::now();
             let mut fo = penumbra::ltc::fit::FitOptions::default();
@@ -1217,10 +1223,8 @@ fn run() -> Result<()> {
                 fo.objective = o;
             }
             fo.renormalize = !no_renorm;
-            fo.cosine_tail = cosine_tail;
-            if cosine_tail && fo.objective != penumbra::ltc::fit::Objective::Polygons {
-                bail!("--cosine-tail needs --objective polygons");
-            }
+            // The tail is fitted only with the polygon objectives (fit_cell ignores it otherwise).
+            fo.cosine_tail = !no_cosine_tail;
             let table = match (rows, base) {
                 (Some((first, last)), Some(base)) => {
                     let base = ltc_table(&base)?;
@@ -1241,12 +1245,17 @@ fn run() -> Result<()> {
                     })
                 }
                 _ => {
-                    penumbra::ltc::fit::fit_table_cells_with(size, &fo, |done, total| {
-                        if done % size == 0 {
-                            eprintln!("  {done}/{total}");
-                        }
-                    })
-                    .0
+                    let (table, cells) =
+                        penumbra::ltc::fit::fit_table_cells_with(size, &fo, |done, total| {
+                            if done % size == 0 {
+                                eprintln!("  {done}/{total}");
+                            }
+                        });
+                    if let Some(path) = &report {
+                        std::fs::write(path, penumbra::ltc::fit::report_tsv(&table, &cells))
+                            .with_context(|| format!("{}", path.display()))?;
+                    }
+                    table
                 }
             };
             table

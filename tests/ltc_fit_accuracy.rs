@@ -19,7 +19,7 @@ use ltc_common::{Z999, clip_convex_to_horizon, inside_convex};
 use penumbra::ltc::ggx::{
     brdf_cos, pdf_vndf_reflect, reflect, sample_vndf, schlick_weight, vndf_weight,
 };
-use penumbra::ltc::{LtcTable, form_factor};
+use penumbra::ltc::{LtcEntry, LtcTable, form_factor};
 use penumbra::math::Pcg32;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -48,15 +48,13 @@ fn ltc_density(m_inv: &DMat3, w: DVec3) -> f64 {
 /// LTC, the rotated cosine and VNDF reflection (balance heuristic; every density that is
 /// non-zero somewhere is sampled, so the estimate is unbiased). Returns ((fit, ci), (base, ci)).
 ///
-/// By the triangle inequality |norm·E(M⁻¹P) − ∫_P brdf_cos| ≤ norm·L1 for *every* polygon P:
-/// a tolerance that follows from the table itself rather than from the measured errors.
-fn l1_distances(
-    m_inv: &DMat3,
-    norm: f64,
-    v: DVec3,
-    alpha: f64,
-    rng: &mut Pcg32,
-) -> ((f64, f64), (f64, f64)) {
+/// The fitted density is the one the renderer integrates over polygons clipped to the
+/// horizon: `scale · ((1 − c) D̂_M + c cos⁺/π)` above the horizon, nothing below (the L1
+/// distance is over the upper hemisphere, for both densities). By the triangle inequality
+/// |LTC(P) − ∫_P brdf_cos| ≤ norm·L1 for *every* polygon P above the horizon: a tolerance that
+/// follows from the table itself rather than from the measured errors.
+fn l1_distances(e: &LtcEntry, v: DVec3, alpha: f64, rng: &mut Pcg32) -> ((f64, f64), (f64, f64)) {
+    let (m_inv, norm) = (&e.m_inv, e.norm);
     let m = m_inv.inverse();
     // Mean direction of the lobe, from VNDF samples.
     let mut mean = DVec3::ZERO;
@@ -75,10 +73,14 @@ fn l1_distances(
             1 => base * cosine_sample(u1, u2),
             _ => reflect(v, sample_vndf(v, alpha, u1, u2)),
         };
-        let d_fit = ltc_density(m_inv, w);
+        let d_m = ltc_density(m_inv, w);
         let d_base = ltc_density(&base_inv, w);
-        let p_vndf = pdf_vndf_reflect(v, w, alpha);
-        let pdf = (d_fit + d_base + p_vndf) / 3.0;
+        let pdf = (d_m + d_base + pdf_vndf_reflect(v, w, alpha)) / 3.0;
+        let (d_fit, d_base) = if w.z > 0.0 {
+            (e.scale * e.mix(d_m, w.z / PI), d_base)
+        } else {
+            (0.0, 0.0)
+        };
         if pdf <= 0.0 {
             continue;
         }
@@ -190,7 +192,8 @@ fn run(alpha: f64, cos_v: f64, node: bool, seed: u64) -> Row {
         .map(|(_, p)| {
             let q: Vec<DVec3> = p.iter().map(|&w| e.transform(w)).collect();
             let q = clip_convex_to_horizon(&q);
-            e.norm * form_factor([q.as_slice()])
+            // As `integrate_lobes` with F0 = 1: the LTC and its cosine tail, renormalised.
+            e.specular_scale(1.0) * e.mix(form_factor([q.as_slice()]), form_factor([p.as_slice()]))
         })
         .collect();
     let mut rng = Pcg32::new(seed, 17);
@@ -222,7 +225,7 @@ fn run(alpha: f64, cos_v: f64, node: bool, seed: u64) -> Row {
         let var = (s2[q] / n - m * m).max(0.0) * n / (n - 1.0);
         (m, Z999 * (var / n).sqrt())
     };
-    let (l1, l1_base) = l1_distances(&e.m_inv, e.norm, v, alpha, &mut rng);
+    let (l1, l1_base) = l1_distances(&e, v, alpha, &mut rng);
     let (nm, nci) = est(k);
     let (fm, fci) = est(k + 1);
     Row {

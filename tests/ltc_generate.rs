@@ -4,7 +4,6 @@
 
 use penumbra::ltc::fit::fit_table_cells;
 use penumbra::ltc::table::LTC_TABLE_SIZE;
-use std::fmt::Write as _;
 use std::time::Instant;
 
 #[test]
@@ -23,30 +22,7 @@ fn generate_committed_table() {
     let secs = t0.elapsed().as_secs_f64();
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/ltc");
     table.save(format!("{dir}/ggx_ltc_64.bin")).unwrap();
-    let mut tsv = String::from(
-        "# i\tj\talpha\tcos_theta_v\tnorm\tfresnel\trel_l3\tevals\tm00\tm02\tm20\tm22\n",
-    );
-    for i in 0..n {
-        for j in 0..n {
-            let c = &cells[i * n + j];
-            let r = c.entry.to_record();
-            writeln!(
-                tsv,
-                "{i}\t{j}\t{:.6e}\t{:.6e}\t{:.8}\t{:.8}\t{:.5}\t{}\t{:.6e}\t{:.6e}\t{:.6e}\t{:.6e}",
-                table.alpha_at(i),
-                table.cos_theta_at(j),
-                r[4],
-                r[5],
-                (c.l3_error / c.lobe_l3).cbrt(),
-                c.evals,
-                r[0],
-                r[1],
-                r[2],
-                r[3]
-            )
-            .unwrap();
-        }
-    }
+    let tsv = penumbra::ltc::fit::report_tsv(&table, &cells);
     std::fs::write(format!("{dir}/fit_report.tsv"), tsv).unwrap();
     eprintln!(
         "fit-ltc: {n}×{n} table in {secs:.1} s on {} threads",

@@ -116,6 +116,30 @@ fn ltc_horizon_fraction_is_the_hemisphere_integral() {
 }
 
 #[test]
+fn ltc_lookups_between_nodes_are_renormalised() {
+    // A blend of 1/H values is not 1/H of the blended LTC: the lookup renormalises the
+    // interpolated entry, so that the whole hemisphere integrates to the albedo everywhere,
+    // including between nodes whose LTCs lie below the horizon by very different amounts
+    // (grazing, smooth).
+    let h = hemisphere();
+    let t = LtcTable::embedded();
+    assert!(t.is_renormalized() && !published().is_renormalized());
+    for &(c, a) in &[
+        (0.062, 0.001),
+        (0.02, 0.0005),
+        (0.3, 0.3),
+        (0.11, 0.05),
+        (0.9, 0.7),
+        (0.004, 0.02),
+    ] {
+        let e = t.lookup(c, a);
+        let ff: f64 = h.pieces.iter().map(|p| ltc_form_factor(&e, p)).sum();
+        let r = e.specular_scale(1.0) * ff / e.norm;
+        assert!((r - 1.0).abs() < 1e-9, "cosθv {c}, α {a}: {r}");
+    }
+}
+
+#[test]
 fn ltc_published_table_conversion() {
     let t = published();
     assert_eq!(t.size(), 64);

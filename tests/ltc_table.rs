@@ -89,6 +89,14 @@ fn ltc_lookup_interpolates_between_nodes() {
     let r = e.to_record();
     let rec = |i: usize, j: usize| t.entry(i, j).to_record();
     for (k, got) in r.iter().enumerate() {
+        if k == 6 && t.is_renormalized() {
+            // The scale of a renormalised table is 1/H of the interpolated entry itself.
+            assert!(
+                (got * e.horizon_fraction() - 1.0).abs() <= 1e-14,
+                "scale {got}"
+            );
+            continue;
+        }
         let want = 0.25 * 0.5 * (rec(i, j)[k] + rec(i, j + 1)[k])
             + 0.75 * 0.5 * (rec(i + 1, j)[k] + rec(i + 1, j + 1)[k]);
         assert!(

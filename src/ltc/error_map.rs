@@ -273,7 +273,7 @@ pub fn heat_map_png(
     }
     draw_text(
         &mut pm,
-        "RMS |LTC - exact| / albedo over 17 polygons, per (view angle, alpha)",
+        "RMS of (LTC - exact) / albedo over 17 polygons, per (view angle, alpha)",
         left,
         h - 14.0,
         &TextStyle::new(11.0, black),

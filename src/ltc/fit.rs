@@ -47,6 +47,11 @@ pub enum Objective {
     /// polygons ([`FitPolygons`]: quads of three sizes on a grid of directions over the
     /// upper hemisphere) against a Monte Carlo oracle, in units of the albedo.
     Polygons,
+    /// `Polygons` and `L3Upper` together, each relative: the polygons' weighted squared error
+    /// over their weighted squared targets plus `(L3 / ∫ f³)^(2/3)`. The L3 term keeps the
+    /// lobe's shape where it is large (lights near the highlight), the polygon term its
+    /// integrals everywhere else.
+    Combined,
 }
 
 /// The polygon set and oracle values of [`Objective::Polygons`] for one cell.
@@ -56,17 +61,39 @@ pub struct FitPolygons {
     cos_form_factors: Vec<f64>,
     /// Oracle `∫_P brdf_cos dω / norm` per polygon.
     targets: Vec<f64>,
+    /// Weight of each polygon's squared error (summing to 1).
+    weights: Vec<f64>,
 }
 
+/// Smallest α fitted with the polygon objectives. Below it the lobe is narrower than the
+/// smallest lobe quad (`w` floors at 0.02) and than the grid's, the polygons cannot resolve its
+/// shape (at α = 0.004 and θv = 88° such a fit lands farther from GGX in L1 than the starting
+/// cosine), and the cell is fitted with [`Objective::L3Upper`], without the tail.
+pub const POLYGON_ALPHA_MIN: f64 = 0.02;
+
+/// Share of the objective carried by the polygons placed where the lobe is (the rest by the
+/// fixed grid over the hemisphere). Measured on the `glossy` scene's first image (docs/ltc.md,
+/// "Candidates"): 0.5 gives 4.5 %, 0.8 gives 4.4 % relative RMSE with lobe quads of w/2…2w.
+pub const LOBE_POLYGON_SHARE: f64 = 0.8;
+
 impl FitPolygons {
-    /// Gnomonic quads of tangent half-size 0.08, 0.25 and 0.6 centred at elevations
-    /// 2°, 8°, 18°, 32°, 50°, 75° and azimuths 180°, 155°, 125°, 90°, 45°, 0° (the reflection
-    /// direction is at azimuth 180°; by symmetry one side suffices), clipped to the horizon,
-    /// with `k × k` oracle samples.
-    pub fn new(cos_theta_v: f64, alpha: f64, k: usize) -> Self {
-        use super::polygon_error::{TestPolygon, oracle_integrals};
+    /// Two sets, clipped to the horizon, with `k × k` oracle samples:
+    ///
+    /// * a fixed grid: gnomonic quads of tangent half-size 0.08, 0.25 and 0.6 centred at
+    ///   elevations 2°, 8°, 18°, 32°, 50°, 75° and azimuths 180°, 155°, 125°, 90°, 45°, 0°
+    ///   (the reflection direction is at azimuth 180°; by symmetry one side suffices);
+    /// * where the lobe is: quads of half-size `w/2, w, 2w` (`w = clamp(α, 0.02, 0.5)`, the
+    ///   lobe's width in tangent units) centred on the lobe's average direction `axis`, and
+    ///   up to 49 of half-size `w/4, w/2, w` (cycling) centred at directions distributed like
+    ///   the lobe (a 7 × 7 midpoint grid of VNDF samples, reflected; those below the horizon
+    ///   dropped), so that lights count where the lobe sees them, at the sizes that resolve
+    ///   its shape;
+    ///
+    /// each set carrying its share of the weight ([`LOBE_POLYGON_SHARE`]).
+    pub fn new(cos_theta_v: f64, alpha: f64, axis: DVec3, k: usize) -> Self {
+        use super::polygon_error::{TestPolygon, clip_vec, gnomonic, oracle_integrals};
         let deg = PI / 180.0;
-        let mut polys = Vec::new();
+        let mut grid = Vec::new();
         for &e in &[2.0, 8.0, 18.0, 32.0, 50.0, 75.0] {
             for &a in &[180.0, 155.0, 125.0, 90.0, 45.0, 0.0] {
                 for &s in &[0.08, 0.25, 0.6] {
@@ -75,20 +102,46 @@ impl FitPolygons {
                         (e * deg).cos() * (a * deg).sin(),
                         (e * deg).sin(),
                     );
-                    let q = super::polygon_error::gnomonic(c, s, 4, PI / 4.0);
-                    let q = super::polygon_error::clip_vec(&q);
-                    if q.len() >= 3 {
-                        polys.push(TestPolygon {
-                            name: "fit",
-                            pieces: vec![q],
-                        });
-                    }
+                    grid.push(clip_vec(&gnomonic(c, s, 4, PI / 4.0)));
                 }
             }
         }
+        let w = alpha.clamp(0.02, 0.5);
+        let mut lobe = Vec::new();
+        for s in [0.5 * w, w, 2.0 * w] {
+            lobe.push(clip_vec(&gnomonic(axis.normalize(), s, 4, PI / 4.0)));
+        }
+        // Centres distributed like the lobe: the midpoints of a 7 × 7 grid on the VNDF sample
+        // square, reflected; half-sizes cycling through w/2, w, 2w.
+        let v = view_dir(cos_theta_v);
+        let n = 7;
+        for a in 0..n {
+            for b in 0..n {
+                let (u1, u2) = ((a as f64 + 0.5) / n as f64, (b as f64 + 0.5) / n as f64);
+                let c = ggx::reflect(v, ggx::sample_vndf(v, alpha, u1, u2));
+                if c.z > 0.0 {
+                    let size = [0.25 * w, 0.5 * w, w][(a * n + b) % 3];
+                    lobe.push(clip_vec(&gnomonic(c, size, 4, PI / 4.0)));
+                }
+            }
+        }
+        grid.retain(|q| q.len() >= 3);
+        lobe.retain(|q| q.len() >= 3);
+        let mut weights = vec![(1.0 - LOBE_POLYGON_SHARE) / grid.len() as f64; grid.len()];
+        weights.extend(vec![
+            LOBE_POLYGON_SHARE / lobe.len().max(1) as f64;
+            lobe.len()
+        ]);
+        let pieces: Vec<Vec<DVec3>> = grid.into_iter().chain(lobe).collect();
+        let polys: Vec<TestPolygon> = pieces
+            .iter()
+            .map(|q| TestPolygon {
+                name: "fit",
+                pieces: vec![q.clone()],
+            })
+            .collect();
         let o = oracle_integrals(cos_theta_v, alpha, &polys, k, 0x00f1_7000);
         let norm = o.albedo.0;
-        let pieces: Vec<Vec<DVec3>> = polys.into_iter().map(|p| p.pieces[0].clone()).collect();
         FitPolygons {
             cos_form_factors: pieces
                 .iter()
@@ -96,12 +149,24 @@ impl FitPolygons {
                 .collect(),
             pieces,
             targets: o.values.iter().map(|v| v.0 / norm).collect(),
+            weights,
         }
     }
 
-    /// Mean of `(mix(E(M⁻¹P), E(P))/H − target)²` for the distribution
-    /// `(1 − c) D̂_M + c D_o` renormalised to the upper hemisphere (allocation-free).
-    pub fn eval(&self, m: &DMat3, cosine: f64) -> f64 {
+    /// `Σ weight · target²`: the objective of the zero function, the polygon term's unit in
+    /// [`Objective::Combined`].
+    pub fn energy(&self) -> f64 {
+        self.targets
+            .iter()
+            .zip(&self.weights)
+            .map(|(t, w)| w * t * t)
+            .sum()
+    }
+
+    /// Weighted mean of `(mix(E(M⁻¹P), E(P))/H − target)²` for the distribution
+    /// `(1 − c) D̂_M + c D_o`, renormalised to the upper hemisphere if `renormalize`
+    /// (allocation-free).
+    pub fn eval(&self, m: &DMat3, cosine: f64, renormalize: bool) -> f64 {
         let m_inv = m.inverse();
         if m_inv.determinant().is_nan() || m_inv.determinant() <= 0.0 {
             return f64::INFINITY;
@@ -117,19 +182,22 @@ impl FitPolygons {
         if h.is_nan() || h <= 1e-9 {
             return f64::INFINITY;
         }
-        e.scale = 1.0 / h;
+        if renormalize {
+            e.scale = 1.0 / h;
+        }
         let mut sq = 0.0;
-        for ((p, &t), &e_cos) in self
+        for (((p, &t), &e_cos), &wt) in self
             .pieces
             .iter()
             .zip(&self.targets)
             .zip(&self.cos_form_factors)
+            .zip(&self.weights)
         {
             let e_ltc = super::polygon_error::ltc_form_factor(&LtcEntry { cosine: 0.0, ..e }, p);
             let d = e.scale * e.mix(e_ltc, e_cos) - t;
-            sq += d * d;
+            sq += wt * d * d;
         }
-        sq / self.targets.len() as f64
+        sq
     }
 }
 
@@ -150,7 +218,7 @@ impl Default for FitOptions {
         FitOptions {
             objective: Objective::Polygons,
             renormalize: true,
-            cosine_tail: false,
+            cosine_tail: true,
         }
     }
 }
@@ -419,12 +487,18 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 5], fo: &FitOptions) 
     let v = view_dir(cos_theta_v);
     let mom = lobe_moments(v, alpha, MOMENT_SAMPLES);
     let err = L3Error::with_objective(v, alpha, mom.norm, FIT_SAMPLES, fo.objective);
-    let polys = (fo.objective == Objective::Polygons)
-        .then(|| FitPolygons::new(cos_theta_v, alpha, POLYGON_ORACLE_SAMPLES));
+    let polys = (matches!(fo.objective, Objective::Polygons | Objective::Combined)
+        && alpha >= POLYGON_ALPHA_MIN)
+        .then(|| FitPolygons::new(cos_theta_v, alpha, mom.avg_dir, POLYGON_ORACLE_SAMPLES));
     let tail = fo.cosine_tail && polys.is_some();
-    let objective = |m: &DMat3, t: f64| match &polys {
-        Some(p) => p.eval(m, if tail { cosine_share(t) } else { 0.0 }),
-        None => err.eval(m),
+    let lobe_l3 = lobe_l3(&err);
+    let objective = |m: &DMat3, t: f64| match (&polys, fo.objective) {
+        (Some(p), Objective::Combined) => {
+            p.eval(m, if tail { cosine_share(t) } else { 0.0 }, fo.renormalize) / p.energy()
+                + (err.eval(m) / lobe_l3).powf(2.0 / 3.0)
+        }
+        (Some(p), _) => p.eval(m, if tail { cosine_share(t) } else { 0.0 }, fo.renormalize),
+        (None, _) => err.eval(m),
     };
     let opts = nm_options();
     let normal = v.x == 0.0;
@@ -478,7 +552,6 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 5], fo: &FitOptions) 
     let m = basis
         * k_matrix(&[params[0], params[1], params[2], params[3]]).expect("the minimum is feasible");
     let m_inv = m.inverse();
-    let lobe_l3 = lobe_l3(&err);
     let mut entry = LtcEntry {
         m_inv: m_inv * (1.0 / m_inv.y_axis.y),
         norm: mom.norm,
@@ -494,11 +567,7 @@ pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 5], fo: &FitOptions) 
         params,
         // The fit's own L3-type error (for the polygon objective: the upper-hemisphere L3
         // of the renormalised LTC), so that the report compares like with like.
-        l3_error: if fo.objective == Objective::Polygons {
-            err.eval(&m)
-        } else {
-            l3
-        },
+        l3_error: if polys.is_some() { err.eval(&m) } else { l3 },
         lobe_l3,
         evals,
     }
@@ -593,4 +662,38 @@ pub fn fit_grid(
         })
         .collect();
     rows.into_iter().flatten().collect()
+}
+
+/// The per-cell fit report (`assets/ltc/fit_report.tsv`): per cell its row, column, α, cosθv,
+/// `norm`, `fresnel`, the relative L3 error over the upper hemisphere of the LTC part, the
+/// objective evaluations, the stored matrix and `scale`, `cosine`.
+pub fn report_tsv(table: &LtcTable, cells: &[CellFit]) -> String {
+    use std::fmt::Write as _;
+    let n = table.size();
+    let mut tsv = String::from(
+        "# i\tj\talpha\tcos_theta_v\tnorm\tfresnel\trel_l3_upper_ltc_part\tevals\tm00\tm02\tm20\tm22\tscale\tcosine\n",
+    );
+    for i in 0..n {
+        for j in 0..n {
+            let c = &cells[i * n + j];
+            let r = c.entry.to_record();
+            let _ = writeln!(
+                tsv,
+                "{i}\t{j}\t{:.6e}\t{:.6e}\t{:.8}\t{:.8}\t{:.5}\t{}\t{:.6e}\t{:.6e}\t{:.6e}\t{:.6e}\t{:.8}\t{:.6}",
+                table.alpha_at(i),
+                table.cos_theta_at(j),
+                r[4],
+                r[5],
+                (c.l3_error / c.lobe_l3).cbrt(),
+                c.evals,
+                r[0],
+                r[1],
+                r[2],
+                r[3],
+                r[6],
+                r[7]
+            );
+        }
+    }
+    tsv
 }

@@ -136,6 +136,19 @@ pub struct LtcTable {
     cosines: Vec<f64>,
     /// `records[i * n + j]`, see [`LtcEntry::to_record`].
     records: Vec<[f64; RECORD_VALUES]>,
+    /// Every stored `scale` is the horizon renormalisation `1/H` of its entry: lookups then
+    /// renormalise the *interpolated* entry (`1/H` of the blend), since a blend of `1/H` values
+    /// is not `1/H` of the blend — between neighbours whose LTCs lie partly below the horizon
+    /// by very different amounts it can be far off.
+    renormalized: bool,
+}
+
+/// Is every record's `scale` its entry's `1/H` (to rounding)?
+fn all_renormalized(records: &[[f64; RECORD_VALUES]]) -> bool {
+    records.iter().all(|r| {
+        let e = LtcEntry::from_record(r);
+        (e.scale * e.horizon_fraction() - 1.0).abs() <= 1e-9
+    })
 }
 
 /// Error of [`LtcTable::from_bytes`].
@@ -222,13 +235,15 @@ impl LtcTable {
     ) -> Self {
         assert!(n >= 2 && entries.len() == n * n);
         let (alphas, cosines) = nodes(n, alpha_min, cos_theta_min);
+        let records: Vec<_> = entries.iter().map(LtcEntry::to_record).collect();
         LtcTable {
             n,
             alpha_min,
             cos_theta_min,
             alphas,
             cosines,
-            records: entries.iter().map(LtcEntry::to_record).collect(),
+            renormalized: all_renormalized(&records),
+            records,
         }
     }
 
@@ -272,7 +287,8 @@ impl LtcTable {
     /// Bilinear interpolation of the stored records, linear in `α` and in `cosθv` between
     /// the bracketing nodes (the nodes themselves are uniform in `√α` and `√(1 − cosθv)`).
     /// Inputs are clamped to `[alpha_min, 1]` and `[cos_theta_min, 1]` (NaN → the minimum).
-    /// Returns the stored entry bit for bit at the nodes. Allocation-free.
+    /// Returns the stored entry bit for bit at the nodes (for a renormalised table, whose
+    /// interpolated entry gets `scale = 1/H` of itself, to rounding). Allocation-free.
     #[inline]
     pub fn lookup(&self, cos_theta_v: f64, alpha: f64) -> LtcEntry {
         let a = if alpha > self.alpha_min {
@@ -303,7 +319,16 @@ impl LtcTable {
         for k in 0..RECORD_VALUES {
             r[k] = w00 * r00[k] + w01 * r01[k] + w10 * r10[k] + w11 * r11[k];
         }
-        LtcEntry::from_record(&r)
+        let mut e = LtcEntry::from_record(&r);
+        if self.renormalized {
+            e.scale = 1.0 / e.horizon_fraction();
+        }
+        e
+    }
+
+    /// Are the stored scales the horizon renormalisation (and lookups renormalise)?
+    pub fn is_renormalized(&self) -> bool {
+        self.renormalized
     }
 
     /// The same table with `f` applied to every stored entry (e.g. the horizon
@@ -408,6 +433,7 @@ impl LtcTable {
             cos_theta_min,
             alphas,
             cosines,
+            renormalized: all_renormalized(&records),
             records,
         })
     }
