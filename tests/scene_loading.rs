@@ -44,7 +44,8 @@ fn every_embedded_scene_loads_cleanly_and_matches_the_files() {
             "letters",
             "env_figures",
             "env_atrium",
-            "env_crowd"
+            "env_crowd",
+            "glossy"
         ]
     );
     for &name in embedded_scene_names() {
