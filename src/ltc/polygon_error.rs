@@ -190,6 +190,9 @@ pub fn ltc_form_factor(entry: &LtcEntry, poly: &[DVec3]) -> f64 {
     let mut c = [DVec3::ZERO; MAX_CLIPPED];
     let m = clip_into(&t[..n], &mut c);
     let e_ltc = form_factor([&c[..m]]).max(0.0);
+    if entry.cosine == 0.0 {
+        return e_ltc;
+    }
     let e_cos = form_factor([&poly[..n]]).max(0.0);
     entry.mix(e_ltc, e_cos)
 }

@@ -145,6 +145,8 @@ pub struct LightRecord {
     pub exact: Vec<ExactSilhouetteRecord>,
     pub occluder_polygons: Vec<(usize, Option<usize>, Stage, SphericalPolygon)>,
     pub set_differences: Vec<SetDifferenceRecord>,
+    /// Per lobe: the transformed and the clipped polygon, and the lobe's integral (for the
+    /// specular lobe the fitted distribution's, `LtcEntry::mix(E(M⁻¹V), E(V))`).
     pub lobes: Vec<(Lobe, SphericalPolygon, SphericalPolygon, f64)>,
     pub diffuse: DVec3,
     pub specular: DVec3,
