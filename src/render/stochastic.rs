@@ -265,20 +265,22 @@ pub fn compose_cancellable(
         }
     };
     let mut out = RenderOutput::default();
+    // The per-pixel standard error of S_N (the reference's, and analytic-exact's correction's).
+    let s_stderr = || Image {
+        width: w,
+        height: h,
+        pixels: buffers
+            .s_variance
+            .pixels
+            .iter()
+            .map(|v| v.map(f64::sqrt))
+            .collect(),
+    };
     match method {
         RenderMethod::Mc => out.image = per_pixel(Estimator::FullStochastic),
         RenderMethod::Reference => {
             out.image = per_pixel(Estimator::FullStochastic);
-            out.stderr = Some(Image {
-                width: w,
-                height: h,
-                pixels: buffers
-                    .s_variance
-                    .pixels
-                    .iter()
-                    .map(|v| v.map(f64::sqrt))
-                    .collect(),
-            });
+            out.stderr = Some(s_stderr());
         }
         RenderMethod::AnalyticExact => {
             out.image = Image {
@@ -290,16 +292,7 @@ pub fn compose_cancellable(
                     })
                     .collect(),
             };
-            out.stderr = Some(Image {
-                width: w,
-                height: h,
-                pixels: buffers
-                    .s_variance
-                    .pixels
-                    .iter()
-                    .map(|v| v.map(f64::sqrt))
-                    .collect(),
-            });
+            out.stderr = Some(s_stderr());
         }
         RenderMethod::ControlVariate => out.image = per_pixel(Estimator::ControlVariate),
         RenderMethod::Ratio => out.image = per_pixel(Estimator::Ratio),
