@@ -242,8 +242,9 @@ fn analytic_exact_image_is_unbiased_against_a_ray_cast_reference() {
 
 /// The progressive renderer shows the LTC image first and converges from there: the previews
 /// of `analytic-exact` are the analytic images of their size bit for bit, every full-resolution
-/// pass keeps that LTC image (less what the lights emit toward the eye) as its U, and the correction of the last frame is the mean of the
-/// passes' corrections (its standard error falls as passes accumulate).
+/// pass keeps that LTC image (less what the lights emit toward the eye) as its U, and the
+/// correction of the last frame is the mean of the passes' corrections (its standard error
+/// falls as passes accumulate).
 #[test]
 fn progressive_analytic_exact_starts_from_the_ltc_image() {
     use penumbra::render::progressive::{PREVIEW_SCALE, render_progressive};
