@@ -494,3 +494,84 @@ pub fn shade_plain(
         &mut NoRecorder,
     )
 }
+
+/// A pixel worth inspecting first: on a receiver in the penumbra of a light, where the
+/// pipeline does the most (set differences with several occluders), near the middle of the
+/// light's shadow boundary. `None` when no sampled pixel is in a penumbra.
+///
+/// Candidates are the centres of a `grid`×`grid` lattice of cells, each shaded once by the
+/// renderer's own `shade` with the recorder on (the recording is what the score reads). The
+/// score prefers a visible share of the light's solid angle near one half, more occluders
+/// subtracted, and pixels near the image centre; ties go to the first in scan order, so the
+/// choice is deterministic.
+pub fn interesting_pixel(
+    ctx: &RenderContext,
+    camera: &Camera,
+    size: (u32, u32),
+    grid: u32,
+) -> Option<(f64, f64)> {
+    use rayon::prelude::*;
+    let basis = camera.basis().ok()?;
+    let (w, h) = (size.0.max(1), size.1.max(1));
+    let grid = grid.max(2);
+    let cells: Vec<(u32, u32)> = (0..grid)
+        .flat_map(|j| (0..grid).map(move |i| (i, j)))
+        .collect();
+    let scored: Vec<Option<(f64, (f64, f64))>> = cells
+        .par_iter()
+        .map_init(ShadingScratch::default, |scratch, &(i, j)| {
+            let x = ((i as f64 + 0.5) / grid as f64 * w as f64).floor();
+            let y = ((j as f64 + 0.5) / grid as f64 * h as f64).floor();
+            let ray = Ray {
+                origin: basis.eye,
+                dir: basis.direction(x + 0.5, y + 0.5, w, h),
+            };
+            let hit = ctx.primary_hit(&ray)?;
+            if !hit.receiver {
+                return None;
+            }
+            let sp = hit.point;
+            let material = &ctx.prepared.materials[sp.object.unwrap_or(0) as usize];
+            let mut rec = StageRecording::new(false);
+            shade(
+                &ctx.prepared,
+                &sp,
+                material,
+                Method::Analytic,
+                scratch,
+                &mut rec,
+            );
+            let mut best: Option<f64> = None;
+            for r in &rec.lights {
+                let (mut clipped, mut visible) = (0.0, 0.0);
+                for (stage, poly) in &r.polygons {
+                    match stage {
+                        Stage::HorizonClipped => clipped += poly.signed_solid_angle(),
+                        Stage::Visible => visible += poly.signed_solid_angle(),
+                        _ => {}
+                    }
+                }
+                if clipped <= 0.0 || r.set_differences.is_empty() {
+                    continue;
+                }
+                let f = visible / clipped;
+                if !(0.05..=0.95).contains(&f) {
+                    continue;
+                }
+                let occluders = r.set_differences.len().min(3) as f64;
+                let centre = ((x / w as f64 - 0.5).powi(2) + (y / h as f64 - 0.5).powi(2)).sqrt();
+                let s = 1.0 - (f - 0.5).abs() + 0.15 * occluders - 0.5 * centre;
+                best = Some(best.map_or(s, |b: f64| b.max(s)));
+            }
+            best.map(|s| (s, (x, y)))
+        })
+        .collect();
+    scored
+        .into_iter()
+        .flatten()
+        .fold(None, |acc: Option<(f64, (f64, f64))>, c| match acc {
+            Some(a) if a.0 >= c.0 => Some(a),
+            _ => Some(c),
+        })
+        .map(|c| c.1)
+}

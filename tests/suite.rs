@@ -48,3 +48,4 @@ mod thesis_polyhedra;
 mod tree_library;
 mod windowed_silhouette;
 mod workbench;
+mod workbench_layout;

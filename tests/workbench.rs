@@ -5,13 +5,14 @@
 use egui::{Event, PointerButton, Pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use penumbra::app::layout::{self, Pane};
 use penumbra::app::stages::StepKind;
 use penumbra::app::{Persisted, WorkbenchApp};
 use penumbra::inspect::probe;
 use penumbra::shading::Method;
 use std::time::{Duration, Instant};
 
-fn harness(state: Persisted) -> Harness<'static, WorkbenchApp> {
+pub(crate) fn harness(state: Persisted) -> Harness<'static, WorkbenchApp> {
     let app = WorkbenchApp::new(state, || {});
     Harness::builder()
         .with_size((1280.0, 800.0))
@@ -19,7 +20,7 @@ fn harness(state: Persisted) -> Harness<'static, WorkbenchApp> {
 }
 
 /// Steps the UI until the viewport's render has finished.
-fn wait_for_render(h: &mut Harness<'static, WorkbenchApp>) {
+pub(crate) fn wait_for_render(h: &mut Harness<'static, WorkbenchApp>) {
     let start = Instant::now();
     loop {
         h.step();
@@ -34,7 +35,7 @@ fn wait_for_render(h: &mut Harness<'static, WorkbenchApp>) {
     }
 }
 
-fn click(h: &mut Harness<'static, WorkbenchApp>, pos: Pos2) {
+pub(crate) fn click(h: &mut Harness<'static, WorkbenchApp>, pos: Pos2) {
     h.event(Event::PointerMoved(pos));
     h.step();
     for pressed in [true, false] {
@@ -115,13 +116,18 @@ fn pick_a_penumbra_pixel_and_step_through_its_stages() {
     // The panel shows the point's numbers and the stepper.
     // The panel is drawn before the viewport that handled the click: one more frame.
     h.step();
+    // The numbers are a tab behind the stages in the explore preset.
+    layout::reveal(&mut h.state_mut().tree, Pane::Numbers);
+    h.step();
     h.get_by_label("radiance");
+    layout::reveal(&mut h.state_mut().tree, Pane::Stages);
+    h.step();
     h.get_by_label("next >").click_accesskit();
     h.run_steps(2);
     assert_eq!(h.state().inspector.as_ref().unwrap().step, Some(0));
     let first = h.state().inspector.as_ref().unwrap().steps[0].label.clone();
-    // Shown as the current stage and in the list.
-    assert_eq!(h.query_all_by_label(&first).count(), 2);
+    // Shown as the current stage, in the list and above the sphere.
+    assert_eq!(h.query_all_by_label(&first).count(), 3);
     // Walk with the keyboard to the first set difference, then through its GH phases.
     let sd = h
         .state()
@@ -142,6 +148,9 @@ fn pick_a_penumbra_pixel_and_step_through_its_stages() {
         ins.current().unwrap().kind,
         StepKind::SetDifference { .. }
     ));
+    // At a set difference the projected plane comes forward in the sphere's place.
+    assert!(layout::is_shown(&h.state().tree, Pane::Planar));
+    assert!(!layout::is_shown(&h.state().tree, Pane::Sphere));
     assert_eq!(
         h.query_all_by_label(&ins.current().unwrap().label.clone())
             .count(),
@@ -293,6 +302,7 @@ fn the_environment_panel_drives_the_render_and_the_picked_point() {
     let ins = h.state().inspector.as_ref().unwrap();
     assert_eq!(ins.probe.radiance, frame.frame.output.image.at(x, y));
     assert!(!ins.probe.recording.environment.terms.is_empty());
+    layout::reveal(&mut h.state_mut().tree, Pane::Numbers);
     h.run_steps(2);
     h.get_by_label("E_occluded");
     h.get_by_label("union terms integrated:");
@@ -316,6 +326,7 @@ fn the_environment_panel_drives_the_render_and_the_picked_point() {
     assert_eq!(rec.rays.len(), 16);
     assert!(rec.rays.iter().any(|r| r.outcome != RayOutcome::Culled));
     h.run_steps(2);
-    // The rays' row of the numbers, and the layer's check box.
-    assert_eq!(h.query_all_by_label("rays").count(), 2);
+    // The rays' row of the numbers (the layer's check box is in the sphere's menu, closed).
+    assert_eq!(h.query_all_by_label("rays").count(), 1);
+    assert!(h.state().state.sphere.layers.rays);
 }

@@ -4,9 +4,9 @@
 
 use super::planar_view::planar_ui;
 use super::sphere_view::SphereView;
-use super::stages::{Step, StepKind, steps};
+use super::stages::{GhPhase, Step, StepKind, steps};
 use crate::inspect::{MonteCarloEstimate, Probe};
-use crate::shading::{EnvironmentSide, RayOutcome};
+use crate::shading::{EnvironmentSide, RayOutcome, SetDifferenceRecord};
 use egui::{RichText, Ui};
 
 /// The picked point and where the stepper stands.
@@ -370,48 +370,98 @@ impl Inspector {
             });
     }
 
-    /// The sphere view, and the planar view when the step is a set difference.
-    pub fn views_ui(&mut self, ui: &mut Ui, sphere: &mut SphereView) {
-        ui.horizontal_wrapped(|ui| {
-            let l = &mut sphere.layers;
-            ui.checkbox(&mut l.contours, "contour edges");
-            ui.checkbox(&mut l.light_silhouette, "light silhouette");
-            ui.checkbox(&mut l.light_clipped, "clipped");
-            ui.checkbox(&mut l.occluders, "occluders");
-            ui.checkbox(&mut l.visible, "visible");
-            ui.checkbox(&mut l.ltc, "LTC space");
-            ui.checkbox(&mut l.directions, "n, v, r");
-            if self.probe.environment.is_some() {
-                ui.checkbox(&mut l.environment, "environment map");
-                ui.checkbox(&mut l.env_terms, "union terms");
-                ui.checkbox(&mut l.cones, "cones");
-                ui.checkbox(&mut l.rays, "rays");
-            }
-            ui.checkbox(&mut sphere.fit, "zoom the flat view to fit");
-        });
-        let step = self.current().cloned();
-        if let Some(Step {
-            record,
-            kind: StepKind::SetDifference { k, phase },
-            ..
-        }) = step
-            && let Some(sd) = self
-                .probe
-                .recording
-                .lights
-                .get(record)
-                .and_then(|r| r.set_differences.get(k))
-        {
-            let name = self
-                .probe
-                .occluder_names
-                .get(sd.occluder)
-                .cloned()
-                .unwrap_or_default();
-            planar_ui(ui, sd, &name, phase, sphere.width);
+    /// The lesson of the current step: what the stage does, its equation, and this point's
+    /// numbers (text from docs/analytic-pipeline.md, `super::lesson`).
+    pub fn lesson_ui(&self, ui: &mut Ui) {
+        let Some(step) = self.current() else {
+            ui.label(
+                "Step through the stages (next >, or the arrow keys) to read what each one \
+                 does, its equation, and its numbers at this point.",
+            );
             return;
+        };
+        let Some(l) = super::lesson::lesson(&self.probe, step) else {
+            return;
+        };
+        ui.label(RichText::new(&l.title).strong().size(15.0));
+        ui.add(egui::Label::new(&l.text).wrap());
+        if !l.equation.is_empty() {
+            ui.add_space(4.0);
+            ui.add(egui::Label::new(RichText::new(&l.equation).monospace().size(13.0)).wrap());
         }
-        sphere.ui(ui, &self.probe, step.as_ref());
+        if !l.here.is_empty() {
+            ui.add_space(4.0);
+            ui.add(egui::Label::new(RichText::new(format!("Here: {}", l.here)).strong()).wrap());
+        }
+    }
+
+    /// The set difference the planar view shows: the current step's, else the last one at
+    /// or before the current step, else the first one recorded; with the GH phase stepped.
+    fn planar_subject(&self) -> Option<(&SetDifferenceRecord, Option<GhPhase>)> {
+        let rec = &self.probe.recording.lights;
+        let at = |record: usize, k: usize| rec.get(record).and_then(|r| r.set_differences.get(k));
+        let upto = self.step.unwrap_or(self.steps.len().saturating_sub(1));
+        for s in self.steps[..(upto + 1).min(self.steps.len())].iter().rev() {
+            if let StepKind::SetDifference { k, phase } = s.kind {
+                let phase = if Some(s) == self.current() {
+                    phase
+                } else {
+                    None
+                };
+                return at(s.record, k).map(|sd| (sd, phase));
+            }
+        }
+        rec.iter()
+            .find_map(|r| r.set_differences.first())
+            .map(|sd| (sd, None))
+    }
+
+    /// Whether the current step is a set difference (the planar view is then the one to see).
+    pub fn at_set_difference(&self) -> bool {
+        matches!(
+            self.current().map(|s| s.kind),
+            Some(StepKind::SetDifference { .. })
+        )
+    }
+
+    /// The header of a view: the layer menu and the current stage's label.
+    fn view_header(&self, ui: &mut Ui, sphere: &mut SphereView) {
+        ui.horizontal(|ui| {
+            sphere.layers_ui(ui, &self.probe);
+            let label = match self.current() {
+                Some(s) => s.label.clone(),
+                None => format!("all {} stages", self.steps.len()),
+            };
+            ui.add(egui::Label::new(RichText::new(label).strong()).truncate());
+        });
+    }
+
+    /// The 3D unit sphere at the point, the current step's polygons on it.
+    pub fn sphere_pane(&self, ui: &mut Ui, sphere: &mut SphereView) {
+        self.view_header(ui, sphere);
+        sphere.sphere_ui(ui, &self.probe, self.current());
+    }
+
+    /// The hemisphere seen from the normal.
+    pub fn hemisphere_pane(&self, ui: &mut Ui, sphere: &mut SphereView) {
+        self.view_header(ui, sphere);
+        sphere.hemisphere_ui(ui, &self.probe, self.current());
+    }
+
+    /// The set difference in the occluder's projection plane, phase by phase.
+    pub fn planar_pane(&self, ui: &mut Ui) {
+        let Some((sd, phase)) = self.planar_subject() else {
+            ui.label("No occluder is subtracted at this point (Alg. 1 line 12 does not run).");
+            return;
+        };
+        let name = self
+            .probe
+            .occluder_names
+            .get(sd.occluder)
+            .cloned()
+            .unwrap_or_default();
+        let w = ui.available_width();
+        planar_ui(ui, sd, &name, phase, w);
     }
 }
 

@@ -11,9 +11,14 @@
 pub mod bench_job;
 pub mod environment_panel;
 pub mod files;
+pub mod gizmo;
 pub mod inspector;
+pub mod layout;
+pub mod lesson;
+pub mod lesson_export;
 pub mod light_view;
 pub mod orbit;
+pub mod panes;
 pub mod planar_view;
 pub mod sphere_view;
 pub mod stages;
@@ -28,6 +33,7 @@ use crate::shading::{CorrectionSampling, Method};
 use egui::{Color32, Key, RichText, Sense, TextureHandle, TextureOptions, Ui};
 use files::Opened;
 use inspector::Inspector;
+use layout::{Pane, Preset};
 use orbit::OrbitCamera;
 use sphere_view::SphereView;
 use std::path::PathBuf;
@@ -56,7 +62,33 @@ pub struct Persisted {
     /// rotation and scale when it loads; a scene without one starts with none).
     #[serde(default)]
     pub environment: environment_panel::EnvironmentChoice,
+    /// The arrangement of the tiles as the user left it (`None`: the preset's).
+    #[serde(default)]
+    pub layout: Option<egui_tiles::Tree<Pane>>,
+    #[serde(default = "default_preset")]
+    pub preset: Preset,
+    /// Width / height of the rendered image; the viewport keeps it in any tile (0: fill the
+    /// tile).
+    #[serde(default = "default_aspect")]
+    pub aspect: f32,
 }
+
+fn default_preset() -> Preset {
+    Preset::Explore
+}
+
+fn default_aspect() -> f32 {
+    4.0 / 3.0
+}
+
+/// The image aspects offered (width / height; 0 fills the tile).
+pub const ASPECTS: [(f32, &str); 5] = [
+    (4.0 / 3.0, "4:3"),
+    (16.0 / 9.0, "16:9"),
+    (3.0 / 2.0, "3:2"),
+    (1.0, "1:1"),
+    (0.0, "fill the tile"),
+];
 
 impl Default for Persisted {
     fn default() -> Self {
@@ -75,6 +107,9 @@ impl Default for Persisted {
             recent: Vec::new(),
             sphere: SphereView::default(),
             environment: Default::default(),
+            layout: None,
+            preset: Preset::Explore,
+            aspect: default_aspect(),
         }
     }
 }
@@ -108,12 +143,24 @@ pub struct WorkbenchApp {
     trace: ErrorTrace,
     pub status: String,
     show_help: bool,
-    show_plots: bool,
+    /// The tiles.
+    pub tree: egui_tiles::Tree<Pane>,
+    /// A pane shown alone over the whole window (its tab's "maximise"; Esc restores).
+    pub maximised: Option<Pane>,
+    /// The step shown in the last frame, to bring the planar view forward at a set difference.
+    shown_step: Option<usize>,
+    /// Pick a point chosen to be interesting once the first frame of a scene is shown.
+    auto_pick: bool,
     last_frame: Instant,
     /// UI frame times (ms), for the status bar.
     frame_ms: f64,
     pending_screenshot: Option<(PathBuf, Option<egui::Rect>)>,
     sphere_rect: Option<egui::Rect>,
+    /// The tile of the sphere, hemisphere or projected plane drawn last (what a lesson frame
+    /// shows).
+    subject_rect: Option<egui::Rect>,
+    /// A lesson being exported, frame by frame.
+    lesson_capture: Option<lesson_export::LessonCapture>,
     /// Where the viewport was drawn in the last frame (points).
     pub viewport_rect: Option<egui::Rect>,
     bench_job: Option<bench_job::BenchJob>,
@@ -121,11 +168,6 @@ pub struct WorkbenchApp {
     /// The light whose polyhedron the structure view shows (index into the prepared lights).
     selected_light: Option<usize>,
     pub light_view: light_view::LightView,
-    /// Scroll the settings panel to the light structure view in the next frame (it sits at the
-    /// bottom of a long panel, out of sight in a window of ordinary height).
-    reveal_light: bool,
-    /// Scroll the inspector panel to the sphere (or planar) view in the next frame.
-    reveal_views: bool,
     /// Read silhouettes from the BSP trees (as the renderer does by default); off, every
     /// silhouette is computed at its point, and the recording then holds the contour pieces
     /// the exact silhouette's ray test rejected there.
@@ -176,22 +218,32 @@ impl WorkbenchApp {
             trace: ErrorTrace::default(),
             status: String::new(),
             show_help: false,
-            show_plots: false,
+            tree: Preset::Explore.tree(),
+            maximised: None,
+            shown_step: None,
+            auto_pick: true,
             last_frame: Instant::now(),
             frame_ms: 0.0,
             pending_screenshot: None,
             sphere_rect: None,
+            subject_rect: None,
+            lesson_capture: None,
             viewport_rect: None,
             bench_job: None,
             bench_size: (160, 120),
             selected_light: None,
             light_view: light_view::LightView::default(),
-            reveal_light: false,
-            reveal_views: false,
             use_trees: true,
             env_panel: Default::default(),
             env_maps: Default::default(),
             state,
+        };
+        app.tree = match app.state.layout.take() {
+            Some(mut t) => {
+                layout::add_missing_panes(&mut t);
+                t
+            }
+            None => app.state.preset.tree(),
         };
         let scene = app.state.scene.clone();
         let orbit = app.state.orbit;
@@ -200,6 +252,15 @@ impl WorkbenchApp {
             app.orbit = o;
         }
         app
+    }
+
+    /// What is kept between runs: the settings, the camera and the tile layout.
+    pub fn persisted(&self) -> Persisted {
+        Persisted {
+            orbit: Some(self.orbit),
+            layout: Some(self.tree.clone()),
+            ..self.state.clone()
+        }
     }
 
     /// Creates the app inside eframe (restoring the persisted state).
@@ -252,6 +313,7 @@ impl WorkbenchApp {
         self.scene_generation += 1;
         self.inspector = None;
         self.monte_carlo = None;
+        self.auto_pick = true;
         self.state.recent.retain(|r| *r != name);
         self.state.recent.insert(0, name.clone());
         self.state.recent.truncate(8);
@@ -435,7 +497,7 @@ impl WorkbenchApp {
             Ok(Opened::Bench(r)) => {
                 self.status = format!("bench report of {}", r.scene);
                 self.bench = Some(*r);
-                self.show_plots = true;
+                layout::reveal(&mut self.tree, Pane::Plots);
             }
             Ok(Opened::Environment(p)) => {
                 let mut choice = self.state.environment.clone();
@@ -446,7 +508,7 @@ impl WorkbenchApp {
                 self.status = format!("reference {}×{} loaded", img.width, img.height);
                 self.trace.reference = Some(img);
                 self.trace.points.clear();
-                self.show_plots = true;
+                layout::reveal(&mut self.tree, Pane::Plots);
             }
             Err(e) => self.status = format!("{e:#}"),
         }
@@ -463,7 +525,7 @@ impl WorkbenchApp {
         match found {
             Some(l) => {
                 self.selected_light = Some(l);
-                self.reveal_light = true;
+                layout::reveal(&mut self.tree, Pane::LightStructure);
             }
             None => self.status = format!("no light named '{name}'"),
         }
@@ -547,6 +609,7 @@ impl WorkbenchApp {
                     i.modifiers.command && i.key_pressed(Key::O),
                     i.key_pressed(Key::F12),
                     i.key_pressed(Key::F1),
+                    i.key_pressed(Key::Escape),
                 ),
             )
         });
@@ -557,7 +620,10 @@ impl WorkbenchApp {
             }
         }
         let typing = ctx.egui_wants_keyboard_input();
-        let (next, prev, home, play, reset, save, dump, open, shot, help) = keys;
+        let (next, prev, home, play, reset, save, dump, open, shot, help, escape) = keys;
+        if escape {
+            self.maximised = None;
+        }
         if !typing {
             if let Some(ins) = &mut self.inspector {
                 if next {
@@ -726,7 +792,30 @@ impl WorkbenchApp {
                 if ui.checkbox(&mut self.state.dark, "dark theme").changed() {
                     self.apply_theme(ui.ctx());
                 }
-                ui.checkbox(&mut self.show_plots, "plots");
+                ui.separator();
+                ui.menu_button("Layout", |ui| {
+                    for p in Preset::ALL {
+                        if ui
+                            .selectable_label(self.state.preset == p, p.name())
+                            .clicked()
+                        {
+                            self.set_preset(p);
+                        }
+                    }
+                });
+                ui.menu_button("Panes", |ui| {
+                    for p in Pane::ALL {
+                        let mut shown = layout::find(&self.tree, p)
+                            .is_some_and(|id| self.tree.tiles.is_visible(id));
+                        if ui.checkbox(&mut shown, p.title()).changed() {
+                            if shown {
+                                layout::reveal(&mut self.tree, p);
+                            } else if let Some(id) = layout::find(&self.tree, p) {
+                                self.tree.tiles.set_visible(id, false);
+                            }
+                        }
+                    }
+                });
                 ui.checkbox(&mut self.show_help, "help (F1)");
             });
         });
@@ -775,14 +864,24 @@ impl WorkbenchApp {
         {
             ui.label(format!("false colour: {lo:.3} … {hi:.3}"));
         }
-        ui.separator();
-        ui.heading("Environment");
+        let current = ASPECTS
+            .iter()
+            .find(|a| (a.0 - self.state.aspect).abs() < 1e-3)
+            .map_or("custom", |a| a.1);
+        egui::ComboBox::from_label("image aspect")
+            .selected_text(current)
+            .show_ui(ui, |ui| {
+                for (a, name) in ASPECTS {
+                    ui.selectable_value(&mut self.state.aspect, a, name);
+                }
+            });
+    }
+
+    fn environment_ui(&mut self, ui: &mut Ui) {
         let mut choice = self.state.environment.clone();
         if self.env_panel.ui(ui, &mut choice) {
             self.set_environment(choice);
         }
-        ui.separator();
-        self.scene_ui(ui);
     }
 
     fn scene_ui(&mut self, ui: &mut Ui) {
@@ -843,8 +942,12 @@ impl WorkbenchApp {
         for w in ctx.scene.warnings.iter().chain(&ctx.prepared.notes) {
             ui.small(w);
         }
-        ui.separator();
-        ui.heading("Light structure");
+    }
+
+    fn light_structure_ui(&mut self, ui: &mut Ui) {
+        let Some(ctx) = &self.ctx else {
+            return;
+        };
         let names: Vec<String> = ctx
             .prepared
             .lights
@@ -873,17 +976,29 @@ impl WorkbenchApp {
                 .and_then(|i| i.probe.point)
                 .map(|p| p.position);
             self.light_view.ui(ui, obj, point);
-            if std::mem::take(&mut self.reveal_light) {
-                ui.scroll_to_cursor_animation(
-                    Some(egui::Align::Max),
-                    egui::style::ScrollAnimation::none(),
-                );
-            }
         }
     }
 
     fn viewport_ui(&mut self, ui: &mut Ui) {
-        let avail = ui.available_size();
+        // The image keeps its aspect in any tile: the largest rectangle of that aspect,
+        // centred, so that resizing a tile never stretches the camera.
+        let full = ui.available_size();
+        let aspect = self.state.aspect;
+        let avail = if aspect > 0.0 {
+            let w = full.x.min(full.y * aspect);
+            egui::vec2(w, w / aspect)
+        } else {
+            full
+        };
+        let pad = (full - avail) * 0.5;
+        ui.add_space(pad.y.max(0.0));
+        ui.horizontal(|ui| {
+            ui.add_space(pad.x.max(0.0));
+            self.viewport_image_ui(ui, avail);
+        });
+    }
+
+    fn viewport_image_ui(&mut self, ui: &mut Ui, avail: egui::Vec2) {
         let ppp = ui.ctx().pixels_per_point();
         let scale = self.state.resolution.clamp(0.1, 1.0) * ppp;
         let size = (
@@ -987,36 +1102,161 @@ impl WorkbenchApp {
         });
     }
 
-    fn inspector_ui(&mut self, ui: &mut Ui) {
+    /// The numbers of the picked point and the Monte Carlo check.
+    fn numbers_ui(&mut self, ui: &mut Ui) {
         let Some(ins) = &mut self.inspector else {
             ui.label("Click a pixel to inspect its shading point, or open a debug dump.");
             return;
         };
         ins.numbers_ui(ui, self.monte_carlo.as_ref());
         ins.environment_ui(ui);
-        let mut mc = false;
-        ui.horizontal(|ui| {
-            mc = ui.button("Monte Carlo check (65536 samples)").clicked();
-        });
-        ui.separator();
-        ins.stepper_ui(ui);
-        ui.separator();
-        let before = ui.cursor().min;
-        ins.views_ui(ui, &mut self.state.sphere);
-        // Room for the horizontal scroll bar, which floats over the content's bottom edge.
-        ui.add_space(16.0);
-        let after = ui.min_rect().max;
-        self.sphere_rect = Some(egui::Rect::from_min_max(before, after));
-        if std::mem::take(&mut self.reveal_views) {
-            ui.scroll_to_rect_animation(
-                egui::Rect::from_min_max(before, ui.cursor().min),
-                Some(egui::Align::Max),
-                egui::style::ScrollAnimation::none(),
-            );
-        }
-        if mc {
+        if ui.button("Monte Carlo check (65536 samples)").clicked() {
             self.run_monte_carlo(65536);
         }
+    }
+
+    /// The stepper through Alg. 1 with the lesson text of the current stage.
+    fn stages_ui(&mut self, ui: &mut Ui) {
+        let Some(ins) = &mut self.inspector else {
+            ui.label("Click a pixel to inspect its shading point, or open a debug dump.");
+            return;
+        };
+        ins.stepper_ui(ui);
+        ui.separator();
+        ins.lesson_ui(ui);
+        sphere_view::step_details_ui(ui, &ins.probe, ins.current());
+        ui.separator();
+        match &self.lesson_capture {
+            Some(c) => {
+                let (done, all) = c.progress();
+                ui.label(format!("exporting the lesson: {done} of {all} frames…"));
+            }
+            None => {
+                if ui
+                    .button("Export lesson…")
+                    .on_hover_text(
+                        "Every stage of this point as numbered PNG frames, an animated GIF and \
+                         the lesson text (lesson.md), for slides",
+                    )
+                    .clicked()
+                    && let Some(dir) = rfd::FileDialog::new().pick_folder()
+                {
+                    self.export_lesson(dir);
+                }
+            }
+        }
+    }
+
+    /// Starts exporting every stage of the picked point into `dir` (frames, GIF, text): the
+    /// stepper walks the stages one frame after another and each is captured from the
+    /// sphere's tile. `false` when nothing is picked.
+    pub fn export_lesson(&mut self, dir: PathBuf) -> bool {
+        let Some(ins) = &self.inspector else {
+            self.status = "pick a point before exporting its lesson".into();
+            return false;
+        };
+        let labels = ins
+            .steps
+            .iter()
+            .map(|s| (s.label.clone(), lesson::lesson(&ins.probe, s)))
+            .collect();
+        self.maximised = None;
+        if !layout::is_shown(&self.tree, Pane::Planar) {
+            layout::reveal(&mut self.tree, Pane::Sphere);
+        }
+        self.lesson_capture = Some(lesson_export::LessonCapture::new(dir, 1.5, labels));
+        true
+    }
+
+    /// Whether a lesson export is running.
+    pub fn exporting_lesson(&self) -> bool {
+        self.lesson_capture.is_some()
+    }
+
+    /// One frame of a lesson export (after the tiles are drawn).
+    fn advance_lesson_capture(&mut self, ctx: &egui::Context) {
+        use lesson_export::CaptureAction;
+        let Some(capture) = &mut self.lesson_capture else {
+            return;
+        };
+        ctx.request_repaint();
+        match capture.advance() {
+            CaptureAction::Show(i) => {
+                if let Some(ins) = &mut self.inspector {
+                    ins.step = Some(i);
+                    ins.playing = false;
+                }
+            }
+            CaptureAction::Capture(i) => {
+                let receive = capture.receiver(i, self.subject_rect, ctx.pixels_per_point());
+                ctx.request_screenshot(receive);
+            }
+            CaptureAction::Wait => {}
+            CaptureAction::Write(frames) => {
+                let dir = capture.dir.clone();
+                let seconds = capture.seconds;
+                self.lesson_capture = None;
+                self.status = match lesson_export::write_lesson(&dir, &frames, seconds) {
+                    Ok(f) => format!(
+                        "wrote {} frames, {} and {}",
+                        f.frames.len(),
+                        f.gif.display(),
+                        f.text.display()
+                    ),
+                    Err(e) => format!("{e:#}"),
+                };
+            }
+        }
+    }
+
+    /// Draws one pane of the tile tree.
+    pub fn pane_ui(&mut self, ui: &mut Ui, pane: Pane) {
+        let pick_first = "Click a pixel of the viewport to see its shading point here.";
+        match pane {
+            Pane::Viewport => self.viewport_ui(ui),
+            Pane::Sphere => match &self.inspector {
+                Some(ins) => {
+                    self.subject_rect = Some(ui.max_rect());
+                    ins.sphere_pane(ui, &mut self.state.sphere);
+                    self.sphere_rect = Some(ui.min_rect());
+                }
+                None => {
+                    ui.label(pick_first);
+                }
+            },
+            Pane::Hemisphere => match &self.inspector {
+                Some(ins) => {
+                    self.subject_rect = Some(ui.max_rect());
+                    ins.hemisphere_pane(ui, &mut self.state.sphere)
+                }
+                None => {
+                    ui.label(pick_first);
+                }
+            },
+            Pane::Planar => match &self.inspector {
+                Some(ins) => {
+                    self.subject_rect = Some(ui.max_rect());
+                    ins.planar_pane(ui)
+                }
+                None => {
+                    ui.label(pick_first);
+                }
+            },
+            Pane::Stages => scrolled(ui, "stages_scroll", |ui| self.stages_ui(ui)),
+            Pane::Numbers => scrolled(ui, "numbers_scroll", |ui| self.numbers_ui(ui)),
+            Pane::Settings => scrolled(ui, "settings_scroll", |ui| self.settings_ui(ui)),
+            Pane::Scene => scrolled(ui, "scene_scroll", |ui| self.scene_ui(ui)),
+            Pane::LightStructure => scrolled(ui, "light_scroll", |ui| self.light_structure_ui(ui)),
+            Pane::Plots => scrolled(ui, "plots_scroll", |ui| self.plots_ui(ui)),
+            Pane::Environment => scrolled(ui, "env_scroll", |ui| self.environment_ui(ui)),
+        }
+    }
+
+    /// Replaces the tiles by `preset`'s.
+    pub fn set_preset(&mut self, preset: Preset) {
+        self.state.preset = preset;
+        self.tree = preset.tree();
+        self.maximised = None;
     }
 
     fn plots_ui(&mut self, ui: &mut Ui) {
@@ -1154,35 +1394,34 @@ impl WorkbenchApp {
 
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui));
         egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
-        egui::Panel::left("settings")
-            .resizable(true)
-            .default_size(260.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .id_salt("settings_scroll")
-                    .show(ui, |ui| self.settings_ui(ui));
-            });
-        egui::Panel::right("inspector")
-            .resizable(true)
-            .default_size(560.0)
-            .min_size(460.0)
-            .show(ui, |ui| {
-                self.state.sphere.width = ui.available_width();
-                // Scrolling both ways keeps wide tables from widening the panel (which would
-                // resize the viewport and restart the render).
-                egui::ScrollArea::both()
-                    .id_salt("inspector_scroll")
-                    .show(ui, |ui| {
-                        ui.heading("Picked point");
-                        self.inspector_ui(ui);
-                        if self.show_plots {
-                            ui.separator();
-                            ui.heading("Plots");
-                            self.plots_ui(ui);
-                        }
-                    });
-            });
-        egui::CentralPanel::default().show(ui, |ui| self.viewport_ui(ui));
+        self.follow_step();
+        egui::CentralPanel::default().show(ui, |ui| match self.maximised {
+            Some(pane) => {
+                ui.horizontal(|ui| {
+                    ui.strong(pane.title());
+                    if ui.small_button("restore (Esc)").clicked() {
+                        self.maximised = None;
+                    }
+                });
+                self.pane_ui(ui, pane);
+            }
+            None => {
+                let mut tree = std::mem::replace(
+                    &mut self.tree,
+                    egui_tiles::Tree::empty(egui::Id::unique("penumbra_tiles_swap")),
+                );
+                let mut host = panes::PaneHost {
+                    app: self,
+                    maximise: None,
+                };
+                tree.ui(&mut host, ui);
+                let maximise = host.maximise;
+                self.tree = tree;
+                if maximise.is_some() {
+                    self.maximised = maximise;
+                }
+            }
+        });
         if self.show_help {
             egui::Window::new("Help").open(&mut self.show_help).show(&ctx, |ui| {
                 ui.label(RichText::new("Keyboard and mouse").strong());
@@ -1197,9 +1436,69 @@ impl WorkbenchApp {
             });
         }
         self.maybe_request();
+        self.maybe_auto_pick();
         self.take_pending_screenshot(&ctx);
+        self.advance_lesson_capture(&ctx);
         if self.worker.is_busy() {
             ctx.request_repaint_after(std::time::Duration::from_millis(50));
+        }
+    }
+
+    /// Before anything is picked, picks a penumbra pixel chosen by
+    /// [`crate::inspect::interesting_pixel`], so that the sphere is never empty on first start.
+    fn maybe_auto_pick(&mut self) {
+        if !self.auto_pick || self.render_size.0 == 0 {
+            return;
+        }
+        self.auto_pick = false;
+        if self.inspector.is_some() {
+            return;
+        }
+        let Some(ctx) = self.ctx.clone() else {
+            return;
+        };
+        let t = Instant::now();
+        match crate::inspect::interesting_pixel(&ctx, &self.orbit.camera(), self.render_size, 24) {
+            Some((x, y)) => {
+                self.pick(x, y);
+                self.status = format!(
+                    "{} — a penumbra point picked to start with ({:.0} ms); click to pick another",
+                    self.status,
+                    t.elapsed().as_secs_f64() * 1e3
+                );
+            }
+            None => {
+                self.status = format!("{} — click a pixel to inspect it", self.status);
+            }
+        }
+    }
+
+    /// Brings the planar view forward when the stepper reaches a set difference, and the
+    /// sphere back after it (only where they share a tab container: a layout the user made
+    /// with both in sight is left alone).
+    fn follow_step(&mut self) {
+        let Some(ins) = &self.inspector else {
+            return;
+        };
+        if ins.step == self.shown_step {
+            return;
+        }
+        self.shown_step = ins.step;
+        let (want, other) = if ins.at_set_difference() {
+            (Pane::Planar, Pane::Sphere)
+        } else {
+            (Pane::Sphere, Pane::Planar)
+        };
+        let (Some(w), Some(o)) = (
+            layout::find(&self.tree, want),
+            layout::find(&self.tree, other),
+        ) else {
+            return;
+        };
+        if self.tree.tiles.parent_of(w) == self.tree.tiles.parent_of(o)
+            && self.tree.active_tiles().contains(&o)
+        {
+            self.tree.make_active(|id, _| id == w);
         }
     }
 
@@ -1209,6 +1508,11 @@ impl WorkbenchApp {
     }
 
     /// Whether the render of the current view is complete.
+    /// The prepared scene the viewport renders (`None` until a scene has loaded).
+    pub fn render_context(&self) -> Option<Arc<RenderContext>> {
+        self.ctx.clone()
+    }
+
     pub fn render_finished(&self) -> bool {
         self.worker.latest().is_some_and(|f| {
             f.frame.finished && self.requested.as_ref().is_some_and(|r| r.0 == f.generation)
@@ -1222,8 +1526,7 @@ impl eframe::App for WorkbenchApp {
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        self.state.orbit = Some(self.orbit);
-        eframe::set_value(storage, eframe::APP_KEY, &self.state);
+        eframe::set_value(storage, eframe::APP_KEY, &self.persisted());
     }
 }
 
@@ -1270,6 +1573,20 @@ pub struct RunOptions {
     /// Zoom the sphere view's flat hemisphere to fit the polygons drawn.
     #[arg(long)]
     pub fit: bool,
+    /// Arrange the tiles by this preset at start: explore, teach, benchmark.
+    #[arg(long, value_parser = parse_preset)]
+    pub preset: Option<Preset>,
+    /// Once the render has finished, export the lesson of the picked point (the one chosen
+    /// at start, or --pick) into this directory: frame_NNN.png, lesson.gif, lesson.md; then quit.
+    #[arg(long)]
+    pub export_lesson: Option<PathBuf>,
+}
+
+fn parse_preset(s: &str) -> Result<Preset, String> {
+    Preset::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Preset::ALL.iter().map(|p| p.name()).collect();
+        format!("no preset '{s}' (presets: {})", names.join(", "))
+    })
 }
 
 /// Parses "X,Y" into two numbers (command-line flags).
@@ -1304,6 +1621,9 @@ pub fn run(opts: RunOptions) -> eframe::Result {
         options,
         Box::new(move |cc| {
             let mut app = WorkbenchApp::from_creation_context(cc);
+            if let Some(p) = opts.preset {
+                app.set_preset(p);
+            }
             if opts.no_trees {
                 app.set_use_trees(false);
             }
@@ -1340,10 +1660,11 @@ pub fn run(opts: RunOptions) -> eframe::Result {
                     result: Measurement::default(),
                     last: None,
                 }) as Box<dyn eframe::App>
-            } else if let Some(path) = opts.screenshot.clone() {
+            } else if opts.screenshot.is_some() || opts.export_lesson.is_some() {
                 Box::new(AutoScreenshot {
                     app,
-                    path,
+                    path: opts.screenshot.clone(),
+                    lesson: opts.export_lesson.clone(),
                     after: opts.after,
                     start: Instant::now(),
                     state: 0,
@@ -1362,7 +1683,9 @@ pub fn run(opts: RunOptions) -> eframe::Result {
 /// pictures.
 struct AutoScreenshot {
     app: WorkbenchApp,
-    path: PathBuf,
+    path: Option<PathBuf>,
+    /// `--export-lesson DIR`.
+    lesson: Option<PathBuf>,
     after: f64,
     start: Instant,
     state: u32,
@@ -1423,16 +1746,12 @@ impl eframe::App for AutoScreenshot {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         self.app.ui(ui, frame);
         let t = self.start.elapsed().as_secs_f64();
-        if (1..=5).contains(&self.state) {
-            // The picked point adds to the structure view, and its views sit at the bottom of
-            // the inspector: keep both in sight until the picture is taken (they settle over
-            // a few frames).
-            self.app.reveal_light = self.app.selected_light.is_some();
-            self.app.reveal_views = self.pick.is_some();
-        }
         match self.state {
             0 if self.app.render_finished() || t > self.after => {
                 self.prepare();
+                if self.app.selected_light.is_some() {
+                    layout::reveal(&mut self.app.tree, Pane::LightStructure);
+                }
                 self.state = 1;
             }
             // A few frames for the panels to lay out what was picked, and the render of the
@@ -1440,8 +1759,22 @@ impl eframe::App for AutoScreenshot {
             1..=4 => self.state += 1,
             5 if !self.app.render_finished() && t < self.after + 60.0 => {}
             5 => {
-                self.app.screenshot_to(self.path.clone(), None);
+                if let Some(dir) = self.lesson.take()
+                    && self.app.export_lesson(dir)
+                {
+                    self.state = 100;
+                    return;
+                }
+                if let Some(path) = self.path.clone() {
+                    self.app.screenshot_to(path, None);
+                }
                 self.state = 6;
+            }
+            // The lesson export runs; then the screenshot, if one was asked for too.
+            100 if self.app.exporting_lesson() => {}
+            100 => {
+                eprintln!("{}", self.app.status);
+                self.state = 5;
             }
             6..=15 => self.state += 1,
             16 => ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close),
@@ -1590,4 +1923,12 @@ impl eframe::App for Measure {
         }
         self.last = Some(now);
     }
+}
+
+/// A pane's content in a vertical scroll area (panes are as tall as their tile).
+fn scrolled(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui)) {
+    egui::ScrollArea::both()
+        .id_salt(id)
+        .auto_shrink([false, false])
+        .show(ui, add);
 }

@@ -23,6 +23,9 @@ pub struct Layers {
     pub visible: bool,
     pub ltc: bool,
     pub directions: bool,
+    /// Labels at the corners of the current stage's polygons.
+    #[serde(default = "yes")]
+    pub vertex_labels: bool,
     /// The environment map's radiance as the sphere's background.
     #[serde(default = "yes")]
     pub environment: bool,
@@ -50,6 +53,7 @@ impl Default for Layers {
             visible: true,
             ltc: false,
             directions: true,
+            vertex_labels: true,
             environment: true,
             env_terms: true,
             cones: true,
@@ -96,9 +100,9 @@ pub struct SphereView {
     pub fit: bool,
     #[serde(skip)]
     pub hovered: Option<String>,
-    /// Width available to the two views (points): the panel's, set by the caller.
+    /// Side of the 3D sphere's square drawn last (points).
     #[serde(skip)]
-    pub width: f32,
+    pub sphere_side: f32,
 }
 
 impl Default for SphereView {
@@ -109,7 +113,7 @@ impl Default for SphereView {
             layers: Layers::default(),
             fit: false,
             hovered: None,
-            width: 480.0,
+            sphere_side: 0.0,
         }
     }
 }
@@ -127,6 +131,10 @@ struct Curve {
     label: String,
     /// Its entry in the legend.
     legend: &'static str,
+    /// Corners of the polygon drawn (not the arc points between them), with the tag their
+    /// labels start with; empty for curves whose corners are not labelled.
+    vertices: Vec<DVec3>,
+    tag: &'static str,
 }
 
 /// Points along the great-circle arc from `a` to `b` (unit vectors), `a` included.
@@ -150,6 +158,7 @@ fn loops_to_curves(
     colour: Color32,
     width: f32,
     (label, legend): (&str, &'static str),
+    tag: &'static str,
     out: &mut Vec<Curve>,
 ) {
     for lp in loops {
@@ -170,6 +179,8 @@ fn loops_to_curves(
             dot: false,
             label: label.into(),
             legend,
+            vertices: if tag.is_empty() { Vec::new() } else { v },
+            tag,
         });
     }
 }
@@ -223,6 +234,8 @@ fn curves_of(
                     dot: false,
                     label: label.clone(),
                     legend: "contour edge",
+                    vertices: Vec::new(),
+                    tag: "",
                 });
             }
         }
@@ -252,6 +265,8 @@ fn curves_of(
                     dot: false,
                     label: format!("{who}: contour piece rejected by the ray test"),
                     legend: "rejected contour piece",
+                    vertices: Vec::new(),
+                    tag: "",
                 });
             }
             let source = if ex.from_tree {
@@ -271,6 +286,8 @@ fn curves_of(
                     dot: false,
                     label: format!("{who}: apparent intersection (Eq. 4.4), silhouette {source}"),
                     legend: "apparent intersection",
+                    vertices: Vec::new(),
+                    tag: "",
                 });
             }
         }
@@ -301,11 +318,18 @@ fn curves_of(
             colour
         };
         if show && r <= upto {
+            // The corners of the current stage's polygon are labelled (l: light, v: visible).
+            let tag = match (r == upto || (step.is_none() && r == 5), r) {
+                (false, _) => "",
+                (true, 5) => "v",
+                (true, _) => "l",
+            };
             loops_to_curves(
                 poly.loops().map(|l| l.to_vec()),
                 colour,
                 width,
                 (name, name),
+                tag,
                 out,
             );
         }
@@ -329,11 +353,13 @@ fn curves_of(
             } else {
                 colour
             };
+            let tag = if (3..=4).contains(&upto) { "o" } else { "" };
             loops_to_curves(
                 poly.loops().map(|l| l.to_vec()),
                 colour,
                 width,
                 (&format!("occluder {}", occluder_name(*oi)), legend),
+                tag,
                 out,
             );
         }
@@ -346,6 +372,7 @@ fn curves_of(
                 colours::LTC.gamma_multiply(0.5),
                 1.5,
                 (&name, "LTC space"),
+                "",
                 out,
             );
             loops_to_curves(
@@ -353,6 +380,7 @@ fn curves_of(
                 colours::LTC,
                 2.5,
                 (&name, "LTC space"),
+                "t",
                 out,
             );
         }
@@ -394,6 +422,7 @@ fn environment_curves(
                 colour,
                 2.0,
                 (&name, legend),
+                "",
                 out,
             );
         }
@@ -425,6 +454,8 @@ fn environment_curves(
                     c.height
                 ),
                 legend: "cone (Eq. 4)",
+                vertices: Vec::new(),
+                tag: "",
             });
         }
         for (i, c) in rec.merged_cones.iter().enumerate() {
@@ -441,6 +472,8 @@ fn environment_curves(
                     c.height
                 ),
                 legend: "merged cone (Alg. 1)",
+                vertices: Vec::new(),
+                tag: "",
             });
         }
     }
@@ -467,6 +500,8 @@ fn environment_curves(
                 dot: true,
                 label: legend.to_string(),
                 legend,
+                vertices: Vec::new(),
+                tag: "",
             });
         }
     }
@@ -545,7 +580,8 @@ fn eye_basis(yaw: f32, pitch: f32) -> (DVec3, DVec3, DVec3) {
 
 impl SphereView {
     /// Draws the 3D sphere (left half of the space given) and the flat hemisphere (right half).
-    pub fn ui(&mut self, ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
+    /// What the step shows: the curves on the sphere and the shading-frame directions.
+    fn drawing(&self, probe: &Probe, step: Option<&Step>) -> (Vec<Curve>, Vec<Arrow>) {
         let names = |i: usize| {
             probe
                 .occluder_names
@@ -564,12 +600,7 @@ impl SphereView {
         if probe.environment.is_some() {
             environment_curves(probe, &self.layers, &names, &mut curves);
         }
-        let sky = probe
-            .environment
-            .as_ref()
-            .filter(|_| self.layers.environment);
-        // Shading-frame directions.
-        let mut arrows: Vec<(DVec3, Color32, &str)> = Vec::new();
+        let mut arrows = Vec::new();
         if self.layers.directions {
             arrows.push((DVec3::Z, colours::NORMAL, "normal n"));
             if let Some(sp) = probe.point {
@@ -585,159 +616,222 @@ impl SphereView {
                 arrows.push((DVec3::new(-v.x, -v.y, v.z), colours::MIRROR, "mirror r"));
             }
         }
+        (curves, arrows)
+    }
 
-        let side = ((self.width - 12.0) / 2.0).clamp(120.0, 420.0);
-        self.hovered = None;
-        ui.horizontal(|ui| {
-            // 3D sphere.
-            let (resp, painter) = ui.allocate_painter(Vec2::splat(side), Sense::drag());
-            resp.widget_info(|| {
-                egui::WidgetInfo::labeled(egui::Role::Canvas, true, "unit sphere (drag to rotate)")
-            });
-            if resp.dragged() {
-                let d = resp.drag_delta();
-                self.yaw -= d.x * 0.01;
-                self.pitch = (self.pitch + d.y * 0.01).clamp(-1.5, 1.5);
+    /// The layer switches, as a menu (a row of checkboxes would take the sphere's room).
+    pub fn layers_ui(&mut self, ui: &mut Ui, probe: &Probe) {
+        ui.menu_button("layers", |ui| {
+            let l = &mut self.layers;
+            ui.checkbox(&mut l.contours, "contour edges");
+            ui.checkbox(&mut l.light_silhouette, "light silhouette");
+            ui.checkbox(&mut l.light_clipped, "clipped");
+            ui.checkbox(&mut l.occluders, "occluders");
+            ui.checkbox(&mut l.visible, "visible");
+            ui.checkbox(&mut l.ltc, "LTC space");
+            ui.checkbox(&mut l.directions, "n, v, r");
+            ui.checkbox(&mut l.vertex_labels, "vertex labels");
+            if probe.environment.is_some() {
+                ui.checkbox(&mut l.environment, "environment map");
+                ui.checkbox(&mut l.env_terms, "union terms");
+                ui.checkbox(&mut l.cones, "cones");
+                ui.checkbox(&mut l.rays, "rays");
             }
-            let rect = resp.rect;
-            let c = rect.center();
-            let radius = side * 0.45;
-            let (right, up, eye) = eye_basis(self.yaw, self.pitch);
-            let project = |p: DVec3| -> (Pos2, bool) {
-                (
-                    Pos2::new(
-                        c.x + (p.dot(right) as f32) * radius,
-                        c.y - (p.dot(up) as f32) * radius,
-                    ),
-                    p.dot(eye) >= 0.0,
-                )
-            };
-            let bg = ui.visuals().extreme_bg_color;
-            painter.rect_filled(rect, 4.0, bg);
-            if let Some(env) = sky {
-                draw_sky(&painter, env, &project, false, &|d| d.dot(eye) >= 0.0);
-            }
-            painter.circle_stroke(c, radius, Stroke::new(1.0, ui.visuals().weak_text_color()));
-            // Horizon: the great circle z = 0.
-            let mut horizon = Vec::new();
-            for k in 0..=128 {
-                let a = k as f64 / 128.0 * std::f64::consts::TAU;
-                horizon.push(DVec3::new(a.cos(), a.sin(), 0.0));
-            }
-            let hcol = ui.visuals().text_color();
-            draw_polyline(&painter, &horizon, &project, hcol, 1.0, false);
-            for cv in &curves {
-                draw_curve(&painter, cv, &project);
-            }
-            for (d, col, name) in &arrows {
-                let (tip, front) = project(*d);
-                let col = if front { *col } else { col.gamma_multiply(0.3) };
-                painter.line_segment([c, tip], Stroke::new(2.0, col));
-                painter.text(
-                    tip,
-                    egui::Align2::LEFT_BOTTOM,
-                    *name,
-                    egui::FontId::proportional(11.0),
-                    col,
-                );
-            }
-            if let Some(pos) = resp.hover_pos() {
-                self.hover(&curves, pos, &|p| project(p).0, &painter);
-            }
+            ui.checkbox(&mut self.fit, "zoom the flat view to fit");
+        });
+    }
 
-            // Flat hemisphere, seen from above the normal.
-            let (resp2, painter2) = ui.allocate_painter(Vec2::splat(side), Sense::hover());
-            resp2.widget_info(|| {
-                egui::WidgetInfo::labeled(
-                    egui::Role::Canvas,
-                    true,
-                    "hemisphere seen from the normal",
-                )
-            });
-            let rect2: Rect = resp2.rect;
-            painter2.rect_filled(rect2, 4.0, bg);
-            // The square of the disk shown: all of it, or the box of the points drawn above
-            // the horizon (with a margin) when fitting.
-            let (centre, half) = match self.fit.then(|| fit_box(&curves)).flatten() {
-                Some((lo, hi)) => ((lo + hi) / 2.0, ((hi - lo).max_element() * 0.6).max(1e-4)),
-                None => (glam::DVec2::ZERO, 1.0),
-            };
-            let scale = radius as f64 / half;
-            let c2 = rect2.center();
-            let flat = |p: DVec3| -> (Pos2, bool) {
-                (
-                    Pos2::new(
-                        c2.x + ((p.x - centre.x) * scale) as f32,
-                        c2.y - ((p.y - centre.y) * scale) as f32,
-                    ),
-                    p.z >= 0.0,
-                )
-            };
-            if let Some(env) = sky {
-                draw_sky(&painter2, env, &flat, true, &|_| true);
-            }
-            painter2.circle_stroke(flat(DVec3::ZERO).0, scale as f32, Stroke::new(1.0, hcol));
-            if self.fit {
-                painter2.text(
-                    rect2.left_top() + Vec2::splat(4.0),
-                    egui::Align2::LEFT_TOP,
-                    format!("×{:.1}", 1.0 / half),
-                    egui::FontId::proportional(11.0),
-                    hcol,
-                );
-            }
-            for cv in &curves {
-                draw_curve(&painter2, cv, &flat);
-            }
-            for (d, col, name) in &arrows {
-                let (tip, _) = flat(*d);
-                painter2.circle_filled(tip, 3.0, *col);
-                painter2.text(
-                    tip,
-                    egui::Align2::LEFT_BOTTOM,
-                    *name,
-                    egui::FontId::proportional(11.0),
-                    *col,
-                );
-            }
-            if let Some(pos) = resp2.hover_pos() {
-                self.hover(&curves, pos, &|p| flat(p).0, &painter2);
-            }
-        });
-        // Wrapped at the visible edge of the panel (which scrolls sideways).
-        let visible = ui.clip_rect().max.x - ui.cursor().min.x;
-        ui.scope(|ui| {
-            ui.set_max_width(visible);
-            legend_ui(ui, &curves);
-            if let Some(s) = step
-                && let Some(rec) = probe.recording.lights.get(s.record)
-                && let Some(text) = exact_silhouette_text(rec, s)
-            {
-                ui.add(egui::Label::new(egui::RichText::new(text).small()).wrap());
-            }
-        });
-        if let Some(h) = &self.hovered {
-            ui.label(h);
+    /// The rotatable 3D unit sphere, as large as the space given (drag to rotate).
+    pub fn sphere_ui(&mut self, ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
+        let (curves, arrows) = self.drawing(probe, step);
+        let sky = probe
+            .environment
+            .as_ref()
+            .filter(|_| self.layers.environment);
+        let (resp, painter) = canvas(ui, "unit sphere (drag to rotate)", Sense::drag());
+        if resp.dragged() {
+            let d = resp.drag_delta();
+            self.yaw -= d.x * 0.01;
+            self.pitch = (self.pitch + d.y * 0.01).clamp(-1.5, 1.5);
         }
-        if let Some(s) = step
-            && let Some(rec) = probe.recording.lights.get(s.record)
-            && s.kind == StepKind::Integral
-        {
-            for (lobe, _, clipped, integral) in &rec.lobes {
-                ui.label(format!("{lobe:?} lobe: ∫ = {integral:.6}; per edge:"));
-                for (li, lp) in clipped.loops().enumerate() {
-                    let parts: Vec<String> = (0..lp.len())
-                        .map(|k| {
-                            format!(
-                                "{:+.5}",
-                                edge_integral(lp[k], lp[(k + 1) % lp.len()])
-                                    / std::f64::consts::TAU
-                            )
-                        })
-                        .collect();
-                    ui.label(format!("  loop {li}: {}", parts.join(" ")));
-                }
+        let rect = resp.rect;
+        self.sphere_side = rect.width().min(rect.height());
+        let c = rect.center();
+        let radius = self.sphere_side * 0.45;
+        let (right, up, eye) = eye_basis(self.yaw, self.pitch);
+        let project = |p: DVec3| -> (Pos2, bool) {
+            (
+                Pos2::new(
+                    c.x + (p.dot(right) as f32) * radius,
+                    c.y - (p.dot(up) as f32) * radius,
+                ),
+                p.dot(eye) >= 0.0,
+            )
+        };
+        let bg = ui.visuals().extreme_bg_color;
+        painter.rect_filled(rect, 4.0, bg);
+        if let Some(env) = sky {
+            draw_sky(&painter, env, &project, false, &|d| d.dot(eye) >= 0.0);
+        }
+        painter.circle_stroke(c, radius, Stroke::new(1.0, ui.visuals().weak_text_color()));
+        // Horizon: the great circle z = 0.
+        let mut horizon = Vec::new();
+        for k in 0..=128 {
+            let a = k as f64 / 128.0 * std::f64::consts::TAU;
+            horizon.push(DVec3::new(a.cos(), a.sin(), 0.0));
+        }
+        let hcol = ui.visuals().text_color();
+        draw_polyline(&painter, &horizon, &project, hcol, 1.0, false);
+        for cv in &curves {
+            draw_curve(&painter, cv, &project);
+        }
+        if self.layers.vertex_labels {
+            draw_vertex_labels(&painter, &curves, &project, radius);
+        }
+        for (d, col, name) in &arrows {
+            let (tip, front) = project(*d);
+            let col = if front { *col } else { col.gamma_multiply(0.3) };
+            painter.line_segment([c, tip], Stroke::new(2.0, col));
+            painter.text(
+                tip,
+                egui::Align2::LEFT_BOTTOM,
+                *name,
+                egui::FontId::proportional(12.0),
+                col,
+            );
+        }
+        self.hovered = None;
+        if let Some(pos) = resp.hover_pos() {
+            self.hover(&curves, pos, &|p| project(p).0, &painter);
+        }
+        self.overlay(&painter, rect, &curves, ui.visuals());
+    }
+
+    /// The hemisphere seen from the normal (orthographic: areas are form factors).
+    pub fn hemisphere_ui(&mut self, ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
+        let (curves, arrows) = self.drawing(probe, step);
+        let sky = probe
+            .environment
+            .as_ref()
+            .filter(|_| self.layers.environment);
+        let (resp, painter) = canvas(ui, "hemisphere seen from the normal", Sense::hover());
+        let rect: Rect = resp.rect;
+        let radius = rect.width().min(rect.height()) * 0.45;
+        let bg = ui.visuals().extreme_bg_color;
+        let hcol = ui.visuals().text_color();
+        painter.rect_filled(rect, 4.0, bg);
+        // The square of the disk shown: all of it, or the box of the points drawn above the
+        // horizon (with a margin) when fitting.
+        let (centre, half) = match self.fit.then(|| fit_box(&curves)).flatten() {
+            Some((lo, hi)) => ((lo + hi) / 2.0, ((hi - lo).max_element() * 0.6).max(1e-4)),
+            None => (glam::DVec2::ZERO, 1.0),
+        };
+        let scale = radius as f64 / half;
+        let c2 = rect.center();
+        let flat = |p: DVec3| -> (Pos2, bool) {
+            (
+                Pos2::new(
+                    c2.x + ((p.x - centre.x) * scale) as f32,
+                    c2.y - ((p.y - centre.y) * scale) as f32,
+                ),
+                p.z >= 0.0,
+            )
+        };
+        if let Some(env) = sky {
+            draw_sky(&painter, env, &flat, true, &|_| true);
+        }
+        painter.circle_stroke(flat(DVec3::ZERO).0, scale as f32, Stroke::new(1.0, hcol));
+        if self.fit {
+            painter.text(
+                rect.right_top() + Vec2::new(-4.0, 4.0),
+                egui::Align2::RIGHT_TOP,
+                format!("×{:.1}", 1.0 / half),
+                egui::FontId::proportional(12.0),
+                hcol,
+            );
+        }
+        for cv in &curves {
+            draw_curve(&painter, cv, &flat);
+        }
+        if self.layers.vertex_labels {
+            draw_vertex_labels(&painter, &curves, &flat, radius);
+        }
+        for (d, col, name) in &arrows {
+            let (tip, _) = flat(*d);
+            painter.circle_filled(tip, 3.0, *col);
+            painter.text(
+                tip,
+                egui::Align2::LEFT_BOTTOM,
+                *name,
+                egui::FontId::proportional(12.0),
+                *col,
+            );
+        }
+        self.hovered = None;
+        if let Some(pos) = resp.hover_pos() {
+            self.hover(&curves, pos, &|p| flat(p).0, &painter);
+        }
+        self.overlay(&painter, rect, &curves, ui.visuals());
+    }
+
+    /// The legend (top left) and the hovered vertex (bottom), drawn over the canvas so that
+    /// the sphere keeps the whole tile.
+    fn overlay(&self, painter: &egui::Painter, rect: Rect, curves: &[Curve], v: &egui::Visuals) {
+        let font = egui::FontId::proportional(12.0);
+        let mut kinds: Vec<&Curve> = Vec::new();
+        for cv in curves {
+            if !kinds.iter().any(|k| k.legend == cv.legend) {
+                kinds.push(cv);
             }
+        }
+        let mut y = rect.top() + 6.0;
+        let widest = kinds
+            .iter()
+            .map(|k| k.legend.chars().count())
+            .max()
+            .unwrap_or(0) as f32;
+        if !kinds.is_empty() {
+            // A veil under the legend, so that curves behind it do not garble it.
+            painter.rect_filled(
+                Rect::from_min_size(
+                    Pos2::new(rect.left() + 2.0, y - 2.0),
+                    Vec2::new(26.0 + widest * 6.5, kinds.len() as f32 * 15.0 + 4.0),
+                ),
+                3.0,
+                v.extreme_bg_color.gamma_multiply(0.8),
+            );
+        }
+        for k in kinds {
+            let a = Pos2::new(rect.left() + 6.0, y + 7.0);
+            if k.dot {
+                painter.circle_filled(a + Vec2::new(7.0, 0.0), 3.0, k.colour);
+            } else if k.marker {
+                painter.circle_stroke(a + Vec2::new(7.0, 0.0), 4.0, Stroke::new(k.width, k.colour));
+            } else {
+                painter.line_segment(
+                    [a, a + Vec2::new(14.0, 0.0)],
+                    Stroke::new(k.width.max(2.0), k.colour),
+                );
+            }
+            painter.text(
+                a + Vec2::new(20.0, 0.0),
+                egui::Align2::LEFT_CENTER,
+                k.legend,
+                font.clone(),
+                v.text_color(),
+            );
+            y += 15.0;
+        }
+        if let Some(h) = &self.hovered {
+            let galley =
+                painter.layout(h.clone(), font, v.strong_text_color(), rect.width() - 12.0);
+            let pos = Pos2::new(rect.left() + 6.0, rect.bottom() - 6.0 - galley.size().y);
+            painter.rect_filled(
+                Rect::from_min_size(pos, galley.size()).expand(2.0),
+                2.0,
+                v.extreme_bg_color.gamma_multiply(0.85),
+            );
+            painter.galley(pos, galley, v.strong_text_color());
         }
     }
 
@@ -809,31 +903,78 @@ fn fit_box(curves: &[Curve]) -> Option<(glam::DVec2, glam::DVec2)> {
     Some(pts.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
 }
 
-/// One swatch per kind of curve drawn, in drawing order, in the colour it was drawn with.
-fn legend_ui(ui: &mut Ui, curves: &[Curve]) {
-    let mut kinds: Vec<&Curve> = Vec::new();
-    for cv in curves {
-        if !kinds.iter().any(|k| k.legend == cv.legend) {
-            kinds.push(cv);
+/// A shading-frame direction drawn as an arrow: where, colour, name.
+type Arrow = (DVec3, Color32, &'static str);
+
+/// A square canvas as large as the space left (centred), named for accessibility.
+fn canvas(ui: &mut Ui, name: &'static str, sense: Sense) -> (egui::Response, egui::Painter) {
+    let avail = ui.available_size();
+    let side = avail.x.min(avail.y).max(120.0);
+    let (rect, _) = ui.allocate_exact_size(avail.max(Vec2::splat(side)), Sense::hover());
+    let square = Rect::from_center_size(rect.center(), Vec2::splat(side));
+    let resp = ui.interact(square, ui.scope_id().with(name), sense);
+    resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, name));
+    (resp, ui.painter_at(square))
+}
+
+/// Labels the corners of the current stage's polygons: the tag and the corner's index in its
+/// loop (`v0`, `v1`, ... of the visible polygon), where the view is large enough to read them.
+fn draw_vertex_labels(
+    painter: &egui::Painter,
+    curves: &[Curve],
+    project: &dyn Fn(DVec3) -> (Pos2, bool),
+    radius: f32,
+) {
+    if radius < 120.0 {
+        return;
+    }
+    let font = egui::FontId::monospace(11.0);
+    for cv in curves.iter().filter(|c| !c.tag.is_empty()) {
+        for (i, &p) in cv.vertices.iter().enumerate() {
+            let (q, front) = project(p);
+            if !front {
+                continue;
+            }
+            painter.circle_filled(q, 2.5, cv.colour);
+            painter.text(
+                q + Vec2::new(4.0, -2.0),
+                egui::Align2::LEFT_BOTTOM,
+                format!("{}{i}", cv.tag),
+                font.clone(),
+                cv.colour,
+            );
         }
     }
-    ui.horizontal_wrapped(|ui| {
-        for k in kinds {
-            let (rect, _) = ui.allocate_exact_size(Vec2::new(16.0, 10.0), Sense::hover());
-            let p = ui.painter();
-            if k.dot {
-                p.circle_filled(rect.center(), 3.0, k.colour);
-            } else if k.marker {
-                p.circle_stroke(rect.center(), 4.0, Stroke::new(k.width, k.colour));
-            } else {
-                p.line_segment(
-                    [rect.left_center(), rect.right_center()],
-                    Stroke::new(k.width.max(2.0), k.colour),
-                );
+}
+
+/// What the current step adds in words: how an exact silhouette was found, and at the
+/// integral step each lobe's value with its per-edge terms (000 Eq. 9's sum, over 2π).
+pub fn step_details_ui(ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
+    let Some(s) = step else {
+        return;
+    };
+    let Some(rec) = probe.recording.lights.get(s.record) else {
+        return;
+    };
+    if let Some(text) = exact_silhouette_text(rec, s) {
+        ui.add(egui::Label::new(egui::RichText::new(text).small()).wrap());
+    }
+    if s.kind == StepKind::Integral {
+        for (lobe, _, clipped, integral) in &rec.lobes {
+            ui.label(format!("{lobe:?} lobe: ∫ = {integral:.6}; per edge:"));
+            for (li, lp) in clipped.loops().enumerate() {
+                let parts: Vec<String> = (0..lp.len())
+                    .map(|k| {
+                        format!(
+                            "{:+.5}",
+                            edge_integral(lp[k], lp[(k + 1) % lp.len()]) / std::f64::consts::TAU
+                        )
+                    })
+                    .collect();
+                ui.add(egui::Label::new(format!("  loop {li}: {}", parts.join(" "))).wrap());
             }
-            ui.small(k.legend);
         }
-    });
+    }
 }
 
 /// Draws a curve: a marker as a small circle (faint on the far side), dots as small filled

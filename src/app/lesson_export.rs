@@ -1,0 +1,203 @@
+//! A stepped lesson for slides: one picture of the sphere (or the projected plane, at a set
+//! difference) per stage of the picked point, written as numbered PNG frames, an animated GIF
+//! and a text file with each frame's lesson (`docs/workbench.md`, "Exporting a lesson").
+//!
+//! The capture is a small state machine the app advances once per frame: set the step, let the
+//! tiles lay it out for a few frames, ask egui for a screenshot of the subject's tile, go on.
+//! The writing is a plain function of the frames, so that it can be tested without a window.
+
+use super::lesson::Lesson;
+use anyhow::{Context as _, Result, bail};
+use egui::ColorImage;
+use image::codecs::gif::{GifEncoder, Repeat};
+use image::{Delay, Frame, RgbaImage};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+/// One frame of the lesson: what the stepper showed and the picture of it.
+#[derive(Clone, Debug)]
+pub struct LessonFrame {
+    /// The stepper's label of the stage ("light quad: clipped to the horizon", …).
+    pub label: String,
+    /// The lesson text of the stage with the point's numbers (`None` if the page lacks it).
+    pub lesson: Option<Lesson>,
+    pub image: ColorImage,
+}
+
+/// What [`write_lesson`] wrote.
+#[derive(Clone, Debug)]
+pub struct LessonFiles {
+    pub frames: Vec<PathBuf>,
+    pub gif: PathBuf,
+    pub text: PathBuf,
+}
+
+/// Writes `frame_000.png`, … , `lesson.gif` (each frame shown `seconds`, looping) and
+/// `lesson.md` (per frame: the stage, its explanation, equation and numbers) into `dir`.
+/// Frames of a different size than the first are padded or cropped to it (a GIF has one size).
+pub fn write_lesson(dir: &Path, frames: &[LessonFrame], seconds: f64) -> Result<LessonFiles> {
+    if frames.is_empty() {
+        bail!("no frames to write (pick a point first)");
+    }
+    std::fs::create_dir_all(dir).with_context(|| dir.display().to_string())?;
+    let size = frames[0].image.size;
+    let mut pngs = Vec::with_capacity(frames.len());
+    let mut text = String::from("# Lesson\n\n");
+    let gif_path = dir.join("lesson.gif");
+    let file = std::fs::File::create(&gif_path).with_context(|| gif_path.display().to_string())?;
+    let mut gif = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
+    gif.set_repeat(Repeat::Infinite)
+        .with_context(|| gif_path.display().to_string())?;
+    let delay = Delay::from_numer_denom_ms((seconds * 1000.0).round().max(20.0) as u32, 1);
+    for (i, f) in frames.iter().enumerate() {
+        let rgba = to_rgba(&f.image, size);
+        let png = dir.join(format!("frame_{i:03}.png"));
+        rgba.save_with_format(&png, image::ImageFormat::Png)
+            .with_context(|| png.display().to_string())?;
+        gif.encode_frame(Frame::from_parts(rgba, 0, 0, delay))
+            .with_context(|| gif_path.display().to_string())?;
+        text.push_str(&format!("## Frame {i:03}: {}\n\n", f.label));
+        if let Some(l) = &f.lesson {
+            text.push_str(&format!(
+                "**{}**\n\n{}\n\n`{}`\n\n{}\n\n",
+                l.title, l.text, l.equation, l.here
+            ));
+        }
+        pngs.push(png);
+    }
+    drop(gif);
+    let text_path = dir.join("lesson.md");
+    std::fs::write(&text_path, text).with_context(|| text_path.display().to_string())?;
+    Ok(LessonFiles {
+        frames: pngs,
+        gif: gif_path,
+        text: text_path,
+    })
+}
+
+/// `img` as an RGBA image of `size` (padded with the transparent colour or cropped).
+fn to_rgba(img: &ColorImage, size: [usize; 2]) -> RgbaImage {
+    let mut out = RgbaImage::new(size[0] as u32, size[1] as u32);
+    for y in 0..size[1].min(img.size[1]) {
+        for x in 0..size[0].min(img.size[0]) {
+            let c = img.pixels[y * img.size[0] + x];
+            out.put_pixel(x as u32, y as u32, image::Rgba(c.to_array()));
+        }
+    }
+    out
+}
+
+/// How many frames the tiles get to lay out a new step before its picture is taken.
+const SETTLE_FRAMES: u32 = 3;
+
+/// A capture in progress, advanced by the app once per frame ([`LessonCapture::advance`]).
+pub struct LessonCapture {
+    pub dir: PathBuf,
+    /// Seconds per frame in the GIF.
+    pub seconds: f64,
+    /// The next step to show.
+    next: usize,
+    /// The step shown now, whose picture is taken when `settle` reaches 0.
+    showing: Option<usize>,
+    settle: u32,
+    steps: usize,
+    labels: Vec<(String, Option<Lesson>)>,
+    /// Filled by the screenshot callbacks, which arrive a frame or two after the request.
+    images: Arc<Mutex<Vec<Option<ColorImage>>>>,
+}
+
+/// What the app should do this frame.
+pub enum CaptureAction {
+    /// Show this step (and repaint).
+    Show(usize),
+    /// Take the picture of the subject's tile (the step shown is settled).
+    Capture(usize),
+    /// Waiting: for the layout, or for the screenshots to arrive.
+    Wait,
+    /// Every picture has arrived: write them.
+    Write(Vec<LessonFrame>),
+}
+
+impl LessonCapture {
+    /// A capture of `labels.len()` steps (the stepper's labels and lessons, in order).
+    pub fn new(dir: PathBuf, seconds: f64, labels: Vec<(String, Option<Lesson>)>) -> Self {
+        let steps = labels.len();
+        LessonCapture {
+            dir,
+            seconds,
+            next: 0,
+            showing: None,
+            settle: 0,
+            steps,
+            labels,
+            images: Arc::new(Mutex::new(vec![None; steps])),
+        }
+    }
+
+    /// Frames captured so far and in all.
+    pub fn progress(&self) -> (usize, usize) {
+        let done = self
+            .images
+            .lock()
+            .map(|v| v.iter().filter(|i| i.is_some()).count())
+            .unwrap_or(0);
+        (done, self.steps)
+    }
+
+    /// One frame of the state machine.
+    pub fn advance(&mut self) -> CaptureAction {
+        if let Some(i) = self.showing {
+            if self.settle > 0 {
+                self.settle -= 1;
+                return CaptureAction::Wait;
+            }
+            self.showing = None;
+            return CaptureAction::Capture(i);
+        }
+        if self.next < self.steps {
+            let i = self.next;
+            self.next += 1;
+            self.showing = Some(i);
+            self.settle = SETTLE_FRAMES;
+            return CaptureAction::Show(i);
+        }
+        let Ok(images) = self.images.lock() else {
+            return CaptureAction::Wait;
+        };
+        if images.iter().any(|i| i.is_none()) {
+            return CaptureAction::Wait;
+        }
+        CaptureAction::Write(
+            images
+                .iter()
+                .zip(&self.labels)
+                .map(|(img, (label, lesson))| LessonFrame {
+                    label: label.clone(),
+                    lesson: lesson.clone(),
+                    image: img.clone().unwrap_or_default(),
+                })
+                .collect(),
+        )
+    }
+
+    /// The callback that stores step `i`'s picture (cropped to `crop`, in points).
+    pub fn receiver(
+        &self,
+        i: usize,
+        crop: Option<egui::Rect>,
+        pixels_per_point: f32,
+    ) -> impl FnOnce(Arc<ColorImage>) + Send + 'static {
+        let images = self.images.clone();
+        move |img| {
+            let img = match crop {
+                Some(r) => img.region(&r, Some(pixels_per_point)),
+                None => (*img).clone(),
+            };
+            if let Ok(mut v) = images.lock()
+                && let Some(slot) = v.get_mut(i)
+            {
+                *slot = Some(img);
+            }
+        }
+    }
+}
