@@ -118,7 +118,10 @@ fn run(label: &str, scene: Scene, object: &str) {
         VIEWPORT.1,
         ms(median(first_image))
     );
-    println!("  prepare from scratch instead     : {}", ms(median(scratch)));
+    println!(
+        "  prepare from scratch instead     : {}",
+        ms(median(scratch))
+    );
 }
 
 fn main() {

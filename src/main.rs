@@ -470,8 +470,14 @@ fn edit(
     out: &Path,
 ) -> Result<()> {
     use penumbra::scene::edit::{EditHistory, Rigid, resolve_object};
-    if out.extension().is_none_or(|e| !e.eq_ignore_ascii_case("toml")) {
-        bail!("--out must name a .toml scene file, got '{}'", out.display());
+    if out
+        .extension()
+        .is_none_or(|e| !e.eq_ignore_ascii_case("toml"))
+    {
+        bail!(
+            "--out must name a .toml scene file, got '{}'",
+            out.display()
+        );
     }
     let mut scene = load_scene(name)?;
     let index = resolve_object(&scene, object).map_err(anyhow::Error::msg)?;

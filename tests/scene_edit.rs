@@ -147,20 +147,40 @@ fn default_occluder_translated_and_rotated() {
         .find(|o| o.name == "back")
         .unwrap();
     assert_eq!(back.path(), MeshPath::ConvexTree);
-    let r = check_move(embedded("default"), "back", 0.0, DVec3::new(0.15, 0.05, -0.1));
+    let r = check_move(
+        embedded("default"),
+        "back",
+        0.0,
+        DVec3::new(0.15, 0.05, -0.1),
+    );
     assert_eq!(r, MoveReuse::Trees);
     let r = check_move(embedded("default"), "back", 35.0, DVec3::ZERO);
     assert_eq!(r, MoveReuse::Trees);
-    let r = check_move(embedded("default"), "sphere", -20.0, DVec3::new(-0.2, 0.0, 0.1));
+    let r = check_move(
+        embedded("default"),
+        "sphere",
+        -20.0,
+        DVec3::new(-0.2, 0.0, 0.1),
+    );
     assert!(matches!(r, MoveReuse::Trees | MoveReuse::NoTree));
 }
 
 #[test]
 fn default_lights_translated_and_rotated() {
     // The panel is flat (no tree); the tube is convex and reads a BSP tree.
-    check_move(embedded("default"), "panel_light", 0.0, DVec3::new(0.2, -0.1, 0.1));
+    check_move(
+        embedded("default"),
+        "panel_light",
+        0.0,
+        DVec3::new(0.2, -0.1, 0.1),
+    );
     check_move(embedded("default"), "panel_light", 25.0, DVec3::ZERO);
-    let r = check_move(embedded("default"), "tube_light", 30.0, DVec3::new(0.0, 0.1, 0.2));
+    let r = check_move(
+        embedded("default"),
+        "tube_light",
+        30.0,
+        DVec3::new(0.0, 0.1, 0.2),
+    );
     assert_eq!(r, MoveReuse::Trees);
 }
 
@@ -179,11 +199,21 @@ fn exact_silhouette_trees_move_with_their_mesh() {
         .name
         .clone();
     assert_eq!(
-        check_move(embedded("nonconvex"), &occluder, 40.0, DVec3::new(0.1, 0.0, -0.1)),
+        check_move(
+            embedded("nonconvex"),
+            &occluder,
+            40.0,
+            DVec3::new(0.1, 0.0, -0.1)
+        ),
         MoveReuse::Trees
     );
     assert_eq!(
-        check_move(embedded("nonconvex"), &light, -30.0, DVec3::new(0.0, 0.05, 0.1)),
+        check_move(
+            embedded("nonconvex"),
+            &light,
+            -30.0,
+            DVec3::new(0.0, 0.05, 0.1)
+        ),
         MoveReuse::Trees
     );
 }
@@ -196,7 +226,11 @@ fn moved_trees_are_shared_not_rebuilt() {
     let mut history = EditHistory::new(&scene);
     let mut moved = (*scene).clone();
     history
-        .edit(&mut moved, index, Rigid::translation(DVec3::new(0.1, 0.0, 0.0)))
+        .edit(
+            &mut moved,
+            index,
+            Rigid::translation(DVec3::new(0.1, 0.0, 0.0)),
+        )
         .unwrap();
     let next = ctx.with_moved_object(index, Arc::new(moved)).unwrap();
     for (a, b) in ctx.prepared.objects.iter().zip(&next.prepared.objects) {
@@ -315,11 +349,7 @@ fn cli_edit_moves_and_saves() {
         .env("PENUMBRA_CACHE_DIR", dir.join("cache"))
         .output()
         .unwrap();
-    assert!(
-        o.status.success(),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let original = embedded("default");
     let moved = scene_file::load_scene(&out).unwrap();
     let i = resolve_object(&original, "seat").unwrap();

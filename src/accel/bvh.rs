@@ -616,7 +616,11 @@ impl Bvh {
                     && old_pos[f[k] as usize] == t.v1
                     && old_pos[f[k + 1] as usize] == t.v2
             })?;
-            let (v0, v1, v2) = (pos[f[0] as usize], pos[f[k] as usize], pos[f[k + 1] as usize]);
+            let (v0, v1, v2) = (
+                pos[f[0] as usize],
+                pos[f[k] as usize],
+                pos[f[k + 1] as usize],
+            );
             if is_degenerate(v0, v1, v2) {
                 return None;
             }
@@ -630,7 +634,11 @@ impl Bvh {
             .filter(|f| f.len() >= 3 && f.iter().all(|&i| (i as usize) < pos.len()))
             .flat_map(|f| {
                 (1..f.len() - 1).filter(move |&k| {
-                    !is_degenerate(pos[f[0] as usize], pos[f[k] as usize], pos[f[k + 1] as usize])
+                    !is_degenerate(
+                        pos[f[0] as usize],
+                        pos[f[k] as usize],
+                        pos[f[k + 1] as usize],
+                    )
                 })
             })
             .count();
@@ -656,7 +664,10 @@ impl Bvh {
             self.tris[n.start as usize..(n.start + n.count) as usize]
                 .iter()
                 .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), t| {
-                    (lo.min(t.v0).min(t.v1).min(t.v2), hi.max(t.v0).max(t.v1).max(t.v2))
+                    (
+                        lo.min(t.v0).min(t.v1).min(t.v2),
+                        hi.max(t.v0).max(t.v1).max(t.v2),
+                    )
                 })
         } else {
             let a = self.refit_node(n.start as usize);

@@ -371,12 +371,12 @@ impl RenderContext {
     ) -> Result<RenderContext, String> {
         let (prepared, _) = self.prepared.with_moved_object(&scene, index)?;
         let bvh = self.bvh.with_moved_object(&self.scene, &scene, index);
-        let area_lights = if self.scene.objects[index].flags.light || scene.objects[index].flags.light
-        {
-            AreaLights::new(&scene, &prepared)
-        } else {
-            self.area_lights.clone()
-        };
+        let area_lights =
+            if self.scene.objects[index].flags.light || scene.objects[index].flags.light {
+                AreaLights::new(&scene, &prepared)
+            } else {
+                self.area_lights.clone()
+            };
         let mut ctx = RenderContext {
             scene,
             prepared,
@@ -385,8 +385,8 @@ impl RenderContext {
             environment: None,
         };
         if let Some(env) = &self.environment {
-            let keep = !ctx.scene.objects[index].flags.is_static
-                && ctx.bvh.bounds() == self.bvh.bounds();
+            let keep =
+                !ctx.scene.objects[index].flags.is_static && ctx.bvh.bounds() == self.bvh.bounds();
             let transfer = keep
                 .then(|| env.transfer.clone().zip(env.transfer_report))
                 .flatten();

@@ -449,7 +449,10 @@ mod tests {
         };
         Scene {
             objects: vec![
-                obj("a", shapes::cuboid(DVec3::new(1.0, 0.5, 0.0), DVec3::splat(0.25))),
+                obj(
+                    "a",
+                    shapes::cuboid(DVec3::new(1.0, 0.5, 0.0), DVec3::splat(0.25)),
+                ),
                 obj("b", shapes::icosahedron(DVec3::ZERO, 0.3)),
             ],
             ..Scene::default()
@@ -499,7 +502,10 @@ mod tests {
         assert_eq!(s2.objects[0].mesh.positions, moved);
 
         assert_eq!(h.undo(&mut s).unwrap(), Some(0));
-        assert_eq!(s.objects[0].mesh.positions, original.objects[0].mesh.positions);
+        assert_eq!(
+            s.objects[0].mesh.positions,
+            original.objects[0].mesh.positions
+        );
         assert_eq!(h.undo(&mut s).unwrap(), None);
         assert_eq!(h.redo(&mut s).unwrap(), Some(0));
         assert_eq!(s.objects[0].mesh.positions, moved);
@@ -509,7 +515,10 @@ mod tests {
             h.redo(&mut s).unwrap();
         }
         assert_eq!(s.objects[0].mesh.positions, moved);
-        assert_eq!(s.objects[1].mesh.positions, original.objects[1].mesh.positions);
+        assert_eq!(
+            s.objects[1].mesh.positions,
+            original.objects[1].mesh.positions
+        );
     }
 
     #[test]

@@ -93,10 +93,16 @@ fn unique_name(name: &str, fallback: &str, used: &mut HashSet<String>) -> String
 /// A `Pr` whose square is `alpha` exactly where one exists (the loader takes alpha = Pr²).
 fn roughness_for(alpha: f64) -> f64 {
     let r = alpha.sqrt();
-    [r, r.next_up(), r.next_down(), r.next_up().next_up(), r.next_down().next_down()]
-        .into_iter()
-        .find(|p| p * p == alpha)
-        .unwrap_or(r)
+    [
+        r,
+        r.next_up(),
+        r.next_down(),
+        r.next_up().next_up(),
+        r.next_down().next_down(),
+    ]
+    .into_iter()
+    .find(|p| p * p == alpha)
+    .unwrap_or(r)
 }
 
 /// The text of the three files: (TOML, OBJ, MTL), naming the OBJ and MTL files `obj_name`
@@ -111,7 +117,10 @@ pub fn scene_texts(
     let mut renamed = Vec::new();
     let mut obj = String::new();
     let mut mtl = String::new();
-    let _ = writeln!(obj, "# written by penumbra (scene::save)\nmtllib {mtl_name}");
+    let _ = writeln!(
+        obj,
+        "# written by penumbra (scene::save)\nmtllib {mtl_name}"
+    );
     let _ = writeln!(mtl, "# written by penumbra (scene::save)");
     let mut object_names = HashSet::new();
     // Materials by name: one `newmtl` per distinct material.
@@ -241,7 +250,10 @@ pub fn save_scene(
     let (obj_name, mtl_name) = (format!("{stem}.obj"), format!("{stem}.mtl"));
     let (obj_path, mtl_path) = (dir.join(&obj_name), dir.join(&mtl_name));
     if obj_path == path {
-        return Err(format!("{}: the scene file must not end in .obj", path.display()));
+        return Err(format!(
+            "{}: the scene file must not end in .obj",
+            path.display()
+        ));
     }
     let (toml, obj, mtl, renamed) = scene_texts(scene, camera, &obj_name, &mtl_name, &dir)?;
     let write = |p: &Path, text: &str| {

@@ -963,9 +963,16 @@ impl PreparedScene {
         };
         let obj = &scene.objects[index];
         let old = &self.objects[p];
-        let mesh = Polyhedron::new(&obj.mesh.positions, &obj.mesh.faces);
+        // The mesh's topology is kept when the move leaves it alone (the usual case).
+        let mesh = old
+            .faces()
+            .moved(&obj.mesh.positions)
+            .unwrap_or_else(|| Polyhedron::new(&obj.mesh.positions, &obj.mesh.faces));
         if mesh.face_count() == 0 {
-            return Err(format!("object '{}' has no usable face after the move", obj.name));
+            return Err(format!(
+                "object '{}' has no usable face after the move",
+                obj.name
+            ));
         }
         let had_tree = old.bsp.is_some() || old.exact_bsp.is_some() || old.hoisted.is_some();
         let map = instance_map(old.faces(), &mesh);
