@@ -380,3 +380,126 @@ fn cli_edit_moves_and_saves() {
     assert!(err.contains("out of range"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// The edit history on small scenes
+// ---------------------------------------------------------------------------------------------
+
+mod history {
+    use glam::DVec3;
+    use penumbra::scene::edit::{EditError, EditHistory, Rigid, resolve_object};
+    use penumbra::scene::{Material, Mesh, ObjectFlags, Scene, SceneObject, shapes};
+
+    fn step(k: u32) -> f64 {
+        0.01 * k as f64
+    }
+
+    fn scene() -> Scene {
+        let obj = |name: &str, mesh: Mesh| SceneObject {
+            name: name.into(),
+            mesh,
+            material: Material::default(),
+            flags: ObjectFlags {
+                light: false,
+                occluder: true,
+                receiver: true,
+                is_static: false,
+            },
+        };
+        Scene {
+            objects: vec![
+                obj(
+                    "a",
+                    shapes::cuboid(DVec3::new(1.0, 0.5, 0.0), DVec3::splat(0.25)),
+                ),
+                obj("b", shapes::icosahedron(DVec3::ZERO, 0.3)),
+            ],
+            ..Scene::default()
+        }
+    }
+
+    #[test]
+    fn compose_and_inverse() {
+        let a = Rigid::rotation_about(DVec3::new(1.0, 2.0, 3.0), DVec3::new(1.0, 1.0, 0.0), 0.7)
+            .unwrap();
+        let b = Rigid::translation(DVec3::new(-0.5, 0.25, 2.0))
+            .then(Rigid::rotation(DVec3::Z, -1.1).unwrap());
+        let p = DVec3::new(0.3, -0.2, 0.9);
+        let ab = b.after(&a);
+        assert!((ab.apply(p) - b.apply(a.apply(p))).length() < 1e-14);
+        assert!((a.inverse().apply(a.apply(p)) - p).length() < 1e-14);
+        // The pivot stays put.
+        let c = DVec3::new(1.0, 2.0, 3.0);
+        assert!((a.apply(c) - c).length() < 1e-14);
+        assert!(Rigid::rotation(DVec3::ZERO, 1.0).is_err());
+        assert!(Rigid::rotation(DVec3::X, f64::NAN).is_err());
+    }
+
+    #[test]
+    fn a_drag_is_one_step_and_undo_redo_are_exact() {
+        let mut s = scene();
+        let original = s.clone();
+        let mut h = EditHistory::new(&s);
+        let pivot = h.begin_drag(0).unwrap();
+        assert!((pivot - DVec3::new(1.0, 0.5, 0.0)).length() < 1e-15);
+        for k in 1..=20 {
+            let r = Rigid::rotation_about(pivot, DVec3::Y, 0.05 * k as f64).unwrap();
+            h.update_drag(r.then(Rigid::translation(DVec3::X * step(k))))
+                .unwrap();
+            h.apply(&mut s, 0).unwrap();
+        }
+        assert!(h.end_drag().is_some());
+        assert_eq!(h.undo_steps().len(), 1);
+        let moved = s.objects[0].mesh.positions.clone();
+        assert_ne!(moved, original.objects[0].mesh.positions);
+        // The same final motion in one update gives the same vertices, bit for bit.
+        let mut h2 = EditHistory::new(&original);
+        let mut s2 = original.clone();
+        let r = Rigid::rotation_about(pivot, DVec3::Y, 0.05 * 20.0f64).unwrap();
+        h2.edit(&mut s2, 0, r.then(Rigid::translation(DVec3::X * step(20))))
+            .unwrap();
+        assert_eq!(s2.objects[0].mesh.positions, moved);
+
+        assert_eq!(h.undo(&mut s).unwrap(), Some(0));
+        assert_eq!(
+            s.objects[0].mesh.positions,
+            original.objects[0].mesh.positions
+        );
+        assert_eq!(h.undo(&mut s).unwrap(), None);
+        assert_eq!(h.redo(&mut s).unwrap(), Some(0));
+        assert_eq!(s.objects[0].mesh.positions, moved);
+        // Many undo/redo cycles do not drift.
+        for _ in 0..50 {
+            h.undo(&mut s).unwrap();
+            h.redo(&mut s).unwrap();
+        }
+        assert_eq!(s.objects[0].mesh.positions, moved);
+        assert_eq!(
+            s.objects[1].mesh.positions,
+            original.objects[1].mesh.positions
+        );
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let mut s = scene();
+        let mut h = EditHistory::new(&s);
+        assert_eq!(
+            h.begin_drag(7),
+            Err(EditError::ObjectOutOfRange { index: 7, count: 2 })
+        );
+        assert_eq!(h.update_drag(Rigid::IDENTITY), Err(EditError::NoDrag));
+        h.begin_drag(1).unwrap();
+        let bad = Rigid::translation(DVec3::new(f64::INFINITY, 0.0, 0.0));
+        assert_eq!(h.update_drag(bad), Err(EditError::NotFinite));
+        assert_eq!(h.end_drag(), None); // no motion, no step
+        assert!(h.edit(&mut s, 5, Rigid::IDENTITY).is_err());
+        let mut other = s.clone();
+        other.objects.pop();
+        assert!(h.undo(&mut other).is_err());
+        assert_eq!(resolve_object(&s, "b"), Ok(1));
+        assert_eq!(resolve_object(&s, "0"), Ok(0));
+        assert!(resolve_object(&s, "9").is_err());
+        assert!(resolve_object(&s, "zz").is_err());
+    }
+}
