@@ -154,6 +154,31 @@ enum Command {
     },
     /// Open the workbench window (what `penumbra` without arguments does).
     Gui(penumbra::app::RunOptions),
+    /// Move one object rigidly and save the scene as a TOML scene file (with its meshes, in
+    /// world space, in OUT's stem .obj/.mtl beside it). The object turns about the vertical
+    /// axis through the pivot first, then is translated. See docs/scenes.md, "Editing and
+    /// saving scenes".
+    Edit {
+        /// A scene file or embedded scene name.
+        scene: String,
+        /// The object to move: its index (0-based, in scene order) or its (unique) name.
+        #[arg(long = "move", value_name = "OBJ")]
+        object: String,
+        /// Translation X,Y,Z in scene units, applied after the rotation.
+        #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+        translate: Option<DVec3>,
+        /// Rotation about the vertical (+y) axis through the pivot, degrees (right-handed:
+        /// counter-clockwise seen from above).
+        #[arg(long, allow_hyphen_values = true, value_name = "DEG")]
+        rotate_y: Option<f64>,
+        /// The point the rotation's axis goes through [default: the centre of the object's
+        /// bounding box].
+        #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, value_name = "X,Y,Z")]
+        pivot: Option<DVec3>,
+        /// The scene file to write (.toml).
+        #[arg(long, value_name = "FILE.toml")]
+        out: PathBuf,
+    },
 }
 
 /// The camera flags shared by every command that renders (default: the scene's camera).
@@ -433,6 +458,60 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
         return Err(format!("size {w}x{h} is out of range (1..=16384)"));
     }
     Ok((w, h))
+}
+
+/// `penumbra edit`: one rigid edit of one object, then the scene saved.
+fn edit(
+    name: &str,
+    object: &str,
+    translate: Option<DVec3>,
+    rotate_y: Option<f64>,
+    pivot: Option<DVec3>,
+    out: &Path,
+) -> Result<()> {
+    use penumbra::scene::edit::{EditHistory, Rigid, resolve_object};
+    if out
+        .extension()
+        .is_none_or(|e| !e.eq_ignore_ascii_case("toml"))
+    {
+        bail!(
+            "--out must name a .toml scene file, got '{}'",
+            out.display()
+        );
+    }
+    let mut scene = load_scene(name)?;
+    let index = resolve_object(&scene, object).map_err(anyhow::Error::msg)?;
+    let mut history = EditHistory::new(&scene);
+    let pivot = match pivot {
+        Some(p) => p,
+        None => history.pivot(index).map_err(anyhow::Error::msg)?,
+    };
+    let rotation = Rigid::rotation_about(pivot, DVec3::Y, rotate_y.unwrap_or(0.0).to_radians())
+        .map_err(anyhow::Error::msg)?;
+    let motion = rotation.then(Rigid::translation(translate.unwrap_or(DVec3::ZERO)));
+    history
+        .edit(&mut scene, index, motion)
+        .map_err(anyhow::Error::msg)?;
+    let saved = penumbra::scene::save::save_scene(&scene, scene.camera.as_ref(), out)
+        .map_err(anyhow::Error::msg)?;
+    for (old, new) in &saved.renamed {
+        eprintln!("note: '{old}' is written as '{new}' (names must be unique)");
+    }
+    say!(
+        "moved object {index} '{}' (rotated {}° about +y through {}, then translated by {}); wrote {}, {}, {}",
+        scene.objects[index].name,
+        rotate_y.unwrap_or(0.0),
+        fmt_vec(pivot),
+        fmt_vec(translate.unwrap_or(DVec3::ZERO)),
+        saved.toml.display(),
+        saved.obj.display(),
+        saved.mtl.display()
+    );
+    Ok(())
+}
+
+fn fmt_vec(v: DVec3) -> String {
+    format!("({}, {}, {})", v.x, v.y, v.z)
 }
 
 fn load_scene(name: &str) -> Result<Scene> {
@@ -1275,6 +1354,14 @@ fn run() -> Result<()> {
             json,
         }) => probe(&render, pixel, gh_steps, &json),
         Some(Command::Cache { clear, trim, json }) => cache(clear, trim, json.as_deref()),
+        Some(Command::Edit {
+            scene,
+            object,
+            translate,
+            rotate_y,
+            pivot,
+            out,
+        }) => edit(&scene, &object, translate, rotate_y, pivot, &out),
         Some(Command::Scenes) => {
             for name in scene_file::embedded_scene_names() {
                 say!("{name}");

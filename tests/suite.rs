@@ -36,6 +36,7 @@ mod ltc_table;
 mod near_convex;
 mod quantitative_invisibility;
 mod recorder;
+mod scene_edit;
 mod scene_loading;
 mod scene_obj;
 mod set_difference;

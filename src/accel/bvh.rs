@@ -131,7 +131,15 @@ pub struct Bvh {
     face_base: Vec<usize>,
     /// Largest |coordinate| of any stored vertex, for the box-test slack.
     max_abs: f64,
+    /// The SAH cost (relative to the root's area) of the tree as last built, which a refit
+    /// may let grow to [`REFIT_MAX_COST`] times before [`Bvh::with_moved_object`] rebuilds.
+    built_cost: f64,
+    /// Refits since the last build.
+    refits: u32,
 }
+
+/// A refit tree whose SAH cost grew beyond this factor of the built tree's is rebuilt.
+pub const REFIT_MAX_COST: f64 = 1.25;
 
 /// The normalised Newell normal of a polygon (front side = counter-clockwise), or zero if
 /// the polygon has no area or an index is out of range. For a planar polygon it is the
@@ -505,6 +513,8 @@ impl Bvh {
             face_normals,
             face_base,
             max_abs,
+            built_cost: 0.0,
+            refits: 0,
         };
         if tris.is_empty() {
             return bvh;
@@ -533,7 +543,139 @@ impl Bvh {
         flatten(root, 0, &mut nodes);
         bvh.nodes = nodes;
         bvh.tris = order.iter().map(|&i| tris[i as usize]).collect();
+        bvh.built_cost = bvh.sah_cost();
         bvh
+    }
+
+    /// The SAH cost of the tree relative to its root's area: `C_TRAV` per inner node and one
+    /// per triangle of a leaf, each weighted by its box's area.
+    fn sah_cost(&self) -> f64 {
+        let Some(root) = self.nodes.first() else {
+            return 0.0;
+        };
+        let area = |n: &Node| half_area(n.bmin.as_dvec3(), n.bmax.as_dvec3());
+        let root_area = area(root).max(f64::MIN_POSITIVE);
+        let mut cost = 0.0;
+        let mut stack = vec![0usize];
+        while let Some(i) = stack.pop() {
+            let n = &self.nodes[i];
+            if n.count > 0 {
+                cost += area(n) * n.count as f64;
+            } else {
+                cost += C_TRAV * area(n);
+                stack.push(n.start as usize);
+                stack.push(n.start as usize + 1);
+            }
+        }
+        cost / root_area
+    }
+
+    /// Refits since the last full build (0 for a tree just built).
+    pub fn refits(&self) -> u32 {
+        self.refits
+    }
+
+    /// The BVH of `new`, a copy of `old` (the scene this BVH was built from) in which object
+    /// `object` moved (any change of its positions, its faces unchanged): the object's
+    /// triangles are replaced in place and the boxes refit bottom-up, which hits exactly what
+    /// a rebuild would (the closest hit and its tie rule do not depend on the tree's shape).
+    /// Rebuilt instead when the object's faces or non-degenerate triangles changed, when the
+    /// scenes do not match, or when the refit tree's SAH cost exceeds [`REFIT_MAX_COST`]
+    /// times that of the last build.
+    pub fn with_moved_object(&self, old: &Scene, new: &Scene, object: usize) -> Bvh {
+        self.refit(old, new, object)
+            .unwrap_or_else(|| Bvh::build(new))
+    }
+
+    fn refit(&self, old: &Scene, new: &Scene, object: usize) -> Option<Bvh> {
+        let (o, n) = (old.objects.get(object)?, new.objects.get(object)?);
+        if old.objects.len() != new.objects.len()
+            || self.face_base.len() != new.objects.len()
+            || o.mesh.faces != n.mesh.faces
+            || o.mesh.positions.len() != n.mesh.positions.len()
+            || self.nodes.is_empty()
+        {
+            return None;
+        }
+        let (old_pos, pos) = (&o.mesh.positions, &n.mesh.positions);
+        let mut bvh = self.clone();
+        let base = self.face_base[object];
+        for (face, f) in n.mesh.faces.iter().enumerate() {
+            bvh.face_normals[base + face] = newell_normal(pos, f);
+        }
+        // Every stored triangle of the object, found by its old vertices; the counts of
+        // non-degenerate triangles must agree.
+        let mut stored = 0usize;
+        for t in bvh.tris.iter_mut().filter(|t| t.object == object as u32) {
+            let f = n.mesh.faces.get(t.face as usize)?;
+            if f.iter().any(|&i| i as usize >= pos.len()) {
+                return None;
+            }
+            let k = (1..f.len().saturating_sub(1)).find(|&k| {
+                old_pos[f[0] as usize] == t.v0
+                    && old_pos[f[k] as usize] == t.v1
+                    && old_pos[f[k + 1] as usize] == t.v2
+            })?;
+            let (v0, v1, v2) = (
+                pos[f[0] as usize],
+                pos[f[k] as usize],
+                pos[f[k + 1] as usize],
+            );
+            if is_degenerate(v0, v1, v2) {
+                return None;
+            }
+            (t.v0, t.v1, t.v2) = (v0, v1, v2);
+            stored += 1;
+        }
+        let fresh = n
+            .mesh
+            .faces
+            .iter()
+            .filter(|f| f.len() >= 3 && f.iter().all(|&i| (i as usize) < pos.len()))
+            .flat_map(|f| {
+                (1..f.len() - 1).filter(move |&k| {
+                    !is_degenerate(
+                        pos[f[0] as usize],
+                        pos[f[k] as usize],
+                        pos[f[k + 1] as usize],
+                    )
+                })
+            })
+            .count();
+        if fresh != stored {
+            return None;
+        }
+        bvh.max_abs = bvh
+            .tris
+            .iter()
+            .map(|t| t.v0.abs().max(t.v1.abs()).max(t.v2.abs()).max_element())
+            .fold(0.0, f64::max);
+        bvh.refit_node(0);
+        bvh.refits += 1;
+        (bvh.sah_cost() <= REFIT_MAX_COST * self.built_cost).then_some(bvh)
+    }
+
+    /// Recomputes the box of node `i` and its subtree from the triangles (f64 boxes rounded
+    /// outwards, as the build does: rounding is monotone, so an unchanged subtree gets its
+    /// box back bit for bit).
+    fn refit_node(&mut self, i: usize) -> (DVec3, DVec3) {
+        let n = self.nodes[i];
+        let (lo, hi) = if n.count > 0 {
+            self.tris[n.start as usize..(n.start + n.count) as usize]
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), t| {
+                    (
+                        lo.min(t.v0).min(t.v1).min(t.v2),
+                        hi.max(t.v0).max(t.v1).max(t.v2),
+                    )
+                })
+        } else {
+            let a = self.refit_node(n.start as usize);
+            let b = self.refit_node(n.start as usize + 1);
+            (a.0.min(b.0), a.1.max(b.1))
+        };
+        self.nodes[i] = Node::new(lo, hi, n.start, n.count);
+        (lo, hi)
     }
 
     /// Number of (non-degenerate) triangles stored.

@@ -95,6 +95,58 @@ pub struct Polyhedron {
     pub edge_hierarchy: Option<std::sync::Arc<super::edge_hierarchy::EdgeHierarchy>>,
 }
 
+/// The plane of a face loop: Newell's normal (robust for a possibly non-planar polygon)
+/// through the centroid; `None` for a face without area.
+fn face_plane(vertices: &[DVec3], loop_: &[u32]) -> Option<Plane> {
+    let mut n = DVec3::ZERO;
+    let mut centroid = DVec3::ZERO;
+    for k in 0..loop_.len() {
+        let a = vertices[loop_[k] as usize];
+        let b = vertices[loop_[(k + 1) % loop_.len()] as usize];
+        n += (a - b).cross(a + b) * 0.5;
+        centroid += a;
+    }
+    centroid /= loop_.len() as f64;
+    let n = n.try_normalize()?;
+    Some(Plane {
+        n,
+        d: n.dot(centroid),
+    })
+}
+
+/// (convex, planar) of a mesh: `may_be_convex` (closed manifold with planar faces) and every
+/// vertex a face uses on the inner side of every face plane; all faces in one plane with one
+/// orientation.
+fn shape_of(
+    vertices: &[DVec3],
+    face_indices: &[u32],
+    face_planes: &[Plane],
+    may_be_convex: bool,
+    tol: f64,
+) -> (bool, bool) {
+    // Only vertices that faces use count for the geometric tests.
+    let mut referenced = vec![false; vertices.len()];
+    face_indices
+        .iter()
+        .for_each(|&i| referenced[i as usize] = true);
+    let used = || {
+        vertices
+            .iter()
+            .zip(&referenced)
+            .filter(|(_, r)| **r)
+            .map(|(v, _)| *v)
+    };
+    let convex = may_be_convex
+        && face_planes
+            .iter()
+            .all(|pl| used().all(|v| pl.eval(v) <= tol));
+    let planar = !face_planes.is_empty()
+        && face_planes.iter().all(|pl| {
+            pl.n.dot(face_planes[0].n) > 1.0 - 1e-12 && used().all(|v| pl.eval(v).abs() <= tol)
+        });
+    (convex, planar)
+}
+
 impl Polyhedron {
     /// Builds the adjacency of a polygon mesh. Faces with fewer than three distinct vertices or
     /// zero area are skipped (the scene loader has already reported them).
@@ -151,21 +203,9 @@ impl Polyhedron {
             if loop_buf.len() < 3 {
                 continue;
             }
-            // Newell's method: robust normal of a possibly non-planar polygon.
-            let mut n = DVec3::ZERO;
-            let mut centroid = DVec3::ZERO;
-            for k in 0..loop_buf.len() {
-                let a = vertices[loop_buf[k] as usize];
-                let b = vertices[loop_buf[(k + 1) % loop_buf.len()] as usize];
-                n += (a - b).cross(a + b) * 0.5;
-                centroid += a;
-            }
-            centroid /= loop_buf.len() as f64;
             // Zero-area (degenerate) faces have no normal and are skipped.
-            let Some(n) = n.try_normalize() else { continue };
-            let plane = Plane {
-                n,
-                d: n.dot(centroid),
+            let Some(plane) = face_plane(&vertices, &loop_buf) else {
+                continue;
             };
             if loop_buf
                 .iter()
@@ -216,27 +256,13 @@ impl Polyhedron {
         }
         let boundary_edges = edges.iter().filter(|e| e.is_boundary()).count() as u32;
         let closed_manifold = face_count > 0 && boundary_edges == 0 && nonmanifold == 0;
-        // Only vertices that faces use count for the geometric tests.
-        let mut referenced = vec![false; vertices.len()];
-        face_indices
-            .iter()
-            .for_each(|&i| referenced[i as usize] = true);
-        let used = || {
-            vertices
-                .iter()
-                .zip(&referenced)
-                .filter(|(_, r)| **r)
-                .map(|(v, _)| *v)
-        };
-        let convex = closed_manifold
-            && nonplanar_faces == 0
-            && face_planes
-                .iter()
-                .all(|pl| used().all(|v| pl.eval(v) <= tol));
-        let planar = face_count > 0
-            && face_planes.iter().all(|pl| {
-                pl.n.dot(face_planes[0].n) > 1.0 - 1e-12 && used().all(|v| pl.eval(v).abs() <= tol)
-            });
+        let (convex, planar) = shape_of(
+            &vertices,
+            &face_indices,
+            &face_planes,
+            closed_manifold && nonplanar_faces == 0,
+            tol,
+        );
         let diagnostics = MeshDiagnostics {
             boundary_edges,
             nonmanifold_edges: nonmanifold,
@@ -322,6 +348,99 @@ impl Polyhedron {
             )));
         }
         self
+    }
+
+    /// This mesh with its vertices moved to `positions` (the positions it was built from,
+    /// moved rigidly or by another affine map of positive determinant): the topology (edges,
+    /// faces at each vertex, the contour walk's adjacency, each face's edges) is kept, the
+    /// geometry (face planes, bounds, diagnostics, the faces' hierarchy, the edges' normal
+    /// cones where the mesh had them) computed again exactly as [`Polyhedron::new`] computes
+    /// it. `None` when the positions do not weld to as many vertices, a face loses its area or
+    /// the diagnostics change: build the mesh anew then.
+    pub fn moved(&self, positions: &[DVec3]) -> Option<Polyhedron> {
+        let mut weld: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
+        let mut vertices = Vec::with_capacity(self.vertices.len());
+        for p in positions {
+            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            weld.entry(key).or_insert_with(|| {
+                vertices.push(*p);
+                (vertices.len() - 1) as u32
+            });
+        }
+        // Welding must leave the indices as they were: only meshes without welded vertices
+        // are moved (the others are built anew).
+        if self.diagnostics.welded_vertices != 0
+            || vertices.len() != self.vertices.len()
+            || vertices.len() != positions.len()
+        {
+            return None;
+        }
+        let (lo, hi) = vertices
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+                (lo.min(p), hi.max(p))
+            });
+        let center = 0.5 * (lo + hi);
+        let radius = vertices
+            .iter()
+            .map(|p| p.distance(center))
+            .fold(0.0, f64::max);
+        let tol = 1e-9 * radius.max(f64::MIN_POSITIVE);
+        let mut face_planes = Vec::with_capacity(self.face_planes.len());
+        let mut nonplanar_faces = 0;
+        for f in 0..self.face_count() {
+            let idx = self.face(f);
+            let plane = face_plane(&vertices, idx)?;
+            if idx
+                .iter()
+                .any(|&v| plane.eval(vertices[v as usize]).abs() > tol)
+            {
+                nonplanar_faces += 1;
+            }
+            face_planes.push(plane);
+        }
+        let d = self.diagnostics;
+        let (convex, planar) = shape_of(
+            &vertices,
+            &self.face_indices,
+            &face_planes,
+            d.closed_manifold && nonplanar_faces == 0,
+            tol,
+        );
+        let diagnostics = MeshDiagnostics {
+            nonplanar_faces,
+            convex,
+            planar,
+            ..d
+        };
+        if diagnostics != d {
+            return None;
+        }
+        let mut moved = Polyhedron {
+            vertices,
+            face_indices: self.face_indices.clone(),
+            face_starts: self.face_starts.clone(),
+            face_planes,
+            edges: self.edges.clone(),
+            center,
+            radius,
+            diagnostics,
+            face_bvh: None,
+            face_edges: None,
+            contour_walk: self.contour_walk.clone(),
+            vertex_faces: self.vertex_faces.clone(),
+            edge_hierarchy: None,
+        }
+        .with_face_bvh();
+        if self.face_edges.is_some() {
+            moved.face_edges = self.face_edges.clone();
+        }
+        // The hierarchy's cones are geometry; whether it pays is kept from the mesh's build
+        // (a rigid motion keeps its shape), so a mesh that keeps the scan does not try again.
+        if self.edge_hierarchy.is_some() {
+            moved = moved.with_edge_hierarchy();
+        }
+        Some(moved)
     }
 
     #[inline]

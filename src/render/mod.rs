@@ -350,6 +350,56 @@ impl RenderContext {
         ctx
     }
 
+    /// The context of `scene`, a copy of this context's scene in which object `index` moved
+    /// rigidly (its faces, material and flags unchanged), prepared cheaply for a drag in the
+    /// workbench: the other objects' prepared data are shared or copied, the moved object
+    /// keeps its trees of precomputed silhouettes under a new map into their frame
+    /// ([`PreparedScene::with_moved_object`], which says when it falls back to preparing the
+    /// object alone), the BVH is refit (rebuilt only when the refit tree got too much worse,
+    /// [`Bvh::with_moved_object`]), the area-sampling tables are rebuilt only when a light
+    /// moved, and an environment light is attached again (its precomputed transfer reused
+    /// when the moved object is dynamic and the scene's box did not change).
+    ///
+    /// Renders and probes of the result equal those of a context prepared from scratch on
+    /// `scene` up to rounding (the silhouettes are the same vertex loops, read from other
+    /// trees or computed at the point). An error when `index` is out of range or `scene`
+    /// has another number of objects.
+    pub fn with_moved_object(
+        &self,
+        index: usize,
+        scene: Arc<Scene>,
+    ) -> Result<RenderContext, String> {
+        let (prepared, _) = self.prepared.with_moved_object(&scene, index)?;
+        let bvh = self.bvh.with_moved_object(&self.scene, &scene, index);
+        let area_lights =
+            if self.scene.objects[index].flags.light || scene.objects[index].flags.light {
+                AreaLights::new(&scene, &prepared)
+            } else {
+                self.area_lights.clone()
+            };
+        let mut ctx = RenderContext {
+            scene,
+            prepared,
+            bvh,
+            area_lights,
+            environment: None,
+        };
+        if let Some(env) = &self.environment {
+            let keep =
+                !ctx.scene.objects[index].flags.is_static && ctx.bvh.bounds() == self.bvh.bounds();
+            let transfer = keep
+                .then(|| env.transfer.clone().zip(env.transfer_report))
+                .flatten();
+            ctx.environment = Some(environment::SceneEnvironment::new(
+                &ctx,
+                env.light.clone(),
+                env.settings,
+                transfer,
+            ));
+        }
+        Ok(ctx)
+    }
+
     /// The first surface along `ray`, as a shading point with the geometric normal turned toward
     /// the viewer (two-sided shading). Shared by the renderer and the workbench's pick.
     pub fn primary_hit(&self, ray: &Ray) -> Option<PrimaryHit> {

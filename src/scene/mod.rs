@@ -7,9 +7,11 @@
 //! * Receivers are shaded two-sided; every surface occludes unless the scene file says otherwise.
 
 pub mod camera;
+pub mod edit;
 pub mod face_triangulation;
 pub mod obj;
 pub mod precision;
+pub mod save;
 pub mod scene_file;
 pub mod shapes;
 pub mod thesis_polyhedra;

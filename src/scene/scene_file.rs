@@ -16,6 +16,8 @@
 //!                           # or { axis = [0, 1, 0], angle = 90 }; applied after scaling
 //! translate = [0, 0, 1]     # optional, applied last
 //! static = true             # optional: a static object of 002 (default: dynamic)
+//! rounding = 5e-7           # optional: the mesh's rounding radius instead of what the OBJ's
+//!                           # digits give (written by `scene::save`)
 //!
 //! [environment]             # optional: an environment light (docs/environment.md)
 //! map = "sky"               # "sky", "sky-sh" (its 3-band projection), or an .hdr/.exr file
@@ -343,6 +345,10 @@ struct ObjectToml {
     translate: Option<Spanned<[f64; 3]>>,
     scale: Option<Spanned<ScaleToml>>,
     rotate: Option<Spanned<RotateToml>>,
+    /// The mesh's rounding radius (`Mesh::rounding`), instead of what the OBJ's digits give
+    /// (scaled with the mesh): `scene::save` writes it, since its full-precision digits
+    /// cannot tell the precision of the scene's source.
+    rounding: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -532,8 +538,24 @@ fn parse_scene_toml(
                 v
             }
         };
+        let rounding = match &o.rounding {
+            None => None,
+            Some(r) => {
+                let v = *r.get_ref();
+                if !v.is_finite() || v < 0.0 {
+                    return Err(at(
+                        r.span(),
+                        "rounding must be finite and not negative".into(),
+                    ));
+                }
+                Some(v)
+            }
+        };
         for src in selected {
             let mut obj = src.clone();
+            if let Some(r) = rounding {
+                obj.mesh.rounding = r;
+            }
             obj.mesh = obj.mesh.scaled(scale);
             if let Some(r) = rotate {
                 obj.mesh = obj.mesh.transformed(&DAffine3::from_mat3(r));

@@ -20,7 +20,7 @@ pub use environment::{
 };
 pub use ltc_correction::CorrectionSampling;
 pub use outline::{Outline, OutlineScratch, Role};
-pub use prepared::{MeshPath, PrepareOptions, PreparedObject, PreparedScene};
+pub use prepared::{MeshPath, MoveReuse, PrepareOptions, PreparedObject, PreparedScene};
 pub use recorder::{
     EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide, EnvironmentTerm,
     ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, RayOutcome, Recorder,

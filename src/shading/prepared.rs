@@ -577,6 +577,32 @@ fn quoted_names(objects: &[PreparedObject], group: &[u32]) -> String {
     names.join(", ")
 }
 
+/// Every shading point lies on a surface of the scene: its bounds, with a margin.
+fn scene_box(scene: &Scene) -> (DVec3, DVec3) {
+    let scene_box = scene.objects.iter().filter_map(|o| o.mesh.bounds()).fold(
+        (DVec3::INFINITY, DVec3::NEG_INFINITY),
+        |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+    );
+    let margin = 1e-3 * (scene_box.1 - scene_box.0).max_element().max(1e-9);
+    (scene_box.0 - margin, scene_box.1 + margin)
+}
+
+/// What [`PreparedScene::with_moved_object`] reused.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MoveReuse {
+    /// The object is neither a light nor an occluder: nothing of it is prepared.
+    #[default]
+    NotPrepared,
+    /// Its trees (and hull, star centre, triangulations) were kept, under a new map into
+    /// the trees' frame.
+    Trees,
+    /// It had no tree; its mesh data were prepared again (`Polyhedron::new`).
+    NoTree,
+    /// Its new vertices are not an affine image (positive determinant) of its old ones: it
+    /// was prepared alone, without trees (its silhouette is computed at each point).
+    Alone,
+}
+
 /// How a scene is prepared.
 #[derive(Clone, Copy, Debug)]
 pub struct PrepareOptions<'a> {
@@ -637,13 +663,7 @@ impl PreparedScene {
         let mut lights = Vec::new();
         let mut occluders = Vec::new();
         let mut notes = Vec::new();
-        // Every shading point lies on a surface of the scene: its bounds, with a margin.
-        let scene_box = scene.objects.iter().filter_map(|o| o.mesh.bounds()).fold(
-            (DVec3::INFINITY, DVec3::NEG_INFINITY),
-            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
-        );
-        let margin = 1e-3 * (scene_box.1 - scene_box.0).max_element().max(1e-9);
-        let scene_box = (scene_box.0 - margin, scene_box.1 + margin);
+        let scene_box = scene_box(scene);
         for (i, obj) in scene.objects.iter().enumerate() {
             let is_light = obj.flags.light && obj.material.is_emissive();
             if !is_light && !obj.flags.occluder {
@@ -895,6 +915,167 @@ impl PreparedScene {
             o.hoisted = None;
             o.triangulation = None;
         }
+    }
+
+    /// The prepared scene of `scene`, a copy of the scene `self` was prepared from in which
+    /// object `index` moved rigidly (any affine map of positive determinant will do), without
+    /// preparing it again: every other object's data are copied (their trees, triangulations
+    /// and mesh hierarchies are `Arc`-shared), and the moved object keeps its trees, which
+    /// work in their own frame: its `to_tree` becomes the old map after the inverse motion
+    /// (001 Sect. 5.4, as for instances), its star centre moves with it, and a convex hull
+    /// standing in for it is moved, not recomputed. Only its `Polyhedron` (face planes,
+    /// adjacency, face hierarchy: world-frame data) is built again from its new vertices,
+    /// and the separating planes of its light–occluder pairs are found again.
+    ///
+    /// The trees stay valid wherever the moved object goes, but they cover the box they were
+    /// built over (the old scene's bounds in the object's old frame): shading points outside
+    /// it take the silhouette computed at the point (same result, slower). Re-prepare the
+    /// scene ([`PreparedScene::prepare`]) when an edit is done to give it trees over its new
+    /// bounds.
+    ///
+    /// Falls back to preparing the object alone, without trees, when its new vertices are
+    /// not an affine image of its old ones (another mesh, a mirror image, or a flat mesh,
+    /// which has no tree anyway). An error when `index` is out of range or the scene has
+    /// another object count.
+    pub fn with_moved_object(
+        &self,
+        scene: &Scene,
+        index: usize,
+    ) -> Result<(PreparedScene, MoveReuse), String> {
+        let count = scene.objects.len();
+        if index >= count {
+            return Err(format!(
+                "object index {index} is out of range: the scene has {count} objects"
+            ));
+        }
+        if count != self.materials.len() {
+            return Err(format!(
+                "the scene has {count} objects, the prepared scene {}",
+                self.materials.len()
+            ));
+        }
+        let mut out = self.clone();
+        out.materials = scene.objects.iter().map(|o| o.material.clone()).collect();
+        out.bounds = scene_box(scene);
+        out.trees_built = 0;
+        let Some(p) = self.objects.iter().position(|o| o.object == index as u32) else {
+            return Ok((out, MoveReuse::NotPrepared));
+        };
+        let obj = &scene.objects[index];
+        let old = &self.objects[p];
+        // The mesh's topology is kept when the move leaves it alone (the usual case).
+        let mesh = old
+            .faces()
+            .moved(&obj.mesh.positions)
+            .unwrap_or_else(|| Polyhedron::new(&obj.mesh.positions, &obj.mesh.faces));
+        if mesh.face_count() == 0 {
+            return Err(format!(
+                "object '{}' has no usable face after the move",
+                obj.name
+            ));
+        }
+        let had_tree = old.bsp.is_some() || old.exact_bsp.is_some() || old.hoisted.is_some();
+        let map = instance_map(old.faces(), &mesh);
+        let reuse;
+        {
+            let o = &mut out.objects[p];
+            match map {
+                Some(m) => {
+                    o.poly = match &old.stand_in {
+                        None => mesh,
+                        Some(s) => {
+                            let vertices: Vec<DVec3> = old
+                                .poly
+                                .vertices
+                                .iter()
+                                .map(|&v| m.transform_point3(v))
+                                .collect();
+                            let faces: Vec<Vec<u32>> = (0..old.poly.face_count())
+                                .map(|f| old.poly.face(f).to_vec())
+                                .collect();
+                            o.stand_in = Some(StandIn {
+                                mesh: Arc::new(mesh),
+                                ..s.clone()
+                            });
+                            Polyhedron::new(&vertices, &faces)
+                        }
+                    };
+                    let back = m.inverse();
+                    o.to_tree = Some(match old.to_tree {
+                        Some(t) => t * back,
+                        None => back,
+                    });
+                    o.star_centre = old.star_centre.map(|c| m.transform_point3(c));
+                    reuse = if had_tree {
+                        MoveReuse::Trees
+                    } else {
+                        MoveReuse::NoTree
+                    };
+                }
+                None => {
+                    let (poly, stand_in) = match convex_stand_in(&mesh, obj.mesh.rounding) {
+                        Some(s) => {
+                            let stand_in = StandIn {
+                                mesh: Arc::new(mesh.clone()),
+                                deviation: s.deviation,
+                                outside: s.outside,
+                                mesh_vertices: mesh.vertices.len(),
+                                mesh_faces: mesh.face_count(),
+                            };
+                            (s.hull, Some(stand_in))
+                        }
+                        None => (mesh, None),
+                    };
+                    let d = poly.diagnostics;
+                    o.star_centre = (old.star_centre.is_some() && !d.convex && d.closed_manifold)
+                        .then(|| star_centre(&poly))
+                        .flatten();
+                    o.poly = poly;
+                    o.stand_in = stand_in;
+                    o.to_tree = None;
+                    o.bsp = None;
+                    o.exact_bsp = None;
+                    o.hoisted = None;
+                    o.triangulation = None;
+                    reuse = MoveReuse::Alone;
+                    if had_tree {
+                        out.notes.push(format!(
+                            "object '{}' moved by a map that is not an affine image of its former \
+                             vertices: its silhouette trees are dropped",
+                            o.name
+                        ));
+                    }
+                }
+            }
+            o.simple = o.poly.has_simple_silhouette();
+        }
+        // The separating planes of the moved object's pairs, and the notes of every pair.
+        let n_occ = out.occluders.len();
+        for (li, &(l, _)) in out.lights.iter().enumerate() {
+            for (oi, &oc) in out.occluders.iter().enumerate() {
+                if (l as usize != p && oc as usize != p) || l == oc {
+                    continue;
+                }
+                out.separations[li * n_occ + oi] = separating_plane(
+                    &out.objects[oc as usize].poly,
+                    &out.objects[l as usize].poly,
+                );
+            }
+        }
+        out.notes
+            .retain(|n| !n.contains("are not separated by a plane"));
+        for (li, &(l, _)) in out.lights.iter().enumerate() {
+            for (oi, &oc) in out.occluders.iter().enumerate() {
+                if l != oc && out.separations[li * n_occ + oi].is_none() {
+                    out.notes.push(format!(
+                        "light '{}' and occluder '{}' are not separated by a plane: the occluder is \
+                         treated as lying in front of the light",
+                        out.objects[l as usize].name, out.objects[oc as usize].name
+                    ));
+                }
+            }
+        }
+        Ok((out, reuse))
     }
 
     /// The separating plane of light `l` and occluder `o` (indices into `lights`/`occluders`).
