@@ -145,12 +145,8 @@ pub fn load_gltf_bytes(
             let local = match positions_cache.get(&pos) {
                 Some(v) => v.clone(),
                 None => {
-                    let v = std::rc::Rc::new(accessor::read_positions(
-                        root,
-                        &mut buffers,
-                        pos,
-                        file,
-                    )?);
+                    let v =
+                        std::rc::Rc::new(accessor::read_positions(root, &mut buffers, pos, file)?);
                     positions_cache.insert(pos, v.clone());
                     v
                 }
@@ -268,8 +264,7 @@ impl ObjectBuilder {
         ObjectBuilder {
             world: *world,
             mirrors: m.determinant() < 0.0,
-            stretch: DVec3::new(m.x_axis.length(), m.y_axis.length(), m.z_axis.length())
-                .length(),
+            stretch: DVec3::new(m.x_axis.length(), m.y_axis.length(), m.z_axis.length()).length(),
             positions: Vec::new(),
             rounding: Vec::new(),
             weld: HashMap::new(),

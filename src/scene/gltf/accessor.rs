@@ -4,10 +4,10 @@
 
 use super::super::SceneError;
 use super::buffers::Buffers;
+use glam::DVec3;
 use gltf::json;
 use gltf::json::accessor::{ComponentType, Type};
 use gltf::json::validation::Checked;
-use glam::DVec3;
 
 /// Where the elements of an accessor lie.
 enum Layout {
@@ -195,7 +195,12 @@ fn f32_at(b: &[u8], at: usize) -> f32 {
 
 /// The accessor's element count, bounded by what a buffer can hold (a view-less accessor
 /// has no bytes to bound it).
-fn element_count(a: &json::Accessor, index: usize, file: &str, role: &str) -> Result<usize, SceneError> {
+fn element_count(
+    a: &json::Accessor,
+    index: usize,
+    file: &str,
+    role: &str,
+) -> Result<usize, SceneError> {
     // Elements in a buffer are bounded by its bytes; a view-less accessor (all zeros) is not.
     const MAX_ELEMENTS: u64 = 1 << 28;
     const MAX_ZEROS: u64 = 1 << 20;
@@ -277,7 +282,11 @@ pub(super) fn read_indices(
 ) -> Result<Vec<u32>, SceneError> {
     let role = "indices";
     let (a, c, t) = accessor(root, index, file, role)?;
-    if t != Type::Scalar || !matches!(c, ComponentType::U8 | ComponentType::U16 | ComponentType::U32)
+    if t != Type::Scalar
+        || !matches!(
+            c,
+            ComponentType::U8 | ComponentType::U16 | ComponentType::U32
+        )
     {
         return Err(err(
             file,

@@ -65,9 +65,10 @@ impl<'a> Buffers<'a> {
         let Some(uri) = &buffer.uri else {
             return match (index, self.bin) {
                 (0, Some(bin)) => Ok(bin.to_vec()),
-                (0, None) => Err(self.err(
-                    "buffers[0] has no uri and the file has no GLB BIN chunk".to_owned(),
-                )),
+                (0, None) => {
+                    Err(self
+                        .err("buffers[0] has no uri and the file has no GLB BIN chunk".to_owned()))
+                }
                 _ => Err(self.err(format!(
                     "buffers[{index}] has no uri (only buffers[0] may be the GLB BIN chunk)"
                 ))),
@@ -75,9 +76,7 @@ impl<'a> Buffers<'a> {
         };
         if let Some(rest) = uri.strip_prefix("data:") {
             let Some((header, payload)) = rest.split_once(',') else {
-                return Err(self.err(format!(
-                    "buffers[{index}].uri: malformed data URI (no ',')"
-                )));
+                return Err(self.err(format!("buffers[{index}].uri: malformed data URI (no ',')")));
             };
             if !header.ends_with(";base64") {
                 return Err(self.err(format!(
@@ -85,9 +84,8 @@ impl<'a> Buffers<'a> {
                     shorten(header)
                 )));
             }
-            return decode_base64(payload).map_err(|m| {
-                self.err(format!("buffers[{index}].uri: invalid base64 data: {m}"))
-            });
+            return decode_base64(payload)
+                .map_err(|m| self.err(format!("buffers[{index}].uri: invalid base64 data: {m}")));
         }
         if has_scheme(uri) {
             return Err(self.err(format!(
@@ -96,9 +94,8 @@ impl<'a> Buffers<'a> {
                 shorten(uri)
             )));
         }
-        let rel = percent_decode(uri).map_err(|m| {
-            self.err(format!("buffers[{index}].uri '{}': {m}", shorten(uri)))
-        })?;
+        let rel = percent_decode(uri)
+            .map_err(|m| self.err(format!("buffers[{index}].uri '{}': {m}", shorten(uri))))?;
         let Some(dir) = &self.dir else {
             return Err(self.err(format!(
                 "buffers[{index}] is the external file '{rel}', which cannot be read when the \

@@ -21,6 +21,9 @@ fn err(file: &str, message: impl Into<String>) -> SceneError {
 /// Parses a `.glb` (recognised by its magic `glTF`, whatever the extension) or `.gltf` file.
 pub(super) fn parse(bytes: &[u8], file: &str) -> Result<Parsed, SceneError> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    if bytes.iter().all(u8::is_ascii_whitespace) {
+        return Err(err(file, "empty file"));
+    }
     if bytes.starts_with(b"glTF") {
         parse_glb(bytes, file)
     } else if bytes.len() >= 4 && bytes[0] != b'{' && !bytes[0].is_ascii_whitespace() {
@@ -76,7 +79,9 @@ fn parse_glb(bytes: &[u8], file: &str) -> Result<Parsed, SceneError> {
     if length < 20 {
         return Err(err(
             file,
-            format!("GLB header declares a total length of {length} bytes, too short for a JSON chunk"),
+            format!(
+                "GLB header declares a total length of {length} bytes, too short for a JSON chunk"
+            ),
         ));
     }
     if length > bytes.len() {

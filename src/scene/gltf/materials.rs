@@ -7,15 +7,19 @@
 
 use super::super::Material;
 use super::super::obj::alpha_from_mtl;
-use gltf::json;
 use glam::DVec3;
+use gltf::json;
 
 /// F0 of glTF's dielectrics (index of refraction 1.5).
 pub const DIELECTRIC_F0: f64 = 0.04;
 
 /// Material `index` of the document (the default material for `None`); `notes` collects what
 /// was clamped or ignored, once per material.
-pub(super) fn material(root: &json::Root, index: Option<usize>, notes: &mut Vec<String>) -> Material {
+pub(super) fn material(
+    root: &json::Root,
+    index: Option<usize>,
+    notes: &mut Vec<String>,
+) -> Material {
     let Some((i, m)) = index.and_then(|i| root.materials.get(i).map(|m| (i, m))) else {
         return Material::default();
     };
@@ -31,7 +35,11 @@ pub(super) fn material(root: &json::Root, index: Option<usize>, notes: &mut Vec<
             v
         } else {
             clamped.push(what.to_owned());
-            if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 }
+            if v.is_finite() {
+                v.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
         }
     };
     let pbr = &m.pbr_metallic_roughness;
@@ -81,7 +89,9 @@ pub(super) fn uses_textures(root: &json::Root) -> bool {
     !root.textures.is_empty()
         || root.materials.iter().any(|m| {
             m.pbr_metallic_roughness.base_color_texture.is_some()
-                || m.pbr_metallic_roughness.metallic_roughness_texture.is_some()
+                || m.pbr_metallic_roughness
+                    .metallic_roughness_texture
+                    .is_some()
                 || m.normal_texture.is_some()
                 || m.occlusion_texture.is_some()
                 || m.emissive_texture.is_some()

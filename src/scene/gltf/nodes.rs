@@ -3,9 +3,9 @@
 //! the first perspective camera as penumbra's [`Camera`].
 
 use super::super::{Camera, SceneError};
+use glam::{DAffine3, DMat4, DQuat, DVec3, DVec4};
 use gltf::json;
 use gltf::json::validation::Checked;
-use glam::{DAffine3, DMat4, DQuat, DVec3, DVec4};
 
 /// A node reached from the scene, with its world transform.
 pub(super) struct Placed {
@@ -26,10 +26,17 @@ fn finite(v: &[f32]) -> bool {
 
 /// The local transform of node `i`: its `matrix` (column-major, affine), or T * R * S with the
 /// rotation quaternion normalised.
-pub(super) fn local_transform(node: &json::Node, i: usize, file: &str) -> Result<DAffine3, SceneError> {
+pub(super) fn local_transform(
+    node: &json::Node,
+    i: usize,
+    file: &str,
+) -> Result<DAffine3, SceneError> {
     if let Some(m) = &node.matrix {
         if !finite(m) {
-            return Err(err(file, format!("nodes[{i}].matrix has a non-finite entry")));
+            return Err(err(
+                file,
+                format!("nodes[{i}].matrix has a non-finite entry"),
+            ));
         }
         let m = DMat4::from_cols_array(&m.map(|x| x as f64));
         if m.row(3) != DVec4::new(0.0, 0.0, 0.0, 1.0) {
@@ -52,7 +59,10 @@ pub(super) fn local_transform(node: &json::Node, i: usize, file: &str) -> Result
     let q = DQuat::from_array(r.map(|x| x as f64));
     let len = q.length();
     if !(len > 1e-6) {
-        return Err(err(file, format!("nodes[{i}].rotation is a zero quaternion")));
+        return Err(err(
+            file,
+            format!("nodes[{i}].rotation is a zero quaternion"),
+        ));
     }
     Ok(DAffine3::from_scale_rotation_translation(
         DVec3::from_array(s.map(|x| x as f64)),
@@ -89,7 +99,10 @@ pub(super) fn placed_nodes(
             let scene = root.scenes.get(si).ok_or_else(|| {
                 err(
                     file,
-                    format!("scene: scenes[{si}] does not exist ({} scenes)", root.scenes.len()),
+                    format!(
+                        "scene: scenes[{si}] does not exist ({} scenes)",
+                        root.scenes.len()
+                    ),
                 )
             })?;
             if root.scene.is_none() && root.scenes.len() > 1 {
@@ -119,8 +132,11 @@ pub(super) fn placed_nodes(
     let mut visited = vec![false; n];
     let mut out = Vec::new();
     // Depth first, children in order: a stack of (node, parent's world transform).
-    let mut stack: Vec<(usize, DAffine3)> =
-        roots.iter().rev().map(|&r| (r, DAffine3::IDENTITY)).collect();
+    let mut stack: Vec<(usize, DAffine3)> = roots
+        .iter()
+        .rev()
+        .map(|&r| (r, DAffine3::IDENTITY))
+        .collect();
     while let Some((i, parent)) = stack.pop() {
         if std::mem::replace(&mut visited[i], true) {
             return Err(err(
