@@ -23,6 +23,7 @@ mod environment_probe;
 mod environment_render;
 mod exact_silhouette;
 mod exporter_precision;
+mod gltf_loading;
 mod image_io;
 mod instances;
 mod loader_fuzz;

@@ -1,4 +1,5 @@
-//! Scenes: meshes with materials and flags, loaded from OBJ/MTL and scene files, plus the camera.
+//! Scenes: meshes with materials and flags, loaded from OBJ/MTL, glTF 2.0 and scene files, plus
+//! the camera.
 //!
 //! Conventions (docs/scenes.md):
 //! * `Ke` > 0 makes a mesh an area light with constant radiance `Ke`, emitting from the front
@@ -9,6 +10,7 @@
 pub mod camera;
 pub mod edit;
 pub mod face_triangulation;
+pub mod gltf;
 pub mod obj;
 pub mod precision;
 pub mod save;

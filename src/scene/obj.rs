@@ -134,8 +134,9 @@ pub fn alpha_from_mtl(pr: Option<f64>, ns: Option<f64>) -> f64 {
 // Warnings
 // ---------------------------------------------------------------------------------------------
 
+/// The warnings of one loaded file, at most [`MAX_WARNINGS`] of them listed.
 #[derive(Default)]
-struct Warnings {
+pub(crate) struct Warnings {
     list: Vec<String>,
     suppressed: usize,
 }
@@ -144,14 +145,14 @@ impl Warnings {
     fn at(&mut self, file: &str, line: usize, msg: impl std::fmt::Display) {
         self.push(format!("{file}:{line}: {msg}"));
     }
-    fn push(&mut self, w: String) {
+    pub(crate) fn push(&mut self, w: String) {
         if self.list.len() < MAX_WARNINGS {
             self.list.push(w);
         } else {
             self.suppressed += 1;
         }
     }
-    fn finish(mut self, file: &str) -> Vec<String> {
+    pub(crate) fn finish(mut self, file: &str) -> Vec<String> {
         if self.suppressed > 0 {
             self.list.push(format!(
                 "{file}: {} more warnings not shown",
@@ -708,13 +709,14 @@ impl Tally {
         }
     }
 
-    /// "line 12" or "lines 8, 12, 13" or "lines 8, 12, ... (96 faces)".
-    fn where_(&self) -> String {
+    /// "line 12" or "lines 8, 12, 13" or "lines 8, 12, ... (96 faces)" (with `unit` "line";
+    /// glTF objects number their triangles instead).
+    fn where_(&self, unit: &str) -> String {
         let list: Vec<String> = self.lines.iter().map(|l| l.to_string()).collect();
         match self.count {
-            1 => format!("line {}", list[0]),
-            n if n <= LISTED_LINES => format!("lines {}", list.join(", ")),
-            n => format!("lines {}, ... ({n} faces)", list.join(", ")),
+            1 => format!("{unit} {}", list[0]),
+            n if n <= LISTED_LINES => format!("{unit}s {}", list.join(", ")),
+            n => format!("{unit}s {}, ... ({n} faces)", list.join(", ")),
         }
     }
 }
@@ -733,71 +735,77 @@ struct FaceTallies {
 }
 
 impl FaceTallies {
-    fn emit(self, file: &str, object: &str, precision: &WrittenPrecision, warn: &mut Warnings) {
+    fn emit(self, src: &FaceSource, object: &str, warn: &mut Warnings) {
+        let unit = src.origin.unit();
         let t = &self.repeated;
         if t.count > 0 {
-            warn.at(
-                file,
+            src.origin.warn(
+                warn,
+                src.file,
                 t.lines[0],
                 format!(
                     "object '{object}': repeated vertices removed from {} ({})",
                     count_faces(t.count),
-                    t.where_()
+                    t.where_(unit)
                 ),
             );
         }
         for (reason, t) in &self.dropped {
-            warn.at(
-                file,
+            src.origin.warn(
+                warn,
+                src.file,
                 t.lines[0],
                 format!(
                     "object '{object}': {} dropped: {reason} ({})",
                     count_faces(t.count),
-                    t.where_()
+                    t.where_(unit)
                 ),
             );
         }
         let t = &self.non_planar;
         if t.count > 0 {
-            warn.at(
-                file,
+            src.origin.warn(
+                warn,
+                src.file,
                 t.worst_line,
                 format!(
                     "object '{object}': {} not planar beyond the precision the file was \
                      written with ({}); the worst, on this line, has a vertex {:.2e} off its \
                      plane where rounding explains {:.1e} ({}); kept as is",
                     faces(t.count),
-                    precision.describe(),
+                    src.precision,
                     t.worst,
                     t.worst_tolerance,
-                    t.where_()
+                    t.where_(unit)
                 ),
             );
         }
         let t = &self.triangulated;
         if t.count > 0 {
-            warn.at(
-                file,
+            src.origin.warn(
+                warn,
+                src.file,
                 t.lines[0],
                 format!(
                     "object '{object}': {} not convex, each triangulated inside itself (a fan \
                      from its first vertex would fold outside it) ({})",
                     faces(t.count),
-                    t.where_()
+                    t.where_(unit)
                 ),
             );
         }
         let t = &self.non_convex;
         if t.count > 0 {
-            warn.at(
-                file,
+            src.origin.warn(
+                warn,
+                src.file,
                 t.lines[0],
                 format!(
                     "object '{object}': {} neither convex nor simple (the outline crosses \
                      itself); kept as is, and its fan triangulation covers area it does not \
                      have ({})",
                     faces(t.count),
-                    t.where_()
+                    t.where_(unit)
                 ),
             );
         }
@@ -942,15 +950,20 @@ fn load_obj_impl(
             Some(e) => e.material(),
             None => Material::default(),
         };
-        if let Some(obj) = build_object(
-            &model.name,
-            faces,
-            &scan.positions,
-            &scan.precision,
-            material,
+        let precision = scan.precision;
+        let rounding = |g: u32| {
+            scan.positions
+                .get(g as usize)
+                .map_or(0.0, |&p| precision.vertex_rounding(p))
+        };
+        let src = FaceSource {
             file,
-            &mut warn,
-        ) {
+            origin: FaceOrigin::Lines,
+            positions: &scan.positions,
+            rounding: &rounding,
+            precision: precision.describe(),
+        };
+        if let Some(obj) = build_object(&model.name, faces, &src, material, &mut warn) {
             scene.objects.push(obj);
         }
     }
@@ -964,17 +977,55 @@ fn load_obj_impl(
     Ok(scene)
 }
 
+/// How the warnings of [`build_object`] name the faces they are about.
+pub(crate) enum FaceOrigin<'a> {
+    /// OBJ faces, each numbered by its line.
+    Lines,
+    /// glTF triangles, numbered from 0 in the order read; `context` names where they come
+    /// from (node, mesh, primitives).
+    Triangles { context: &'a str },
+}
+
+impl FaceOrigin<'_> {
+    fn unit(&self) -> &'static str {
+        match self {
+            FaceOrigin::Lines => "line",
+            FaceOrigin::Triangles { .. } => "triangle",
+        }
+    }
+
+    /// A warning about the face numbered `n`.
+    fn warn(&self, warn: &mut Warnings, file: &str, n: usize, msg: impl std::fmt::Display) {
+        match self {
+            FaceOrigin::Lines => warn.at(file, n, msg),
+            FaceOrigin::Triangles { context } => warn.push(format!("{file}: {context}: {msg}")),
+        }
+    }
+}
+
+/// The vertices that the faces given to [`build_object`] index, and how they were written.
+pub(crate) struct FaceSource<'a> {
+    /// The file, for warnings.
+    pub file: &'a str,
+    pub origin: FaceOrigin<'a>,
+    pub positions: &'a [DVec3],
+    /// The rounding radius of each vertex (`Mesh::rounding`, docs/scenes.md "Precision").
+    pub rounding: &'a dyn Fn(u32) -> f64,
+    /// The precision in words, for the note on non-planar faces.
+    pub precision: String,
+}
+
 /// Repairs the faces of one object and keeps only the vertices it uses; its repairs and notes
-/// are grouped by kind (one warning each, with a count and the worst case).
-fn build_object(
+/// are grouped by kind (one warning each, with a count and the worst case). Each face comes
+/// with its number for the warnings (its line, or its triangle: `src.origin`).
+pub(crate) fn build_object(
     name: &str,
     faces: &[(usize, Vec<u32>)],
-    positions: &[DVec3],
-    precision: &WrittenPrecision,
+    src: &FaceSource,
     material: Material,
-    file: &str,
     warn: &mut Warnings,
 ) -> Option<SceneObject> {
+    let positions = src.positions;
     let mut mesh = Mesh::default();
     let mut local = std::collections::HashMap::<u32, u32>::new();
     let mut tallies = FaceTallies::default();
@@ -1001,10 +1052,7 @@ fn build_object(
             }
         };
         let pts: Vec<DVec3> = kept.iter().map(|&i| positions[i as usize]).collect();
-        let rounding = pts
-            .iter()
-            .map(|&p| precision.vertex_rounding(p))
-            .fold(0.0, f64::max);
+        let rounding = kept.iter().map(|&g| (src.rounding)(g)).fold(0.0, f64::max);
         mesh.rounding = mesh.rounding.max(rounding);
         let mut pieces = vec![kept.clone()];
         match face_shape(&pts, rounding) {
@@ -1034,11 +1082,12 @@ fn build_object(
             mesh.faces.push(f);
         }
     }
-    tallies.emit(file, name, precision, warn);
+    tallies.emit(src, name, warn);
     if mesh.faces.is_empty() {
         let line = faces.first().map_or(0, |f| f.0);
-        warn.at(
-            file,
+        src.origin.warn(
+            warn,
+            src.file,
             line,
             format!("object '{name}' has no valid faces and is skipped"),
         );

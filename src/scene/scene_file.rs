@@ -8,7 +8,7 @@
 //! fov = 40.0                # vertical field of view, degrees
 //!
 //! [[object]]
-//! obj = "room.obj"          # relative to this file
+//! obj = "room.obj"          # relative to this file (.glb and .gltf files too)
 //! name = "floor"            # optional: only the OBJ objects of that name
 //! occluder = false          # optional flag overrides: light, occluder, receiver
 //! scale = 2.0               # optional: scalar or [sx, sy, sz], applied first
@@ -31,6 +31,7 @@
 //! instances: the prepared scene detects them and lets them share one silhouette tree
 //! (`shading::prepared`, 001 Sect. 5.4).
 
+use super::gltf::load_gltf;
 use super::obj::{MtlSource, load_obj, load_obj_with, read_text};
 use super::{Camera, Scene, SceneError, SceneObject};
 use glam::{DAffine3, DMat3, DVec3};
@@ -201,18 +202,36 @@ pub fn load_embedded(name: &str) -> Result<Scene, SceneError> {
     })
 }
 
-/// Loads a scene: `.toml` scene files, or a plain `.obj` with the default flags and no camera.
+/// Loads a scene: `.toml` scene files, a plain `.obj` with the default flags and no camera, or
+/// a `.glb`/`.gltf` with the default flags and its first perspective camera, if any.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    match ext.as_deref() {
+    match extension(path).as_deref() {
         Some("toml") => load_scene_file(path),
         Some("obj") => load_obj(path),
+        Some("glb" | "gltf") => load_gltf(path),
         _ => Err(SceneError::File {
             file: path.display().to_string(),
-            message: "unknown scene file type; expected .toml (scene file) or .obj".into(),
+            message: "unknown scene file type; expected .toml (scene file), .obj, .glb or .gltf"
+                .into(),
         }),
+    }
+}
+
+/// The file's extension in lower case.
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+}
+
+/// A mesh file that a scene file's `obj` entry names: OBJ, or glTF by its extension (its
+/// camera is not used: the scene file has its own).
+fn load_mesh_file(path: &Path) -> Result<Scene, SceneError> {
+    match extension(path).as_deref() {
+        Some("glb" | "gltf") => load_gltf(path).map(|mut s| {
+            s.camera = None;
+            s
+        }),
+        _ => load_obj(path),
     }
 }
 
@@ -229,7 +248,7 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, SceneError> {
                 p.display()
             )));
         }
-        load_obj(&p).map_err(ObjFailure::Obj)
+        load_mesh_file(&p).map_err(ObjFailure::Obj)
     })?;
     // A map file is relative to the scene file, like the OBJ files.
     if let Some(env) = &mut scene.environment {
