@@ -91,7 +91,7 @@ impl Builder {
 
 /// How the buffer is stored.
 #[derive(Clone, Copy, Debug)]
-enum Form {
+pub(crate) enum Form {
     Glb,
     Base64,
     ExternalBin,
@@ -140,7 +140,7 @@ fn glb(json_text: &str, bin: &[u8]) -> Vec<u8> {
 }
 
 /// Writes `doc` with buffer `bin` in `form` into `dir`; returns the file's path.
-fn write(dir: &Path, stem: &str, mut doc: Value, bin: &[u8], form: Form) -> PathBuf {
+pub(crate) fn write(dir: &Path, stem: &str, mut doc: Value, bin: &[u8], form: Form) -> PathBuf {
     std::fs::create_dir_all(dir).unwrap();
     match form {
         Form::Glb => {
@@ -172,7 +172,7 @@ fn write(dir: &Path, stem: &str, mut doc: Value, bin: &[u8], form: Form) -> Path
     }
 }
 
-fn temp_dir(name: &str) -> PathBuf {
+pub(crate) fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("penumbra-gltf-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -358,7 +358,7 @@ const FLOOR_BASE: [f32; 4] = [0.625, 0.5, 0.375, 1.0];
 const FLOOR_ROUGHNESS: f32 = 0.75;
 
 /// The test scene's document (without `buffers`) and its binary buffer.
-fn test_scene() -> (Value, Vec<u8>) {
+pub(crate) fn test_scene() -> (Value, Vec<u8>) {
     let mut b = Builder::default();
     // The light: u16 indices, packed positions.
     let light_pos = b.positions(&QUAD, 0, None);

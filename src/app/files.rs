@@ -33,7 +33,7 @@ pub fn load_scene(name: &str) -> Result<Scene> {
     }
 }
 
-/// Opens a file by its content: a scene (.toml, .obj), a debug dump or bench report (.json),
+/// Opens a file by its content: a scene (.toml, .obj, .glb, .gltf), a debug dump or bench report (.json),
 /// or a reference image (.pfm).
 pub fn open(path: &Path) -> Result<Opened> {
     let ext = path
@@ -42,7 +42,7 @@ pub fn open(path: &Path) -> Result<Opened> {
         .unwrap_or_default();
     let name = path.display().to_string();
     match ext.as_str() {
-        "toml" | "obj" => Ok(Opened::Scene(name.clone(), load_scene(&name)?)),
+        "toml" | "obj" | "glb" | "gltf" => Ok(Opened::Scene(name.clone(), load_scene(&name)?)),
         "hdr" | "exr" => Ok(Opened::Environment(path.to_path_buf())),
         "pfm" => Ok(Opened::Reference(
             image_io::read_pfm_image(path).with_context(|| name.clone())?,
@@ -63,7 +63,9 @@ pub fn open(path: &Path) -> Result<Opened> {
                 anyhow::bail!("{name}: neither a debug dump nor a bench report")
             }
         }
-        _ => anyhow::bail!("{name}: unknown file type (expected .toml, .obj, .json or .pfm)"),
+        _ => anyhow::bail!(
+            "{name}: unknown file type (expected .toml, .obj, .glb, .gltf, .json, .pfm, .hdr or .exr)"
+        ),
     }
 }
 

@@ -20,6 +20,7 @@ pub mod light_view;
 pub mod orbit;
 pub mod panes;
 pub mod planar_view;
+pub mod scene_edit;
 pub mod sphere_view;
 pub mod stages;
 pub mod tonemap;
@@ -128,7 +129,7 @@ pub struct WorkbenchApp {
     pub state: Persisted,
     ctx: Option<Arc<RenderContext>>,
     scene_error: Option<String>,
-    orbit: OrbitCamera,
+    pub orbit: OrbitCamera,
     worker: RenderWorker,
     requested: Option<(u64, String)>,
     scene_generation: u64,
@@ -161,6 +162,8 @@ pub struct WorkbenchApp {
     subject_rect: Option<egui::Rect>,
     /// A lesson being exported, frame by frame.
     lesson_capture: Option<lesson_export::LessonCapture>,
+    /// The selected object, its handles and the edit history.
+    pub editor: scene_edit::SceneEditor,
     /// Where the viewport was drawn in the last frame (points).
     pub viewport_rect: Option<egui::Rect>,
     bench_job: Option<bench_job::BenchJob>,
@@ -228,6 +231,7 @@ impl WorkbenchApp {
             sphere_rect: None,
             subject_rect: None,
             lesson_capture: None,
+            editor: Default::default(),
             viewport_rect: None,
             bench_job: None,
             bench_size: (160, 120),
@@ -311,6 +315,7 @@ impl WorkbenchApp {
         self.ctx = Some(self.context(Arc::new(scene)));
         self.scene_error = None;
         self.scene_generation += 1;
+        self.editor.reset();
         self.inspector = None;
         self.monte_carlo = None;
         self.auto_pick = true;
@@ -377,7 +382,120 @@ impl WorkbenchApp {
             && ins.probe.scene == self.state.scene
         {
             let (x, y) = ins.probe.pixel;
+            // The same stage stays shown where the new recording has it.
+            let step = ins.step;
             self.pick(x, y);
+            if let Some(ins) = &mut self.inspector {
+                ins.step = step.filter(|&s| s < ins.steps.len());
+            }
+        }
+    }
+
+    /// A moved object's new context (from the scene editor): render it, and probe the picked
+    /// pixel again.
+    fn scene_moved(&mut self, ctx: Arc<RenderContext>) {
+        let mut ctx = ctx;
+        if !self.use_trees
+            && let Some(c) = Arc::get_mut(&mut ctx)
+        {
+            c.prepared.drop_silhouette_trees();
+        }
+        self.ctx = Some(ctx);
+        self.context_replaced();
+    }
+
+    /// Undoes the last move of an object.
+    pub fn undo_edit(&mut self) {
+        if let Some(ctx) = self.ctx.clone()
+            && let Some(moved) = self.editor.undo(&ctx)
+        {
+            self.scene_moved(moved);
+            self.status = "undone".into();
+        }
+    }
+
+    /// Redoes the last undone move.
+    pub fn redo_edit(&mut self) {
+        if let Some(ctx) = self.ctx.clone()
+            && let Some(moved) = self.editor.redo(&ctx)
+        {
+            self.scene_moved(moved);
+            self.status = "redone".into();
+        }
+    }
+
+    /// Moves `object` by `delta` as one edit (what a whole drag does).
+    pub fn move_object(&mut self, object: usize, delta: crate::scene::edit::Rigid) -> bool {
+        let Some(ctx) = self.ctx.clone() else {
+            return false;
+        };
+        match self.editor.move_object(&ctx, object, delta) {
+            Some(moved) => {
+                self.scene_moved(moved);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Selects the object `spec` names (a name or an index) for moving; the status says why not.
+    pub fn select_object(&mut self, spec: &str) {
+        let Some(ctx) = &self.ctx else {
+            return;
+        };
+        match crate::scene::edit::resolve_object(&ctx.scene, spec) {
+            Ok(i) => {
+                self.editor.selected = Some(i);
+                layout::reveal(&mut self.tree, Pane::Scene);
+            }
+            Err(e) => self.status = e.to_string(),
+        }
+    }
+
+    /// One update of a drag driven by a program (`--measure-drag`): moves `object` to
+    /// `delta` after where the drag began, renders and probes again. Returns the time
+    /// `with_moved_object` took (ms).
+    pub fn drag_step(&mut self, object: usize, delta: crate::scene::edit::Rigid) -> Option<f64> {
+        let ctx = self.ctx.clone()?;
+        let moved = self.editor.drag_to(&ctx, object, delta)?;
+        self.scene_moved(moved);
+        self.editor.last_timing.map(|t| t.prepare_ms)
+    }
+
+    /// The occluder subtracted first at the picked point (a scene object index).
+    pub fn picked_occluder(&self) -> Option<usize> {
+        let ins = self.inspector.as_ref()?;
+        let ctx = self.ctx.as_ref()?;
+        let sd = ins
+            .probe
+            .recording
+            .lights
+            .iter()
+            .flat_map(|l| l.set_differences.iter())
+            .next()?;
+        Some(ctx.prepared.objects.get(sd.occluder)?.object as usize)
+    }
+
+    /// Asks for a file and saves the scene as it is now (moved objects included).
+    fn save_scene_dialog(&mut self) {
+        let Some(ctx) = self.ctx.clone() else {
+            return;
+        };
+        if let Some(p) = rfd::FileDialog::new()
+            .add_filter("scene", &["toml"])
+            .set_file_name("scene.toml")
+            .save_file()
+        {
+            let cam = self.orbit.camera();
+            self.status = match crate::scene::save::save_scene(&ctx.scene, Some(&cam), &p) {
+                Ok(saved) => format!(
+                    "wrote {} ({} and {} beside it)",
+                    saved.toml.display(),
+                    saved.obj.display(),
+                    saved.mtl.display()
+                ),
+                Err(e) => e,
+            };
         }
     }
 
@@ -610,6 +728,9 @@ impl WorkbenchApp {
                     i.key_pressed(Key::F12),
                     i.key_pressed(Key::F1),
                     i.key_pressed(Key::Escape),
+                    i.modifiers.command && !i.modifiers.shift && i.key_pressed(Key::Z),
+                    i.modifiers.command
+                        && (i.key_pressed(Key::Y) || (i.modifiers.shift && i.key_pressed(Key::Z))),
                 ),
             )
         });
@@ -620,7 +741,14 @@ impl WorkbenchApp {
             }
         }
         let typing = ctx.egui_wants_keyboard_input();
-        let (next, prev, home, play, reset, save, dump, open, shot, help, escape) = keys;
+        let (next, prev, home, play, reset, save, dump, open, shot, help, escape, undo, redo) =
+            keys;
+        if undo && !typing {
+            self.undo_edit();
+        }
+        if redo && !typing {
+            self.redo_edit();
+        }
         if escape {
             self.maximised = None;
         }
@@ -664,7 +792,7 @@ impl WorkbenchApp {
         if let Some(p) = rfd::FileDialog::new()
             .add_filter(
                 "penumbra files",
-                &["toml", "obj", "json", "pfm", "hdr", "exr"],
+                &["toml", "obj", "glb", "gltf", "json", "pfm", "hdr", "exr"],
             )
             .pick_file()
         {
@@ -900,45 +1028,36 @@ impl WorkbenchApp {
         if use_trees != self.use_trees {
             self.set_use_trees(use_trees);
         }
-        let Some(ctx) = &self.ctx else {
+        let Some(ctx) = self.ctx.clone() else {
             return;
         };
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(self.editor.can_undo(), egui::Button::new("undo"))
+                .on_hover_text("Ctrl+Z")
+                .clicked()
+            {
+                self.undo_edit();
+            }
+            if ui
+                .add_enabled(self.editor.can_redo(), egui::Button::new("redo"))
+                .on_hover_text("Ctrl+Y")
+                .clicked()
+            {
+                self.redo_edit();
+            }
+            if ui.button("Save scene…").clicked() {
+                self.save_scene_dialog();
+            }
+        });
+        ui.small(
+            "Select an object (here, or double-click it in the viewport), then drag its arrows \
+             to move it or its ring to turn it.",
+        );
         egui::ScrollArea::vertical()
             .id_salt("objects")
-            .max_height(220.0)
-            .show(ui, |ui| {
-                egui::Grid::new("objects_grid")
-                    .striped(true)
-                    .show(ui, |ui| {
-                        ui.strong("object");
-                        ui.strong("flags");
-                        ui.strong("shape");
-                        ui.end_row();
-                        for (i, o) in ctx.scene.objects.iter().enumerate() {
-                            ui.label(&o.name);
-                            let mut f = Vec::new();
-                            if o.flags.light && o.material.is_emissive() {
-                                f.push("light");
-                            }
-                            if o.flags.occluder {
-                                f.push("occluder");
-                            }
-                            if o.flags.receiver {
-                                f.push("receiver");
-                            }
-                            ui.label(f.join(", "));
-                            let shape = ctx
-                                .prepared
-                                .objects
-                                .iter()
-                                .find(|p| p.object == i as u32)
-                                .map(|p| p.path().label())
-                                .unwrap_or("receiver only");
-                            ui.label(shape);
-                            ui.end_row();
-                        }
-                    });
-            });
+            .max_height(260.0)
+            .show(ui, |ui| self.editor.list_ui(ui, &ctx));
         for w in ctx.scene.warnings.iter().chain(&ctx.prepared.notes) {
             ui.small(w);
         }
@@ -1022,8 +1141,34 @@ impl WorkbenchApp {
         } else {
             painter.rect_filled(rect, 0.0, Color32::BLACK);
         }
+        // The selected object's handles take the pointer first.
+        let mut on_gizmo = false;
+        if let Some(ctx) = self.ctx.clone() {
+            let edit = self
+                .editor
+                .viewport_input(ui, &resp, &painter, &ctx, &self.orbit.camera());
+            on_gizmo = edit.consumed;
+            if let Some(moved) = edit.moved {
+                self.scene_moved(moved);
+            }
+            if resp.double_clicked()
+                && let Some(pos) = resp.interact_pointer_pos()
+            {
+                let x = ((pos.x - rect.min.x) / rect.width() * size.0 as f32).floor() as f64;
+                let y = ((pos.y - rect.min.y) / rect.height() * size.1 as f32).floor() as f64;
+                let hit =
+                    scene_edit::SceneEditor::object_at(&ctx, &self.orbit.camera(), size, x, y);
+                self.editor.selected = hit;
+                if let Some(i) = hit {
+                    self.status = format!(
+                        "selected {}: drag its arrows or ring to move it",
+                        ctx.scene.objects[i].name
+                    );
+                }
+            }
+        }
         // Camera.
-        if resp.dragged_by(egui::PointerButton::Primary) {
+        if !on_gizmo && resp.dragged_by(egui::PointerButton::Primary) {
             let d = resp.drag_delta();
             self.orbit.orbit(d.x as f64, d.y as f64);
         }
@@ -1040,6 +1185,7 @@ impl WorkbenchApp {
             }
         }
         if resp.clicked()
+            && !on_gizmo
             && let Some(pos) = resp.interact_pointer_pos()
         {
             let x = ((pos.x - rect.min.x) / rect.width() * size.0 as f32).floor() as f64;
@@ -1545,6 +1691,11 @@ pub struct RunOptions {
     /// intervals while rendering, as a `Measurement`), write it here as JSON, then quit.
     #[arg(long)]
     pub measure: Option<PathBuf>,
+    /// Measure the latency of moving an object: drag the occluder of the picked point 12
+    /// times (as the handles do) and time each update to the redrawn sphere view and to the
+    /// first image, as a `DragMeasurement` in JSON; then quit.
+    #[arg(long)]
+    pub measure_drag: Option<PathBuf>,
     /// With --screenshot: first pick the pixel at these fractions of the viewport, e.g. 0.5,0.7.
     #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
     pub pick: Option<(f64, f64)>,
@@ -1564,6 +1715,9 @@ pub struct RunOptions {
     /// Light the scene with this environment at start: sky, sky-sh, an .hdr/.exr file, none.
     #[arg(long)]
     pub env: Option<String>,
+    /// Select this object (by name or index) at start: its move handles show in the viewport.
+    #[arg(long)]
+    pub select: Option<String>,
     /// Show this light (by object name) in the light structure view at start.
     #[arg(long)]
     pub light: Option<String>,
@@ -1649,10 +1803,21 @@ pub fn run(opts: RunOptions) -> eframe::Result {
             if let Some(name) = &opts.light {
                 app.select_light(name);
             }
+            if let Some(spec) = &opts.select {
+                app.select_object(spec);
+            }
             for p in &opts.open {
                 app.open_path(p);
             }
-            Ok(if let Some(path) = opts.measure.clone() {
+            Ok(if let Some(path) = opts.measure_drag.clone() {
+                Box::new(MeasureDrag {
+                    app,
+                    path,
+                    phase: DragPhase::Warmup(Instant::now()),
+                    result: DragMeasurement::default(),
+                    object: None,
+                }) as Box<dyn eframe::App>
+            } else if let Some(path) = opts.measure.clone() {
                 Box::new(Measure {
                     app,
                     path,
@@ -1931,4 +2096,129 @@ fn scrolled(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui)) {
         .id_salt(id)
         .auto_shrink([false, false])
         .show(ui, add);
+}
+
+/// Latency of moving an object in the workbench, measured in the real window
+/// (`penumbra gui --measure-drag FILE`).
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct DragMeasurement {
+    pub window: (f32, f32),
+    pub render_size: (u32, u32),
+    pub method: String,
+    pub scene: String,
+    pub object: String,
+    /// `RenderContext::with_moved_object` per update (ms).
+    pub prepare_ms: Vec<f64>,
+    /// From the update to the end of the frame that drew the new recording (the sphere view
+    /// redrawn, painted), ms.
+    pub sphere_ms: Vec<f64>,
+    /// From the update to the first (coarse) image of the moved scene, ms.
+    pub first_image_ms: Vec<f64>,
+    pub prepare_ms_max: f64,
+    pub sphere_ms_max: f64,
+    pub first_image_ms_max: f64,
+}
+
+enum DragPhase {
+    Warmup(Instant),
+    /// Update k happens at the start of the next frame.
+    Step(u32),
+    /// Update k was made at the instant; the frame drawing it is being painted.
+    Painted(u32, Instant, u64),
+    /// Waiting for update k's first image.
+    Waiting(u32, Instant, u64),
+    Done(u32),
+}
+
+struct MeasureDrag {
+    app: WorkbenchApp,
+    path: PathBuf,
+    phase: DragPhase,
+    result: DragMeasurement,
+    object: Option<usize>,
+}
+
+impl eframe::App for MeasureDrag {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        let now = Instant::now();
+        ui.ctx().request_repaint();
+        const UPDATES: u32 = 12;
+        // An update is made at the start of a frame, so that this frame draws it.
+        if let DragPhase::Step(k) = self.phase {
+            let generation = self.app.worker.generation();
+            if let Some(object) = self.object {
+                // Back and forth along x by up to 0.12 (scene units), as a hand would drag.
+                let x = 0.04 * ((k % 6) as f64 - 2.5);
+                let delta = crate::scene::edit::Rigid::translation(glam::DVec3::new(x, 0.0, 0.0));
+                if let Some(ms) = self.app.drag_step(object, delta) {
+                    self.result.prepare_ms.push(ms);
+                }
+            }
+            self.phase = DragPhase::Painted(k, now, generation);
+        } else if let DragPhase::Painted(k, t0, generation) = self.phase {
+            // This frame starts after the previous one (which drew the update) was painted.
+            self.result.sphere_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+            self.phase = DragPhase::Waiting(k, t0, generation);
+        }
+        self.app.ui(ui, frame);
+        match self.phase {
+            DragPhase::Warmup(t0) => {
+                let ready = self.app.render_finished() && self.app.inspector.is_some();
+                if ready || t0.elapsed().as_secs_f64() > 60.0 {
+                    self.object = self.app.picked_occluder();
+                    if let (Some(o), Some(ctx)) = (self.object, &self.app.ctx) {
+                        self.result.object = ctx.scene.objects[o].name.clone();
+                    }
+                    self.phase = DragPhase::Step(0);
+                }
+            }
+            DragPhase::Waiting(k, t0, generation) => {
+                let arrived = self
+                    .app
+                    .worker
+                    .latest()
+                    .is_some_and(|f| f.generation > generation);
+                if arrived {
+                    self.result
+                        .first_image_ms
+                        .push(t0.elapsed().as_secs_f64() * 1e3);
+                }
+                if arrived || t0.elapsed().as_secs_f64() > 5.0 {
+                    self.phase = if k + 1 == UPDATES {
+                        self.app.editor.end_scripted_drag();
+                        DragPhase::Done(0)
+                    } else {
+                        DragPhase::Step(k + 1)
+                    };
+                }
+            }
+            DragPhase::Done(0) => {
+                let r = &mut self.result;
+                r.window = (
+                    ui.ctx().content_rect().width(),
+                    ui.ctx().content_rect().height(),
+                );
+                r.render_size = self.app.render_size;
+                r.method = self.app.state.method.name().into();
+                r.scene = self.app.state.scene.clone();
+                let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+                r.prepare_ms_max = max(&r.prepare_ms);
+                r.sphere_ms_max = max(&r.sphere_ms);
+                r.first_image_ms_max = max(&r.first_image_ms);
+                match serde_json::to_string_pretty(r) {
+                    Ok(s) => {
+                        if let Err(e) = std::fs::write(&self.path, s) {
+                            eprintln!("{}: {e}", self.path.display());
+                        }
+                    }
+                    Err(e) => eprintln!("{e}"),
+                }
+                self.phase = DragPhase::Done(1);
+            }
+            DragPhase::Done(_) => ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close),
+            _ => {}
+        }
+    }
+
+    fn save(&mut self, _storage: &mut dyn eframe::Storage) {}
 }
