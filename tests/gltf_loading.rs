@@ -33,7 +33,7 @@ struct Builder {
 
 impl Builder {
     fn pad(&mut self) {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
     }
@@ -118,11 +118,11 @@ fn base64(data: &[u8]) -> String {
 /// The GLB container: header, JSON chunk (space-padded), BIN chunk (zero-padded).
 fn glb(json_text: &str, bin: &[u8]) -> Vec<u8> {
     let mut j = json_text.as_bytes().to_vec();
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let mut b = bin.to_vec();
-    while b.len() % 4 != 0 {
+    while !b.len().is_multiple_of(4) {
         b.push(0);
     }
     let total = 12 + 8 + j.len() + 8 + b.len();

@@ -229,14 +229,11 @@ pub fn load_gltf_bytes(
         },
         &mut notes,
     );
-    if scene.objects.is_empty() {
-        notes.push("no triangles found; the scene is empty".to_owned());
-    }
-    let mut all = Vec::new();
-    for n in notes {
-        all.push(format!("{file}: {n}"));
-    }
+    let mut all: Vec<String> = notes.iter().map(|n| format!("{file}: {n}")).collect();
     all.extend(warn.finish(file));
+    if scene.objects.is_empty() {
+        all.push(format!("{file}: no triangles found; the scene is empty"));
+    }
     scene.warnings = all;
     Ok(scene)
 }

@@ -58,7 +58,7 @@ pub(super) fn local_transform(
     }
     let q = DQuat::from_array(r.map(|x| x as f64));
     let len = q.length();
-    if !(len > 1e-6) {
+    if len <= 1e-6 {
         return Err(err(
             file,
             format!("nodes[{i}].rotation is a zero quaternion"),
