@@ -312,7 +312,7 @@ impl Inspector {
 
     /// Previous / next / play and the step list.
     pub fn stepper_ui(&mut self, ui: &mut Ui) {
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             if ui
                 .button("all stages")
                 .on_hover_text("Show every stage (Home)")

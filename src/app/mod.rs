@@ -1388,7 +1388,13 @@ impl WorkbenchApp {
                     ui.label(pick_first);
                 }
             },
-            Pane::Stages => scrolled(ui, "stages_scroll", |ui| self.stages_ui(ui)),
+            // Text that wraps to the tile: scrolled vertically only.
+            Pane::Stages => {
+                egui::ScrollArea::vertical()
+                    .id_salt("stages_scroll")
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| self.stages_ui(ui));
+            }
             Pane::Numbers => scrolled(ui, "numbers_scroll", |ui| self.numbers_ui(ui)),
             Pane::Settings => scrolled(ui, "settings_scroll", |ui| self.settings_ui(ui)),
             Pane::Scene => scrolled(ui, "scene_scroll", |ui| self.scene_ui(ui)),

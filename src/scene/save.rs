@@ -105,6 +105,9 @@ fn roughness_for(alpha: f64) -> f64 {
     .unwrap_or(r)
 }
 
+/// The texts of a saved scene: (TOML, OBJ, MTL) and the renamings (old, new).
+pub type SceneTexts = (String, String, String, Vec<(String, String)>);
+
 /// The text of the three files: (TOML, OBJ, MTL), naming the OBJ and MTL files `obj_name`
 /// and `mtl_name`, and the renamings.
 pub fn scene_texts(
@@ -113,7 +116,7 @@ pub fn scene_texts(
     obj_name: &str,
     mtl_name: &str,
     base_dir: &Path,
-) -> Result<(String, String, String, Vec<(String, String)>), String> {
+) -> Result<SceneTexts, String> {
     let mut renamed = Vec::new();
     let mut obj = String::new();
     let mut mtl = String::new();
