@@ -260,9 +260,12 @@ mod tests {
             fov_deg: 40.0,
         };
         let g = Gizmo::new(top.basis().unwrap(), g.rect, DVec3::ZERO);
-        let a = g.project(g.ring_point(0.0)).unwrap();
+        // Between the arrows: at angle 0 the ring passes under the x arrow, which takes the
+        // pointer first.
+        const START: f64 = 0.7;
+        let a = g.project(g.ring_point(START)).unwrap();
         let b = g
-            .project(g.ring_point(std::f64::consts::FRAC_PI_2))
+            .project(g.ring_point(START + std::f64::consts::FRAC_PI_2))
             .unwrap();
         assert_eq!(g.hit(a), Some(Handle::RotateY));
         let Some(Motion::RotateY(theta)) = g.motion(Handle::RotateY, a, b) else {
@@ -278,9 +281,9 @@ mod tests {
             ..top
         };
         let g = Gizmo::new(below.basis().unwrap(), g.rect, DVec3::ZERO);
-        let a = g.project(g.ring_point(0.0)).unwrap();
+        let a = g.project(g.ring_point(START)).unwrap();
         let b = g
-            .project(g.ring_point(std::f64::consts::FRAC_PI_2))
+            .project(g.ring_point(START + std::f64::consts::FRAC_PI_2))
             .unwrap();
         let Some(Motion::RotateY(theta)) = g.motion(Handle::RotateY, a, b) else {
             panic!("ring");

@@ -2077,14 +2077,7 @@ impl eframe::App for Measure {
                     r.ui_code_ms_mean = mean(&r.ui_code_ms);
                     r.ui_code_ms_max = r.ui_code_ms.iter().copied().fold(0.0, f64::max);
                     r.idle_frame_ms_mean = mean(&r.idle_ms);
-                    match serde_json::to_string_pretty(r) {
-                        Ok(s) => {
-                            if let Err(e) = std::fs::write(&self.path, s) {
-                                eprintln!("{}: {e}", self.path.display());
-                            }
-                        }
-                        Err(e) => eprintln!("{e}"),
-                    }
+                    write_measurement(&self.path, r);
                 }
                 if n > 2 {
                     ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
@@ -2102,6 +2095,19 @@ fn scrolled(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui)) {
         .id_salt(id)
         .auto_shrink([false, false])
         .show(ui, add);
+}
+
+/// Writes a measurement as JSON (`--measure`, `--measure-drag`); errors go to stderr, since
+/// the window is closing.
+fn write_measurement(path: &std::path::Path, m: &impl serde::Serialize) {
+    match serde_json::to_string_pretty(m) {
+        Ok(s) => {
+            if let Err(e) = std::fs::write(path, s) {
+                eprintln!("{}: {e}", path.display());
+            }
+        }
+        Err(e) => eprintln!("{e}"),
+    }
 }
 
 /// Latency of moving an object in the workbench, measured in the real window
@@ -2211,14 +2217,7 @@ impl eframe::App for MeasureDrag {
                 r.prepare_ms_max = max(&r.prepare_ms);
                 r.sphere_ms_max = max(&r.sphere_ms);
                 r.first_image_ms_max = max(&r.first_image_ms);
-                match serde_json::to_string_pretty(r) {
-                    Ok(s) => {
-                        if let Err(e) = std::fs::write(&self.path, s) {
-                            eprintln!("{}: {e}", self.path.display());
-                        }
-                    }
-                    Err(e) => eprintln!("{e}"),
-                }
+                write_measurement(&self.path, r);
                 self.phase = DragPhase::Done(1);
             }
             DragPhase::Done(_) => ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close),
