@@ -105,11 +105,18 @@ fn roughness_for(alpha: f64) -> f64 {
     .unwrap_or(r)
 }
 
-/// The texts of a saved scene: (TOML, OBJ, MTL) and the renamings (old, new).
-pub type SceneTexts = (String, String, String, Vec<(String, String)>);
+/// The text of a saved scene's three files, and the renamings.
+#[derive(Clone, Debug, Default)]
+pub struct SceneTexts {
+    pub toml: String,
+    pub obj: String,
+    pub mtl: String,
+    /// Objects or materials written under another name: (old, new).
+    pub renamed: Vec<(String, String)>,
+}
 
-/// The text of the three files: (TOML, OBJ, MTL), naming the OBJ and MTL files `obj_name`
-/// and `mtl_name`, and the renamings.
+/// The text of the three files, naming the OBJ and MTL files `obj_name` and `mtl_name` (an
+/// environment map file is named relative to `base_dir` where it lies below it).
 pub fn scene_texts(
     scene: &Scene,
     camera: Option<&Camera>,
@@ -232,7 +239,12 @@ pub fn scene_texts(
         "# penumbra scene, written by scene::save (`penumbra edit`); meshes in world space in \
          {obj_name}\n\n{body}"
     );
-    Ok((toml, obj, mtl, renamed))
+    Ok(SceneTexts {
+        toml,
+        obj,
+        mtl,
+        renamed,
+    })
 }
 
 /// Writes `scene` seen by `camera` as the scene file `path` (`.toml`), with its meshes in
@@ -258,17 +270,17 @@ pub fn save_scene(
             path.display()
         ));
     }
-    let (toml, obj, mtl, renamed) = scene_texts(scene, camera, &obj_name, &mtl_name, &dir)?;
+    let texts = scene_texts(scene, camera, &obj_name, &mtl_name, &dir)?;
     let write = |p: &Path, text: &str| {
         std::fs::write(p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
     };
-    write(&obj_path, &obj)?;
-    write(&mtl_path, &mtl)?;
-    write(path, &toml)?;
+    write(&obj_path, &texts.obj)?;
+    write(&mtl_path, &texts.mtl)?;
+    write(path, &texts.toml)?;
     Ok(SavedScene {
         toml: path.to_path_buf(),
         obj: obj_path,
         mtl: mtl_path,
-        renamed,
+        renamed: texts.renamed,
     })
 }

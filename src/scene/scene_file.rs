@@ -364,9 +364,9 @@ struct ObjectToml {
     translate: Option<Spanned<[f64; 3]>>,
     scale: Option<Spanned<ScaleToml>>,
     rotate: Option<Spanned<RotateToml>>,
-    /// The mesh's rounding radius (`Mesh::rounding`), instead of what the OBJ's digits give
-    /// (scaled with the mesh): `scene::save` writes it, since its full-precision digits
-    /// cannot tell the precision of the scene's source.
+    /// The mesh's rounding radius (`Mesh::rounding`) as placed, instead of what the OBJ's
+    /// digits and the entry's transform give: `scene::save` writes it, since its
+    /// full-precision digits cannot tell the precision of the scene's source.
     rounding: Option<Spanned<f64>>,
 }
 
@@ -572,14 +572,14 @@ fn parse_scene_toml(
         };
         for src in selected {
             let mut obj = src.clone();
-            if let Some(r) = rounding {
-                obj.mesh.rounding = r;
-            }
             obj.mesh = obj.mesh.scaled(scale);
             if let Some(r) = rotate {
                 obj.mesh = obj.mesh.transformed(&DAffine3::from_mat3(r));
             }
             obj.mesh = obj.mesh.translated(translate);
+            if let Some(r) = rounding {
+                obj.mesh.rounding = r;
+            }
             if let Some(light) = &o.light {
                 obj.flags.light = *light.get_ref();
                 if obj.flags.light && !obj.material.is_emissive() {
