@@ -7,7 +7,7 @@
 use super::gizmo::{Gizmo, Handle, Motion};
 use crate::render::RenderContext;
 use crate::scene::Camera;
-use crate::scene::edit::{EditHistory, Rigid};
+use crate::scene::edit::{EditError, EditHistory, Rigid};
 use egui::{Painter, Pos2, Rect, Response, Ui};
 use glam::DVec3;
 use std::sync::Arc;
@@ -199,19 +199,23 @@ impl SceneEditor {
 
     /// Undoes the last move; the new context if something moved.
     pub fn undo(&mut self, ctx: &Arc<RenderContext>) -> Option<Arc<RenderContext>> {
-        self.drag = None;
-        let mut scene = (*ctx.scene).clone();
-        let object = self.history(ctx).undo(&mut scene).ok()??;
-        ctx.with_moved_object(object, Arc::new(scene))
-            .ok()
-            .map(Arc::new)
+        self.history_step(ctx, EditHistory::undo)
     }
 
     /// Redoes the last undone move; the new context if something moved.
     pub fn redo(&mut self, ctx: &Arc<RenderContext>) -> Option<Arc<RenderContext>> {
+        self.history_step(ctx, EditHistory::redo)
+    }
+
+    /// Undo or redo: `step` writes the moved object's position into a copy of the scene.
+    fn history_step(
+        &mut self,
+        ctx: &Arc<RenderContext>,
+        step: fn(&mut EditHistory, &mut crate::scene::Scene) -> Result<Option<usize>, EditError>,
+    ) -> Option<Arc<RenderContext>> {
         self.drag = None;
         let mut scene = (*ctx.scene).clone();
-        let object = self.history(ctx).redo(&mut scene).ok()??;
+        let object = step(self.history(ctx), &mut scene).ok()??;
         ctx.with_moved_object(object, Arc::new(scene))
             .ok()
             .map(Arc::new)

@@ -81,6 +81,25 @@ pub struct StandIn {
 }
 
 impl StandIn {
+    /// The polyhedron to prepare for `mesh`: its convex hull when the mesh is convex up to
+    /// `rounding` (with the stand-in's record), else the mesh itself. The one place that
+    /// decides it, for a first preparation and after a move alike.
+    pub fn of(mesh: Polyhedron, rounding: f64) -> (Polyhedron, Option<StandIn>) {
+        match convex_stand_in(&mesh, rounding) {
+            Some(s) => {
+                let stand_in = StandIn {
+                    mesh_vertices: mesh.vertices.len(),
+                    mesh_faces: mesh.face_count(),
+                    mesh: Arc::new(mesh),
+                    deviation: s.deviation,
+                    outside: s.outside,
+                };
+                (s.hull, Some(stand_in))
+            }
+            None => (mesh, None),
+        }
+    }
+
     /// The largest change of solid angle from a point at `distance` from the hull.
     pub fn solid_angle_bound(&self, distance: f64) -> f64 {
         solid_angle_bound(self.deviation, distance)
@@ -678,31 +697,21 @@ impl PreparedScene {
                 continue;
             }
             // Convex as meant but not as written (rounded coordinates): the hull stands in.
-            let (poly, stand_in) = match convex_stand_in(&mesh, obj.mesh.rounding) {
-                Some(s) => {
-                    let stand_in = StandIn {
-                        mesh: Arc::new(mesh.clone()),
-                        deviation: s.deviation,
-                        outside: s.outside,
-                        mesh_vertices: mesh.vertices.len(),
-                        mesh_faces: mesh.face_count(),
-                    };
-                    notes.push(format!(
-                        "object '{}' is convex up to the rounding of its coordinates (vertices at \
+            let (poly, stand_in) = StandIn::of(mesh, obj.mesh.rounding);
+            if let Some(st) = &stand_in {
+                notes.push(format!(
+                    "object '{}' is convex up to the rounding of its coordinates (vertices at \
                          most {:.2e} outside its faces' planes, rounding {:.2e}): its convex hull \
                          ({} faces) stands in for it, within {:.2e} of it; the solid angle it \
                          subtends from a point at distance d changes by at most about 2π·{:.2e}/d",
-                        obj.name,
-                        s.outside,
-                        obj.mesh.rounding,
-                        s.hull.face_count(),
-                        s.deviation,
-                        s.deviation
-                    ));
-                    (s.hull, Some(stand_in))
-                }
-                None => (mesh, None),
-            };
+                    obj.name,
+                    st.outside,
+                    obj.mesh.rounding,
+                    poly.face_count(),
+                    st.deviation,
+                    st.deviation
+                ));
+            }
             let simple = poly.has_simple_silhouette();
             if !simple {
                 let d = &poly.diagnostics;
@@ -1013,19 +1022,7 @@ impl PreparedScene {
                     };
                 }
                 None => {
-                    let (poly, stand_in) = match convex_stand_in(&mesh, obj.mesh.rounding) {
-                        Some(s) => {
-                            let stand_in = StandIn {
-                                mesh: Arc::new(mesh.clone()),
-                                deviation: s.deviation,
-                                outside: s.outside,
-                                mesh_vertices: mesh.vertices.len(),
-                                mesh_faces: mesh.face_count(),
-                            };
-                            (s.hull, Some(stand_in))
-                        }
-                        None => (mesh, None),
-                    };
+                    let (poly, stand_in) = StandIn::of(mesh, obj.mesh.rounding);
                     let d = poly.diagnostics;
                     o.star_centre = (old.star_centre.is_some() && !d.convex && d.closed_manifold)
                         .then(|| star_centre(&poly))
