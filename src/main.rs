@@ -637,6 +637,24 @@ fn render(args: &RenderArgs) -> Result<()> {
     if nan + inf + neg > 0 {
         eprintln!("warning: {nan} NaN, {inf} infinite and {neg} negative pixel values");
     }
+    if settings.method.analytic().is_some() {
+        say!(
+            "invariant, shadowed <= unshadowed per light piece: {} violations",
+            stats.violations
+        );
+    }
+    if stats.violations > 0 {
+        let p = args.out.with_extension("violations.json");
+        std::fs::write(&p, serde_json::to_string(&out.violation_pixels)?)
+            .with_context(|| format!("writing {}", p.display()))?;
+        eprintln!(
+            "warning: {} light pieces saw more than the light (a visible polygon not inside the \
+             light's: shadowed > unshadowed) at the pixels listed in {}; this is a bug, please \
+             report it with the scene",
+            stats.violations,
+            p.display()
+        );
+    }
     for f in files {
         say!("wrote {}", f.display());
     }

@@ -70,6 +70,32 @@ impl SphericalPolygon {
         let c = sum.try_normalize().unwrap_or(DVec3::Z);
         self.signed_solid_angle_about(c)
     }
+
+    /// Whether the unit direction `v` lies in the region or within the angle `tol` of its
+    /// boundary: on an arc (to within `tol`), or with a winding number of the loops about `v`
+    /// of at least one (filled loops count +1, holes −1). The winding number sums the signed
+    /// angles at `v` between the tangent directions to the ends of each arc, which is exact for
+    /// arcs shorter than π not passing through `v` or `−v`.
+    pub fn contains_within(&self, v: DVec3, tol: f64) -> bool {
+        let mut turn = 0.0;
+        for lp in self.loops() {
+            let n = lp.len();
+            for i in 0..n {
+                let (a, b) = (lp[i], lp[(i + 1) % n]);
+                let m = a.cross(b);
+                let on_circle = m.dot(v).abs() <= tol * m.length().max(f64::MIN_POSITIVE);
+                if on_circle && a.cross(v).dot(m) >= 0.0 && v.cross(b).dot(m) >= 0.0
+                    || v.distance_squared(a) <= tol * tol
+                {
+                    return true;
+                }
+                let pa = a - v * v.dot(a);
+                let pb = b - v * v.dot(b);
+                turn += v.dot(pa.cross(pb)).atan2(pa.dot(pb));
+            }
+        }
+        turn > std::f64::consts::PI
+    }
 }
 
 #[cfg(test)]
@@ -111,6 +137,40 @@ mod tests {
                 (exact - mc).abs() <= 4.5 * sigma + 1e-12,
                 "case {case}: exact {exact} vs MC {mc} ± {sigma}"
             );
+        }
+    }
+
+    /// `contains_within` against the Monte Carlo oracle's even-odd `contains` on a polygon
+    /// with a hole, and on the boundary: its vertices and the midpoints of its arcs.
+    #[test]
+    fn containment_with_a_hole_and_on_the_boundary() {
+        let ring = |r: f64, n: usize, ccw: bool| -> Vec<DVec3> {
+            (0..n)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / n as f64;
+                    let a = if ccw { a } else { -a };
+                    DVec3::new(r * a.cos(), r * a.sin(), 1.0).normalize()
+                })
+                .collect()
+        };
+        let mut poly = SphericalPolygon::new();
+        poly.push_loop(ring(0.8, 7, true));
+        poly.push_loop(ring(0.3, 5, false));
+        let mut rng = Pcg32::new(4, 9);
+        for _ in 0..5000 {
+            let v = rng.unit_vector();
+            assert_eq!(
+                poly.contains_within(v, 1e-12),
+                contains(&poly, v, -DVec3::Z),
+                "{v}"
+            );
+        }
+        for lp in poly.loops() {
+            for i in 0..lp.len() {
+                let (a, b) = (lp[i], lp[(i + 1) % lp.len()]);
+                assert!(poly.contains_within(a, 1e-12));
+                assert!(poly.contains_within((a + b).normalize(), 1e-12));
+            }
         }
     }
 

@@ -216,6 +216,11 @@ pub struct PixelStats {
     pub shortcuts: crate::shading::Shortcuts,
     /// Wall-clock time spent on the pixel, in nanoseconds.
     pub nanos: u32,
+    /// Light pieces whose visible polygon was not inside the light's
+    /// (`shading::invariant`): a bug wherever it is not zero. Counted even without
+    /// `collect_stats`.
+    #[serde(default)]
+    pub violations: u32,
 }
 
 impl Default for RenderSettings {
@@ -239,6 +244,9 @@ impl Default for RenderSettings {
 pub struct RenderStats {
     pub seconds: f64,
     pub pixels_per_second: f64,
+    /// Light pieces, over all camera rays, whose visible polygon was not inside the light's
+    /// (`shading::invariant`; the analytic methods): a bug wherever it is not zero.
+    pub violations: u64,
 }
 
 /// A scene ready to render: the scene, its prepared shading data and its BVH.
@@ -501,6 +509,7 @@ impl RenderContext {
         out.stats = RenderStats {
             seconds,
             pixels_per_second: (settings.width * settings.height) as f64 / seconds.max(1e-12),
+            violations: out.violations,
         };
         Ok(out)
     }
@@ -521,6 +530,8 @@ impl RenderContext {
             let mut stats = PixelStats::default();
             for ray in subpixel_rays(basis, x, y, aa, w, h) {
                 sum += self.radiance(&ray, method, scratch, &mut NoRecorder);
+                stats.violations += scratch.stats.violations;
+                scratch.stats.violations = 0;
                 if collect {
                     stats.occluders_kept += scratch.stats.occluders_kept;
                     stats.light_edges += scratch.stats.light_edges;
@@ -545,6 +556,13 @@ impl RenderContext {
         };
         RenderOutput {
             image,
+            violations: pixels.iter().map(|p| p.1.violations as u64).sum(),
+            violation_pixels: pixels
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.1.violations > 0)
+                .map(|(i, p)| [i as u32 % w, i as u32 / w, p.1.violations])
+                .collect(),
             pixel_stats: collect.then(|| pixels.iter().map(|p| p.1).collect()),
             ..RenderOutput::default()
         }
@@ -567,6 +585,10 @@ pub struct RenderOutput {
     pub pixel_stats: Option<Vec<PixelStats>>,
     /// The environment's term and its passes (when the scene has an environment light).
     pub environment: Option<environment::EnvironmentOutput>,
+    /// Light pieces whose visible polygon was not inside the light's (`shading::invariant`).
+    pub violations: u64,
+    /// The pixels where that happened: x, y (row 0 at the top) and how many pieces.
+    pub violation_pixels: Vec<[u32; 3]>,
     pub stats: RenderStats,
 }
 

@@ -1,16 +1,118 @@
-//! Triangulating a planar polygon that is not convex *inside itself*: the fan from its first
-//! vertex, which `Mesh::triangles` and every convex-face test assume, folds outside a
-//! non-convex polygon (an L-shaped or star-shaped cap, a letter's outline) and covers area
-//! the face does not have.
+//! The one surface every method sees (docs/scenes.md, "The surface of a face"): which loaded
+//! faces stay polygons and which are split into triangles, and how.
 //!
-//! Ear clipping in the polygon's plane (Meisters' two-ears theorem: a simple polygon of more
-//! than three vertices has two non-overlapping ears, so clipping one at a time always
-//! succeeds). Of the ears available, the one whose triangle is the least thin is clipped
-//! first, which keeps slivers out of the per-triangle method and the BVH. A polygon with no
-//! ear is not simple (it crosses itself); it is left to the caller.
+//! The analytic method, the per-triangle method and the ray-cast oracle must agree on the
+//! surface a face stands for. A planar convex polygon is one surface however it is fanned, so
+//! it stays one face (a quad light stays one face, which the silhouette stages prefer). Every
+//! other face is split here, once, when it is loaded, and the triangles replace it in
+//! `Mesh::faces`:
+//!
+//! * a face **not planar** beyond the rounding of its digits (a subdivided quad): its spherical
+//!   image folds where a point sees it nearly edge-on, and no single plane decides which side
+//!   of it a point is on;
+//! * a planar face **not convex** (an L-shaped cap, a letter's outline): a fan from its first
+//!   vertex folds outside it;
+//! * a face that **touches itself** (a hole bridged by a keyhole slit: a vertex visited twice).
+//!
+//! The triangles come from ear clipping in the plane of Newell's normal (Meisters' two-ears
+//! theorem: a simple polygon of more than three vertices has two non-overlapping ears, so
+//! clipping one at a time always succeeds). Of the ears available, the one whose triangle is
+//! the least thin is clipped first, which keeps slivers out of the per-triangle method and the
+//! BVH. A face with no ear at some step (its projection crosses itself) is fanned from its
+//! first vertex, with a warning: a defined surface, if not the one its author meant.
 
+use super::precision::{planarity_tolerance, plane_deviation};
 use crate::math::Frame;
 use glam::{DVec2, DVec3};
+
+/// Why a face was split into triangles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Split {
+    /// Not planar: a vertex `off` from the face's plane where rounding explains `tolerance`.
+    NonPlanar { off: f64, tolerance: f64 },
+    /// Planar but not convex.
+    NonConvex,
+    /// It visits a position twice: a hole bridged by a keyhole slit, or a face pinched at a
+    /// vertex.
+    Keyhole,
+}
+
+/// What a loaded face becomes (see the module's documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub enum FaceSurface {
+    /// Planar up to its rounding and convex: kept as one polygon.
+    Polygon,
+    /// Split into these triangles (indices into the face's vertices, counter-clockwise like
+    /// the face); `fanned` when ear clipping found no ear and the face was fanned from its first
+    /// vertex instead.
+    Triangles {
+        tris: Vec<[usize; 3]>,
+        why: Split,
+        fanned: bool,
+    },
+    /// A face that touches itself and has no ear: no triangulation of it is a surface (a fan
+    /// would cross the slit); the caller drops it with a warning.
+    NoSurface,
+}
+
+/// The surface of the face `pts` (at least three vertices, positions as loaded, no two
+/// consecutive ones equal), whose vertices were written with rounding radius `rounding`
+/// (`Mesh::rounding`).
+pub fn face_surface(pts: &[DVec3], rounding: f64) -> FaceSurface {
+    let m = pts.len();
+    let touches_itself = (0..m).any(|a| (a + 1..m).any(|b| pts[a] == pts[b]));
+    let why = if m == 3 {
+        return FaceSurface::Polygon;
+    } else if touches_itself {
+        Split::Keyhole
+    } else {
+        let off = plane_deviation(pts);
+        let tolerance = planarity_tolerance(pts, rounding);
+        if off > tolerance {
+            Split::NonPlanar { off, tolerance }
+        } else if is_convex(pts, rounding) {
+            return FaceSurface::Polygon;
+        } else {
+            Split::NonConvex
+        }
+    };
+    match ear_clip(pts, turn_slack(pts, rounding)) {
+        Some(tris) if !tris.is_empty() => FaceSurface::Triangles {
+            tris,
+            why,
+            fanned: false,
+        },
+        _ if why == Split::Keyhole => FaceSurface::NoSurface,
+        _ => FaceSurface::Triangles {
+            tris: (1..m - 1).map(|k| [0, k, k + 1]).collect(),
+            why,
+            fanned: true,
+        },
+    }
+}
+
+/// Every corner of the face `pts` turns the way of its Newell normal (up to [`turn_slack`]).
+fn is_convex(pts: &[DVec3], rounding: f64) -> bool {
+    let Some(n) = super::shapes::polygon_area_vector(pts).try_normalize() else {
+        return true;
+    };
+    let m = pts.len();
+    let slack = turn_slack(pts, rounding);
+    (0..m).all(|k| {
+        let (a, b, c) = (pts[k], pts[(k + 1) % m], pts[(k + 2) % m]);
+        (b - a).cross(c - b).dot(n) >= -slack
+    })
+}
+
+/// How far a corner of the face `pts` may turn the wrong way (as the cross product of its two
+/// edges, an area) and still count as straight: what moving its vertex by `rounding` can do,
+/// and never less than the f64 rounding of that product.
+fn turn_slack(pts: &[DVec3], rounding: f64) -> f64 {
+    let longest = (0..pts.len())
+        .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
+        .fold(0.0, f64::max);
+    (2.0 * rounding * longest).max(1e-12 * longest * longest)
+}
 
 /// The triangles (indices into `pts`, counter-clockwise like the polygon) of a planar simple
 /// polygon, or `None` when it has no ear at some step (it is not simple). `slack` is the area
@@ -183,6 +285,87 @@ mod tests {
         check_tiling(&outline(&comb));
         let hexagon = around(6, &|_| 1.0);
         check_tiling(&hexagon);
+    }
+
+    /// A square with a square hole, bridged by a keyhole slit (the corner and the hole's first
+    /// vertex each visited twice), in a tilted plane: tiled inside itself, the hole left
+    /// uncovered (`check_tiling`'s even-odd rule sees the slit's two edges cancel).
+    #[test]
+    fn a_keyhole_face_is_tiled_around_its_hole() {
+        let tilt =
+            |x: f64, y: f64| DVec3::new(x, 0.2 * x - 0.4 * y, y) + DVec3::new(-1.0, 2.0, 0.5);
+        let ring = [
+            (0.0, 0.0),
+            (4.0, 0.0),
+            (4.0, 4.0),
+            (0.0, 4.0),
+            (0.0, 0.0),
+            (1.0, 1.0),
+            (1.0, 3.0),
+            (3.0, 3.0),
+            (3.0, 1.0),
+            (1.0, 1.0),
+        ];
+        let pts: Vec<DVec3> = ring.iter().map(|&(x, y)| tilt(x, y)).collect();
+        check_tiling(&pts);
+        match face_surface(&pts, 0.0) {
+            FaceSurface::Triangles { tris, why, fanned } => {
+                assert_eq!(why, Split::Keyhole);
+                assert!(!fanned);
+                assert_eq!(tris.len(), 8);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// A quad bent out of its plane far beyond its rounding is split along one diagonal; a
+    /// planar convex quad, also one rounded to 6 decimals, stays one polygon; an L stays
+    /// planar but is split.
+    #[test]
+    fn the_surface_of_a_face() {
+        let bent = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 2e-3),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        match face_surface(&bent, 5e-7) {
+            FaceSurface::Triangles { tris, why, fanned } => {
+                assert!(matches!(why, Split::NonPlanar { off, .. } if off > 1e-4));
+                assert!(!fanned);
+                assert_eq!(tris.len(), 2);
+                // The two triangles share a diagonal and cover all four corners.
+                let mut used = [0; 4];
+                tris.iter().flatten().for_each(|&k| used[k] += 1);
+                assert_eq!(used.iter().sum::<i32>(), 6);
+                assert!(used.iter().all(|&u| u >= 1));
+            }
+            other => panic!("{other:?}"),
+        }
+        let r = |v: f64| (v * 1e6).round() / 1e6;
+        let rot = |x: f64, y: f64| {
+            let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+            DVec3::new(r(c * x), r(s * x + 0.7 * y), r(y - 0.2 * x))
+        };
+        let rounded = [rot(0.0, 0.0), rot(1.0, 0.0), rot(1.0, 1.0), rot(0.0, 1.0)];
+        assert_eq!(face_surface(&rounded, 5e-7), FaceSurface::Polygon);
+        let l = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 3.0),
+            (0.0, 3.0),
+        ];
+        let l: Vec<DVec3> = l.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect();
+        assert!(matches!(
+            face_surface(&l, 0.0),
+            FaceSurface::Triangles {
+                why: Split::NonConvex,
+                fanned: false,
+                ..
+            }
+        ));
     }
 
     #[test]

@@ -15,10 +15,8 @@
 //! the k-th material definition met through the `mtllib` statements. Faces are repaired (see
 //! [`repair_face`]) and each object keeps only the vertices it uses.
 
-use super::face_triangulation::ear_clip;
-use super::precision::{
-    PrecisionSurvey, WrittenPrecision, planarity_tolerance, plane_deviation, written_number,
-};
+use super::face_triangulation::{FaceSurface, Split, face_surface};
+use super::precision::{PrecisionSurvey, WrittenPrecision, written_number};
 use super::{Material, Mesh, ObjectFlags, Scene, SceneError, SceneObject};
 use glam::DVec3;
 use std::collections::HashSet;
@@ -591,8 +589,10 @@ pub enum FaceRepair {
 /// Repairs one face (docs/scenes.md, "Repairs"):
 /// * consecutive repeats (same index, or a different index at the identical position,
 ///   including the last vertex repeating the first) are removed;
-/// * a face left with fewer than 3 vertices, a face that revisits a vertex non-consecutively
-///   (self-touching), or a face of (numerically) zero area is dropped.
+/// * a face left with fewer than 3 vertices, or a face of (numerically) zero area, is dropped.
+///
+/// A face that revisits a vertex non-consecutively (a keyhole around a hole) is kept here;
+/// [`face_surface`] splits it into triangles.
 ///
 /// Zero area means |area| <= 1e-12 * (longest edge)^2, i.e. all vertices collinear to
 /// ~1e-12 relative precision.
@@ -619,16 +619,6 @@ pub fn repair_face(face: &[u32], positions: &[DVec3]) -> FaceRepair {
             face.len()
         ));
     }
-    for a in 0..out.len() {
-        for b in a + 1..out.len() {
-            if same(out[a], out[b]) {
-                return FaceRepair::Dropped(
-                    "degenerate face dropped: it visits a vertex twice (self-touching polygon)"
-                        .into(),
-                );
-            }
-        }
-    }
     let pts: Vec<DVec3> = out.iter().filter_map(|&i| pos(i)).collect();
     let area = super::shapes::polygon_area_vector(&pts).length();
     let longest = (0..pts.len())
@@ -648,40 +638,6 @@ pub fn repair_face(face: &[u32], positions: &[DVec3]) -> FaceRepair {
     } else {
         FaceRepair::Kept(out)
     }
-}
-
-/// How far a kept face is from what the fan in `Mesh::triangles` and the silhouette tests
-/// assume (planar, convex): `Err(off, tolerance)` for a face not planar beyond what the digits
-/// it was written with explain (`precision::planarity_tolerance` of its vertices' rounding
-/// radius), `Ok(false)` for a planar face that is not convex, `Ok(true)` for a good one.
-fn face_shape(pts: &[DVec3], rounding: f64) -> Result<bool, (f64, f64)> {
-    if pts.len() == 3 {
-        return Ok(true);
-    }
-    let off = plane_deviation(pts);
-    let tol = planarity_tolerance(pts, rounding);
-    if off > tol {
-        return Err((off, tol));
-    }
-    let Some(n) = super::shapes::polygon_area_vector(pts).try_normalize() else {
-        return Ok(true);
-    };
-    let m = pts.len();
-    let slack = turn_slack(pts, rounding);
-    Ok((0..m).all(|k| {
-        let (a, b, c) = (pts[k], pts[(k + 1) % m], pts[(k + 2) % m]);
-        (b - a).cross(c - b).dot(n) >= -slack
-    }))
-}
-
-/// How far a corner of the face `pts` may turn the wrong way (as the cross product of its two
-/// edges, an area) and still count as straight: what moving its vertex by `rounding` can do,
-/// and never less than the f64 rounding of that product.
-fn turn_slack(pts: &[DVec3], rounding: f64) -> f64 {
-    let longest = (0..pts.len())
-        .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
-        .fold(0.0, f64::max);
-    (2.0 * rounding * longest).max(1e-12 * longest * longest)
 }
 
 /// The faces of one object that one kind of repair or note applies to: one warning for all of
@@ -727,11 +683,18 @@ struct FaceTallies {
     repeated: Tally,
     /// Dropped faces, by reason, in the order first met.
     dropped: Vec<(String, Tally)>,
+    /// Not planar: split into triangles.
     non_planar: Tally,
+    /// Not planar, and not simple in the plane of their normal either: fanned.
+    non_planar_fanned: Tally,
     /// Planar, not convex, triangulated inside themselves.
     triangulated: Tally,
-    /// Planar, not convex, and not simple either (no triangulation): kept as is.
+    /// Planar, not convex, and not simple either (no ear): fanned.
     non_convex: Tally,
+    /// Touching themselves (keyholes), triangulated inside themselves.
+    keyhole: Tally,
+    /// Touching themselves with no triangulation: dropped.
+    no_surface: Tally,
 }
 
 impl FaceTallies {
@@ -771,7 +734,8 @@ impl FaceTallies {
                 format!(
                     "object '{object}': {} not planar beyond the precision the file was \
                      written with ({}); the worst, on this line, has a vertex {:.2e} off its \
-                     plane where rounding explains {:.1e} ({}); kept as is",
+                     plane where rounding explains {:.1e} ({}); each split into triangles \
+                     (docs/scenes.md, \"The surface of a face\")",
                     faces(t.count),
                     src.precision,
                     t.worst,
@@ -780,34 +744,45 @@ impl FaceTallies {
                 ),
             );
         }
-        let t = &self.triangulated;
-        if t.count > 0 {
-            src.origin.warn(
-                warn,
-                src.file,
-                t.lines[0],
-                format!(
-                    "object '{object}': {} not convex, each triangulated inside itself (a fan \
-                     from its first vertex would fold outside it) ({})",
-                    faces(t.count),
-                    t.where_(unit)
-                ),
-            );
-        }
-        let t = &self.non_convex;
-        if t.count > 0 {
-            src.origin.warn(
-                warn,
-                src.file,
-                t.lines[0],
-                format!(
-                    "object '{object}': {} neither convex nor simple (the outline crosses \
-                     itself); kept as is, and its fan triangulation covers area it does not \
-                     have ({})",
-                    faces(t.count),
-                    t.where_(unit)
-                ),
-            );
+        let notes = [
+            (
+                &self.triangulated,
+                "not convex, each triangulated inside itself (a fan from its first vertex \
+                 would fold outside it)",
+            ),
+            (
+                &self.keyhole,
+                "touching themselves (a hole bridged by a keyhole slit), each triangulated \
+                 inside itself",
+            ),
+            (
+                &self.non_planar_fanned,
+                "not planar and crossing themselves in the plane of their normal; each fanned \
+                 from its first vertex",
+            ),
+            (
+                &self.non_convex,
+                "neither convex nor simple (the outline crosses itself); each fanned from its \
+                 first vertex, which covers area the outline does not",
+            ),
+            (
+                &self.no_surface,
+                "touching themselves with no triangulation inside themselves: dropped",
+            ),
+        ];
+        for (t, what) in notes {
+            if t.count > 0 {
+                src.origin.warn(
+                    warn,
+                    src.file,
+                    t.lines[0],
+                    format!(
+                        "object '{object}': {} {what} ({})",
+                        faces(t.count),
+                        t.where_(unit)
+                    ),
+                );
+            }
         }
     }
 }
@@ -1055,19 +1030,35 @@ pub(crate) fn build_object(
         let rounding = kept.iter().map(|&g| (src.rounding)(g)).fold(0.0, f64::max);
         mesh.rounding = mesh.rounding.max(rounding);
         let mut pieces = vec![kept.clone()];
-        match face_shape(&pts, rounding) {
-            Ok(true) => {}
-            Ok(false) => match ear_clip(&pts, turn_slack(&pts, rounding)) {
-                Some(tris) if !tris.is_empty() => {
-                    tallies.triangulated.add(*line, 0.0, 0.0);
-                    pieces = tris
-                        .iter()
-                        .map(|t| t.iter().map(|&k| kept[k]).collect())
-                        .collect();
+        match face_surface(&pts, rounding) {
+            FaceSurface::Polygon => {}
+            FaceSurface::NoSurface => {
+                tallies.no_surface.add(*line, 0.0, 0.0);
+                continue;
+            }
+            FaceSurface::Triangles { tris, why, fanned } => {
+                let tally = match why {
+                    Split::NonPlanar { off, tolerance } => {
+                        tallies.non_planar.add(*line, off, tolerance);
+                        &mut tallies.non_planar_fanned
+                    }
+                    Split::NonConvex => {
+                        tallies.triangulated.add(*line, 0.0, 0.0);
+                        &mut tallies.non_convex
+                    }
+                    Split::Keyhole => {
+                        tallies.keyhole.add(*line, 0.0, 0.0);
+                        &mut tallies.no_surface
+                    }
+                };
+                if fanned {
+                    tally.add(*line, 0.0, 0.0);
                 }
-                _ => tallies.non_convex.add(*line, 0.0, 0.0),
-            },
-            Err((off, tol)) => tallies.non_planar.add(*line, off, tol),
+                pieces = tris
+                    .iter()
+                    .map(|t| t.iter().map(|&k| kept[k]).collect())
+                    .collect();
+            }
         }
         for piece in pieces {
             let f = piece
@@ -1159,8 +1150,10 @@ mod tests {
         assert!(
             matches!(repair_face(&[0, 1, 4], &p), FaceRepair::Dropped(r) if r.contains("zero area"))
         );
-        assert!(
-            matches!(repair_face(&[0, 1, 2, 3], &p), FaceRepair::Dropped(r) if r.contains("twice"))
+        // A keyhole is kept here; `face_surface` splits it.
+        assert_eq!(
+            repair_face(&[0, 1, 2, 3], &p),
+            FaceRepair::Kept(vec![0, 1, 2, 3])
         );
         assert!(matches!(
             repair_face(&[0, 9, 2], &p),

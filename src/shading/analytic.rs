@@ -25,6 +25,7 @@
 //! a set difference; once an occluder covers it, the others are not looked at.
 
 use super::get_between::get_between;
+use super::invariant::visible_within_light;
 use super::ltc_correction::{
     CorrectionEstimate, CorrectionSampling, CorrectionScratch, GlossyLobe, estimate_correction,
 };
@@ -52,6 +53,9 @@ pub struct ShadingStats {
     pub set_differences: u32,
     /// How each light piece ended.
     pub shortcuts: Shortcuts,
+    /// Light pieces whose visible polygon is not inside the light's (`super::invariant`): a
+    /// bug wherever it is not zero.
+    pub violations: u32,
 }
 
 /// How many light pieces (a light taken whole, or one face of a light taken face by face) at a
@@ -536,6 +540,12 @@ fn shade_light_piece<R: Recorder>(
 
     plane.reproject(&scratch.visible, &mut scratch.visible_sph);
     rec.light_polygon(Stage::Visible, &scratch.visible_sph);
+    // Without a set difference the visible polygon is the light's: nothing to check.
+    if scratch.stats.set_differences > differences_before
+        && !visible_within_light(&scratch.light_clip, &scratch.visible_sph)
+    {
+        scratch.stats.violations += 1;
+    }
     let (diffuse, specular) = integrate_lobes(ctx, piece, scratch, rec);
     rec.end_light(diffuse, specular);
     diffuse + specular

@@ -5,6 +5,7 @@ pub mod brdf;
 pub mod cost_model;
 pub mod environment;
 pub mod get_between;
+pub mod invariant;
 pub mod ltc_correction;
 pub mod outline;
 pub mod prepared;
@@ -18,6 +19,7 @@ pub use analytic::{
 pub use environment::{
     EnvironmentIntegrals, EnvironmentOccluders, EnvironmentPass, environment_integrals,
 };
+pub use invariant::visible_within_light;
 pub use ltc_correction::CorrectionSampling;
 pub use outline::{Outline, OutlineScratch, Role};
 pub use prepared::{MeshPath, MoveReuse, PrepareOptions, PreparedObject, PreparedScene};
