@@ -35,8 +35,8 @@
 //! tolerance, the rest bounds the rounding of both sides). The first bound is positive only
 //! when `α + β < π/2` and the second negative only when `β − α > π/2` (for `α ≤ π/2`), where
 //! the cosine bounds hold; nodes with a wider cone are never skipped. A node holding a
-//! boundary edge (one face only) is never skipped as all front-facing: that edge is a contour
-//! edge when its face is. [`EdgeHierarchy::candidates`] implements the test.
+//! boundary edge (one face only) is never skipped: that edge bounds an open mesh's image
+//! whichever way its face turns. [`EdgeHierarchy::candidates`] implements the test.
 
 use super::polyhedron::{NO_FACE, Polyhedron};
 use glam::DVec3;
@@ -256,8 +256,10 @@ impl EdgeHierarchy {
                 let margin = node.slack + ROUNDING * (d.x.abs() + d.y.abs() + d.z.abs());
                 // Eq. EH.1: |d| cos(α + β) > r + m, all faces front-facing; |d| cos(β − α) <
                 // −(r + m), all back-facing.
+                // A boundary edge is on the outline of an open mesh whichever way its face
+                // turns: a node holding one is never skipped.
                 let front = node.cos_a * along - node.sin_a * across > margin && !node.boundary;
-                let back = node.cos_a * along + node.sin_a * across < -margin;
+                let back = node.cos_a * along + node.sin_a * across < -margin && !node.boundary;
                 if front || back {
                     i = node.next as usize;
                     continue;
@@ -345,7 +347,8 @@ pub struct ContourScratch {
 pub struct CoplanarFace;
 
 /// The indices of the contour edges of `poly` from `x` (001 Eq. 4.2: exactly one adjacent face
-/// front-facing, `is_front_facing`), ascending, into `out` (cleared first): through the
+/// front-facing, `is_front_facing`) and of its boundary edges (an open mesh's image ends
+/// there too; docs/silhouettes.md, "Open meshes"), ascending, into `out` (cleared first): through the
 /// mesh's [`EdgeHierarchy`] where it has one, else by the scan; the same list either way.
 /// With `tol = Some(t)`, first `Err(CoplanarFace)` if any face plane lies within `t` of `x`
 /// (`t` at most [`coplanar_tolerance`] when the hierarchy is used).
@@ -358,8 +361,9 @@ pub fn contour_edge_indices(
 ) -> Result<(), CoplanarFace> {
     out.clear();
     let front = |f: u32| poly.face_planes[f as usize].eval(x) > 0.0;
+    // A boundary edge bounds the image of an open mesh whichever way its one face turns.
     let is_contour = |e: &super::polyhedron::Edge| {
-        front(e.faces[0]) != (e.faces[1] != NO_FACE && front(e.faces[1]))
+        e.faces[1] == NO_FACE || front(e.faces[0]) != front(e.faces[1])
     };
     match poly.edge_hierarchy.as_deref() {
         Some(h) if !scratch.scan => {

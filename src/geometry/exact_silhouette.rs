@@ -1,6 +1,12 @@
 //! The exact silhouette of any closed polyhedron seen from a point (001 Sect. 4.3): the
 //! contour edges (Eq. 4.2), cut at their apparent intersections (Eq. 4.4), keeping the pieces
-//! whose midpoint ray meets no other part of the mesh, chained into loops. The result may have
+//! whose midpoint ray meets no other part of the mesh, chained into loops.
+//!
+//! An open mesh (an oriented manifold with boundary edges, such as Blender's monkey) takes the
+//! same path with its boundary edges added to the contour edges: the image of a surface ends
+//! only where it folds (a contour edge) or where it stops (a boundary edge), so the outline of
+//! its image is made of pieces of those two kinds, and a piece is on the outline exactly when
+//! the ray through it meets no other face (docs/silhouettes.md, "Open meshes"). The result may have
 //! several loops and holes; each loop is positively oriented around the region the mesh covers
 //! (see [`SphericalPolygon`]), so holes come out negatively oriented.
 //!
@@ -191,8 +197,9 @@ pub struct ExactSilhouetteStats {
 /// Angular tolerance (radians) below which an apparent intersection is taken to be at an end.
 const END_TOLERANCE: f64 = 1e-10;
 
-/// The silhouette of the closed mesh `poly` seen from `x`, in `frame`, as positively oriented
-/// loops in `out` (cleared first). `x` must lie outside the mesh.
+/// The silhouette of the mesh `poly` seen from `x`, in `frame`, as positively oriented loops in
+/// `out` (cleared first). A closed mesh must have `x` outside it; an open one must be an
+/// oriented manifold (no non-manifold edges).
 pub fn exact_silhouette(
     poly: &Polyhedron,
     x: DVec3,
@@ -222,7 +229,8 @@ pub fn exact_silhouette(
     scratch.edges.clear();
     for &ei in &scratch.contour_ids {
         let e = &poly.edges[ei as usize];
-        // The orientation of `contour_edges`: the mesh to the left on the sphere.
+        // The orientation of `contour_edges`: the mesh to the left on the sphere (for a
+        // boundary edge, its one face, front- or back-facing).
         let [i, j] = if is_front_facing(poly, e.faces[0] as usize, x) {
             [e.v[1], e.v[0]]
         } else {

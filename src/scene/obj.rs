@@ -1004,6 +1004,15 @@ pub(crate) fn build_object(
     let mut mesh = Mesh::default();
     let mut local = std::collections::HashMap::<u32, u32>::new();
     let mut tallies = FaceTallies::default();
+    // Every edge of the object, with the diagonals added by splitting quads: a quad is split
+    // along a diagonal that is not an edge yet, so that two quads sharing two edges (at a
+    // vertex of valence two) do not both cut that vertex off into one triangle twice, a fin
+    // of two coincident faces that leaves the mesh non-manifold.
+    let key = |a: u32, b: u32| (a.min(b), a.max(b));
+    let mut edges: HashSet<(u32, u32)> = faces
+        .iter()
+        .flat_map(|(_, f)| (0..f.len()).map(move |k| key(f[k], f[(k + 1) % f.len()])))
+        .collect();
     for (line, face) in faces {
         let kept = match repair_face(face, positions) {
             FaceRepair::Kept(f) => f,
@@ -1054,6 +1063,25 @@ pub(crate) fn build_object(
                 if fanned {
                     tally.add(*line, 0.0, 0.0);
                 }
+                let tris = if kept.len() == 4 {
+                    // The diagonal the two triangles share, from corner 0 or from corner 1.
+                    let from_0 = tris.iter().all(|t| t.contains(&0) && t.contains(&2));
+                    let (d, other, other_d) = if from_0 {
+                        ((0, 2), [[1, 2, 3], [1, 3, 0]], (1, 3))
+                    } else {
+                        ((1, 3), [[0, 1, 2], [0, 2, 3]], (0, 2))
+                    };
+                    let taken = edges.contains(&key(kept[d.0], kept[d.1]));
+                    let (tris, d) = if taken {
+                        (other.to_vec(), other_d)
+                    } else {
+                        (tris, d)
+                    };
+                    edges.insert(key(kept[d.0], kept[d.1]));
+                    tris
+                } else {
+                    tris
+                };
                 pieces = tris
                     .iter()
                     .map(|t| t.iter().map(|&k| kept[k]).collect())

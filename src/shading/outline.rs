@@ -13,7 +13,8 @@
 //! |---|---|---|
 //! | convex or flat (also a hull standing in) | one loop, read from the BSP tree of face planes, else chained from the contour edges (001 Sect. 4.2, 5.1) | `SilhouetteBsp::silhouette_at`, `geometry::silhouette` |
 //! | closed, not convex | loops with holes, read from the exact-silhouette tree, else computed (001 Sect. 4.3, 5.2) | `ExactSilhouetteBsp::silhouette_at`, `geometry::exact_silhouette` |
-//! | open, non-manifold, per-triangle, degenerate | none: the caller goes face by face (`geometry::face_polygon`) | — |
+//! | open, oriented manifold, as an occluder | loops with holes from its contour and boundary edges, computed (docs/silhouettes.md, "Open meshes") | `geometry::exact_silhouette` |
+//! | non-manifold, open light, per-triangle, degenerate | none: the caller goes face by face (`geometry::face_polygon`) | — |
 
 use super::{MeshPath, Method, PreparedObject};
 use crate::geometry::{
@@ -126,7 +127,12 @@ impl PreparedObject {
             }
             // At points on the mesh itself its own face lies in the tangent plane: the
             // face-by-face path skips that face exactly.
-            MeshPath::ExactTree | MeshPath::ExactAtPoint | MeshPath::ExactInWindow if !on_it => {
+            MeshPath::ExactTree
+            | MeshPath::ExactAtPoint
+            | MeshPath::ExactInWindow
+            | MeshPath::OpenAtPoint
+                if !on_it && (role == Role::Occluder || self.path() != MeshPath::OpenAtPoint) =>
+            {
                 match self.exact_silhouette(x, frame, out, &mut scratch.exact) {
                     Some(from_tree) => Outline::Whole {
                         exact: true,
@@ -138,6 +144,7 @@ impl PreparedObject {
             MeshPath::ExactTree
             | MeshPath::ExactAtPoint
             | MeshPath::ExactInWindow
+            | MeshPath::OpenAtPoint
             | MeshPath::PerFace => Outline::Faces,
         }
     }

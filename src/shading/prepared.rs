@@ -143,7 +143,12 @@ pub enum MeshPath {
     /// occluder, only the part of its exact silhouette inside the light's polygon is computed
     /// (`geometry::windowed_silhouette`), from the faces the light's cone meets.
     ExactInWindow,
-    /// Open or non-manifold: face by face.
+    /// Open (boundary edges) but an oriented manifold: as an occluder, the exact outline of its
+    /// image from its contour and boundary edges at each point (docs/silhouettes.md, "Open
+    /// meshes"); as a light, face by face, since it emits from the front of its faces only and
+    /// its outline also covers back faces seen through its opening.
+    OpenAtPoint,
+    /// Non-manifold: face by face.
     PerFace,
 }
 
@@ -158,7 +163,8 @@ impl MeshPath {
             MeshPath::ExactTree => "non-convex, BSP",
             MeshPath::ExactAtPoint => "non-convex (exact)",
             MeshPath::ExactInWindow => "non-convex, large (exact, windowed)",
-            MeshPath::PerFace => "open (per face)",
+            MeshPath::OpenAtPoint => "open (exact outline)",
+            MeshPath::PerFace => "non-manifold (per face)",
         }
     }
 
@@ -177,7 +183,11 @@ impl MeshPath {
                 "not convex, large: exact silhouette computed at each point, as an occluder only \
                  inside each light's polygon"
             }
-            MeshPath::PerFace => "open or non-manifold: face by face",
+            MeshPath::OpenAtPoint => {
+                "open: as an occluder, the exact outline of contour and boundary edges computed \
+                 at each point; as a light, face by face"
+            }
+            MeshPath::PerFace => "non-manifold: face by face",
         }
     }
 }
@@ -198,6 +208,9 @@ impl PreparedObject {
                 MeshPath::ExactInWindow
             }
             (false, true, false) => MeshPath::ExactAtPoint,
+            (false, false, _) if self.poly.diagnostics.nonmanifold_edges == 0 => {
+                MeshPath::OpenAtPoint
+            }
             (false, false, _) => MeshPath::PerFace,
         }
     }
@@ -718,6 +731,10 @@ impl PreparedScene {
                 let how = if d.closed_manifold {
                     "it takes its exact silhouette (read from a BSP tree, else computed at the point; \
                      face by face where that is degenerate)"
+                } else if d.nonmanifold_edges == 0 {
+                    "as an occluder it takes the exact outline of its contour and boundary edges \
+                     (computed at the point; face by face where that is degenerate), as a light \
+                     it is handled face by face"
                 } else {
                     "it is handled face by face"
                 };
