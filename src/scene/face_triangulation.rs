@@ -7,9 +7,10 @@
 //! other face is split here, once, when it is loaded, and the triangles replace it in
 //! `Mesh::faces`:
 //!
-//! * a face **not planar** beyond the rounding of its digits (a subdivided quad): its spherical
-//!   image folds where a point sees it nearly edge-on, and no single plane decides which side
-//!   of it a point is on;
+//! * a face **not planar** to f64 rounding (a subdivided quad, or a quad bent only by the
+//!   rounding of the digits it was written with): its spherical image folds into a bow tie
+//!   where a point sees it nearly edge-on, and no single plane decides which side of it a
+//!   point is on;
 //! * a planar face **not convex** (an L-shaped cap, a letter's outline): a fan from its first
 //!   vertex folds outside it;
 //! * a face that **touches itself** (a hole bridged by a keyhole slit: a vertex visited twice).
@@ -28,7 +29,8 @@ use glam::{DVec2, DVec3};
 /// Why a face was split into triangles.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Split {
-    /// Not planar: a vertex `off` from the face's plane where rounding explains `tolerance`.
+    /// Not planar to f64 rounding: a vertex `off` from the face's plane, where the rounding of
+    /// the input explains `tolerance` (the loader warns when `off` is larger).
     NonPlanar { off: f64, tolerance: f64 },
     /// Planar but not convex.
     NonConvex,
@@ -66,9 +68,11 @@ pub fn face_surface(pts: &[DVec3], rounding: f64) -> FaceSurface {
     } else if touches_itself {
         Split::Keyhole
     } else {
+        // Planar to f64 rounding, not merely up to the input's: a quad bent by the rounding of
+        // its digits still folds into a bow tie where a point sees it edge-on.
         let off = plane_deviation(pts);
-        let tolerance = planarity_tolerance(pts, rounding);
-        if off > tolerance {
+        if off > planarity_tolerance(pts, 0.0) {
+            let tolerance = planarity_tolerance(pts, rounding);
             Split::NonPlanar { off, tolerance }
         } else if is_convex(pts, rounding) {
             return FaceSurface::Polygon;
@@ -318,9 +322,9 @@ mod tests {
         }
     }
 
-    /// A quad bent out of its plane far beyond its rounding is split along one diagonal; a
-    /// planar convex quad, also one rounded to 6 decimals, stays one polygon; an L stays
-    /// planar but is split.
+    /// A quad bent out of its plane far beyond its rounding is split along one diagonal, and so
+    /// is one bent by its rounding only; a planar convex quad stays one polygon; an L is
+    /// planar but split.
     #[test]
     fn the_surface_of_a_face() {
         let bent = [
@@ -348,7 +352,18 @@ mod tests {
             DVec3::new(r(c * x), r(s * x + 0.7 * y), r(y - 0.2 * x))
         };
         let rounded = [rot(0.0, 0.0), rot(1.0, 0.0), rot(1.0, 1.0), rot(0.0, 1.0)];
-        assert_eq!(face_surface(&rounded, 5e-7), FaceSurface::Polygon);
+        assert!(matches!(
+            face_surface(&rounded, 5e-7),
+            FaceSurface::Triangles { why: Split::NonPlanar { off, tolerance }, .. }
+                if off > 0.0 && off <= tolerance
+        ));
+        let planar = [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(2.0, 0.0, 1.0),
+            DVec3::new(2.0, 1.0, 1.0),
+            DVec3::new(0.0, 1.0, 1.0),
+        ];
+        assert_eq!(face_surface(&planar, 5e-7), FaceSurface::Polygon);
         let l = [
             (0.0, 0.0),
             (2.0, 0.0),

@@ -422,7 +422,7 @@ fn parse_face_index(tok: &str, defined: usize) -> Result<u32, String> {
 // ---------------------------------------------------------------------------------------------
 
 /// One `newmtl` block with the values penumbra uses, parsed in f64.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 struct MtlEntry {
     name: String,
     kd: Option<DVec3>,
@@ -430,16 +430,60 @@ struct MtlEntry {
     ke: Option<DVec3>,
     ns: Option<f64>,
     pr: Option<f64>,
+    pm: Option<f64>,
+    ni: Option<f64>,
+    /// Written by Blender's OBJ exporter (its MTL's first line says so): `Ks` is the
+    /// Principled BSDF's specular level and `Ns` its roughness (docs/scenes.md, "Materials
+    /// written by Blender").
+    blender: bool,
 }
 
 impl MtlEntry {
     fn material(&self) -> Material {
+        let kd = self.kd.unwrap_or(Material::default().kd);
+        let ks = self.ks.unwrap_or(DVec3::ZERO);
+        let ke = self.ke.unwrap_or(DVec3::ZERO);
+        let name = self.name.clone();
+        if !self.blender {
+            let alpha = alpha_from_mtl(self.pr, self.ns);
+            return match self.pm {
+                // The metal/dielectric split of glTF (and of the PBR extension): a metal
+                // reflects its base colour.
+                Some(m) => Material {
+                    name,
+                    kd: kd * (1.0 - m),
+                    ks: ks * (1.0 - m) + kd * m,
+                    alpha,
+                    ke,
+                },
+                None => Material {
+                    name,
+                    kd,
+                    ks,
+                    alpha,
+                    ke,
+                },
+            };
+        }
+        // Blender: F0 = ((Ni − 1)/(Ni + 1))² · 2·Ks for a dielectric (Ks the specular level,
+        // 0.5 meaning the IOR's own reflectance), roughness from Pr, else from
+        // Ns = 1000 (1 − roughness)²; alpha = roughness²; metallic Pm splits like glTF.
+        let ior = self.ni.filter(|n| n.is_finite() && *n >= 1.0).unwrap_or(1.5);
+        let f0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
+        let dielectric = (ks * 2.0 * f0).min(DVec3::ONE);
+        let roughness = match (self.pr, self.ns) {
+            (Some(r), _) => r,
+            (None, Some(ns)) => 1.0 - (ns / 1000.0).clamp(0.0, 1.0).sqrt(),
+            (None, None) => 0.5,
+        };
+        let alpha = (roughness * roughness).clamp(ALPHA_MIN, ALPHA_MAX);
+        let m = self.pm.unwrap_or(0.0).clamp(0.0, 1.0);
         Material {
-            name: self.name.clone(),
-            kd: self.kd.unwrap_or(Material::default().kd),
-            ks: self.ks.unwrap_or(DVec3::ZERO),
-            alpha: alpha_from_mtl(self.pr, self.ns),
-            ke: self.ke.unwrap_or(DVec3::ZERO),
+            name,
+            kd: kd * (1.0 - m),
+            ks: dielectric * (1.0 - m) + kd * m,
+            alpha,
+            ke,
         }
     }
 }
@@ -453,6 +497,7 @@ fn scan_mtl(
     let mut sanitized = String::new();
     let mut entries: Vec<MtlEntry> = Vec::new();
     let mut outside_warned = false;
+    let blender = text.starts_with("# Blender");
     for (line, content) in logical_lines(text) {
         let Some((kw, rest)) = split_statement(&content) else {
             continue;
@@ -463,17 +508,14 @@ fn scan_mtl(
             }
             entries.push(MtlEntry {
                 name: rest.to_owned(),
-                kd: None,
-                ks: None,
-                ke: None,
-                ns: None,
-                pr: None,
+                blender,
+                ..MtlEntry::default()
             });
             sanitized += &format!("newmtl {rest}\n");
             continue;
         }
         let toks: Vec<&str> = rest.split_whitespace().collect();
-        let used = matches!(kw, "Kd" | "Ks" | "Ke" | "Ns" | "Pr");
+        let used = matches!(kw, "Kd" | "Ks" | "Ke" | "Ns" | "Pr" | "Pm" | "Ni");
         let Some(cur) = entries.last_mut() else {
             if used && !outside_warned {
                 warn.at(file, line, format!("'{kw}' before any 'newmtl' ignored"));
@@ -505,7 +547,7 @@ fn scan_mtl(
                     _ => cur.ke = Some(clamped),
                 }
             }
-            "Ns" | "Pr" => {
+            "Ns" | "Pr" | "Pm" | "Ni" => {
                 let [t] = toks[..] else {
                     return Err(line_err(
                         file,
@@ -525,15 +567,16 @@ fn scan_mtl(
                     v
                 };
                 sanitized += &format!("{kw} {v}\n");
-                if kw == "Ns" {
-                    cur.ns = Some(v);
-                } else {
-                    cur.pr = Some(v);
+                match kw {
+                    "Ns" => cur.ns = Some(v),
+                    "Pr" => cur.pr = Some(v),
+                    "Pm" => cur.pm = Some(v.min(1.0)),
+                    _ => cur.ni = Some(v),
                 }
             }
             // Known but unused by penumbra (ambient, transparency, refraction, textures,
             // PBR extensions other than Pr, ...).
-            "Ka" | "Tf" | "Ni" | "d" | "Tr" | "illum" | "sharpness" | "Pm" | "Ps" | "Pc"
+            "Ka" | "Tf" | "d" | "Tr" | "illum" | "sharpness" | "Ps" | "Pc"
             | "Pcr" | "aniso" | "anisor" | "bump" | "disp" | "decal" | "refl" | "norm" => {}
             other if other.starts_with("map_") => {}
             other => {
@@ -1048,7 +1091,10 @@ pub(crate) fn build_object(
             FaceSurface::Triangles { tris, why, fanned } => {
                 let tally = match why {
                     Split::NonPlanar { off, tolerance } => {
-                        tallies.non_planar.add(*line, off, tolerance);
+                        // Bent by its rounding only: split without a word.
+                        if off > tolerance {
+                            tallies.non_planar.add(*line, off, tolerance);
+                        }
                         &mut tallies.non_planar_fanned
                     }
                     Split::NonConvex => {

@@ -177,6 +177,9 @@ pub struct SetDifference {
     /// First live node of each cluster, indexed by the union–find representative.
     cluster_rep: Vec<u32>,
     loop_scratch: Vec<DVec3>,
+    /// Ranges of nodes still to be checked for a pinch, and the sweep's order (`pinch`).
+    pinch_work: Vec<(u32, u32)>,
+    pinch_order: Vec<u32>,
     consistent: bool,
 }
 
@@ -232,6 +235,8 @@ impl SetDifference {
             + self.side_cs.capacity()
             + self.contact_sc.capacity()
             + self.contact_cs.capacity()
+            + self.pinch_work.capacity()
+            + self.pinch_order.capacity()
             + self.near_sc.capacity()
             + self.near_cs.capacity()
             + self.insertions.capacity()
@@ -306,23 +311,80 @@ impl SetDifference {
                 self.nodes.truncate(first);
                 continue;
             }
-            for k in 0..len {
-                let i = first + k;
-                let j = first + (k + 1) % len;
-                let n = unit_normal(self.nodes[i].dir, self.nodes[j].dir);
-                self.nodes[i].n_out = n;
-                self.nodes[i].next = j as u32;
-                self.nodes[i].orig_next = j as u32;
-                self.nodes[j].n_in = n;
-                self.nodes[j].prev = i as u32;
+            // A loop that passes twice through one point (two loops of an earlier difference
+            // touching there, traversed as one) becomes two loops touching at that point: the
+            // phases below assume every point of a loop is visited once.
+            self.pinch_work.clear();
+            self.pinch_work.push((first as u32, len as u32));
+            while let Some((start, n)) = self.pinch_work.pop() {
+                let (start, n) = (start as usize, n as usize);
+                match self.pinch(start, n) {
+                    Some((i, j)) => {
+                        // Rotate so that the pinch starts the range: [0, j − i) and [j − i, n)
+                        // are then the two loops, each contiguous.
+                        self.nodes[start..start + n].rotate_left(i);
+                        let a = j - i;
+                        self.pinch_work.push((start as u32, a as u32));
+                        self.pinch_work.push(((start + a) as u32, (n - a) as u32));
+                    }
+                    None => self.link_loop(start, n, input_loop),
+                }
             }
-            self.loops.push(LoopInfo {
-                first: first as u32,
-                input_first: first as u32,
-                len: len as u32,
-                input_loop: input_loop as u32,
-            });
         }
+    }
+
+    /// The first pair of positions `i < j` (relative to `start`) of the `n` nodes from `start`
+    /// at one point (within [`COLLAPSE_RADIUS`]) that are not neighbours along the loop, found
+    /// by a sweep along x; `None` for a simple loop or one too short to split into two loops
+    /// of three vertices.
+    fn pinch(&mut self, start: usize, n: usize) -> Option<(usize, usize)> {
+        if n < 6 {
+            return None;
+        }
+        let nodes = &self.nodes[start..start + n];
+        self.pinch_order.clear();
+        self.pinch_order.extend(0..n as u32);
+        self.pinch_order
+            .sort_unstable_by(|&a, &b| nodes[a as usize].dir.x.total_cmp(&nodes[b as usize].dir.x));
+        let mut best: Option<(usize, usize)> = None;
+        for (k, &a) in self.pinch_order.iter().enumerate() {
+            let da = nodes[a as usize].dir;
+            for &b in &self.pinch_order[k + 1..] {
+                let db = nodes[b as usize].dir;
+                if db.x - da.x > 2.0 * COLLAPSE_RADIUS {
+                    break;
+                }
+                let (i, j) = (a.min(b) as usize, a.max(b) as usize);
+                // Both loops need three vertices; closer pairs were merged on loading.
+                if j - i >= 3 && n - (j - i) >= 3 && coincident(da, db, COLLAPSE_RADIUS) {
+                    best = Some(best.map_or((i, j), |p| p.min((i, j))));
+                }
+            }
+        }
+        best
+    }
+
+    /// Links the `n` nodes from `first` into one loop (doubly linked, with the unit normals of
+    /// its edges) and records it.
+    fn link_loop(&mut self, first: usize, n: usize, input_loop: usize) {
+        let slot = self.loops.len() as u32;
+        for k in 0..n {
+            let i = first + k;
+            let j = first + (k + 1) % n;
+            let m = unit_normal(self.nodes[i].dir, self.nodes[j].dir);
+            self.nodes[i].n_out = m;
+            self.nodes[i].next = j as u32;
+            self.nodes[i].orig_next = j as u32;
+            self.nodes[i].loop_slot = slot;
+            self.nodes[j].n_in = m;
+            self.nodes[j].prev = i as u32;
+        }
+        self.loops.push(LoopInfo {
+            first: first as u32,
+            input_first: first as u32,
+            len: n as u32,
+            input_loop: input_loop as u32,
+        });
     }
 
     /// Loops of one operand, as a range of `self.loops`.
