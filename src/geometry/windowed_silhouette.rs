@@ -1,4 +1,4 @@
-//! The exact silhouette of a large closed mesh *inside a window*: only the part of the region
+//! The exact silhouette of a large closed or open mesh *inside a window*: only the part of the region
 //! the mesh covers that lies in a small convex spherical polygon (the light, seen from the
 //! shading point), which is all a set difference with that light needs.
 //!
@@ -9,8 +9,9 @@
 //! of directions from `x`) widened a little to `W'`:
 //!
 //! 1. the faces whose boxes meet a cone around `W'` (the face hierarchy), and their edges that
-//!    are contour edges from `x` (001 Eq. 4.2): every contour arc that meets `W'` is one of
-//!    them, since an edge whose arc meets `W'` has both faces meeting the cone;
+//!    are contour edges from `x` (001 Eq. 4.2), or boundary edges of an open mesh: every such
+//!    arc that meets `W'` is one of them, since an edge whose arc meets `W'` has its faces
+//!    meeting the cone;
 //! 2. each contour arc clipped to `W'` (convex: one interval of the chord a + t(b − a));
 //! 3. apparent intersections (001 Eq. 4.4) among the clipped arcs only;
 //! 4. the pieces between them, kept when their midpoint ray meets no other face (the same
@@ -204,18 +205,19 @@ pub fn exact_silhouette_in_window(
     scratch.arcs.clear();
     for &e in &scratch.candidates {
         let edge = &poly.edges[e as usize];
-        if edge.faces[1] == NO_FACE {
-            return None; // not closed
-        }
         let f0 = is_front_facing(poly, edge.faces[0] as usize, x);
-        let f1 = is_front_facing(poly, edge.faces[1] as usize, x);
+        // A boundary edge of an open mesh bounds its image whichever way its face turns.
+        let f1 = edge.faces[1] != NO_FACE && is_front_facing(poly, edge.faces[1] as usize, x);
         let [i, j] = match (f0, f1) {
             (true, false) => [edge.v[1], edge.v[0]],
             (false, true) => [edge.v[0], edge.v[1]],
+            (false, false) if edge.faces[1] == NO_FACE => [edge.v[0], edge.v[1]],
             _ => continue,
         };
-        if poly.face_planes[edge.faces[0] as usize].eval(x).abs() <= tol
-            || poly.face_planes[edge.faces[1] as usize].eval(x).abs() <= tol
+        if edge
+            .faces
+            .iter()
+            .any(|&f| f != NO_FACE && poly.face_planes[f as usize].eval(x).abs() <= tol)
         {
             return None; // a face plane through x
         }

@@ -31,7 +31,7 @@ use super::ltc_correction::{
 };
 use super::outline::{Outline, OutlineScratch, Role};
 use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage};
-use super::{MeshPath, Method, PreparedObject, PreparedScene, ShadingPoint};
+use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::{
     ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, Polyhedron,
     ProjectionPlane, SetDifference, Sidedness, SilhouettePoint, SphericalPolygon, classify_overlap,
@@ -605,7 +605,7 @@ pub(super) fn subtract_occluder<R: Recorder>(
         // same numbers.)
         // A large mesh's polygon is found inside the light's window: not kept for other lights.
         let windowed = piece.is_some()
-            && occ.path() == MeshPath::ExactInWindow
+            && occ.path().is_windowed()
             && scratch.light_clip.loop_count() == 1;
         if !R::ENABLED && !windowed && scratch.occluder_cache[oi].stamp == scratch.stamp {
             std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);

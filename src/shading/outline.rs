@@ -105,7 +105,7 @@ impl PreparedObject {
                     from_tree,
                 }
             }
-            MeshPath::ExactInWindow
+            MeshPath::ExactInWindow | MeshPath::OpenInWindow
                 if !on_it
                     && role == Role::Occluder
                     && window.is_some_and(|w| {
@@ -128,11 +128,12 @@ impl PreparedObject {
             // At points on the mesh itself its own face lies in the tangent plane: as an
             // occluder it is seen edge-on and left out of the outline. A light there, and an
             // open light anywhere, goes face by face.
-            MeshPath::ExactTree
+            path @ (MeshPath::ExactTree
             | MeshPath::ExactAtPoint
             | MeshPath::ExactInWindow
             | MeshPath::OpenAtPoint
-                if role == Role::Occluder || !on_it && self.path() != MeshPath::OpenAtPoint =>
+            | MeshPath::OpenInWindow)
+                if role == Role::Occluder || !on_it && !path.is_open() =>
             {
                 match self.exact_silhouette(x, frame, on_it, out, &mut scratch.exact) {
                     Some(from_tree) => Outline::Whole {
@@ -146,6 +147,7 @@ impl PreparedObject {
             | MeshPath::ExactAtPoint
             | MeshPath::ExactInWindow
             | MeshPath::OpenAtPoint
+            | MeshPath::OpenInWindow
             | MeshPath::PerFace => Outline::Faces,
         }
     }

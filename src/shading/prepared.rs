@@ -148,11 +148,24 @@ pub enum MeshPath {
     /// meshes"); as a light, face by face, since it emits from the front of its faces only and
     /// its outline also covers back faces seen through its opening.
     OpenAtPoint,
+    /// As `OpenAtPoint` for a large mesh (at least [`WINDOWED_MIN_FACES`] faces): as an
+    /// occluder, only the part of its outline inside the light's polygon is computed.
+    OpenInWindow,
     /// Non-manifold: face by face.
     PerFace,
 }
 
 impl MeshPath {
+    /// As an occluder, the outline is computed inside each light's polygon only.
+    pub fn is_windowed(self) -> bool {
+        matches!(self, MeshPath::ExactInWindow | MeshPath::OpenInWindow)
+    }
+
+    /// An open mesh: as a light, face by face.
+    pub fn is_open(self) -> bool {
+        matches!(self, MeshPath::OpenAtPoint | MeshPath::OpenInWindow)
+    }
+
     /// A few words for a table.
     pub fn label(self) -> &'static str {
         match self {
@@ -164,6 +177,7 @@ impl MeshPath {
             MeshPath::ExactAtPoint => "non-convex (exact)",
             MeshPath::ExactInWindow => "non-convex, large (exact, windowed)",
             MeshPath::OpenAtPoint => "open (exact outline)",
+            MeshPath::OpenInWindow => "open, large (exact outline, windowed)",
             MeshPath::PerFace => "non-manifold (per face)",
         }
     }
@@ -187,6 +201,11 @@ impl MeshPath {
                 "open: as an occluder, the exact outline of contour and boundary edges computed \
                  at each point; as a light, face by face"
             }
+            MeshPath::OpenInWindow => {
+                "open, large: as an occluder, the exact outline of contour and boundary edges \
+                 computed at each point, only inside each light's polygon; as a light, face by \
+                 face"
+            }
             MeshPath::PerFace => "non-manifold: face by face",
         }
     }
@@ -209,7 +228,11 @@ impl PreparedObject {
             }
             (false, true, false) => MeshPath::ExactAtPoint,
             (false, false, _) if self.poly.diagnostics.nonmanifold_edges == 0 => {
-                MeshPath::OpenAtPoint
+                if self.poly.face_count() >= WINDOWED_MIN_FACES && self.poly.face_bvh.is_some() {
+                    MeshPath::OpenInWindow
+                } else {
+                    MeshPath::OpenAtPoint
+                }
             }
             (false, false, _) => MeshPath::PerFace,
         }
