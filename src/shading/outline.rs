@@ -133,7 +133,7 @@ impl PreparedObject {
             | MeshPath::ExactInWindow
             | MeshPath::OpenAtPoint
             | MeshPath::OpenInWindow)
-                if role == Role::Occluder || !on_it && !path.is_open() =>
+                if !on_it && (role == Role::Occluder || !path.is_open()) =>
             {
                 match self.exact_silhouette(x, frame, on_it, out, &mut scratch.exact) {
                     Some(from_tree) => Outline::Whole {

@@ -76,6 +76,22 @@ const EPS_ON_EDGE: f64 = 1e-15;
 /// "No node".
 const NONE: u32 = u32::MAX;
 
+/// Whether every node of a loop lies within [`COLLAPSE_RADIUS`] of one great circle: the
+/// circle through the first node and the node farthest from it (short of its antipode), where
+/// the loop is not a sliver. A loop that spans no such pair is kept.
+fn on_one_great_circle(nodes: &[Node]) -> bool {
+    let a = nodes[0].dir;
+    let Some(n) = nodes[1..]
+        .iter()
+        .map(|q| a.cross(q.dir))
+        .max_by(|p, q| p.length_squared().total_cmp(&q.length_squared()))
+        .and_then(|c| c.try_normalize())
+    else {
+        return false;
+    };
+    nodes.iter().all(|q| n.dot(q.dir).abs() < COLLAPSE_RADIUS)
+}
+
 /// Side of the fragment leaving a node (see [`FragmentSide`]); `Unknown` before phase 2.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Status {
@@ -307,7 +323,9 @@ impl SetDifference {
                 self.nodes.pop();
             }
             let len = self.nodes.len() - first;
-            if len < 3 {
+            if len < 3 || on_one_great_circle(&self.nodes[first..]) {
+                // No area: a sliver thinner than the tolerances (a face seen edge-on, a loop
+                // folded onto the horizon) is folded away like a short edge.
                 self.nodes.truncate(first);
                 continue;
             }
