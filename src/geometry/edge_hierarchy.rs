@@ -337,9 +337,6 @@ pub struct ContourScratch {
     candidates: Vec<u32>,
     /// Use the scan even where the mesh has a hierarchy (the oracle of the tests).
     pub scan: bool,
-    /// Take faces whose plane passes within the tolerance of the point as absent (seen
-    /// edge-on) instead of failing with [`CoplanarFace`].
-    pub edge_on_absent: bool,
     /// What the last query through the hierarchy did.
     pub stats: EdgeQueryStats,
 }
@@ -363,25 +360,16 @@ pub fn contour_edge_indices(
     out: &mut Vec<u32>,
 ) -> Result<(), CoplanarFace> {
     out.clear();
-    // With `edge_on`, a face whose plane lies within `tol` of the point is seen edge-on: its
-    // image has no area and it is taken as absent (its edges bound its neighbours' images).
-    let edge_on = scratch.edge_on_absent.then_some(tol).flatten();
-    let absent = |f: u32| {
-        f == NO_FACE || edge_on.is_some_and(|t| poly.face_planes[f as usize].eval(x).abs() <= t)
-    };
     let front = |f: u32| poly.face_planes[f as usize].eval(x) > 0.0;
     // A boundary edge bounds the image of an open mesh whichever way its one face turns.
-    let is_contour = |e: &super::polyhedron::Edge| match (absent(e.faces[0]), absent(e.faces[1])) {
-        (false, false) => front(e.faces[0]) != front(e.faces[1]),
-        (true, true) => false,
-        _ => true,
+    let is_contour = |e: &super::polyhedron::Edge| {
+        e.faces[1] == NO_FACE || front(e.faces[0]) != front(e.faces[1])
     };
-    let check = if edge_on.is_some() { None } else { tol };
     match poly.edge_hierarchy.as_deref() {
         Some(h) if !scratch.scan => {
             scratch.candidates.clear();
             scratch.stats = h.candidates(x, &mut scratch.candidates);
-            if let Some(t) = check {
+            if let Some(t) = tol {
                 debug_assert!(t <= coplanar_tolerance(poly));
                 let near = |f: u32| f != NO_FACE && poly.face_planes[f as usize].eval(x).abs() <= t;
                 if scratch.candidates.iter().any(|&e| {
@@ -401,7 +389,7 @@ pub fn contour_edge_indices(
             out.sort_unstable();
         }
         _ => {
-            if let Some(t) = check
+            if let Some(t) = tol
                 && poly.face_planes.iter().any(|p| p.eval(x).abs() <= t)
             {
                 return Err(CoplanarFace);

@@ -20,7 +20,7 @@
 
 use super::SphericalPolygon;
 use super::edge_hierarchy::{ContourScratch, contour_edge_indices, coplanar_tolerance};
-use super::polyhedron::{NO_FACE, Polyhedron};
+use super::polyhedron::Polyhedron;
 use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
 use super::silhouette::is_front_facing;
 use crate::accel::{PreparedRay, Ray, is_degenerate};
@@ -104,11 +104,6 @@ pub struct ExactSilhouetteScratch {
     pub per_piece_rays: bool,
     /// The propagation of quantitative invisibility (step 4).
     pub qi: QiScratch,
-    /// Take faces whose plane passes within the coplanarity tolerance of the point as absent
-    /// (seen edge-on: no image) instead of returning [`Degenerate::CoplanarFace`]; used at
-    /// points on the mesh itself, whose own face is in the tangent plane. Pieces are then
-    /// kept by one ray each.
-    pub edge_on_absent: bool,
 }
 
 /// Buffers of [`candidate_pairs`].
@@ -220,13 +215,7 @@ pub fn exact_silhouette(
     //    hierarchy where the mesh has one: the scan's list, in its order), oriented so that
     //    the mesh lies to their left on the sphere.
     scratch.contour.scan = scratch.all_pairs || scratch.scan_edges;
-    scratch.contour.edge_on_absent = scratch.edge_on_absent;
-    // A face seen edge-on (its plane through the point) has no image: it is absent, and the
-    // faces next to it end at its edges.
-    let absent = |f: u32| {
-        f == NO_FACE
-            || scratch.edge_on_absent && poly.face_planes[f as usize].eval(x).abs() <= tol
-    };
+
     if contour_edge_indices(
         poly,
         x,
@@ -243,17 +232,10 @@ pub fn exact_silhouette(
         let e = &poly.edges[ei as usize];
         // The orientation of `contour_edges`: the mesh to the left on the sphere (for a
         // boundary edge, its one face, front- or back-facing).
-        let [i, j] = if !absent(e.faces[0]) {
-            if is_front_facing(poly, e.faces[0] as usize, x) {
-                [e.v[1], e.v[0]]
-            } else {
-                [e.v[0], e.v[1]]
-            }
-        } else if is_front_facing(poly, e.faces[1] as usize, x) {
-            // Its face runs along it the other way.
-            [e.v[0], e.v[1]]
-        } else {
+        let [i, j] = if is_front_facing(poly, e.faces[0] as usize, x) {
             [e.v[1], e.v[0]]
+        } else {
+            [e.v[0], e.v[1]]
         };
         let a = (poly.vertices[i as usize] - x).normalize();
         let b = (poly.vertices[j as usize] - x).normalize();
@@ -364,15 +346,13 @@ pub fn exact_silhouette(
     scratch.kept.clear();
     if scratch.all_pairs
         || scratch.per_piece_rays
-        || scratch.edge_on_absent
         || !poly.diagnostics.closed_manifold
         || qi_disabled()
     {
-        let edge_on = scratch.edge_on_absent.then_some(tol);
         for (pi, piece) in scratch.pieces.iter().enumerate() {
             let mid = (piece.from + piece.to).normalize();
             let faces = scratch.edges[piece.edge as usize].faces;
-            if !blocked(poly, x, mid, faces, scratch.all_pairs, edge_on) {
+            if !blocked(poly, x, mid, faces, scratch.all_pairs) {
                 scratch.kept.push(pi as u32);
             }
         }
@@ -695,26 +675,15 @@ fn arc_position(e: &ContourEdge, p: DVec3) -> ArcPosition {
 /// [`blocked`] through the face hierarchy where the mesh has one (the windowed silhouette).
 #[inline]
 pub(crate) fn blocked_ray(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2]) -> bool {
-    blocked(poly, x, dir, skip, false, None)
+    blocked(poly, x, dir, skip, false)
 }
 
 /// Does the ray from `x` along `dir` meet a face of `poly` other than `skip`, the two faces of
 /// the piece's edge? Hits before and beyond the edge both count: a piece with part of the mesh
 /// in front of it or directly behind it separates nothing from the background.
-/// With `edge_on = Some(tol)`, faces whose plane lies within `tol` of `x` are absent.
-fn blocked(
-    poly: &Polyhedron,
-    x: DVec3,
-    dir: DVec3,
-    skip: [u32; 2],
-    scan: bool,
-    edge_on: Option<f64>,
-) -> bool {
+fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) -> bool {
     let ray = PreparedRay::new(&Ray::new(x, dir));
-    let hit_face = |f: usize| {
-        edge_on.is_none_or(|t| poly.face_planes[f].eval(x).abs() > t)
-            && face_hit(poly, x, dir, &ray, skip, f)
-    };
+    let hit_face = |f: usize| face_hit(poly, x, dir, &ray, skip, f);
     // The face hierarchy hands out the faces whose box the ray meets; the test of each is the
     // same as the scan's, so the answer is too.
     match &poly.face_bvh {

@@ -125,9 +125,8 @@ impl PreparedObject {
                     from_tree: false,
                 }
             }
-            // At points on the mesh itself its own face lies in the tangent plane: as an
-            // occluder it is seen edge-on and left out of the outline. A light there, and an
-            // open light anywhere, goes face by face.
+            // At points on the mesh itself its own face lies in the tangent plane: the
+            // face-by-face path skips that face exactly. An open light goes face by face.
             path @ (MeshPath::ExactTree
             | MeshPath::ExactAtPoint
             | MeshPath::ExactInWindow
@@ -135,7 +134,7 @@ impl PreparedObject {
             | MeshPath::OpenInWindow)
                 if !on_it && (role == Role::Occluder || !path.is_open()) =>
             {
-                match self.exact_silhouette(x, frame, on_it, out, &mut scratch.exact) {
+                match self.exact_silhouette(x, frame, out, &mut scratch.exact) {
                     Some(from_tree) => Outline::Whole {
                         exact: true,
                         from_tree,
@@ -154,25 +153,21 @@ impl PreparedObject {
 
     /// The exact silhouette of a non-convex mesh: read from its BSP tree where it has one
     /// (001 Sect. 5.2), else computed at the point (001 Sect. 4.3). `Some(true)` when read
-    /// from the tree, `None` at degenerate points. `on_it`: the point lies on the mesh, whose
-    /// faces through it are seen edge-on and left out (no tree: its cells are for points off
-    /// the mesh).
+    /// from the tree, `None` at degenerate points.
     #[inline]
     pub fn exact_silhouette(
         &self,
         x: DVec3,
         frame: &Frame,
-        on_it: bool,
         out: &mut SphericalPolygon,
         scratch: &mut ExactSilhouetteScratch,
     ) -> Option<bool> {
-        if !on_it && self.silhouette_from_tree(x, frame, out, &mut scratch.hoisted) {
+        if self.silhouette_from_tree(x, frame, out, &mut scratch.hoisted) {
             return Some(true);
         }
-        scratch.edge_on_absent = on_it;
-        let found = exact_silhouette(&self.poly, x, frame, out, scratch).is_ok();
-        scratch.edge_on_absent = false;
-        found.then_some(false)
+        exact_silhouette(&self.poly, x, frame, out, scratch)
+            .is_ok()
+            .then_some(false)
     }
 
     /// The silhouette from `x` read from this mesh's tree (the hoisted form when present),
