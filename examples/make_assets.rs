@@ -99,6 +99,7 @@ fn camera(eye: [f64; 3], target: [f64; 3], fov_deg: f64) -> Camera {
         target: DVec3::from_array(target),
         up: DVec3::Y,
         fov_deg,
+        aspect: None,
     }
 }
 

@@ -510,6 +510,8 @@ def write_toml(path, name, description, cam_info, object_names):
         f"target = {vec(cam_info['target'])}",
         "up = [0, 1, 0]",
         f"fov = {fmt(round(cam_info['fov'], 5))}",
+        # The glTF camera's aspectRatio: a narrower --size keeps the horizontal field of view.
+        f"aspect = {RES_X / RES_Y!r}",
         "",
     ]
     for obj_name in object_names:

@@ -536,6 +536,12 @@ fn camera(args: &CameraArgs, scene: &Scene) -> Result<Camera> {
             .fov
             .or(base.map(|c| c.fov_deg))
             .context("the scene has no camera: pass --fov")?,
+        // A field of view given by flag is vertical, whatever the image's aspect.
+        aspect: if args.fov.is_some() {
+            None
+        } else {
+            base.and_then(|c| c.aspect)
+        },
     };
     cam.basis().map_err(anyhow::Error::msg)?;
     Ok(cam)

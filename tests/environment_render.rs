@@ -71,6 +71,7 @@ fn scene(static_floor: bool, wall: bool) -> Scene {
             target: DVec3::new(0.0, 0.35, 0.0),
             up: DVec3::Y,
             fov_deg: 45.0,
+            aspect: None,
         }),
         warnings: Vec::new(),
         environment: None,

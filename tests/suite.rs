@@ -12,6 +12,7 @@ mod silhouette_common;
 
 mod accel_bvh;
 mod accel_triangle;
+mod blender_exports;
 mod bsp;
 mod bsp_hoisted;
 mod bsp_nonconvex;

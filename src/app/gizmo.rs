@@ -48,7 +48,8 @@ impl Gizmo {
     pub fn new(basis: CameraBasis, rect: Rect, pivot: DVec3) -> Self {
         let depth = (pivot - basis.eye).dot(basis.forward).max(1e-6);
         // World size of one viewport height at the pivot's depth, times 1/6.
-        let length = 2.0 * depth * basis.tan_half_fov / 6.0;
+        let aspect = (rect.width() / rect.height().max(1.0)) as f64;
+        let length = 2.0 * depth * basis.tan_half_fov_at(aspect) / 6.0;
         Gizmo {
             basis,
             rect,
@@ -67,8 +68,9 @@ impl Gizmo {
             return None;
         }
         let aspect = (self.rect.width() / self.rect.height()) as f64;
-        let sx = d.dot(b.right) / z / (aspect * b.tan_half_fov);
-        let sy = d.dot(b.up) / z / b.tan_half_fov;
+        let t = b.tan_half_fov_at(aspect);
+        let sx = d.dot(b.right) / z / (aspect * t);
+        let sy = d.dot(b.up) / z / t;
         Some(Pos2::new(
             self.rect.min.x + ((sx + 1.0) * 0.5) as f32 * self.rect.width(),
             self.rect.min.y + ((1.0 - sy) * 0.5) as f32 * self.rect.height(),
@@ -218,6 +220,7 @@ mod tests {
             target: DVec3::new(0.0, 0.2, 0.0),
             up: DVec3::Y,
             fov_deg: 45.0,
+            aspect: None,
         };
         let rect = Rect::from_min_size(Pos2::new(10.0, 20.0), Vec2::new(640.0, 480.0));
         Gizmo::new(cam.basis().unwrap(), rect, DVec3::new(0.1, 0.4, -0.2))
@@ -258,6 +261,7 @@ mod tests {
             target: DVec3::ZERO,
             up: DVec3::new(0.0, 0.0, -1.0),
             fov_deg: 40.0,
+            aspect: None,
         };
         let g = Gizmo::new(top.basis().unwrap(), g.rect, DVec3::ZERO);
         // Between the arrows: at angle 0 the ring passes under the x arrow, which takes the

@@ -205,6 +205,7 @@ impl WorkbenchApp {
                 yaw: 0.0,
                 pitch: 0.3,
                 fov_deg: 45.0,
+                aspect: None,
             },
             ctx: None,
             scene_error: None,

@@ -13,6 +13,9 @@ pub struct OrbitCamera {
     /// Radians, positive above the target.
     pub pitch: f64,
     pub fov_deg: f64,
+    /// The camera's authored aspect (`Camera::aspect`), kept through orbiting.
+    #[serde(default)]
+    pub aspect: Option<f64>,
 }
 
 impl OrbitCamera {
@@ -26,6 +29,7 @@ impl OrbitCamera {
             yaw: d.x.atan2(d.z),
             pitch: (d.y / distance).clamp(-1.0, 1.0).asin(),
             fov_deg: cam.fov_deg,
+            aspect: cam.aspect,
         }
     }
 
@@ -38,6 +42,7 @@ impl OrbitCamera {
             target: self.target,
             up: DVec3::Y,
             fov_deg: self.fov_deg,
+            aspect: self.aspect,
         }
     }
 
@@ -75,6 +80,7 @@ mod tests {
             target: DVec3::new(0.0, 1.0, 0.0),
             up: DVec3::Y,
             fov_deg: 45.0,
+            aspect: None,
         };
         let back = OrbitCamera::from_camera(&cam).camera();
         assert!((back.eye - cam.eye).length() < 1e-12);

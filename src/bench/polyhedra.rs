@@ -221,6 +221,7 @@ pub fn light_scene(name: &str) -> Option<Scene> {
             target: DVec3::new(0.0, 0.2, 0.0),
             up: DVec3::Y,
             fov_deg: 50.0,
+            aspect: None,
         }),
         ..Scene::default()
     })

@@ -138,6 +138,7 @@ pub fn icosahedral_light_scene(level: u32) -> Scene {
             target: DVec3::new(0.0, 0.4, 0.0),
             up: DVec3::Y,
             fov_deg: 45.0,
+            aspect: None,
         }),
         warnings: Vec::new(),
         environment: None,

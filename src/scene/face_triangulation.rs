@@ -346,12 +346,12 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
-        let r = |v: f64| (v * 1e6).round() / 1e6;
-        let rot = |x: f64, y: f64| {
-            let (c, s) = (0.3f64.cos(), 0.3f64.sin());
-            DVec3::new(r(c * x), r(s * x + 0.7 * y), r(y - 0.2 * x))
-        };
-        let rounded = [rot(0.0, 0.0), rot(1.0, 0.0), rot(1.0, 1.0), rot(0.0, 1.0)];
+        // A parallelogram in a general position, rounded to 6 decimals as Blender writes it.
+        let r = |v: DVec3| (v * 1e6).round() / 1e6;
+        let p0 = DVec3::new(0.1234567891, 0.2345678912, 0.3456789123);
+        let u = DVec3::new(0.7071067811, 0.3141592653, 0.1);
+        let v = DVec3::new(-0.2718281828, 0.5772156649, 0.8);
+        let rounded = [r(p0), r(p0 + u), r(p0 + u + v), r(p0 + v)];
         assert!(matches!(
             face_surface(&rounded, 5e-7),
             FaceSurface::Triangles { why: Split::NonPlanar { off, tolerance }, .. }

@@ -468,7 +468,10 @@ impl MtlEntry {
         // Blender: F0 = ((Ni − 1)/(Ni + 1))² · 2·Ks for a dielectric (Ks the specular level,
         // 0.5 meaning the IOR's own reflectance), roughness from Pr, else from
         // Ns = 1000 (1 − roughness)²; alpha = roughness²; metallic Pm splits like glTF.
-        let ior = self.ni.filter(|n| n.is_finite() && *n >= 1.0).unwrap_or(1.5);
+        let ior = self
+            .ni
+            .filter(|n| n.is_finite() && *n >= 1.0)
+            .unwrap_or(1.5);
         let f0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
         let dielectric = (ks * 2.0 * f0).min(DVec3::ONE);
         let roughness = match (self.pr, self.ns) {
@@ -576,8 +579,8 @@ fn scan_mtl(
             }
             // Known but unused by penumbra (ambient, transparency, refraction, textures,
             // PBR extensions other than Pr, ...).
-            "Ka" | "Tf" | "d" | "Tr" | "illum" | "sharpness" | "Ps" | "Pc"
-            | "Pcr" | "aniso" | "anisor" | "bump" | "disp" | "decal" | "refl" | "norm" => {}
+            "Ka" | "Tf" | "d" | "Tr" | "illum" | "sharpness" | "Ps" | "Pc" | "Pcr" | "aniso"
+            | "anisor" | "bump" | "disp" | "decal" | "refl" | "norm" => {}
             other if other.starts_with("map_") => {}
             other => {
                 let shown: String = other.chars().take(24).collect();
@@ -1201,6 +1204,50 @@ mod tests {
         assert_eq!(l.len(), 4);
     }
 
+    /// The keyhole face of an n-gon cap with a hole (OBJ indices repeating the slit's ends)
+    /// loads as triangles around the hole: their area is the ring's, and none covers the hole.
+    #[test]
+    fn a_keyhole_face_loads_as_triangles_around_its_hole() {
+        // Written with 6 decimals, as Blender writes (integers would say a rounding of 0.5).
+        let v = [
+            (0, 0),
+            (4, 0),
+            (4, 4),
+            (0, 4),
+            (1, 1),
+            (1, 3),
+            (3, 3),
+            (3, 1),
+        ];
+        let mut obj: String = v
+            .iter()
+            .map(|(x, y)| format!("v {x}.000000 {y}.000000 0.000000\n"))
+            .collect();
+        obj += "f 1 2 3 4 1 5 6 7 8 5\n";
+        let scene = load_obj_str(&obj, None, "keyhole.obj").unwrap();
+        let m = &scene
+            .objects
+            .first()
+            .expect(&format!("{:?}", scene.warnings))
+            .mesh;
+        assert!(m.faces.iter().all(|f| f.len() == 3), "{:?}", m.faces);
+        let area: f64 = m
+            .faces
+            .iter()
+            .map(|f| {
+                let p: Vec<DVec3> = f.iter().map(|&i| m.positions[i as usize]).collect();
+                crate::scene::shapes::polygon_area_vector(&p).z
+            })
+            .sum();
+        assert!((area - 12.0).abs() < 1e-12, "{area}");
+        let centre = DVec3::new(2.0, 2.0, 0.0);
+        for f in &m.faces {
+            let p: Vec<DVec3> = f.iter().map(|&i| m.positions[i as usize]).collect();
+            let inside = (0..3).all(|k| (p[(k + 1) % 3] - p[k]).cross(centre - p[k]).z > 0.0);
+            assert!(!inside, "a triangle covers the hole: {p:?}");
+        }
+    }
+
     #[test]
     fn face_repairs() {
         let p = [
@@ -1224,10 +1271,27 @@ mod tests {
         assert!(
             matches!(repair_face(&[0, 1, 4], &p), FaceRepair::Dropped(r) if r.contains("zero area"))
         );
-        // A keyhole is kept here; `face_surface` splits it.
+        // Folded back onto itself: no area.
+        assert!(
+            matches!(repair_face(&[0, 1, 2, 3], &p), FaceRepair::Dropped(r) if r.contains("zero area"))
+        );
+        // A keyhole (a square around a square hole, the slit's two ends visited twice) is
+        // kept here; `face_surface` splits it.
+        let q = |x: f64, y: f64| DVec3::new(x, y, 0.0);
+        let ring = [
+            q(0.0, 0.0),
+            q(4.0, 0.0),
+            q(4.0, 4.0),
+            q(0.0, 4.0),
+            q(1.0, 1.0),
+            q(1.0, 3.0),
+            q(3.0, 3.0),
+            q(3.0, 1.0),
+        ];
+        let keyhole = [0, 1, 2, 3, 0, 4, 5, 6, 7, 4];
         assert_eq!(
-            repair_face(&[0, 1, 2, 3], &p),
-            FaceRepair::Kept(vec![0, 1, 2, 3])
+            repair_face(&keyhole, &ring),
+            FaceRepair::Kept(keyhole.to_vec())
         );
         assert!(matches!(
             repair_face(&[0, 9, 2], &p),

@@ -43,6 +43,8 @@ struct CameraOut {
     target: [f64; 3],
     up: [f64; 3],
     fov: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    aspect: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -230,6 +232,7 @@ pub fn scene_texts(
             target: c.target.to_array(),
             up: c.up.to_array(),
             fov: c.fov_deg,
+            aspect: c.aspect,
         }),
         environment,
         object: entries,

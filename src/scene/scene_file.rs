@@ -6,6 +6,8 @@
 //! target = [0.0, 0.5, 0.0]
 //! up = [0.0, 1.0, 0.0]      # optional, default +y
 //! fov = 40.0                # vertical field of view, degrees
+//! aspect = 1.333333         # optional: the width / height `fov` was authored for; narrower
+//!                           # images keep the horizontal field of view (`Camera::aspect`)
 //!
 //! [[object]]
 //! obj = "room.obj"          # relative to this file (.glb and .gltf files too)
@@ -349,6 +351,7 @@ struct CameraToml {
     target: [f64; 3],
     up: Option<[f64; 3]>,
     fov: f64,
+    aspect: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -470,6 +473,7 @@ fn parse_scene_toml(
             target: DVec3::from_array(c.target),
             up: c.up.map_or(DVec3::Y, DVec3::from_array),
             fov_deg: c.fov,
+            aspect: c.aspect,
         };
         camera
             .basis()

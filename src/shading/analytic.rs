@@ -604,9 +604,8 @@ pub(super) fn subtract_occluder<R: Recorder>(
         // lights. (With a recorder every stage is recomputed so that it reaches the recording;
         // same numbers.)
         // A large mesh's polygon is found inside the light's window: not kept for other lights.
-        let windowed = piece.is_some()
-            && occ.path().is_windowed()
-            && scratch.light_clip.loop_count() == 1;
+        let windowed =
+            piece.is_some() && occ.path().is_windowed() && scratch.light_clip.loop_count() == 1;
         if !R::ENABLED && !windowed && scratch.occluder_cache[oi].stamp == scratch.stamp {
             std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
             subtract_planar(oi, scratch, rec);

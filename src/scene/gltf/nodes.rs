@@ -205,6 +205,7 @@ pub(super) fn first_camera(
             target: eye + forward * d,
             up,
             fov_deg: (perspective.yfov as f64).to_degrees(),
+            aspect: perspective.aspect_ratio.map(f64::from),
         };
         match camera.basis() {
             Ok(_) => return Some(camera),

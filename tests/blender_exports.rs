@@ -1,0 +1,204 @@
+//! Scenes built in Blender 5.0.1 and written by Blender's own OBJ and glTF exporters
+//! (`scripts/blender_scenes.py`, files in `tests/data/blender/`): Suzanne subdivided twice (an
+//! open mesh of non-planar quads with vertices of valence two), an extruded text converted to a
+//! mesh (open, n-gon caps, non-convex and non-planar faces), the default primitives under a
+//! quad light and a tube light, and a torus as a non-convex light.
+//!
+//! The oracles: the ray-cast reference (an unbiased estimate with its standard error, at the
+//! same sub-pixel positions), the per-triangle method (a second algorithm: every face on its
+//! own), and the unshadowed image (a shadow never adds light). Materials are made Lambertian
+//! here so that the LTC's fit does not enter the comparison with the reference.
+
+use glam::DVec3;
+use penumbra::geometry::Polyhedron;
+use penumbra::reference::render_reference;
+use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
+use penumbra::scene::scene_file::load_scene;
+use penumbra::scene::{Camera, Scene};
+use penumbra::shading::MeshPath;
+use std::path::Path;
+
+const SCENES: [&str; 8] = [
+    "suzanne.toml",
+    "suzanne.glb",
+    "text.toml",
+    "text.glb",
+    "primitives.toml",
+    "primitives.glb",
+    "torus_light.toml",
+    "torus_light.glb",
+];
+
+fn load(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/blender")
+        .join(name);
+    load_scene(&path).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+fn lambertian(mut scene: Scene) -> Scene {
+    for o in &mut scene.objects {
+        o.material.ks = DVec3::ZERO;
+    }
+    scene
+}
+
+fn mesh<'a>(scene: &'a Scene, name: &str) -> &'a penumbra::scene::Mesh {
+    &scene
+        .objects
+        .iter()
+        .find(|o| o.name == name)
+        .unwrap_or_else(|| panic!("no object '{name}'"))
+        .mesh
+}
+
+/// Blender's monkey keeps the topology Blender reports for it (168 boundary edges, no
+/// non-manifold edge) once its non-planar quads are split: no quad pair at a vertex of valence
+/// two is cut into one triangle twice (a fin of two coincident faces). Every face is planar to
+/// f64 rounding, and as an occluder it takes the exact outline of an open mesh.
+#[test]
+fn blender_meshes_keep_their_topology_and_take_the_open_path() {
+    for (file, object, boundary) in [
+        ("suzanne.toml", "Suzanne", Some(168)),
+        ("suzanne.glb", "Suzanne", Some(168)),
+        ("text.toml", "Text", None),
+        ("text.glb", "Text", None),
+    ] {
+        let scene = load(file);
+        let m = mesh(&scene, object);
+        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let d = poly.diagnostics;
+        assert_eq!(d.nonmanifold_edges, 0, "{file}: {d:?}");
+        assert_eq!(d.nonplanar_faces, 0, "{file}: {d:?}");
+        assert!(!d.closed_manifold, "{file}: open");
+        if let Some(b) = boundary {
+            assert_eq!(d.boundary_edges, b, "{file}: {d:?}");
+        }
+        let ctx = RenderContext::new(&scene);
+        let path = ctx
+            .prepared
+            .objects
+            .iter()
+            .find(|o| o.name == object)
+            .map(|o| o.path());
+        assert!(
+            matches!(
+                path,
+                Some(MeshPath::OpenAtPoint) | Some(MeshPath::OpenInWindow)
+            ),
+            "{file}: {path:?}"
+        );
+    }
+}
+
+/// One Blender scene's OBJ and glTF carry the same material: Blender's MTL (Ks the specular
+/// level, Ns from the roughness) maps to what glTF's metallic-roughness says.
+#[test]
+fn obj_and_glb_of_one_blender_scene_have_the_same_materials() {
+    for stem in ["suzanne", "text", "primitives", "torus_light"] {
+        let obj = load(&format!("{stem}.toml"));
+        let glb = load(&format!("{stem}.glb"));
+        for o in &obj.objects {
+            let g = glb
+                .objects
+                .iter()
+                .find(|g| g.material.name == o.material.name)
+                .unwrap_or_else(|| panic!("{stem}: no material '{}'", o.material.name));
+            let (a, b) = (&o.material, &g.material);
+            assert!(
+                (a.kd - b.kd).abs().max_element() < 1e-6,
+                "{stem}: {a:?} {b:?}"
+            );
+            assert!(
+                (a.ks - b.ks).abs().max_element() < 1e-6,
+                "{stem}: {a:?} {b:?}"
+            );
+            assert!((a.alpha - b.alpha).abs() < 1e-6, "{stem}: {a:?} {b:?}");
+            assert!(
+                (a.ke - b.ke).abs().max_element() < 1e-5,
+                "{stem}: {a:?} {b:?}"
+            );
+        }
+    }
+}
+
+fn settings(method: RenderMethod) -> RenderSettings {
+    RenderSettings {
+        width: 48,
+        height: 36,
+        aa: 1,
+        method,
+        ..RenderSettings::default()
+    }
+}
+
+/// On every Blender file: no light piece sees more than its light, no pixel is brighter than
+/// unshadowed, the per-triangle method agrees with the analytic one, and both match the
+/// ray-cast reference within its noise.
+#[test]
+fn analytic_matches_ray_casting_on_blender_exports() {
+    for file in SCENES {
+        let scene = lambertian(load(file));
+        let camera: Camera = scene.camera.expect("Blender's files have a camera");
+        let ctx = RenderContext::for_render(&scene, &settings(RenderMethod::Analytic));
+        let render = |m: RenderMethod| {
+            ctx.render(&camera, &settings(m), None)
+                .unwrap_or_else(|e| panic!("{file}: {e}"))
+        };
+        let analytic = render(RenderMethod::Analytic);
+        let per_triangle = render(RenderMethod::PerTriangle);
+        let unshadowed = render(RenderMethod::Unshadowed);
+        assert_eq!(analytic.stats.violations, 0, "{file}: analytic");
+        assert_eq!(per_triangle.stats.violations, 0, "{file}: per-triangle");
+        let (reference, stderr) =
+            render_reference(&ctx, &camera, &settings(RenderMethod::Analytic), 1024, 3)
+                .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let brightest = unshadowed
+            .image
+            .pixels
+            .iter()
+            .map(|p| p.max_element())
+            .fold(0.0, f64::max);
+        let (mut within, mut counted) = (0, 0);
+        for i in 0..analytic.image.pixels.len() {
+            let (a, t, u) = (
+                analytic.image.pixels[i],
+                per_triangle.image.pixels[i],
+                unshadowed.image.pixels[i],
+            );
+            let (r, s) = (reference.pixels[i], stderr.pixels[i]);
+            for c in 0..3 {
+                assert!(
+                    a[c] >= 0.0 && a[c] <= u[c] * (1.0 + 1e-9) + 1e-12,
+                    "{file}: pixel {i} channel {c}: {} shadowed, {} unshadowed",
+                    a[c],
+                    u[c]
+                );
+                assert!(
+                    (a[c] - t[c]).abs() <= 1e-9 * brightest,
+                    "{file}: pixel {i}: analytic {} per-triangle {}",
+                    a[c],
+                    t[c]
+                );
+                if s[c] > 0.0 {
+                    counted += 1;
+                    within += usize::from((a[c] - r[c]).abs() <= 3.0 * s[c]);
+                } else {
+                    // The reference saw the light from none or all of its samples: the
+                    // analytic value is at one of the ends there, up to what it could not see.
+                    assert!(
+                        (a[c] - r[c]).abs() <= 1e-3 * brightest,
+                        "{file}: pixel {i}: analytic {} reference {} (no spread)",
+                        a[c],
+                        r[c]
+                    );
+                }
+            }
+        }
+        let fraction = within as f64 / counted.max(1) as f64;
+        assert!(
+            fraction >= 0.98,
+            "{file}: {fraction} of {counted} values within 3σ of the reference"
+        );
+    }
+}
