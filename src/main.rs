@@ -1288,7 +1288,7 @@ fn run() -> Result<()> {
                 std::fs::write(&path, serde_json::to_string_pretty(&rep)?)
                     .with_context(|| format!("{}", path.display()))?;
             }
-            if rep.nan + rep.inf + rep.negative + rep.panics > 0 {
+            if rep.nan + rep.inf + rep.negative + rep.panics + rep.invariant_violations > 0 {
                 bail!("stress found invalid results");
             }
             Ok(())

@@ -58,9 +58,13 @@ pub enum CaseKind {
     /// The environment light (paper 002): the geometry of another family, every object a
     /// dynamic occluder, a random SH environment; the exact E against rays.
     Environment,
+    /// Meshes as Blender's OBJ exporter writes them ([`blender_like_meshes`]), read through
+    /// the OBJ loader: non-planar quads, keyhole n-gons, open meshes, thin extrusions; as light
+    /// and occluders.
+    BlenderMeshes,
 }
 
-const KINDS: [CaseKind; 11] = [
+const KINDS: [CaseKind; 12] = [
     CaseKind::Random,
     CaseKind::CoplanarWithLightFace,
     CaseKind::LightVerticesOnHorizon,
@@ -72,18 +76,22 @@ const KINDS: [CaseKind; 11] = [
     CaseKind::NonConvex,
     CaseKind::ExporterMeshes,
     CaseKind::Environment,
+    CaseKind::BlenderMeshes,
 ];
 
 /// Cases come in periods of [`KIND_PERIOD`]: five of each of the first nine kinds, five of the
-/// environment, then one of exporter meshes, whose cases cost about a hundred times more
-/// (hulls and exact silhouettes of meshes of hundreds of vertices, prepared for every case).
-pub const KIND_PERIOD: u64 = 51;
+/// environment, five of Blender's meshes, then one of exporter meshes, whose cases cost about a
+/// hundred times more (hulls and exact silhouettes of meshes of hundreds of vertices, prepared
+/// for every case).
+pub const KIND_PERIOD: u64 = 56;
 
 /// The family of case `index`.
 pub fn kind_of(index: u64) -> CaseKind {
     let slot = index % KIND_PERIOD;
     if slot == KIND_PERIOD - 1 {
         CaseKind::ExporterMeshes
+    } else if slot >= 50 {
+        CaseKind::BlenderMeshes
     } else if slot >= 45 {
         CaseKind::Environment
     } else {
@@ -134,6 +142,11 @@ pub struct StressReport {
     /// Trees of precomputed silhouettes built for a case rather than borrowed from
     /// [`tree_library`] (meshes that are no affine image of a library mesh: flat quads).
     pub trees_built: u64,
+    /// Light pieces whose visible polygon was not inside the light's (`shading::invariant`:
+    /// shadowed > unshadowed), summed over the diffuse and specular evaluations of every case.
+    pub invariant_violations: u64,
+    /// The same, per kind of case (in the order of `CaseKind`).
+    pub invariant_violations_by_kind: [u64; KINDS.len()],
     /// Cases whose error exceeds 6 standard deviations of the estimate plus 1/rays.
     pub beyond_6_sigma: u64,
     /// The same, per kind of case (in the order of `CaseKind`).
@@ -243,6 +256,152 @@ pub fn exporter_meshes() -> &'static [(&'static str, Mesh)] {
             })
             .collect()
     })
+}
+
+/// The meshes of the [`CaseKind::BlenderMeshes`] family, written as Blender's OBJ exporter
+/// writes them (`%.6f`, quads and n-gons kept) and read back through the OBJ loader, so that
+/// they take the surface every method sees (`scene::face_triangulation`): a bumpy open sheet
+/// of non-planar quads, an open box of subdivided non-planar quads, a plate with a square hole
+/// whose caps are keyhole n-gons, an open twisted cylinder, and a thin extruded L (1/500 of its
+/// size thick) with non-convex n-gon caps.
+pub fn blender_like_meshes() -> &'static [(&'static str, Mesh)] {
+    static MESHES: std::sync::OnceLock<Vec<(&'static str, Mesh)>> = std::sync::OnceLock::new();
+    MESHES.get_or_init(|| {
+        let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        let mut list: Vec<(&'static str, Vec<DVec3>, Vec<Vec<u32>>)> = Vec::new();
+        // A 6 × 6 sheet of quads bent out of their planes, open all round.
+        let n = 6u32;
+        let grid = |i: u32, j: u32| i * (n + 1) + j;
+        let mut sheet = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
+                sheet.push(v(x, y, 0.12 * (3.1 * x).sin() * (4.3 * y + 0.4).cos()));
+            }
+        }
+        let sheet_faces = (0..n)
+            .flat_map(|i| {
+                (0..n).map(move |j| vec![grid(i, j), grid(i + 1, j), grid(i + 1, j + 1), grid(i, j + 1)])
+            })
+            .collect();
+        list.push(("bumpy_sheet", sheet, sheet_faces));
+        // A box without its top, each side 3 × 3 quads pushed in and out: open, non-planar.
+        let mut open_box = Vec::new();
+        let mut box_faces = Vec::new();
+        let sides: [(DVec3, DVec3, DVec3); 5] = [
+            (v(-0.5, -0.5, -0.5), v(0.0, 1.0, 0.0), v(1.0, 0.0, 0.0)), // bottom, facing -z
+            (v(-0.5, -0.5, -0.5), v(1.0, 0.0, 0.0), v(0.0, 0.0, 1.0)), // -y
+            (v(0.5, -0.5, -0.5), v(0.0, 1.0, 0.0), v(0.0, 0.0, 1.0)),  // +x
+            (v(0.5, 0.5, -0.5), v(-1.0, 0.0, 0.0), v(0.0, 0.0, 1.0)),  // +y
+            (v(-0.5, 0.5, -0.5), v(0.0, -1.0, 0.0), v(0.0, 0.0, 1.0)), // -x
+        ];
+        for (o, a, b) in sides {
+            let first = open_box.len() as u32;
+            let normal = a.cross(b);
+            for i in 0..=3 {
+                for j in 0..=3 {
+                    let (s, t) = (i as f64 / 3.0, j as f64 / 3.0);
+                    let bump = if (1..3).contains(&i) && (1..3).contains(&j) {
+                        0.07 * ((i * 3 + j) as f64).sin()
+                    } else {
+                        0.0
+                    };
+                    open_box.push(o + a * s + b * t + normal * bump);
+                }
+            }
+            let k = |i: u32, j: u32| first + i * 4 + j;
+            for i in 0..3 {
+                for j in 0..3 {
+                    box_faces.push(vec![k(i, j), k(i + 1, j), k(i + 1, j + 1), k(i, j + 1)]);
+                }
+            }
+        }
+        list.push(("open_box", open_box, box_faces));
+        // A plate with a square hole; each cap one keyhole n-gon (the slit's ends twice).
+        let mut plate = Vec::new();
+        for z in [-0.05, 0.05] {
+            for (x, y) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {
+                plate.push(v(x, y, z));
+            }
+            for (x, y) in [(-0.2, -0.2), (-0.2, 0.2), (0.2, 0.2), (0.2, -0.2)] {
+                plate.push(v(x, y, z));
+            }
+        }
+        let (bo, bh, to, th) = (0u32, 4u32, 8u32, 12u32);
+        let mut plate_faces = vec![
+            // top: outer counter-clockwise from +z, the hole clockwise, joined by a slit
+            vec![to, to + 1, to + 2, to + 3, to, th, th + 1, th + 2, th + 3, th],
+            // bottom: the reverse
+            vec![bo, bh, bh + 3, bh + 2, bh + 1, bh, bo, bo + 3, bo + 2, bo + 1],
+        ];
+        for k in 0..4 {
+            let k1 = (k + 1) % 4;
+            plate_faces.push(vec![bo + k, bo + k1, to + k1, to + k]);
+            plate_faces.push(vec![bh + k, bh + k1, th + k1, th + k]);
+        }
+        list.push(("keyhole_plate", plate, plate_faces));
+        // A cylinder without caps whose rim is turned by 20°: open, twisted quads.
+        let seg = 16u32;
+        let mut cyl = Vec::new();
+        for (z, turn) in [(-0.5, 0.0), (0.5, 0.35f64)] {
+            for k in 0..seg {
+                let a = std::f64::consts::TAU * k as f64 / seg as f64 + turn;
+                cyl.push(v(0.5 * a.cos(), 0.5 * a.sin(), z));
+            }
+        }
+        let cyl_faces = (0..seg)
+            .map(|k| vec![k, (k + 1) % seg, seg + (k + 1) % seg, seg + k])
+            .collect();
+        list.push(("open_twisted_cylinder", cyl, cyl_faces));
+        // An L extruded by 1/500 of its size: non-convex caps, a thin extrusion.
+        let l = [(-0.5, -0.5), (0.5, -0.5), (0.5, -0.2), (-0.2, -0.2), (-0.2, 0.5), (-0.5, 0.5)];
+        let mut fin = Vec::new();
+        for z in [-0.001, 0.001] {
+            fin.extend(l.iter().map(|&(x, y)| v(x, y, z)));
+        }
+        let m = l.len() as u32;
+        let mut fin_faces = vec![(0..m).rev().collect::<Vec<u32>>(), (m..2 * m).collect()];
+        for k in 0..m {
+            fin_faces.push(vec![k, (k + 1) % m, m + (k + 1) % m, m + k]);
+        }
+        list.push(("thin_l", fin, fin_faces));
+
+        let turn =
+            DMat3::from_rotation_y(0.5) * DMat3::from_rotation_x(0.3) * DMat3::from_rotation_z(0.2);
+        list.into_iter()
+            .map(|(name, positions, faces)| {
+                let mut text = String::new();
+                for p in &positions {
+                    let p = turn * *p;
+                    text += &format!("v {:.6} {:.6} {:.6}\n", p.x, p.y, p.z);
+                }
+                for f in &faces {
+                    text += "f";
+                    for i in f {
+                        text += &format!(" {}", i + 1);
+                    }
+                    text += "\n";
+                }
+                let scene = crate::scene::obj::load_obj_str(&text, None, name)
+                    .unwrap_or_else(|e| panic!("Blender-like mesh {name}: {e}"));
+                let mesh = scene
+                    .objects
+                    .into_iter()
+                    .next()
+                    .unwrap_or_else(|| panic!("Blender-like mesh {name}: no object"))
+                    .mesh;
+                (name, mesh)
+            })
+            .collect()
+    })
+}
+
+/// One of [`blender_like_meshes`], turned at random, `size` across, at `center`.
+fn random_blender_mesh(rng: &mut Pcg32, center: DVec3, size: f64) -> Mesh {
+    let rot = rotation(rng);
+    let meshes = blender_like_meshes();
+    let (_, m) = &meshes[rng.below(meshes.len() as u32) as usize];
+    m.transformed(&DAffine3::from_mat3_translation(rot * size, center))
 }
 
 /// One of [`exporter_meshes`], turned at random, scaled to about `size` across and moved to
@@ -541,6 +700,9 @@ fn generate_kind(seed: u64, index: u64, kind: CaseKind) -> Case {
         CaseKind::ExporterMeshes | CaseKind::Environment => {
             n = light_among_occluders(&mut rng, &mut objects, random_exporter_mesh, 1);
         }
+        CaseKind::BlenderMeshes => {
+            n = light_among_occluders(&mut rng, &mut objects, random_blender_mesh, 1);
+        }
         CaseKind::CoveringOrInside => {
             let lc = DVec3::new(
                 rng.range(-0.5, 0.5),
@@ -703,6 +865,8 @@ impl Recorder for RawIntegrals {
 /// Result of one case.
 struct Outcome {
     trees_built: u32,
+    /// Light pieces that broke the invariant (`shading::invariant`).
+    violations: u32,
     analytic: f64,
     estimate: f64,
     sigma: f64,
@@ -782,6 +946,7 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         &mut raw,
     )
     .x;
+    let mut violations = scratch.stats.violations;
     let s = shade(
         &prepared,
         &case.point,
@@ -791,6 +956,7 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         &mut raw,
     )
     .x;
+    violations += scratch.stats.violations;
     let values = [e, s];
     let nan = values.iter().any(|v| v.is_nan()) || raw.nan;
     let inf = values.iter().any(|v| v.is_infinite());
@@ -817,6 +983,7 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
     let sigma = (p * (1.0 - p) / total as f64).sqrt();
     Outcome {
         trees_built: prepared.trees_built,
+        violations,
         analytic: e,
         estimate,
         sigma,
@@ -921,6 +1088,8 @@ fn run_environment_case(
     let unit = unshadowed.max(f64::MIN_POSITIVE);
     Outcome {
         trees_built: prepared.trees_built,
+        // The environment's union of occluders has no light polygon to stay inside.
+        violations: 0,
         analytic: e / unit,
         estimate: estimate / unit,
         sigma: sigma / unit,
@@ -964,6 +1133,8 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
                 rep.nan += o.nan as u64;
                 rep.inf += o.inf as u64;
                 rep.negative += o.negative as u64;
+                rep.invariant_violations += o.violations as u64;
+                rep.invariant_violations_by_kind[k] += o.violations as u64;
                 if !o.analytic.is_finite() {
                     continue;
                 }
@@ -1007,7 +1178,9 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
         total.panics += r.panics;
         total.trees_built += r.trees_built;
         total.beyond_6_sigma += r.beyond_6_sigma;
+        total.invariant_violations += r.invariant_violations;
         for k in 0..KINDS.len() {
+            total.invariant_violations_by_kind[k] += r.invariant_violations_by_kind[k];
             total.beyond_6_sigma_by_kind[k] += r.beyond_6_sigma_by_kind[k];
             total.cases_by_kind[k] += r.cases_by_kind[k];
         }

@@ -142,7 +142,7 @@ fn analytic_matches_ray_casting_on_blender_exports() {
         let camera: Camera = scene.camera.expect("Blender's files have a camera");
         let ctx = RenderContext::for_render(&scene, &settings(RenderMethod::Analytic));
         let render = |m: RenderMethod| {
-            ctx.render(&camera, &settings(m), None)
+            ctx.render_full(&camera, &settings(m), None)
                 .unwrap_or_else(|e| panic!("{file}: {e}"))
         };
         let analytic = render(RenderMethod::Analytic);
@@ -201,4 +201,73 @@ fn analytic_matches_ray_casting_on_blender_exports() {
             "{file}: {fraction} of {counted} values within 3σ of the reference"
         );
     }
+}
+
+/// `penumbra stress`'s family of meshes as Blender writes them: each takes the path it should
+/// (open meshes their exact outline, the keyhole plate and the thin L, closed, their exact
+/// silhouette), and a run of the family breaks no invariant and stays within 6σ of ray casting.
+#[test]
+fn the_stress_family_of_blender_like_meshes() {
+    use penumbra::ltc::LtcTable;
+    use penumbra::shading::{PrepareOptions, PreparedScene};
+    use penumbra::stress::{CaseKind, KIND_PERIOD, blender_like_meshes, run};
+    // Open (the outline of contour and boundary edges), or closed and not convex (the exact
+    // silhouette): at the point, or inside the light's window for the larger ones.
+    let open = [MeshPath::OpenAtPoint, MeshPath::OpenInWindow];
+    let closed = [MeshPath::ExactAtPoint, MeshPath::ExactInWindow];
+    let expected = [
+        ("bumpy_sheet", open),
+        ("open_box", open),
+        ("keyhole_plate", closed),
+        ("open_twisted_cylinder", open),
+        ("thin_l", closed),
+    ];
+    for ((name, mesh), (want_name, want)) in blender_like_meshes().iter().zip(expected) {
+        assert_eq!(*name, want_name);
+        let scene = Scene {
+            objects: vec![penumbra::scene::SceneObject {
+                name: (*name).into(),
+                mesh: mesh.clone(),
+                material: Default::default(),
+                flags: penumbra::scene::ObjectFlags {
+                    light: false,
+                    occluder: true,
+                    receiver: true,
+                    is_static: false,
+                },
+            }],
+            ..Scene::default()
+        };
+        let options = PrepareOptions {
+            disk_cache: false,
+            build_trees: false,
+            ..PrepareOptions::default()
+        };
+        let p = PreparedScene::prepare(&scene, LtcTable::embedded(), options);
+        let path = p.objects[0].path();
+        assert!(want.contains(&path), "{name}: {path:?}");
+    }
+    let rep = run(KIND_PERIOD * 8, 5, 4096, |_| {});
+    let k = |kind: CaseKind| {
+        let all = [
+            CaseKind::Random,
+            CaseKind::CoplanarWithLightFace,
+            CaseKind::LightVerticesOnHorizon,
+            CaseKind::OccluderVerticesOnHorizon,
+            CaseKind::OccluderSharesEdgesWithLight,
+            CaseKind::CoincidentVertices,
+            CaseKind::CoveringOrInside,
+            CaseKind::NearlyTouchingBoxes,
+            CaseKind::NonConvex,
+            CaseKind::ExporterMeshes,
+            CaseKind::Environment,
+            CaseKind::BlenderMeshes,
+        ];
+        all.iter().position(|&c| c == kind).unwrap()
+    };
+    let b = k(CaseKind::BlenderMeshes);
+    assert_eq!(rep.cases_by_kind[b], 40);
+    assert_eq!(rep.invariant_violations, 0, "{rep:?}");
+    assert_eq!(rep.beyond_6_sigma_by_kind[b], 0, "{rep:?}");
+    assert_eq!(rep.nan + rep.inf + rep.negative + rep.panics, 0, "{rep:?}");
 }
