@@ -281,7 +281,14 @@ pub fn blender_like_meshes() -> &'static [(&'static str, Mesh)] {
         }
         let sheet_faces = (0..n)
             .flat_map(|i| {
-                (0..n).map(move |j| vec![grid(i, j), grid(i + 1, j), grid(i + 1, j + 1), grid(i, j + 1)])
+                (0..n).map(move |j| {
+                    vec![
+                        grid(i, j),
+                        grid(i + 1, j),
+                        grid(i + 1, j + 1),
+                        grid(i, j + 1),
+                    ]
+                })
             })
             .collect();
         list.push(("bumpy_sheet", sheet, sheet_faces));
@@ -330,9 +337,31 @@ pub fn blender_like_meshes() -> &'static [(&'static str, Mesh)] {
         let (bo, bh, to, th) = (0u32, 4u32, 8u32, 12u32);
         let mut plate_faces = vec![
             // top: outer counter-clockwise from +z, the hole clockwise, joined by a slit
-            vec![to, to + 1, to + 2, to + 3, to, th, th + 1, th + 2, th + 3, th],
+            vec![
+                to,
+                to + 1,
+                to + 2,
+                to + 3,
+                to,
+                th,
+                th + 1,
+                th + 2,
+                th + 3,
+                th,
+            ],
             // bottom: the reverse
-            vec![bo, bh, bh + 3, bh + 2, bh + 1, bh, bo, bo + 3, bo + 2, bo + 1],
+            vec![
+                bo,
+                bh,
+                bh + 3,
+                bh + 2,
+                bh + 1,
+                bh,
+                bo,
+                bo + 3,
+                bo + 2,
+                bo + 1,
+            ],
         ];
         for k in 0..4 {
             let k1 = (k + 1) % 4;
@@ -354,7 +383,14 @@ pub fn blender_like_meshes() -> &'static [(&'static str, Mesh)] {
             .collect();
         list.push(("open_twisted_cylinder", cyl, cyl_faces));
         // An L extruded by 1/500 of its size: non-convex caps, a thin extrusion.
-        let l = [(-0.5, -0.5), (0.5, -0.5), (0.5, -0.2), (-0.2, -0.2), (-0.2, 0.5), (-0.5, 0.5)];
+        let l = [
+            (-0.5, -0.5),
+            (0.5, -0.5),
+            (0.5, -0.2),
+            (-0.2, -0.2),
+            (-0.2, 0.5),
+            (-0.5, 0.5),
+        ];
         let mut fin = Vec::new();
         for z in [-0.001, 0.001] {
             fin.extend(l.iter().map(|&(x, y)| v(x, y, z)));

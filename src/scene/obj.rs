@@ -1094,10 +1094,7 @@ pub(crate) fn build_object(
             FaceSurface::Triangles { tris, why, fanned } => {
                 let tally = match why {
                     Split::NonPlanar { off, tolerance } => {
-                        // Bent by its rounding only: split without a word.
-                        if off > tolerance {
-                            tallies.non_planar.add(*line, off, tolerance);
-                        }
+                        tallies.non_planar.add(*line, off, tolerance);
                         &mut tallies.non_planar_fanned
                     }
                     Split::NonConvex => {

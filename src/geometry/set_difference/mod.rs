@@ -76,9 +76,10 @@ const EPS_ON_EDGE: f64 = 1e-15;
 /// "No node".
 const NONE: u32 = u32::MAX;
 
-/// Whether every node of a loop lies within [`COLLAPSE_RADIUS`] of one great circle: the
-/// circle through the first node and the node farthest from it (short of its antipode), where
-/// the loop is not a sliver. A loop that spans no such pair is kept.
+/// Whether a loop is a sliver with no area: every node within [`COLLAPSE_RADIUS`] of one great
+/// circle (the circle through the first node and the node farthest from it, short of its
+/// antipode), going along it and back. A loop that goes once around the circle (the horizon
+/// itself: a hemisphere) is kept, and so is one that spans no such pair.
 fn on_one_great_circle(nodes: &[Node]) -> bool {
     let a = nodes[0].dir;
     let Some(n) = nodes[1..]
@@ -89,7 +90,18 @@ fn on_one_great_circle(nodes: &[Node]) -> bool {
     else {
         return false;
     };
-    nodes.iter().all(|q| n.dot(q.dir).abs() < COLLAPSE_RADIUS)
+    if !nodes.iter().all(|q| n.dot(q.dir).abs() < COLLAPSE_RADIUS) {
+        return false;
+    }
+    // The angle swept about n: ±2π around the circle, 0 there and back.
+    let m = nodes.len();
+    let swept: f64 = (0..m)
+        .map(|k| {
+            let (p, q) = (nodes[k].dir, nodes[(k + 1) % m].dir);
+            n.dot(p.cross(q)).atan2(p.dot(q))
+        })
+        .sum();
+    swept.abs() < std::f64::consts::PI
 }
 
 /// Side of the fragment leaving a node (see [`FragmentSide`]); `Unknown` before phase 2.
@@ -193,9 +205,6 @@ pub struct SetDifference {
     /// First live node of each cluster, indexed by the union–find representative.
     cluster_rep: Vec<u32>,
     loop_scratch: Vec<DVec3>,
-    /// Ranges of nodes still to be checked for a pinch, and the sweep's order (`pinch`).
-    pinch_work: Vec<(u32, u32)>,
-    pinch_order: Vec<u32>,
     consistent: bool,
 }
 
@@ -251,8 +260,6 @@ impl SetDifference {
             + self.side_cs.capacity()
             + self.contact_sc.capacity()
             + self.contact_cs.capacity()
-            + self.pinch_work.capacity()
-            + self.pinch_order.capacity()
             + self.near_sc.capacity()
             + self.near_cs.capacity()
             + self.insertions.capacity()
@@ -329,57 +336,8 @@ impl SetDifference {
                 self.nodes.truncate(first);
                 continue;
             }
-            // A loop that passes twice through one point (two loops of an earlier difference
-            // touching there, traversed as one) becomes two loops touching at that point: the
-            // phases below assume every point of a loop is visited once.
-            self.pinch_work.clear();
-            self.pinch_work.push((first as u32, len as u32));
-            while let Some((start, n)) = self.pinch_work.pop() {
-                let (start, n) = (start as usize, n as usize);
-                match self.pinch(start, n) {
-                    Some((i, j)) => {
-                        // Rotate so that the pinch starts the range: [0, j − i) and [j − i, n)
-                        // are then the two loops, each contiguous.
-                        self.nodes[start..start + n].rotate_left(i);
-                        let a = j - i;
-                        self.pinch_work.push((start as u32, a as u32));
-                        self.pinch_work.push(((start + a) as u32, (n - a) as u32));
-                    }
-                    None => self.link_loop(start, n, input_loop),
-                }
-            }
+            self.link_loop(first, len, input_loop);
         }
-    }
-
-    /// The first pair of positions `i < j` (relative to `start`) of the `n` nodes from `start`
-    /// at one point (within [`COLLAPSE_RADIUS`]) that are not neighbours along the loop, found
-    /// by a sweep along x; `None` for a simple loop or one too short to split into two loops
-    /// of three vertices.
-    fn pinch(&mut self, start: usize, n: usize) -> Option<(usize, usize)> {
-        if n < 6 {
-            return None;
-        }
-        let nodes = &self.nodes[start..start + n];
-        self.pinch_order.clear();
-        self.pinch_order.extend(0..n as u32);
-        self.pinch_order
-            .sort_unstable_by(|&a, &b| nodes[a as usize].dir.x.total_cmp(&nodes[b as usize].dir.x));
-        let mut best: Option<(usize, usize)> = None;
-        for (k, &a) in self.pinch_order.iter().enumerate() {
-            let da = nodes[a as usize].dir;
-            for &b in &self.pinch_order[k + 1..] {
-                let db = nodes[b as usize].dir;
-                if db.x - da.x > 2.0 * COLLAPSE_RADIUS {
-                    break;
-                }
-                let (i, j) = (a.min(b) as usize, a.max(b) as usize);
-                // Both loops need three vertices; closer pairs were merged on loading.
-                if j - i >= 3 && n - (j - i) >= 3 && coincident(da, db, COLLAPSE_RADIUS) {
-                    best = Some(best.map_or((i, j), |p| p.min((i, j))));
-                }
-            }
-        }
-        best
     }
 
     /// Links the `n` nodes from `first` into one loop (doubly linked, with the unit normals of
