@@ -1254,7 +1254,8 @@ fn run() -> Result<()> {
             rays,
             ..
         }) => {
-            let (case, analytic, estimate, sigma) = penumbra::stress::run_one(seed, index, rays);
+            let (case, analytic, estimate, sigma, violations) =
+                penumbra::stress::run_one(seed, index, rays);
             say!("case {index}: {:?}, scale {:e}", case.kind, case.scale);
             say!("shading point {:?}", case.point);
             for o in &case.scene.objects {
@@ -1265,7 +1266,10 @@ fn run() -> Result<()> {
                     o.mesh.positions
                 );
             }
-            say!("analytic {analytic}, ray cast {estimate} ± {sigma}");
+            say!(
+                "analytic {analytic}, ray cast {estimate} ± {sigma}; {violations} invariant \
+                 violations"
+            );
             Ok(())
         }
         Some(Command::Stress {

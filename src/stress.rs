@@ -911,12 +911,13 @@ struct Outcome {
     negative: bool,
 }
 
-/// Runs one case alone: (analytic, estimate, sigma), for debugging a reported index.
-pub fn run_one(seed: u64, index: u64, rays: u32) -> (Case, f64, f64, f64) {
+/// Runs one case alone: (analytic, estimate, sigma, invariant violations), for debugging a
+/// reported index and for tests.
+pub fn run_one(seed: u64, index: u64, rays: u32) -> (Case, f64, f64, f64, u32) {
     let case = generate(seed, index);
     let mut rng = Pcg32::new(seed ^ 0x5eed, index);
     let o = run_case(&case, rays, &mut rng, &mut ShadingScratch::default());
-    (case, o.analytic, o.estimate, o.sigma)
+    (case, o.analytic, o.estimate, o.sigma, o.violations)
 }
 
 /// Half the side of the cube, in units of the polyhedra's own size (they fit in [-0.5, 0.5]³),

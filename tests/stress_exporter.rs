@@ -75,7 +75,8 @@ fn exporter_mesh_cases_match_ray_casting() {
         assert_eq!(kind_of(index), CaseKind::ExporterMeshes);
         assert_eq!(generate(seed, index).kind, CaseKind::ExporterMeshes);
         cases += 1;
-        let (case, analytic, estimate, sigma) = run_one(seed, index, rays);
+        let (case, analytic, estimate, sigma, violations) = run_one(seed, index, rays);
+        assert_eq!(violations, 0, "case {index}");
         assert!(
             analytic.is_finite() && analytic >= 0.0,
             "case {index}: {analytic}"

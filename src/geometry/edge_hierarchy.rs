@@ -34,9 +34,9 @@
 //! with the margin `m = tol + 1e-12 (|c| + r + ‖d‖₁)` (`tol` the exact silhouette's coplanarity
 //! tolerance, the rest bounds the rounding of both sides). The first bound is positive only
 //! when `α + β < π/2` and the second negative only when `β − α > π/2` (for `α ≤ π/2`), where
-//! the cosine bounds hold; nodes with a wider cone are never skipped. A node holding a
-//! boundary edge (one face only) is never skipped: that edge bounds an open mesh's image
-//! whichever way its face turns. [`EdgeHierarchy::candidates`] implements the test.
+//! the cosine bounds hold; nodes with a wider cone are never skipped. Boundary edges (one face
+//! only) are kept out of the tree and handed out by every query: such an edge bounds an open
+//! mesh's image whichever way its face turns. [`EdgeHierarchy::candidates`] implements the test.
 
 use super::polyhedron::{NO_FACE, Polyhedron};
 use glam::DVec3;
@@ -91,8 +91,6 @@ struct Node {
     /// Leaf: `count > 0` edges from `start` in `edges`; inner: `count == 0`, children follow.
     start: u32,
     count: u32,
-    /// The node holds an edge with one face only.
-    boundary: bool,
 }
 
 /// The edges of one polyhedron in a binary tree of normal cones and bounding spheres, stored
@@ -102,6 +100,8 @@ pub struct EdgeHierarchy {
     nodes: Vec<Node>,
     /// Edge indices, leaf after leaf, ascending within a leaf.
     edges: Vec<u32>,
+    /// The boundary edges (one face only), outside the tree: every query hands them out.
+    boundary: Vec<u32>,
     leaf_edges: usize,
 }
 
@@ -159,7 +159,15 @@ impl EdgeHierarchy {
                 [m.x, m.y, m.z, n.x, n.y, n.z]
             })
             .collect();
-        let mut order: Vec<u32> = (0..poly.edges.len() as u32).collect();
+        // A boundary edge bounds an open mesh's image whichever way its face turns: it is a
+        // candidate at every point, and kept out of the tree so that no node has to hold one
+        // (a node that did could never be skipped).
+        let (mut order, boundary): (Vec<u32>, Vec<u32>) =
+            (0..poly.edges.len() as u32).partition(|&e| !poly.edges[e as usize].is_boundary());
+        h.boundary = boundary;
+        if order.is_empty() {
+            return h;
+        }
         h.nodes
             .reserve(2 * poly.edges.len() / params.leaf_edges.max(1) + 1);
         h.leaf_edges = params.leaf_edges.max(1);
@@ -256,10 +264,8 @@ impl EdgeHierarchy {
                 let margin = node.slack + ROUNDING * (d.x.abs() + d.y.abs() + d.z.abs());
                 // Eq. EH.1: |d| cos(α + β) > r + m, all faces front-facing; |d| cos(β − α) <
                 // −(r + m), all back-facing.
-                // A boundary edge is on the outline of an open mesh whichever way its face
-                // turns: a node holding one is never skipped.
-                let front = node.cos_a * along - node.sin_a * across > margin && !node.boundary;
-                let back = node.cos_a * along + node.sin_a * across < -margin && !node.boundary;
+                let front = node.cos_a * along - node.sin_a * across > margin;
+                let back = node.cos_a * along + node.sin_a * across < -margin;
                 if front || back {
                     i = node.next as usize;
                     continue;
@@ -272,6 +278,8 @@ impl EdgeHierarchy {
             }
             i += 1;
         }
+        out.extend_from_slice(&self.boundary);
+        stats.edges_tested += self.boundary.len() as u32;
         stats
     }
 }
@@ -284,7 +292,6 @@ fn bounds(poly: &Polyhedron, anchors: &[(DVec3, f64)], tol: f64, edges: &[u32]) 
             e.faces.into_iter().filter(|&f| f != NO_FACE)
         })
     };
-    let boundary = edges.iter().any(|&e| poly.edges[e as usize].is_boundary());
     // Cone: the mean normal, and the widest angle to it (2 atan2(|a − n|, |a + n|) is
     // accurate at small angles, where acos is not).
     let sum = faces().fold(DVec3::ZERO, |s, f| s + poly.face_planes[f as usize].n);
@@ -327,7 +334,6 @@ fn bounds(poly: &Polyhedron, anchors: &[(DVec3, f64)], tol: f64, edges: &[u32]) 
         next: 0,
         start: 0,
         count: 0,
-        boundary,
     }
 }
 

@@ -334,8 +334,9 @@ fn shade_light<R: Recorder>(
             shade_light_piece(ctx, &whole, scratch, rec)
         }
         Outline::Faces => {
-            // A stand-in is for the silhouette path: face by face, the mesh's own faces.
-            let faces = light.faces();
+            // A stand-in is for the silhouette path: face by face, the mesh's own faces (its
+            // triangles when some face is bent).
+            let faces = light.face_pieces();
             let mut total = DVec3::ZERO;
             for f in 0..faces.face_count() {
                 if on_light && skip_own_face(light, f, sp) {
@@ -451,8 +452,9 @@ fn record_contour<R: Recorder>(
 /// Is face `f` of `obj` the face the shading point lies on, or coplanar with it?
 #[inline]
 fn skip_own_face(obj: &PreparedObject, f: usize, sp: &ShadingPoint) -> bool {
-    sp.face == Some(f as u32)
-        || obj.faces().face_planes[f].eval(sp.position).abs() <= COPLANAR * obj.faces().radius
+    let pieces = obj.face_pieces();
+    sp.face == Some(obj.piece_face(f))
+        || pieces.face_planes[f].eval(sp.position).abs() <= COPLANAR * pieces.radius
 }
 
 /// What one pass of lines 5–16 integrates: a whole light (its silhouette), or one face of it
@@ -577,9 +579,10 @@ pub(super) fn subtract_occluder<R: Recorder>(
     if let Some(pp) = cut {
         let mut front = 0usize;
         let mut total = 0usize;
-        for &i in &occ.faces().face_indices {
+        let pieces = occ.face_pieces();
+        for &i in &pieces.face_indices {
             total += 1;
-            if pp.eval(occ.faces().vertices[i as usize]) > 0.0 {
+            if pp.eval(pieces.vertices[i as usize]) > 0.0 {
                 front += 1;
             }
         }
@@ -676,7 +679,7 @@ pub(super) fn subtract_occluder<R: Recorder>(
             return;
         }
     }
-    let faces = occ.faces();
+    let faces = occ.face_pieces();
     let closed = faces.diagnostics.closed_manifold;
     // The faces that can overlap the light: those the face hierarchy finds in a cone around
     // its polygon (all of them for small meshes), in index order as the scan visits them.
@@ -786,7 +789,7 @@ pub(super) fn load_occluder<R: Recorder>(
 pub(super) fn environment_faces(ctx: &PointContext, oi: usize, scratch: &mut ShadingScratch) {
     let sp = ctx.sp;
     let occ = &ctx.scene.objects[ctx.scene.occluders[oi] as usize];
-    let faces = occ.faces();
+    let faces = occ.face_pieces();
     let on_this = sp.object == Some(occ.object);
     let closed = faces.diagnostics.closed_manifold;
     scratch.env_faces.clear();
@@ -811,7 +814,7 @@ pub(super) fn project_face<R: Recorder>(
 ) {
     let occ = &ctx.scene.objects[ctx.scene.occluders[oi] as usize];
     face_polygon(
-        occ.faces(),
+        occ.face_pieces(),
         g,
         ctx.sp.position,
         &ctx.frame,

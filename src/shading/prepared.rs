@@ -64,6 +64,50 @@ pub struct PreparedObject {
     /// Set when `poly` is the convex hull standing in for a mesh that is convex up to the
     /// precision of its input (`geometry::near_convex`): how far the hull may be from it.
     pub stand_in: Option<StandIn>,
+    /// The mesh's faces as the triangles rays see, when some face is not planar to the
+    /// polyhedron's tolerance (a quad bent by the rounding of its digits): the face-by-face
+    /// paths go over these ([`PreparedObject::face_pieces`]).
+    pub fan: Option<FanMesh>,
+}
+
+/// A mesh's faces as the triangles every ray sees (each face fanned from its first vertex,
+/// `Mesh::triangles`, as the BVH and the ray-cast reference take them). The face-by-face paths
+/// subtract and integrate these when some face of the mesh is bent, even only by the rounding
+/// of its digits: seen nearly edge-on, a bent face's image folds into a bow tie, which the set
+/// difference cannot take; a triangle's never does.
+#[derive(Clone, Debug)]
+pub struct FanMesh {
+    pub poly: Arc<Polyhedron>,
+    /// The face of the mesh each triangle comes from.
+    pub face_of: Vec<u32>,
+}
+
+impl FanMesh {
+    /// The fan of `mesh`, whose polyhedron is `poly`; `None` when every face of it is planar
+    /// to the polyhedron's tolerance (the faces are then their own pieces).
+    pub fn of(mesh: &crate::scene::Mesh, poly: &Polyhedron) -> Option<FanMesh> {
+        if poly.diagnostics.nonplanar_faces == 0 {
+            return None;
+        }
+        let p = |i: u32| mesh.positions[i as usize];
+        let mut faces = Vec::new();
+        let mut face_of = Vec::new();
+        for (f, face) in mesh.faces.iter().enumerate() {
+            for k in 1..face.len().saturating_sub(1) {
+                let t = [face[0], face[k], face[k + 1]];
+                if crate::accel::is_degenerate(p(t[0]), p(t[1]), p(t[2])) {
+                    continue;
+                }
+                faces.push(t.to_vec());
+                face_of.push(f as u32);
+            }
+        }
+        let fan = Polyhedron::new(&mesh.positions, &faces);
+        (fan.face_count() == face_of.len()).then(|| FanMesh {
+            poly: Arc::new(fan),
+            face_of,
+        })
+    }
 }
 
 /// What replacing a mesh by its convex hull changes (`geometry::near_convex`).
@@ -238,11 +282,24 @@ impl PreparedObject {
         }
     }
 
-    /// The faces the face-by-face paths go over: the mesh's own, also when a hull stands in for
-    /// it on the silhouette path.
+    /// The mesh's own faces, also when a hull stands in for it on the silhouette path.
     #[inline]
     pub fn faces(&self) -> &Polyhedron {
         self.stand_in.as_ref().map_or(&self.poly, |s| &s.mesh)
+    }
+
+    /// What the face-by-face paths subtract and integrate one by one: the mesh's triangles as
+    /// rays see them when some face is bent ([`FanMesh`]), else its faces.
+    #[inline]
+    pub fn face_pieces(&self) -> &Polyhedron {
+        self.fan.as_ref().map_or_else(|| self.faces(), |f| &f.poly)
+    }
+
+    /// The face of the mesh (`ShadingPoint::face`'s numbering) that piece `g` of
+    /// [`PreparedObject::face_pieces`] belongs to.
+    #[inline]
+    pub fn piece_face(&self, g: usize) -> u32 {
+        self.fan.as_ref().map_or(g as u32, |f| f.face_of[g])
     }
 
     /// The point at which to look up this object's tree for the shading point `x`.
@@ -732,6 +789,7 @@ impl PreparedScene {
                 ));
                 continue;
             }
+            let fan = FanMesh::of(&obj.mesh, &mesh);
             // Convex as meant but not as written (rounded coordinates): the hull stands in.
             let (poly, stand_in) = StandIn::of(mesh, obj.mesh.rounding);
             if let Some(st) = &stand_in {
@@ -780,6 +838,7 @@ impl PreparedScene {
                 star_centre: None,
                 triangulation: None,
                 stand_in,
+                fan,
             });
             if is_light {
                 lights.push((id, obj.material.ke));
@@ -1025,9 +1084,11 @@ impl PreparedScene {
         }
         let had_tree = old.bsp.is_some() || old.exact_bsp.is_some() || old.hoisted.is_some();
         let map = instance_map(old.faces(), &mesh);
+        let fan = FanMesh::of(&obj.mesh, &mesh);
         let reuse;
         {
             let o = &mut out.objects[p];
+            o.fan = fan;
             match map {
                 Some(m) => {
                     o.poly = match &old.stand_in {
