@@ -83,13 +83,33 @@ pub struct FanMesh {
 }
 
 impl FanMesh {
-    /// The fan of `mesh`, whose polyhedron is `poly`; `None` when every face of it is planar
-    /// to the polyhedron's tolerance (the faces are then their own pieces).
-    pub fn of(mesh: &crate::scene::Mesh, poly: &Polyhedron) -> Option<FanMesh> {
-        if poly.diagnostics.nonplanar_faces == 0 {
+    /// The fan of `mesh`; `None` when every face of it is planar to the polyhedron's tolerance
+    /// (1e-9 of its bounding radius, as `Polyhedron::new` judges; the faces are then their own
+    /// pieces).
+    pub fn of(mesh: &crate::scene::Mesh) -> Option<FanMesh> {
+        let p = |i: u32| mesh.positions[i as usize];
+        let (lo, hi) = mesh
+            .positions
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &q| {
+                (a.min(q), b.max(q))
+            });
+        let centre = 0.5 * (lo + hi);
+        let radius = mesh
+            .positions
+            .iter()
+            .map(|q| q.distance(centre))
+            .fold(0.0, f64::max);
+        let tol = 1e-9 * radius.max(f64::MIN_POSITIVE);
+        let bent = mesh.faces.iter().any(|f| {
+            f.len() > 3 && {
+                let pts: Vec<DVec3> = f.iter().map(|&i| p(i)).collect();
+                crate::scene::precision::plane_deviation(&pts) > tol
+            }
+        });
+        if !bent {
             return None;
         }
-        let p = |i: u32| mesh.positions[i as usize];
         let mut faces = Vec::new();
         let mut face_of = Vec::new();
         for (f, face) in mesh.faces.iter().enumerate() {
@@ -789,9 +809,16 @@ impl PreparedScene {
                 ));
                 continue;
             }
-            let fan = FanMesh::of(&obj.mesh, &mesh);
+            let fan = FanMesh::of(&obj.mesh);
             // Convex as meant but not as written (rounded coordinates): the hull stands in.
             let (poly, stand_in) = StandIn::of(mesh, obj.mesh.rounding);
+            // A mesh that takes its exact silhouette (or outline) takes it over the triangles
+            // rays see when some face is bent, the very surface its face-by-face path and the
+            // ray-cast reference see.
+            let poly = match &fan {
+                Some(f) if stand_in.is_none() && !poly.has_simple_silhouette() => (*f.poly).clone(),
+                _ => poly,
+            };
             if let Some(st) = &stand_in {
                 notes.push(format!(
                     "object '{}' is convex up to the rounding of its coordinates (vertices at \
@@ -1084,7 +1111,7 @@ impl PreparedScene {
         }
         let had_tree = old.bsp.is_some() || old.exact_bsp.is_some() || old.hoisted.is_some();
         let map = instance_map(old.faces(), &mesh);
-        let fan = FanMesh::of(&obj.mesh, &mesh);
+        let fan = FanMesh::of(&obj.mesh);
         let reuse;
         {
             let o = &mut out.objects[p];
