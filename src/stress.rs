@@ -258,6 +258,9 @@ pub fn exporter_meshes() -> &'static [(&'static str, Mesh)] {
     })
 }
 
+/// A mesh by name, as positions and faces (before writing).
+type NamedFaces = (&'static str, Vec<DVec3>, Vec<Vec<u32>>);
+
 /// The meshes of the [`CaseKind::BlenderMeshes`] family, written as Blender's OBJ exporter
 /// writes them (`%.6f`, quads and n-gons kept) and read back through the OBJ loader, so that
 /// they take the surface every method sees (`scene::face_triangulation`): a bumpy open sheet
@@ -268,7 +271,7 @@ pub fn blender_like_meshes() -> &'static [(&'static str, Mesh)] {
     static MESHES: std::sync::OnceLock<Vec<(&'static str, Mesh)>> = std::sync::OnceLock::new();
     MESHES.get_or_init(|| {
         let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
-        let mut list: Vec<(&'static str, Vec<DVec3>, Vec<Vec<u32>>)> = Vec::new();
+        let mut list: Vec<NamedFaces> = Vec::new();
         // A 6 × 6 sheet of quads bent out of their planes, open all round.
         let n = 6u32;
         let grid = |i: u32, j: u32| i * (n + 1) + j;

@@ -350,8 +350,8 @@ mod tests {
         // A parallelogram in a general position, rounded to 6 decimals as Blender writes it.
         let r = |v: DVec3| (v * 1e6).round() / 1e6;
         let p0 = DVec3::new(0.1234567891, 0.2345678912, 0.3456789123);
-        let u = DVec3::new(0.7071067811, 0.3141592653, 0.1);
-        let v = DVec3::new(-0.2718281828, 0.5772156649, 0.8);
+        let u = DVec3::new(0.7123456789, 0.3321987654, 0.1234567);
+        let v = DVec3::new(-0.2734191827, 0.5791364528, 0.8123457);
         let rounded = [r(p0), r(p0 + u), r(p0 + u + v), r(p0 + v)];
         assert!(plane_deviation(&rounded) > 1e-9);
         assert_eq!(face_surface(&rounded, 5e-7), FaceSurface::Polygon);

@@ -1225,7 +1225,7 @@ mod tests {
         let m = &scene
             .objects
             .first()
-            .expect(&format!("{:?}", scene.warnings))
+            .unwrap_or_else(|| panic!("{:?}", scene.warnings))
             .mesh;
         assert!(m.faces.iter().all(|f| f.len() == 3), "{:?}", m.faces);
         let area: f64 = m
