@@ -169,7 +169,7 @@ fn main() {
                 DVec3::new(t, t, 1.0).normalize(),
                 DVec3::new(-t, t, 1.0).normalize(),
             ];
-            let _ = exact_silhouette_in_window(&poly, x, &f, &w, &mut out, &mut ws);
+            let _ = exact_silhouette_in_window(&poly, x, &f, &w, false, &mut out, &mut ws);
         }) * 1e6;
         println!("{name}: windowed {windowed:.3} us per query");
         let per_unit = if size > 0 {

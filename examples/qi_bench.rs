@@ -127,7 +127,8 @@ fn main() {
             let mut run = |s: &mut WindowScratch| {
                 per_point(cases.len(), |i| {
                     let (x, f, w) = &cases[i];
-                    exact_silhouette_in_window(poly, *x, f, w, &mut out, s).map_or(0, |st| st.rays)
+                    exact_silhouette_in_window(poly, *x, f, w, false, &mut out, s)
+                        .map_or(0, |st| st.rays)
                 })
             };
             let (a, b) = (run(&mut per), run(&mut qi));

@@ -261,8 +261,8 @@ fn windowed_qi_silhouettes_are_the_per_piece_ones_bit_for_bit() {
             }
             let frame = Frame::from_z((centre - x).normalize());
             let w = window(x, centre, u, v, &frame);
-            let ra = exact_silhouette_in_window(&poly, x, &frame, &w, &mut a, &mut qi);
-            let rb = exact_silhouette_in_window(&poly, x, &frame, &w, &mut b, &mut per);
+            let ra = exact_silhouette_in_window(&poly, x, &frame, &w, false, &mut a, &mut qi);
+            let rb = exact_silhouette_in_window(&poly, x, &frame, &w, false, &mut b, &mut per);
             assert_eq!(ra.is_some(), rb.is_some(), "at {x}, light {size}");
             assert!(same_bits(&a, &b), "at {x}, light {size}: QI differs");
             let (Some(sa), Some(sb)) = (ra, rb) else {

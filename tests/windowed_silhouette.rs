@@ -136,6 +136,7 @@ fn compare(scene: &Scene, points: &[ShadingPoint]) -> (f64, usize) {
                 sp.position,
                 &frame,
                 light_sph.loop_at(0),
+                false,
                 &mut sph,
                 &mut window_scratch,
             )
@@ -152,6 +153,7 @@ fn compare(scene: &Scene, points: &[ShadingPoint]) -> (f64, usize) {
                     sp.position,
                     &frame,
                     light_sph.loop_at(0),
+                    false,
                     &mut reference,
                     &mut all_pairs,
                 )

@@ -674,8 +674,25 @@ fn arc_position(e: &ContourEdge, p: DVec3) -> ArcPosition {
 
 /// [`blocked`] through the face hierarchy where the mesh has one (the windowed silhouette).
 #[inline]
-pub(crate) fn blocked_ray(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2]) -> bool {
-    blocked(poly, x, dir, skip, false)
+/// With `edge_on = Some(tol)`, the faces whose plane passes within `tol` of `x` are left out
+/// (seen edge-on from a point on the mesh: `windowed_silhouette`).
+pub(crate) fn blocked_ray(
+    poly: &Polyhedron,
+    x: DVec3,
+    dir: DVec3,
+    skip: [u32; 2],
+    edge_on: Option<f64>,
+) -> bool {
+    let Some(tol) = edge_on else {
+        return blocked(poly, x, dir, skip, false);
+    };
+    let ray = PreparedRay::new(&Ray::new(x, dir));
+    let hit_face =
+        |f: usize| poly.face_planes[f].eval(x).abs() > tol && face_hit(poly, x, dir, &ray, skip, f);
+    match &poly.face_bvh {
+        Some(bvh) => bvh.any(x, dir, |f| hit_face(f as usize)),
+        None => (0..poly.face_count()).any(hit_face),
+    }
 }
 
 /// Does the ray from `x` along `dir` meet a face of `poly` other than `skip`, the two faces of

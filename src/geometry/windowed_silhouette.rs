@@ -133,11 +133,19 @@ pub struct WindowStats {
 /// in `frame`, one positively oriented loop, as a light polygon is). `None` when the mesh has
 /// no face hierarchy, the window is too wide or a configuration is on the edge of what it
 /// decides (see the module docs): take the full silhouette then.
+///
+/// `on_mesh`: `x` lies on the mesh itself (self-shadowing). Its own face, and every face whose
+/// plane passes within the coplanarity tolerance of `x`, is then seen edge-on: its image has
+/// no area, so it is left out, and the faces next to it end at its edges (edges between it and
+/// a face that is not left out count as boundary edges of that face). The own face's edges lie
+/// on the horizon, so this is done only with `W'` strictly above the horizon, where no arc on
+/// the horizon can reach.
 pub fn exact_silhouette_in_window(
     poly: &Polyhedron,
     x: DVec3,
     frame: &Frame,
     window: &[DVec3],
+    on_mesh: bool,
     out: &mut SphericalPolygon,
     scratch: &mut WindowScratch,
 ) -> Option<WindowStats> {
@@ -170,6 +178,13 @@ pub fn exact_silhouette_in_window(
         }
     }
     let (cos_cone, sin_cone) = cone_of(&scratch.window, centre);
+    // On the mesh: W' strictly above the horizon (above the tangent plane by far more than the
+    // rounding of the directions), so that the edge-on faces' edges cannot reach it.
+    if on_mesh && scratch.window.iter().any(|w| w.dot(frame.z) <= 1e3 * TOL) {
+        return None;
+    }
+    let absent =
+        |f: u32| f == NO_FACE || on_mesh && poly.face_planes[f as usize].eval(x).abs() <= tol;
 
     // 1. Candidate edges: the edges of the faces whose boxes meet the cone.
     // One stamp per call: marks left by other meshes are older, so the buffer is shared by
@@ -205,19 +220,27 @@ pub fn exact_silhouette_in_window(
     scratch.arcs.clear();
     for &e in &scratch.candidates {
         let edge = &poly.edges[e as usize];
-        let f0 = is_front_facing(poly, edge.faces[0] as usize, x);
-        // A boundary edge of an open mesh bounds its image whichever way its face turns.
-        let f1 = edge.faces[1] != NO_FACE && is_front_facing(poly, edge.faces[1] as usize, x);
-        let [i, j] = match (f0, f1) {
-            (true, false) => [edge.v[1], edge.v[0]],
+        let [g0, g1] = edge.faces;
+        let front = |f: u32| is_front_facing(poly, f as usize, x);
+        // The mesh to the left: a contour edge between a front and a back face; a boundary edge
+        // (of an open mesh, or next to a face left out) whichever way its one face turns.
+        let [i, j] = match (absent(g0), absent(g1)) {
+            (true, true) => continue,
+            (false, false) => match (front(g0), front(g1)) {
+                (true, false) => [edge.v[1], edge.v[0]],
+                (false, true) => [edge.v[0], edge.v[1]],
+                _ => continue,
+            },
+            (false, true) if front(g0) => [edge.v[1], edge.v[0]],
             (false, true) => [edge.v[0], edge.v[1]],
-            (false, false) if edge.faces[1] == NO_FACE => [edge.v[0], edge.v[1]],
-            _ => continue,
+            // Its face runs along it the other way.
+            (true, false) if front(g1) => [edge.v[0], edge.v[1]],
+            (true, false) => [edge.v[1], edge.v[0]],
         };
         if edge
             .faces
             .iter()
-            .any(|&f| f != NO_FACE && poly.face_planes[f as usize].eval(x).abs() <= tol)
+            .any(|&f| !absent(f) && poly.face_planes[f as usize].eval(x).abs() <= tol)
         {
             return None; // a face plane through x
         }
@@ -391,14 +414,17 @@ pub fn exact_silhouette_in_window(
     // 5. Keep the pieces whose midpoint ray meets no face but the arc's own two: one ray per
     //    piece, or quantitative invisibility (one ray per connected set of pieces in W').
     scratch.kept.clear();
+    // Faces left out cannot block a ray (they are met edge-on at most).
+    let edge_on = on_mesh.then_some(tol);
     if scratch.all_pairs
         || scratch.per_piece_rays
+        || on_mesh
         || !poly.diagnostics.closed_manifold
         || qi_disabled()
     {
         for (pi, p) in scratch.pieces.iter().enumerate() {
             let mid = (p.from + p.to).normalize();
-            if !blocked_ray(poly, x, mid, scratch.arcs[p.arc as usize].faces) {
+            if !blocked_ray(poly, x, mid, scratch.arcs[p.arc as usize].faces, edge_on) {
                 scratch.kept.push(pi as u32);
             }
         }
@@ -492,7 +518,7 @@ pub fn exact_silhouette_in_window(
             }
         }
         stats.rays += 1;
-        if blocked_ray(poly, x, corner, [NO_FACE; 2]) {
+        if blocked_ray(poly, x, corner, [NO_FACE; 2], edge_on) {
             for &w in &scratch.window {
                 out.push_vertex(frame.to_local(w));
             }

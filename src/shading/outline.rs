@@ -105,15 +105,17 @@ impl PreparedObject {
                     from_tree,
                 }
             }
+            // Also at points on the mesh itself: the faces through the point are left out
+            // there, which the window (strictly above the horizon) makes exact.
             MeshPath::ExactInWindow | MeshPath::OpenInWindow
-                if !on_it
-                    && role == Role::Occluder
+                if role == Role::Occluder
                     && window.is_some_and(|w| {
                         exact_silhouette_in_window(
                             &self.poly,
                             x,
                             frame,
                             w,
+                            on_it,
                             out,
                             &mut scratch.window,
                         )
