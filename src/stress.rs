@@ -477,26 +477,9 @@ fn object(name: &str, mesh: Mesh, light: bool) -> SceneObject {
     }
 }
 
-fn bounding_sphere(m: &Mesh) -> (DVec3, f64) {
-    let (lo, hi) = m
-        .positions
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &p| {
-            (a.min(p), b.max(p))
-        });
-    let c = 0.5 * (lo + hi);
-    (
-        c,
-        m.positions
-            .iter()
-            .map(|p| p.distance(c))
-            .fold(0.0, f64::max),
-    )
-}
-
 fn spheres_overlap(a: &Mesh, b: &Mesh) -> bool {
-    let (ca, ra) = bounding_sphere(a);
-    let (cb, rb) = bounding_sphere(b);
+    let (ca, ra) = a.bounding_sphere();
+    let (cb, rb) = b.bounding_sphere();
     ca.distance(cb) < ra + rb
 }
 
@@ -602,7 +585,7 @@ fn generate_kind(seed: u64, index: u64, kind: CaseKind) -> Case {
             if inside_any(&objects, x) {
                 let lift = objects
                     .iter()
-                    .map(|o| bounding_sphere(&o.mesh).1)
+                    .map(|o| o.mesh.bounding_sphere().1)
                     .fold(0.0, f64::max)
                     * 3.0;
                 objects
@@ -834,7 +817,7 @@ fn generate_kind(seed: u64, index: u64, kind: CaseKind) -> Case {
     let shift = Frame::from_z(n).x
         * (objects
             .iter()
-            .map(|o| bounding_sphere(&o.mesh).1)
+            .map(|o| o.mesh.bounding_sphere().1)
             .fold(0.0, f64::max)
             * 3.0);
     for _ in 0..8 {

@@ -84,6 +84,24 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// The centre of the bounding box of the positions and the largest distance of a position
+    /// from it.
+    pub fn bounding_sphere(&self) -> (DVec3, f64) {
+        let (lo, hi) = self
+            .positions
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &p| {
+                (a.min(p), b.max(p))
+            });
+        let c = 0.5 * (lo + hi);
+        let r = self
+            .positions
+            .iter()
+            .map(|p| p.distance(c))
+            .fold(0.0, f64::max);
+        (c, r)
+    }
+
     /// Fan triangulation of every face, as index triples (the per-triangle method, ray casting).
     pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
         self.faces

@@ -88,18 +88,7 @@ impl FanMesh {
     /// pieces).
     pub fn of(mesh: &crate::scene::Mesh) -> Option<FanMesh> {
         let p = |i: u32| mesh.positions[i as usize];
-        let (lo, hi) = mesh
-            .positions
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &q| {
-                (a.min(q), b.max(q))
-            });
-        let centre = 0.5 * (lo + hi);
-        let radius = mesh
-            .positions
-            .iter()
-            .map(|q| q.distance(centre))
-            .fold(0.0, f64::max);
+        let (_, radius) = mesh.bounding_sphere();
         let tol = 1e-9 * radius.max(f64::MIN_POSITIVE);
         let bent = mesh.faces.iter().any(|f| {
             f.len() > 3 && {
