@@ -1092,22 +1092,18 @@ pub(crate) fn build_object(
                 continue;
             }
             FaceSurface::Triangles { tris, why, fanned } => {
-                let tally = match why {
-                    Split::NonPlanar { off, tolerance } => {
+                // One note per face: why it was split, and whether only a fan was left.
+                match (why, fanned) {
+                    (Split::NonPlanar { off, tolerance }, _) => {
                         tallies.non_planar.add(*line, off, tolerance);
-                        &mut tallies.non_planar_fanned
+                        if fanned {
+                            tallies.non_planar_fanned.add(*line, 0.0, 0.0);
+                        }
                     }
-                    Split::NonConvex => {
-                        tallies.triangulated.add(*line, 0.0, 0.0);
-                        &mut tallies.non_convex
-                    }
-                    Split::Keyhole => {
-                        tallies.keyhole.add(*line, 0.0, 0.0);
-                        &mut tallies.no_surface
-                    }
-                };
-                if fanned {
-                    tally.add(*line, 0.0, 0.0);
+                    (Split::NonConvex, false) => tallies.triangulated.add(*line, 0.0, 0.0),
+                    (Split::NonConvex, true) => tallies.non_convex.add(*line, 0.0, 0.0),
+                    // `face_surface` never fans a keyhole (it has no surface then).
+                    (Split::Keyhole, _) => tallies.keyhole.add(*line, 0.0, 0.0),
                 }
                 let tris = if kept.len() == 4 {
                     // The diagonal the two triangles share, from corner 0 or from corner 1.
