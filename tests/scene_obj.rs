@@ -221,8 +221,9 @@ f 1 2 3 4 1
     let s = load(obj, None).unwrap();
     assert_eq!(s.objects.len(), 1);
     let m = &s.objects[0].mesh;
-    // Kept: faces of lines 8, 12 (6 and 2 share a position), 13 -> three quads.
-    assert_eq!(m.faces.len(), 3);
+    // Kept: the face of line 8. Lines 12 (6 and 2 share a position) and 13, once their
+    // repeats are removed, are line 8's face again: the copies are dropped.
+    assert_eq!(m.faces.len(), 1);
     assert!(m.faces.iter().all(|f| f.len() == 4));
     // Each kind of repair is one warning for the object, at its first line, listing the
     // lines: repeated vertices on 8, 12, 13; zero area on 9; fewer than 3 distinct on 11
@@ -246,7 +247,15 @@ f 1 2 3 4 1
         has("test.obj:11: ", "fewer than 3 distinct vertices"),
         "{w:?}"
     );
-    assert_eq!(w.len(), 4, "{w:?}");
+    assert!(
+        has(
+            "test.obj:12: ",
+            "2 faces are the same as an earlier face (same vertices, same winding): dropped \
+             (lines 12, 13)"
+        ),
+        "{w:?}"
+    );
+    assert_eq!(w.len(), 5, "{w:?}");
     // Only degenerate faces: the object is skipped, the scene is empty but loads.
     let s = load("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", None).unwrap();
     assert!(s.objects.is_empty());

@@ -741,6 +741,8 @@ struct FaceTallies {
     keyhole: Tally,
     /// Touching themselves with no triangulation: dropped.
     no_surface: Tally,
+    /// The same face (or triangle of a split face) as an earlier one: dropped.
+    duplicate: Tally,
 }
 
 impl FaceTallies {
@@ -814,6 +816,10 @@ impl FaceTallies {
             (
                 &self.no_surface,
                 "touching themselves with no triangulation inside themselves: dropped",
+            ),
+            (
+                &self.duplicate,
+                "the same as an earlier face (same vertices, same winding): dropped",
             ),
         ];
         for (t, what) in notes {
@@ -1050,6 +1056,7 @@ pub(crate) fn build_object(
     let mut mesh = Mesh::default();
     let mut local = std::collections::HashMap::<u32, u32>::new();
     let mut tallies = FaceTallies::default();
+    let mut seen: HashSet<Vec<u32>> = HashSet::new();
     // Every edge of the object, with the diagonals added by splitting quads: a quad is split
     // along a diagonal that is not an edge yet, so that two quads sharing two edges (at a
     // vertex of valence two) do not both cut that vertex off into one triangle twice, a fin
@@ -1131,6 +1138,17 @@ pub(crate) fn build_object(
             }
         }
         for piece in pieces {
+            // The same face twice (same vertices, same winding) would make every edge of it
+            // non-manifold; the copy is dropped. The same face wound the other way is kept: the
+            // two are the sides of a sheet.
+            let start = (0..piece.len()).min_by_key(|&k| piece[k]).unwrap_or(0);
+            let key: Vec<u32> = (0..piece.len())
+                .map(|k| piece[(start + k) % piece.len()])
+                .collect();
+            if !seen.insert(key) {
+                tallies.duplicate.add(*line, 0.0, 0.0);
+                continue;
+            }
             let f = piece
                 .iter()
                 .map(|&g| {
@@ -1195,6 +1213,29 @@ mod tests {
         );
         assert_eq!(l[2], (4, String::new()));
         assert_eq!(l.len(), 4);
+    }
+
+    /// A face written twice is kept once (its edges stay manifold), with a warning naming the
+    /// line of the copy; the same face wound the other way is kept (a two-sided sheet).
+    #[test]
+    fn a_duplicate_face_is_dropped_and_a_reversed_one_kept() {
+        let obj = "v 0.000000 0.000000 0.000000\nv 1.000000 0.000000 0.000000\n\
+                   v 1.000000 1.000000 0.000000\nv 0.000000 1.000000 0.000000\n\
+                   f 1 2 3 4\nf 2 3 4 1\nf 4 3 2 1\n";
+        let scene = load_obj_str(obj, None, "twice.obj").unwrap();
+        let m = &scene.objects[0].mesh;
+        assert_eq!(m.faces.len(), 2, "{:?}", m.faces);
+        assert!(
+            scene
+                .warnings
+                .iter()
+                .any(|w| w.starts_with("twice.obj:6:") && w.contains("same as an earlier face")),
+            "{:?}",
+            scene.warnings
+        );
+        let poly = crate::geometry::Polyhedron::new(&m.positions, &m.faces);
+        assert_eq!(poly.diagnostics.nonmanifold_edges, 0);
+        assert!(poly.diagnostics.closed_manifold);
     }
 
     /// The keyhole face of an n-gon cap with a hole (OBJ indices repeating the slit's ends)
