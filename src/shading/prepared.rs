@@ -1100,7 +1100,18 @@ impl PreparedScene {
         }
         let had_tree = old.bsp.is_some() || old.exact_bsp.is_some() || old.hoisted.is_some();
         let map = instance_map(old.faces(), &mesh);
-        let fan = FanMesh::of(&obj.mesh);
+        // The fan keeps its triangles under the move too (no new adjacency per drag frame).
+        let fan = match &old.fan {
+            Some(f) => f
+                .poly
+                .moved(&obj.mesh.positions)
+                .map(|poly| FanMesh {
+                    poly: Arc::new(poly),
+                    face_of: f.face_of.clone(),
+                })
+                .or_else(|| FanMesh::of(&obj.mesh)),
+            None => FanMesh::of(&obj.mesh),
+        };
         let reuse;
         {
             let o = &mut out.objects[p];
