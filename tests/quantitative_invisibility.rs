@@ -292,3 +292,195 @@ fn windowed_qi_silhouettes_are_the_per_piece_ones_bit_for_bit() {
     );
     assert!(fallback * 1000 <= pieces, "fallback rays {fallback}");
 }
+
+/// The bunny with a cap cut off (every face with a vertex above `cut` of its height): an open
+/// mesh with one long boundary loop.
+fn cut_bunny(cut: f64) -> Polyhedron {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes/bunny.obj");
+    let scene = penumbra::scene::obj::load_obj(&path).expect("assets/meshes/bunny.obj");
+    let m = &scene.objects[0].mesh;
+    let (lo, hi) = m
+        .positions
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.y), hi.max(p.y))
+        });
+    let limit = lo + cut * (hi - lo);
+    let faces: Vec<Vec<u32>> = m
+        .faces
+        .iter()
+        .filter(|f| f.iter().all(|&v| m.positions[v as usize].y <= limit))
+        .cloned()
+        .collect();
+    Polyhedron::new(&m.positions, &faces)
+}
+
+/// Blender's monkey as Blender's OBJ exporter wrote it (tests/data/blender): open, with
+/// eyes apart from the head. Its quads are bent by the file's rounding, so the exact paths
+/// take their fan triangles (`shading::FanMesh`), as here.
+fn suzanne() -> Polyhedron {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/blender/suzanne.obj");
+    let scene = penumbra::scene::obj::load_obj(&path).expect("tests/data/blender/suzanne.obj");
+    let m = &scene
+        .objects
+        .iter()
+        .find(|o| o.name == "Suzanne")
+        .expect("object Suzanne")
+        .mesh;
+    let fan: Vec<Vec<u32>> = m
+        .faces
+        .iter()
+        .flat_map(|f| (1..f.len() - 1).map(move |k| vec![f[0], f[k], f[k + 1]]))
+        .collect();
+    Polyhedron::new(&m.positions, &fan)
+}
+
+/// Open meshes (docs/silhouettes.md, "Open meshes"): a boundary edge steps the count by one
+/// face where a contour edge steps it by two. At points around and near the cut bunny and
+/// Suzanne, the whole exact silhouette with QI equals the per-piece one bit for bit, and every
+/// carried count is the scanned ray's.
+#[test]
+fn qi_on_open_meshes_is_the_per_piece_rays() {
+    let mut rng = Pcg32::new(77, 5);
+    let frame = Frame::from_z(DVec3::new(0.2, 0.9, -0.3).normalize());
+    let (mut a, mut b) = (SphericalPolygon::new(), SphericalPolygon::new());
+    let (mut carried, mut carried_boundary) = (0u32, 0u32);
+    for (name, poly) in [("cut bunny", cut_bunny(0.7)), ("suzanne", suzanne())] {
+        assert!(poly.diagnostics.boundary_edges > 0, "{name} is open");
+        assert!(poly.vertex_faces.is_some(), "{name} has its vertex stars");
+        let mut qi = ExactSilhouetteScratch::default();
+        qi.qi.measure = true;
+        let mut per = ExactSilhouetteScratch::default();
+        per.per_piece_rays = true;
+        let (mut ran, mut rays_qi, mut rays_per) = (0u32, 0u32, 0u32);
+        for k in 0..120 {
+            let r = poly.radius;
+            let x = match k % 3 {
+                0 => poly.center + rng.unit_vector() * r * rng.range(1.05, 4.0),
+                1 => poly.center + rng.unit_vector() * r * rng.range(0.3, 1.1),
+                _ => {
+                    let v = poly.vertices[rng.below(poly.vertices.len() as u32) as usize];
+                    v + rng.unit_vector() * r * rng.range(0.02, 0.2)
+                }
+            };
+            let ra = exact_silhouette(&poly, x, &frame, &mut a, &mut qi);
+            let rb = exact_silhouette(&poly, x, &frame, &mut b, &mut per);
+            assert_eq!(ra.is_ok(), rb.is_ok(), "{name}, point {k} {x}");
+            assert!(same_bits(&a, &b), "{name}, point {k} {x}: QI differs");
+            let (Ok(sa), Ok(sb)) = (ra, rb) else {
+                continue;
+            };
+            assert!(
+                !qi.qi.stats.whole_fallback,
+                "{name}, point {k}: contradictory counts"
+            );
+            ran += 1;
+            rays_qi += sa.rays;
+            rays_per += sb.rays;
+            for (q, (mid, faces, c, from_ray)) in qi.qi_counts().enumerate() {
+                let ray = count_ray_hits(&poly, x, mid, faces, true) as i32;
+                assert_eq!(
+                    c, ray,
+                    "{name}, point {k}, piece {q} (from a ray: {from_ray})"
+                );
+                if !from_ray {
+                    carried += 1;
+                    carried_boundary +=
+                        u32::from(faces.contains(&penumbra::geometry::polyhedron::NO_FACE));
+                }
+            }
+        }
+        eprintln!("{name}: {ran} points, rays {rays_per} per piece, {rays_qi} QI");
+        assert!(ran >= 100, "{name}: {ran} points");
+        assert!(
+            rays_qi * 4 < rays_per,
+            "{name}: {rays_qi} QI rays, {rays_per} per piece"
+        );
+    }
+    // Counts were carried onto boundary edges, not only between contour edges.
+    assert!(
+        carried > 5000 && carried_boundary > 200,
+        "{carried} carried counts, {carried_boundary} on boundary edges"
+    );
+}
+
+/// The windowed silhouette of Suzanne under quad lights, at points off the mesh and at points
+/// on it (self-shadowing: the faces through the point are left out, and the edges next to
+/// them count as boundary edges): QI gives the per-piece rays' loops bit for bit.
+#[test]
+fn windowed_qi_on_an_open_mesh_and_on_it_is_the_per_piece_rays() {
+    let poly = suzanne();
+    let mut rng = Pcg32::new(12, 9);
+    let mut qi = WindowScratch::default();
+    qi.qi.measure = true;
+    let mut per = WindowScratch::default();
+    per.per_piece_rays = true;
+    let (mut a, mut b) = (SphericalPolygon::new(), SphericalPolygon::new());
+    let (mut off, mut on, mut rays_qi, mut rays_per, mut kept_on) = (0, 0, 0, 0, 0);
+    for k in 0..2000 {
+        let on_mesh = k % 4 != 0;
+        let (x, up) = if on_mesh {
+            // A point inside a random face's first fan triangle, on either side of it.
+            let f = rng.below(poly.face_count() as u32) as usize;
+            let idx = poly.face(f);
+            let (p0, p1, p2) = (
+                poly.vertices[idx[0] as usize],
+                poly.vertices[idx[1] as usize],
+                poly.vertices[idx[2] as usize],
+            );
+            let (mut s, mut t) = (rng.next_f64(), rng.next_f64());
+            if s + t > 1.0 {
+                (s, t) = (1.0 - s, 1.0 - t);
+            }
+            let n = poly.face_planes[f].n.normalize();
+            let side = if rng.next_f64() < 0.5 { 1.0 } else { -1.0 };
+            (p0 + s * (p1 - p0) + t * (p2 - p0), n * side)
+        } else {
+            let x = poly.center + rng.unit_vector() * poly.radius * rng.range(1.0, 2.0);
+            (x, (poly.center - x).normalize())
+        };
+        // A light 1 to 3 radii away, mostly far from `up` (where the mesh shadows itself).
+        let dir = (up + rng.unit_vector() * 1.5).normalize();
+        let centre = x + dir * poly.radius * rng.range(1.0, 3.0);
+        let size = poly.radius * rng.range(0.05, 0.8);
+        let frame = Frame::from_z(up);
+        let u = dir.any_orthonormal_vector() * size;
+        let v = dir.cross(u).normalize() * size * 0.7;
+        let w = window(x, centre, u, v, &frame);
+        let ra = exact_silhouette_in_window(&poly, x, &frame, &w, on_mesh, &mut a, &mut qi);
+        let rb = exact_silhouette_in_window(&poly, x, &frame, &w, on_mesh, &mut b, &mut per);
+        assert_eq!(ra.is_some(), rb.is_some(), "point {k} at {x}");
+        assert!(
+            same_bits(&a, &b),
+            "point {k} at {x} (on the mesh: {on_mesh}): QI differs"
+        );
+        let (Some(sa), Some(sb)) = (ra, rb) else {
+            continue;
+        };
+        assert!(
+            !qi.qi.stats.whole_fallback,
+            "point {k}: contradictory counts"
+        );
+        if on_mesh {
+            on += 1;
+            kept_on += u32::from(sa.kept > 0);
+        } else {
+            off += 1;
+        }
+        rays_qi += sa.rays;
+        rays_per += sb.rays;
+    }
+    eprintln!(
+        "windowed Suzanne: {off} points off it, {on} on it ({kept_on} with an outline), rays \
+         {rays_per} per piece, {rays_qi} QI"
+    );
+    assert!(
+        off >= 200 && on >= 150 && kept_on >= 30,
+        "{off} off, {on} on, {kept_on}"
+    );
+    assert!(
+        rays_qi * 2 < rays_per,
+        "{rays_qi} QI rays, {rays_per} per piece"
+    );
+}

@@ -38,6 +38,7 @@
 //! only) are kept out of the tree and handed out by every query: such an edge bounds an open
 //! mesh's image whichever way its face turns. [`EdgeHierarchy::candidates`] implements the test.
 
+use super::face_bvh::sphere_meets_cone;
 use super::polyhedron::{NO_FACE, Polyhedron};
 use glam::DVec3;
 
@@ -86,6 +87,9 @@ struct Node {
     centre: DVec3,
     /// r + tol + 1e-12 (|c| + r): everything of the margin but the query's ‖d‖₁ term.
     slack: f64,
+    /// Radius about `centre` of a ball holding the ends of the node's edges (for the
+    /// windowed queries, [`EdgeHierarchy::candidates_in_cone`]).
+    reach: f64,
     /// Index of the node after this one's subtree (depth-first order).
     next: u32,
     /// Leaf: `count > 0` edges from `start` in `edges`; inner: `count == 0`, children follow.
@@ -102,6 +106,8 @@ pub struct EdgeHierarchy {
     edges: Vec<u32>,
     /// The boundary edges (one face only), outside the tree: every query hands them out.
     boundary: Vec<u32>,
+    /// A ball around each boundary edge (its midpoint and half length, widened by rounding).
+    boundary_balls: Vec<(DVec3, f64)>,
     leaf_edges: usize,
 }
 
@@ -164,6 +170,17 @@ impl EdgeHierarchy {
         // (a node that did could never be skipped).
         let (mut order, boundary): (Vec<u32>, Vec<u32>) =
             (0..poly.edges.len() as u32).partition(|&e| !poly.edges[e as usize].is_boundary());
+        h.boundary_balls = boundary
+            .iter()
+            .map(|&e| {
+                let e = &poly.edges[e as usize];
+                let (a, b) = (
+                    poly.vertices[e.v[0] as usize],
+                    poly.vertices[e.v[1] as usize],
+                );
+                (0.5 * (a + b), 0.5 * (a - b).length() * (1.0 + ROUNDING))
+            })
+            .collect();
         h.boundary = boundary;
         if order.is_empty() {
             return h;
@@ -252,6 +269,46 @@ impl EdgeHierarchy {
     /// of every face whose plane lies within the coplanarity tolerance of `x`. Leaves come in
     /// depth-first order, not in edge order.
     pub fn candidates(&self, x: DVec3, out: &mut Vec<u32>) -> EdgeQueryStats {
+        let mut stats = self.tree_candidates(x, |_| true, out);
+        out.extend_from_slice(&self.boundary);
+        stats.edges_tested += self.boundary.len() as u32;
+        stats
+    }
+
+    /// [`EdgeHierarchy::candidates`] restricted to the edges that may meet the cone of
+    /// directions within the angle θ (its cosine and sine) of the unit `axis` from `x`: nodes
+    /// whose edges' ball ([`sphere_meets_cone`]) misses the cone are skipped too, and so are
+    /// boundary edges whose ball misses it. A superset of the contour and boundary edges
+    /// with a point in the cone (what a window around a light needs,
+    /// [`super::windowed_silhouette`]).
+    pub fn candidates_in_cone(
+        &self,
+        x: DVec3,
+        axis: DVec3,
+        cos_theta: f64,
+        sin_theta: f64,
+        out: &mut Vec<u32>,
+    ) -> EdgeQueryStats {
+        let in_cone = |c: DVec3, r: f64| sphere_meets_cone(x, axis, cos_theta, sin_theta, c, r);
+        let mut stats = self.tree_candidates(x, |n| in_cone(n.centre, n.reach), out);
+        for (&e, &(c, r)) in self.boundary.iter().zip(&self.boundary_balls) {
+            stats.edges_tested += 1;
+            if in_cone(c, r) {
+                out.push(e);
+            }
+        }
+        stats
+    }
+
+    /// The tree's part of the queries: the edges of every leaf that neither the skip test
+    /// nor `keep` (false: skip the node's subtree) rules out.
+    #[inline]
+    fn tree_candidates(
+        &self,
+        x: DVec3,
+        keep: impl Fn(&Node) -> bool,
+        out: &mut Vec<u32>,
+    ) -> EdgeQueryStats {
         let mut stats = EdgeQueryStats::default();
         let mut i = 0;
         while i < self.nodes.len() {
@@ -271,6 +328,10 @@ impl EdgeHierarchy {
                     continue;
                 }
             }
+            if !keep(node) {
+                i = node.next as usize;
+                continue;
+            }
             if node.count > 0 {
                 let s = node.start as usize;
                 out.extend_from_slice(&self.edges[s..s + node.count as usize]);
@@ -278,8 +339,6 @@ impl EdgeHierarchy {
             }
             i += 1;
         }
-        out.extend_from_slice(&self.boundary);
-        stats.edges_tested += self.boundary.len() as u32;
         stats
     }
 }
@@ -325,12 +384,19 @@ fn bounds(poly: &Polyhedron, anchors: &[(DVec3, f64)], tol: f64, edges: &[u32]) 
         })
         .fold(0.0, f64::max)
         * (1.0 + ROUNDING);
+    let reach = edges
+        .iter()
+        .flat_map(|&e| poly.edges[e as usize].v)
+        .map(|v| (poly.vertices[v as usize] - centre).length())
+        .fold(0.0, f64::max)
+        * (1.0 + ROUNDING);
     Node {
         axis,
         cos_a,
         sin_a,
         centre,
         slack: r + tol + ROUNDING * (centre.length() + r),
+        reach,
         next: 0,
         start: 0,
         count: 0,

@@ -344,11 +344,7 @@ pub fn exact_silhouette(
     //    piece, or quantitative invisibility (one ray per connected set of pieces, the count
     //    carried along) on a closed manifold mesh.
     scratch.kept.clear();
-    if scratch.all_pairs
-        || scratch.per_piece_rays
-        || !poly.diagnostics.closed_manifold
-        || qi_disabled()
-    {
+    if scratch.all_pairs || scratch.per_piece_rays || poly.vertex_faces.is_none() || qi_disabled() {
         for (pi, piece) in scratch.pieces.iter().enumerate() {
             let mid = (piece.from + piece.to).normalize();
             let faces = scratch.edges[piece.edge as usize].faces;
@@ -377,7 +373,7 @@ pub fn exact_silhouette(
             from: p.from,
             to: p.to,
         }));
-        stats.rays = qi.solve_kept(poly, x, &scratch.crossings, &mut scratch.kept);
+        stats.rays = qi.solve_kept(poly, x, &scratch.crossings, None, &mut scratch.kept);
     }
     stats.kept = scratch.kept.len() as u32;
 
@@ -725,6 +721,34 @@ pub fn count_ray_hits(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], s
             c
         }
         _ => (0..poly.face_count()).filter(|&f| hit_face(f)).count() as u32,
+    }
+}
+
+/// [`count_ray_hits`] through the face hierarchy; with `edge_on = Some(tol)` the faces whose
+/// plane passes within `tol` of `x` are left out, as [`blocked_ray`] leaves them.
+pub(crate) fn count_ray_hits_edge_on(
+    poly: &Polyhedron,
+    x: DVec3,
+    dir: DVec3,
+    skip: [u32; 2],
+    edge_on: Option<f64>,
+) -> u32 {
+    let Some(tol) = edge_on else {
+        return count_ray_hits(poly, x, dir, skip, false);
+    };
+    let ray = PreparedRay::new(&Ray::new(x, dir));
+    let hit_face =
+        |f: usize| poly.face_planes[f].eval(x).abs() > tol && face_hit(poly, x, dir, &ray, skip, f);
+    match &poly.face_bvh {
+        Some(bvh) => {
+            let mut c = 0;
+            bvh.any(x, dir, |f| {
+                c += u32::from(hit_face(f as usize));
+                false
+            });
+            c
+        }
+        None => (0..poly.face_count()).filter(|&f| hit_face(f)).count() as u32,
     }
 }
 

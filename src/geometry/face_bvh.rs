@@ -153,21 +153,14 @@ impl FaceBvh {
             return;
         }
         let meets = |n: &Node| {
-            let c = 0.5 * (n.lo + n.hi);
-            let r = 0.5 * (n.hi - n.lo).length();
-            let v = c - apex;
-            let d = v.length();
-            if d <= r * (1.0 + 1e-9) {
-                return true;
-            }
-            // angle(v, axis) ≤ θ + asin(r / d)  ⇔  cos(angle) ≥ cos(θ + φ), when θ + φ < π.
-            let (sin_phi, cos_phi) = (r / d, (1.0 - (r / d) * (r / d)).max(0.0).sqrt());
-            let cos_sum = cos_theta * cos_phi - sin_theta * sin_phi;
-            let sin_sum = sin_theta * cos_phi + cos_theta * sin_phi;
-            if sin_sum < 0.0 && cos_sum < 0.0 {
-                return true; // θ + φ past π: every direction
-            }
-            v.dot(axis) >= d * cos_sum - 1e-9 * d
+            sphere_meets_cone(
+                apex,
+                axis,
+                cos_theta,
+                sin_theta,
+                0.5 * (n.lo + n.hi),
+                0.5 * (n.hi - n.lo).length(),
+            )
         };
         self.walk(meets, |f| {
             visit(f);
@@ -250,4 +243,31 @@ impl FaceEdges {
     pub fn edges_of(&self, f: usize) -> &[u32] {
         &self.edges[self.starts[f] as usize..self.starts[f + 1] as usize]
     }
+}
+
+/// Whether the ball of centre `c` and radius `r` may meet the cone of directions within the
+/// angle θ (given by its cosine and sine) of the unit `axis` from `apex` (conservative by a
+/// relative 1e-9).
+#[inline]
+pub fn sphere_meets_cone(
+    apex: DVec3,
+    axis: DVec3,
+    cos_theta: f64,
+    sin_theta: f64,
+    c: DVec3,
+    r: f64,
+) -> bool {
+    let v = c - apex;
+    let d = v.length();
+    if d <= r * (1.0 + 1e-9) {
+        return true;
+    }
+    // angle(v, axis) ≤ θ + asin(r / d)  ⇔  cos(angle) ≥ cos(θ + φ), when θ + φ < π.
+    let (sin_phi, cos_phi) = (r / d, (1.0 - (r / d) * (r / d)).max(0.0).sqrt());
+    let cos_sum = cos_theta * cos_phi - sin_theta * sin_phi;
+    let sin_sum = sin_theta * cos_phi + cos_theta * sin_phi;
+    if sin_sum < 0.0 && cos_sum < 0.0 {
+        return true; // θ + φ past π: every direction
+    }
+    v.dot(axis) >= d * cos_sum - 1e-9 * d
 }

@@ -293,9 +293,10 @@ impl Polyhedron {
         .with_edge_hierarchy()
     }
 
-    /// Builds [`Polyhedron::vertex_faces`] for a closed manifold mesh.
+    /// Builds [`Polyhedron::vertex_faces`] for a manifold mesh, closed or open (quantitative
+    /// invisibility needs the star of each vertex, and no edge with more than two faces).
     fn with_vertex_faces(mut self) -> Self {
-        if self.diagnostics.closed_manifold {
+        if self.diagnostics.nonmanifold_edges == 0 {
             let faces = (0..self.face_count()).map(|f| self.face(f));
             self.vertex_faces = Some(std::sync::Arc::new(
                 super::quantitative_invisibility::VertexFaces::build(self.vertices.len(), faces),

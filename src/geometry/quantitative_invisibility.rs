@@ -25,7 +25,7 @@
 //! that comes out negative, or two routes that give one piece two counts, send the whole call
 //! back to one ray per piece.
 
-use super::polyhedron::Polyhedron;
+use super::polyhedron::{NO_FACE, Polyhedron};
 use crate::accel::is_degenerate;
 use glam::DVec3;
 
@@ -157,28 +157,53 @@ pub struct QiScratch {
     pub stats: QiStats,
 }
 
-/// The change of `c` along the edge `e` passing its crossing `p` with the edge `g`, or `None`
-/// when it is not decided: the ray meets both of `g`'s faces on `g`'s mesh side, none on the
-/// other.
+/// How many faces an edge has in the count: two for a contour edge, one for a boundary edge
+/// (of an open mesh, or next to a face left out; its other face is [`NO_FACE`]).
 #[inline]
-pub(crate) fn crossing_step(e: &QiEdge, g: &QiEdge, p: DVec3) -> Option<i32> {
-    if e.faces.iter().any(|f| g.faces.contains(f)) {
+fn face_count(e: &QiEdge) -> i32 {
+    e.faces.iter().filter(|&&f| f != NO_FACE).count() as i32
+}
+
+/// `g.n · (e.n × p)`: positive when the travel direction along `e` past `p` leads to `g`'s
+/// mesh side; `None` within rounding of zero, or when `e` and `g` share a face (the faces met
+/// next to `p` are then not the same for both).
+#[inline]
+fn crossing_side(e: &QiEdge, g: &QiEdge, p: DVec3) -> Option<f64> {
+    if e.faces
+        .iter()
+        .any(|&f| f != NO_FACE && g.faces.contains(&f))
+    {
         return None;
     }
     let s = g.n.dot(e.n.cross(p));
-    if s.abs() <= SIGN_TOL {
-        return None;
-    }
-    Some(if s > 0.0 { 2 } else { -2 })
+    (s.abs() > SIGN_TOL).then_some(s)
+}
+
+/// The change of `c` along the edge `e` passing its crossing `p` with the edge `g`, or `None`
+/// when it is not decided: the ray meets `g`'s faces (two, or one for a boundary edge) next to
+/// `g` on `g`'s mesh side, none on the other.
+#[inline]
+pub(crate) fn crossing_step(e: &QiEdge, g: &QiEdge, p: DVec3) -> Option<i32> {
+    let s = crossing_side(e, g, p)?;
+    Some(if s > 0.0 {
+        face_count(g)
+    } else {
+        -face_count(g)
+    })
 }
 
 /// `c` of the piece of `g` after the crossing `p` minus `c` of the piece of `e` after it: the
 /// faces other than `e`'s and `g`'s are met alike next to `p`; after `p` along `e` the ray meets
-/// `g`'s two faces iff `g.n · (e.n × p) > 0`, and after `p` along `g` it meets `e`'s two iff
+/// `g`'s faces iff `g.n · (e.n × p) > 0`, and after `p` along `g` it meets `e`'s iff
 /// `e.n · (g.n × p) > 0`, the opposite sign.
 #[inline]
 pub(crate) fn crossing_transfer(e: &QiEdge, g: &QiEdge, p: DVec3) -> Option<i32> {
-    crossing_step(e, g, p).map(|s| -s)
+    let s = crossing_side(e, g, p)?;
+    Some(if s > 0.0 {
+        -face_count(g)
+    } else {
+        face_count(e)
+    })
 }
 
 /// Whether the face `f` at the mesh vertex `v` (direction `vd = v − x`) covers the directions
@@ -225,7 +250,7 @@ fn covers(poly: &Polyhedron, x: DVec3, f: u32, v: u32, vd: DVec3, td: DVec3) -> 
 /// `c` next to the mesh vertex `v` along an edge toward `b` (own faces `fb`) minus `c` next to
 /// `v` along an edge toward `a` (own faces `fa`): only the faces at `v` differ there (every
 /// other face is met alike by all rays close to `v`'s direction, the configurations where it is
-/// not being degenerate for the caller).
+/// not being degenerate for the caller). Faces `absent` are left out, as the rays leave them.
 pub(crate) fn vertex_step(
     poly: &Polyhedron,
     star: &VertexFaces,
@@ -233,11 +258,15 @@ pub(crate) fn vertex_step(
     v: u32,
     (a, fa): (u32, [u32; 2]),
     (b, fb): (u32, [u32; 2]),
+    absent: &impl Fn(u32) -> bool,
 ) -> Option<i32> {
     let vd = poly.vertices[v as usize] - x;
     let (ad, bd) = (poly.vertices[a as usize] - x, poly.vertices[b as usize] - x);
     let mut delta = 0;
     for &f in star.of(v) {
+        if absent(f) {
+            continue; // never met by the rays (seen edge-on)
+        }
         if !fa.contains(&f) && covers(poly, x, f, v, vd, ad)? {
             delta -= 1;
         }
@@ -271,14 +300,20 @@ impl QiScratch {
         poly: &Polyhedron,
         x: DVec3,
         crossings: &[DVec3],
+        edge_on: Option<f64>,
         kept: &mut Vec<u32>,
     ) -> u32 {
+        let absent =
+            |f: u32| edge_on.is_some_and(|t| poly.face_planes[f as usize].eval(x).abs() <= t);
         self.solve(
             poly,
             poly.vertex_faces.as_deref(),
             x,
             crossings,
-            |dir, faces| super::exact_silhouette::count_ray_hits(poly, x, dir, faces, false),
+            absent,
+            |dir, faces| {
+                super::exact_silhouette::count_ray_hits_edge_on(poly, x, dir, faces, edge_on)
+            },
         );
         let count = &self.count;
         kept.extend((0..self.pieces.len() as u32).filter(|&q| count[q as usize] == 0));
@@ -288,13 +323,16 @@ impl QiScratch {
     /// The counts of [`QiScratch::pieces`] (crossing directions `crossings`, by id): one ray
     /// (`ray(direction, own faces)`, the count of faces met) for each piece the links from
     /// pieces already counted do not reach. Afterwards `count[q] == 0` iff piece `q` is kept.
-    /// `star` is `None` for meshes without vertex adjacency: no vertex links then.
+    /// `star` is `None` for meshes without vertex adjacency: no vertex links then. The faces
+    /// `absent` (those `ray` leaves out, seen edge-on from a point on the mesh) are left out
+    /// of the vertex rule too; an edge's own faces name [`NO_FACE`] in their place.
     pub(crate) fn solve(
         &mut self,
         poly: &Polyhedron,
         star: Option<&VertexFaces>,
         x: DVec3,
         crossings: &[DVec3],
+        absent: impl Fn(u32) -> bool,
         mut ray: impl FnMut(DVec3, [u32; 2]) -> u32,
     ) {
         let n = self.pieces.len();
@@ -419,6 +457,7 @@ impl QiScratch {
                                 v,
                                 (other_end(&e, v), e.faces),
                                 (other_end(&g, v), g.faces),
+                                &absent,
                             );
                             link(r, d, self);
                         }

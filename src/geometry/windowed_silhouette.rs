@@ -8,10 +8,11 @@
 //! Here the work is restricted to the window `W` (the light's polygon, in the world orientation
 //! of directions from `x`) widened a little to `W'`:
 //!
-//! 1. the faces whose boxes meet a cone around `W'` (the face hierarchy), and their edges that
-//!    are contour edges from `x` (001 Eq. 4.2), or boundary edges of an open mesh: every such
-//!    arc that meets `W'` is one of them, since an edge whose arc meets `W'` has its faces
-//!    meeting the cone;
+//! 1. the contour edges from `x` (001 Eq. 4.2), and the boundary edges of an open mesh, that may
+//!    meet a cone around `W'`: through the normal-cone hierarchy with a ball per node
+//!    (`EdgeHierarchy::candidates_in_cone`) where the mesh has one, else the edges of the
+//!    faces whose boxes meet the cone (the face hierarchy; an edge whose arc meets `W'` has its
+//!    faces meeting the cone);
 //! 2. each contour arc clipped to `W'` (convex: one interval of the chord a + t(b − a));
 //! 3. apparent intersections (001 Eq. 4.4) among the clipped arcs only;
 //! 4. the pieces between them, kept when their midpoint ray meets no other face (the same
@@ -186,20 +187,24 @@ pub fn exact_silhouette_in_window(
     let absent =
         |f: u32| f == NO_FACE || on_mesh && poly.face_planes[f as usize].eval(x).abs() <= tol;
 
-    // 1. Candidate edges: the edges of the faces whose boxes meet the cone.
-    // One stamp per call: marks left by other meshes are older, so the buffer is shared by
-    // every mesh this thread meets and only ever grows.
-    if scratch.edge_stamp.len() < poly.edges.len() {
-        scratch.edge_stamp.resize(poly.edges.len(), 0);
-    }
-    scratch.stamp = scratch.stamp.wrapping_add(1);
-    if scratch.stamp == 0 {
-        scratch.edge_stamp.iter_mut().for_each(|s| *s = 0);
-        scratch.stamp = 1;
-    }
-    let stamp = scratch.stamp;
+    // 1. Candidate edges: through the mesh's edge hierarchy, the contour and boundary edges
+    //    that may meet the cone (both skip tests at once); without one, the edges of the faces
+    //    whose boxes meet the cone.
     scratch.candidates.clear();
-    {
+    if let Some(h) = poly.edge_hierarchy.as_deref() {
+        h.candidates_in_cone(x, centre, cos_cone, sin_cone, &mut scratch.candidates);
+    } else {
+        // One stamp per call: marks left by other meshes are older, so the buffer is shared
+        // by every mesh this thread meets and only ever grows.
+        if scratch.edge_stamp.len() < poly.edges.len() {
+            scratch.edge_stamp.resize(poly.edges.len(), 0);
+        }
+        scratch.stamp = scratch.stamp.wrapping_add(1);
+        if scratch.stamp == 0 {
+            scratch.edge_stamp.iter_mut().for_each(|s| *s = 0);
+            scratch.stamp = 1;
+        }
+        let stamp = scratch.stamp;
         let (edge_stamp, candidates) = (&mut scratch.edge_stamp, &mut scratch.candidates);
         bvh.for_each_in_cone(x, centre, cos_cone, sin_cone, |f| {
             for &e in face_edges.edges_of(f as usize) {
@@ -416,12 +421,7 @@ pub fn exact_silhouette_in_window(
     scratch.kept.clear();
     // Faces left out cannot block a ray (they are met edge-on at most).
     let edge_on = on_mesh.then_some(tol);
-    if scratch.all_pairs
-        || scratch.per_piece_rays
-        || on_mesh
-        || !poly.diagnostics.closed_manifold
-        || qi_disabled()
-    {
+    if scratch.all_pairs || scratch.per_piece_rays || poly.vertex_faces.is_none() || qi_disabled() {
         for (pi, p) in scratch.pieces.iter().enumerate() {
             let mid = (p.from + p.to).normalize();
             if !blocked_ray(poly, x, mid, scratch.arcs[p.arc as usize].faces, edge_on) {
@@ -432,9 +432,10 @@ pub fn exact_silhouette_in_window(
     } else {
         let qi = &mut scratch.qi;
         qi.edges.clear();
+        // A face left out is no face of its edge: the edge counts as a boundary edge.
         qi.edges.extend(scratch.arcs.iter().map(|a| QiEdge {
             v: a.v,
-            faces: a.faces,
+            faces: a.faces.map(|f| if absent(f) { NO_FACE } else { f }),
             n: a.n,
         }));
         let end = |e: End| match e {
@@ -450,7 +451,7 @@ pub fn exact_silhouette_in_window(
             from: p.from,
             to: p.to,
         }));
-        stats.rays = qi.solve_kept(poly, x, &scratch.crossings, &mut scratch.kept);
+        stats.rays = qi.solve_kept(poly, x, &scratch.crossings, edge_on, &mut scratch.kept);
     }
     stats.kept = scratch.kept.len() as u32;
 
