@@ -462,7 +462,7 @@ pub fn monte_carlo(
     let mut rng = Pcg32::new(seed, 0);
     let mut scratch = EstimatorScratch::default();
     let sums = direct_samples(
-        ctx,
+        &ctx.sampled(),
         point,
         material,
         samples,
@@ -574,4 +574,14 @@ pub fn interesting_pixel(
             _ => Some(c),
         })
         .map(|c| c.1)
+}
+
+/// Parses "X,Y" into two numbers (command-line flags).
+pub fn parse_pair(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected X,Y, got '{s}'"))?;
+    let a: f64 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
+    let b: f64 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
+    Ok((a, b))
 }

@@ -24,14 +24,17 @@
 //!   comparisons, scaling fits, PNG charts.
 
 pub mod accel;
+#[cfg(feature = "gui")]
 pub mod app;
 pub mod bench;
 pub mod denoise;
 pub mod environment;
+pub mod figure;
 pub mod geometry;
 pub mod inspect;
 pub mod ltc;
 pub mod math;
+pub mod raster;
 pub mod reference;
 pub mod render;
 pub mod sampling;

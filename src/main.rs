@@ -153,6 +153,7 @@ enum Command {
         json: Option<PathBuf>,
     },
     /// Open the workbench window (what `penumbra` without arguments does).
+    #[cfg(feature = "gui")]
     Gui(penumbra::app::RunOptions),
     /// Move one object rigidly and save the scene as a TOML scene file (with its meshes, in
     /// world space, in OUT's stem .obj/.mtl beside it). The object turns about the vertical
@@ -445,7 +446,7 @@ fn parse_vec3(s: &str) -> Result<DVec3, String> {
 }
 
 fn parse_vec2(s: &str) -> Result<(f64, f64), String> {
-    penumbra::app::parse_pair(s)
+    penumbra::inspect::parse_pair(s)
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -515,7 +516,7 @@ fn fmt_vec(v: DVec3) -> String {
 }
 
 fn load_scene(name: &str) -> Result<Scene> {
-    let scene = penumbra::app::files::load_scene(name)?;
+    let scene = penumbra::scene::scene_file::load_scene_by_name(name)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
@@ -1238,8 +1239,16 @@ fn run() -> Result<()> {
     use clap::FromArgMatches;
     let cli = Cli::from_arg_matches(&command_line().get_matches()).unwrap_or_else(|e| e.exit());
     match cli.command {
+        #[cfg(feature = "gui")]
         None => penumbra::app::run(Default::default()).map_err(|e| anyhow::anyhow!("{e}")),
+        #[cfg(feature = "gui")]
         Some(Command::Gui(opts)) => penumbra::app::run(opts).map_err(|e| anyhow::anyhow!("{e}")),
+        // Built without the workbench (`--no-default-features`): the command line only.
+        #[cfg(not(feature = "gui"))]
+        None => {
+            command_line().print_help()?;
+            Ok(())
+        }
         Some(Command::Render(args)) => render(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::Reference { render, samples }) => reference(&render, samples, render.seed),

@@ -575,6 +575,7 @@ fn scene_files_under_fuzzing_load_or_fail_with_file_and_line() {
     });
 }
 
+#[cfg(feature = "gui")]
 #[test]
 fn debug_dumps_under_fuzzing_load_or_fail_with_file_and_line_and_replay() {
     use egui_kittest::Harness;

@@ -27,6 +27,7 @@ mod exporter_precision;
 mod gltf_loading;
 mod image_io;
 mod instances;
+mod layering;
 mod loader_fuzz;
 mod ltc_correction;
 mod ltc_edge_integral;
@@ -50,5 +51,7 @@ mod stress_exporter;
 mod thesis_polyhedra;
 mod tree_library;
 mod windowed_silhouette;
+#[cfg(feature = "gui")]
 mod workbench;
+#[cfg(feature = "gui")]
 mod workbench_layout;

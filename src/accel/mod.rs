@@ -9,9 +9,11 @@
 //! No query uses an epsilon in world units: callers choose `t_min` (and `t_max`).
 
 pub mod bvh;
-pub mod ray;
-pub mod triangle;
 
 pub use bvh::{Bvh, Hit, newell_normal};
-pub use ray::Ray;
-pub use triangle::{PreparedRay, TriangleHit, intersect_triangle, is_degenerate};
+// The ray and the ray–triangle test are geometry (the exact silhouettes' ray tests use them
+// too); the hierarchy built over a scene's triangles is what lives here.
+pub use crate::geometry::ray::{self, Ray};
+pub use crate::geometry::triangle::{
+    self, PreparedRay, TriangleHit, intersect_triangle, is_degenerate,
+};

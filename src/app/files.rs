@@ -18,19 +18,9 @@ pub enum Opened {
     Environment(std::path::PathBuf),
 }
 
-/// Loads a scene by embedded name or path.
+/// Loads a scene by embedded name or path (`scene_file::load_scene_by_name`).
 pub fn load_scene(name: &str) -> Result<Scene> {
-    let path = Path::new(name);
-    if path.exists() {
-        Ok(scene_file::load_scene(path)?)
-    } else if scene_file::embedded_scene_names().contains(&name) {
-        Ok(scene_file::load_embedded(name)?)
-    } else {
-        anyhow::bail!(
-            "{name}: no such file, and not an embedded scene (embedded: {})",
-            scene_file::embedded_scene_names().join(", ")
-        )
-    }
+    Ok(scene_file::load_scene_by_name(name)?)
 }
 
 /// Opens a file by its content: a scene (.toml, .obj, .glb, .gltf), a debug dump or bench report (.json),

@@ -1750,15 +1750,7 @@ fn parse_preset(s: &str) -> Result<Preset, String> {
     })
 }
 
-/// Parses "X,Y" into two numbers (command-line flags).
-pub fn parse_pair(s: &str) -> Result<(f64, f64), String> {
-    let (a, b) = s
-        .split_once(',')
-        .ok_or_else(|| format!("expected X,Y, got '{s}'"))?;
-    let a: f64 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
-    let b: f64 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
-    Ok((a, b))
-}
+pub use crate::inspect::parse_pair;
 
 /// Opens the workbench window.
 pub fn run(opts: RunOptions) -> eframe::Result {

@@ -18,9 +18,9 @@
 pub mod environment;
 pub mod equal_time;
 pub mod fit;
-pub mod font;
+pub use crate::figure::font;
 pub mod output;
-pub mod plot;
+pub use crate::figure::plot;
 pub mod polyhedra;
 pub mod realworld;
 pub mod realworld_scenes;

@@ -3,7 +3,7 @@
 //! plane-distance and normal weights from the G-buffer.
 
 use super::{DenoiseSettings, GBuffer};
-use crate::render::Image;
+use crate::raster::Image;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -22,7 +22,7 @@
 //! nothing per pixel, is bit-identical whatever the number of threads, and returns finite values
 //! for any input. See `docs/denoiser.md`.
 
-pub mod gbuffer;
+pub use crate::raster::gbuffer;
 pub mod joint_bilateral;
 pub mod noise_estimate;
 pub mod ratio;

@@ -4,7 +4,7 @@ use super::joint_bilateral::joint_bilateral_cancellable;
 use super::joint_bilateral::{check_image, sanitize};
 use super::noise_estimate::noise_estimate_cancellable;
 use super::{DenoiseSettings, GBuffer};
-use crate::render::Image;
+use crate::raster::Image;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::AtomicBool;
@@ -27,7 +27,7 @@ pub struct DenoiseAovs {
     pub u_denoised: Image,
 }
 
-pub use crate::shading::brdf::luminance;
+pub use crate::raster::luminance;
 
 /// The grayscale weighted shadow of Eq. 23, W_N = S_N / U_N, on luminance (the grayscale
 /// weighted shadow of 003 Sect. 3.4), which feeds the noise estimate.

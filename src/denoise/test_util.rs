@@ -2,7 +2,7 @@
 
 use super::{GBuffer, Surface};
 use crate::math::Pcg32;
-use crate::render::Image;
+use crate::raster::Image;
 use glam::DVec3;
 
 /// A standard normal deviate (Box–Muller).

@@ -8,8 +8,8 @@
 //! position, normal and footprint (world size of a pixel), τ_p = 1.5 footprints and τ_n = 0.3:
 //! the same geometric terms as the ratio denoiser's joint-bilateral filter (docs/denoiser.md).
 
-use crate::denoise::gbuffer::GBuffer;
-use crate::render::Image;
+use crate::raster::Image;
+use crate::raster::gbuffer::GBuffer;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -68,7 +68,7 @@ pub fn cross_bilateral_5x5(img: &Image, g: &GBuffer) -> Image {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::denoise::gbuffer::Surface;
+    use crate::raster::gbuffer::Surface;
 
     #[test]
     fn keeps_constants_and_does_not_cross_a_crease() {

@@ -39,9 +39,7 @@ pub struct EnvironmentMap {
 }
 
 /// Rec. 709 luminance, the weight of a pixel for importance sampling.
-pub fn luminance(rgb: DVec3) -> f64 {
-    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
-}
+pub use crate::raster::luminance;
 
 impl EnvironmentMap {
     /// A map from `width * height` row-major pixels (row 0 at the top), no rotation, scale 1.

@@ -32,7 +32,7 @@ use super::sh::{Sh9, sh_basis};
 use crate::accel::{Bvh, Ray};
 use crate::math::Frame;
 use crate::scene::Scene;
-use crate::shading::tree_cache::{self, CachedTree, TreeCache};
+use crate::shading::tree_cache::{self, TreeCache};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -270,9 +270,11 @@ impl TransferField {
         let start = std::time::Instant::now();
         let key = transfer_key(scene, settings);
         let faces = |o: usize| scene.objects[o].mesh.faces.len();
-        if let Some(field) = cache
-            .and_then(|c| c.load_transfer(key, |f| f.is_well_formed(scene.objects.len(), faces)))
-        {
+        if let Some(field) = cache.and_then(|c| {
+            c.load_data(key, |f: &TransferField| {
+                f.is_well_formed(scene.objects.len(), faces)
+            })
+        }) {
             let report = PrtReport {
                 nodes: field.node_count() as u64,
                 rays: field.node_count() as u64 * u64::from(settings.rays),
@@ -283,7 +285,7 @@ impl TransferField {
         }
         let field = TransferField::compute(scene, bvh, settings);
         if let Some(c) = cache {
-            c.store(key, &CachedTree::Transfer(field.clone()));
+            c.store_data(key, &field);
         }
         let report = PrtReport {
             nodes: field.node_count() as u64,

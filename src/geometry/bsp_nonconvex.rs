@@ -24,9 +24,10 @@ use super::exact_silhouette::{
     ExactSilhouetteScratch, PointCoding, SilhouettePoint, exact_silhouette, symbolic_loops,
 };
 use super::polyhedron::NO_FACE;
+use super::ray::Ray;
 use super::silhouette::is_front_facing;
+use super::triangle::PreparedRay;
 use super::{Plane, Polyhedron, SphericalPolygon};
-use crate::accel::{PreparedRay, Ray};
 use crate::math::Frame;
 use glam::DVec3;
 

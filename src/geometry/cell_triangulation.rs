@@ -1076,7 +1076,7 @@ fn solid_angle_sum(poly: &Polyhedron, tris: &[[SilhouettePoint; 3]], x: DVec3) -
     tris.iter()
         .map(|t| {
             let d = t.map(|p| p.direction(poly, x).unwrap_or(DVec3::ZERO));
-            crate::sampling::solid_angle_of_triangle(d[0], d[1], d[2])
+            super::spherical_polygon::solid_angle_of_triangle(d[0], d[1], d[2])
         })
         .sum()
 }

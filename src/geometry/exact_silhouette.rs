@@ -22,8 +22,9 @@ use super::SphericalPolygon;
 use super::edge_hierarchy::{ContourScratch, contour_edge_indices, coplanar_tolerance};
 use super::polyhedron::Polyhedron;
 use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
+use super::ray::Ray;
 use super::silhouette::is_front_facing;
-use crate::accel::{PreparedRay, Ray, is_degenerate};
+use super::triangle::{PreparedRay, is_degenerate};
 use crate::math::Frame;
 use glam::DVec3;
 

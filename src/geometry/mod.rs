@@ -6,6 +6,7 @@ pub mod bsp_hoisted;
 pub mod bsp_nonconvex;
 pub mod bsp_sections;
 pub mod cell_triangulation;
+pub mod cone;
 pub mod convex_cell;
 pub mod convex_hull;
 pub mod edge_hierarchy;
@@ -20,6 +21,7 @@ mod polygon_loops;
 pub mod polyhedron;
 pub mod projection;
 pub mod quantitative_invisibility;
+pub mod ray;
 pub mod separation;
 pub mod set_difference;
 pub mod silhouette;
@@ -27,6 +29,7 @@ pub mod silhouette_walk;
 pub mod spherical_polygon;
 #[cfg(test)]
 pub(crate) mod test_util;
+pub mod triangle;
 pub mod windowed_silhouette;
 
 pub use bsp::{BspNode, BspPath, BspStats, SilhouetteBsp, bsp_cell, bsp_leaf, bsp_path, bsp_size};

@@ -519,7 +519,7 @@ impl Polyhedron {
                     self.vertices[idx[k] as usize],
                     self.vertices[idx[k + 1] as usize],
                 );
-                (!crate::accel::is_degenerate(v0, v1, v2)).then_some((f, [v0, v1, v2]))
+                (!super::triangle::is_degenerate(v0, v1, v2)).then_some((f, [v0, v1, v2]))
             })
         })
     }

@@ -26,7 +26,7 @@
 //! back to one ray per piece.
 
 use super::polyhedron::{NO_FACE, Polyhedron};
-use crate::accel::is_degenerate;
+use super::triangle::is_degenerate;
 use glam::DVec3;
 
 /// Whether the environment turns quantitative invisibility off (`PENUMBRA_QI=off`): one ray

@@ -12,6 +12,13 @@ pub fn orient(a: DVec3, b: DVec3, c: DVec3) -> f64 {
     a.dot(b.cross(c))
 }
 
+/// Solid angle of the spherical triangle (a, b, c) of unit vectors, positive when
+/// counter-clockwise seen from outside (Van Oosterom and Strackee 1983).
+#[inline]
+pub fn solid_angle_of_triangle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    2.0 * orient(a, b - a, c - a).atan2(1.0 + a.dot(b) + b.dot(c) + c.dot(a))
+}
+
 /// A region of the unit sphere bounded by closed loops of great-circle arcs (each arc shorter
 /// than π), stored in a shading frame whose z axis is the surface normal.
 ///

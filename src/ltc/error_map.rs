@@ -7,7 +7,7 @@ use super::polygon_error::{
     CellError, OracleIntegrals, cell_error, entry_error, map_grid, oracle_integrals, test_polygons,
 };
 use super::table::{LtcEntry, LtcTable};
-use crate::bench::font::{Align, TextStyle, draw_text};
+use crate::figure::font::{Align, TextStyle, draw_text};
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -278,6 +278,6 @@ pub fn heat_map_png(
         h - 14.0,
         &TextStyle::new(11.0, black),
     );
-    crate::bench::plot::save_pixmap_png(&pm, path)?;
+    crate::figure::plot::save_pixmap_png(&pm, path)?;
     Ok(())
 }

@@ -18,13 +18,13 @@
 
 use super::{Image, RenderContext, subpixel_rays};
 use crate::accel::Ray;
-use crate::denoise::gbuffer::{GBuffer, Surface};
 use crate::environment::prt::{PrtReport, PrtSettings, TransferField, transferred_irradiance};
 use crate::environment::{
     BoundingSphere, Cone, EnvMethod, EnvironmentLight, HemisphereSamples,
     construct_and_merge_cones, cross_bilateral_5x5, pixel_rotation, ray_extent,
 };
 use crate::math::{Frame, Pcg32};
+use crate::raster::gbuffer::{GBuffer, Surface};
 use crate::scene::camera::CameraBasis;
 use crate::shading::{
     EnvironmentOccluders, EnvironmentPass, EnvironmentSample, NoRecorder, RayOutcome, Recorder,

@@ -2,9 +2,13 @@
 
 pub mod compare;
 pub mod environment;
-pub mod image_io;
 pub mod progressive;
 pub mod stochastic;
+
+// Images and their files are a base layer (`raster`), shared with the denoisers and the
+// environment's filter.
+pub use crate::raster::Image;
+pub use crate::raster::io as image_io;
 
 use crate::accel::{Bvh, Ray};
 use crate::ltc::LtcTable;
@@ -20,54 +24,6 @@ use rayon::prelude::*;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
-
-/// A linear-radiance image, row 0 at the top.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Image {
-    pub width: u32,
-    pub height: u32,
-    pub pixels: Vec<DVec3>,
-}
-
-impl Image {
-    pub fn new(width: u32, height: u32) -> Self {
-        Image {
-            width,
-            height,
-            pixels: vec![DVec3::ZERO; width as usize * height as usize],
-        }
-    }
-
-    #[inline]
-    pub fn at(&self, x: u32, y: u32) -> DVec3 {
-        self.pixels[y as usize * self.width as usize + x as usize]
-    }
-
-    /// Pixels as f32 triples, for the image writers.
-    pub fn to_rgb32(&self) -> Vec<[f32; 3]> {
-        self.pixels
-            .iter()
-            .map(|p| [p.x as f32, p.y as f32, p.z as f32])
-            .collect()
-    }
-
-    /// Counts of (NaN, infinite, negative) pixel channels.
-    pub fn invalid_counts(&self) -> (usize, usize, usize) {
-        let mut c = (0, 0, 0);
-        for p in &self.pixels {
-            for v in p.to_array() {
-                if v.is_nan() {
-                    c.0 += 1;
-                } else if v.is_infinite() {
-                    c.1 += 1;
-                } else if v < 0.0 {
-                    c.2 += 1;
-                }
-            }
-        }
-        c
-    }
-}
 
 /// The camera rays of pixel (x, y): `aa`×`aa` stratified positions at the centres of the
 /// sub-pixel cells, averaged with a box filter by every renderer (analytic and reference alike).
@@ -271,6 +227,17 @@ pub struct PrimaryHit {
 }
 
 impl RenderContext {
+    /// What the stochastic estimators read of this context.
+    #[inline]
+    pub fn sampled(&self) -> crate::stochastic::SampledScene<'_> {
+        crate::stochastic::SampledScene {
+            scene: &self.scene,
+            prepared: &self.prepared,
+            bvh: &self.bvh,
+            area_lights: &self.area_lights,
+        }
+    }
+
     /// Prepares a copy of `scene` (see [`RenderContext::from_arc`] to share one).
     pub fn new(scene: &Scene) -> Self {
         Self::from_arc(Arc::new(scene.clone()))

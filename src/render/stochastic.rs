@@ -154,7 +154,7 @@ pub fn render_buffers_with(
                 );
             }
             let sums = direct_samples(
-                ctx,
+                &ctx.sampled(),
                 &hit.point,
                 material,
                 settings.spp,

@@ -17,14 +17,8 @@
 //! rounding for nearby vertices, and 1 − cos as |·|²/2 of a difference.
 
 use crate::geometry::orient;
+pub use crate::geometry::spherical_polygon::solid_angle_of_triangle;
 use glam::DVec3;
-
-/// Solid angle of the spherical triangle (a, b, c) of unit vectors, positive when
-/// counter-clockwise seen from outside (Van Oosterom and Strackee 1983).
-#[inline]
-pub fn solid_angle_of_triangle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
-    2.0 * orient(a, b - a, c - a).atan2(1.0 + a.dot(b) + b.dot(c) + c.dot(a))
-}
 
 /// Unit tangent at `a` toward `b` (unit vectors): b − a(a·b) = (b − a) + a·|b − a|²/2, accurate
 /// when `b` is close to `a`; `None` when `b` = ±`a`.

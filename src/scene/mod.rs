@@ -9,6 +9,7 @@
 
 pub mod camera;
 pub mod edit;
+pub mod environment_spec;
 pub mod face_triangulation;
 pub mod gltf;
 pub mod obj;
@@ -127,7 +128,7 @@ pub struct Scene {
     /// Repairs and notes produced while loading (shown to the user, never silent).
     pub warnings: Vec<String>,
     /// The scene file's `[environment]`, if it has one (the command line may override it).
-    pub environment: Option<crate::environment::EnvironmentSpec>,
+    pub environment: Option<environment_spec::EnvironmentSpec>,
 }
 
 /// Errors while loading a scene: always name the file and, where known, the line.

@@ -9,8 +9,8 @@
 //! same vertices bit for bit; each entry carries the mesh's `rounding` (the precision its
 //! source was written with), which the digits of the saved file could not tell.
 
+use super::environment_spec::EnvironmentSource;
 use super::{Camera, Scene};
-use crate::environment::EnvironmentSource;
 use serde::Serialize;
 use std::collections::HashSet;
 use std::fmt::Write as _;
@@ -53,7 +53,7 @@ struct EnvironmentOut {
     rotate: f64,
     scale: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
-    method: Option<crate::environment::EnvMethod>,
+    method: Option<super::environment_spec::EnvMethod>,
     #[serde(skip_serializing_if = "Option::is_none")]
     spp: Option<u32>,
 }

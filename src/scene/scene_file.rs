@@ -169,6 +169,26 @@ pub fn embedded_scene_names() -> &'static [&'static str] {
 }
 
 /// Loads an embedded scene by name (`"fig4"` or `"fig4.toml"`); works from any directory.
+/// A scene by path (a `.toml` scene file, `.obj`, `.glb` or `.gltf`) if `name` names an existing
+/// file, else by the name of an embedded scene: what the command line and the workbench both
+/// accept wherever a scene is asked for.
+pub fn load_scene_by_name(name: &str) -> Result<Scene, SceneError> {
+    let path = Path::new(name);
+    if path.exists() {
+        load_scene(path)
+    } else if EMBEDDED_SCENES.contains(&name) {
+        load_embedded(name)
+    } else {
+        Err(SceneError::File {
+            file: name.to_owned(),
+            message: format!(
+                "no such file, and not an embedded scene (embedded: {})",
+                EMBEDDED_SCENES.join(", ")
+            ),
+        })
+    }
+}
+
 pub fn load_embedded(name: &str) -> Result<Scene, SceneError> {
     let stem = name.strip_suffix(".toml").unwrap_or(name);
     if !EMBEDDED_SCENES.contains(&stem) {
@@ -340,7 +360,7 @@ struct EnvironmentToml {
     map: String,
     rotate: Option<f64>,
     scale: Option<f64>,
-    method: Option<crate::environment::EnvMethod>,
+    method: Option<super::environment_spec::EnvMethod>,
     spp: Option<u32>,
 }
 
@@ -482,9 +502,10 @@ fn parse_scene_toml(
     }
     if let Some(env) = &doc.environment {
         let e = env.get_ref();
-        let spec =
-            crate::environment::EnvironmentSpec::new(&e.map, e.rotate, e.scale, e.method, e.spp)
-                .map_err(|m| at(env.span(), m))?;
+        let spec = super::environment_spec::EnvironmentSpec::new(
+            &e.map, e.rotate, e.scale, e.method, e.spp,
+        )
+        .map_err(|m| at(env.span(), m))?;
         scene.environment = Some(spec);
     }
 

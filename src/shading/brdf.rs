@@ -8,10 +8,7 @@ use glam::DVec3;
 use std::f64::consts::{FRAC_1_PI, TAU};
 
 /// Rec. 709 luminance, used to weigh RGB quantities when choosing between sampling strategies.
-#[inline]
-pub fn luminance(c: DVec3) -> f64 {
-    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
-}
+pub use crate::raster::luminance;
 
 /// `ρ(v, l) cosθl` per channel; 0 when `v` or `l` is on or below the horizon.
 #[inline]

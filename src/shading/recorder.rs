@@ -5,8 +5,9 @@
 //! methods are empty and inline away, so recording is free when off; the workbench passes a
 //! [`StageRecording`] and receives copies of every intermediate polygon of the *same* call.
 
-use crate::environment::{Cone, EnvMethod};
+use crate::geometry::cone::Cone;
 use crate::geometry::{GreinerHormannSteps, PlanarPolygon, SphericalPolygon};
+use crate::scene::environment_spec::EnvMethod;
 use glam::DVec3;
 
 /// The stages of 000 Alg. 1 that produce a polygon.

@@ -15,7 +15,6 @@
 //! bound; a tree larger than the bound is not written at all. Scenes that are generated and
 //! thrown away (stress cases) do not use the cache (`PrepareOptions::disk_cache`).
 
-use crate::environment::prt::TransferField;
 use crate::geometry::{ExactSilhouetteBsp, Polyhedron, SilhouetteBsp, SilhouetteTriangulation};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -37,9 +36,11 @@ pub enum CachedTree {
     Exact(ExactSilhouetteBsp),
     /// Triangulations of the silhouettes of an `Exact` tree (stored under a key of its own).
     Triangulation(SilhouetteTriangulation),
-    /// The environment's precomputed transfer over a scene's static surfaces (002 Eq. 6),
-    /// under a key of the static geometry (`environment::prt`).
-    Transfer(TransferField),
+    /// Data a layer above keeps here under a key of its own, as it serializes itself: the
+    /// environment's precomputed transfer over a scene's static surfaces (002 Eq. 6,
+    /// `environment::prt`). The cache only stores and bounds it
+    /// ([`TreeCache::load_data`], [`TreeCache::store_data`]).
+    Transfer(serde_json::Value),
     /// The tree would exceed its size budget: it needs more than `tried` cells or leaves
     /// (a later, larger budget tries again).
     OverLimit {
@@ -132,21 +133,38 @@ impl TreeCache {
         })
     }
 
-    /// The cached transfer field for `key`, if one is on disk and `check` accepts it.
-    pub fn load_transfer(
+    /// The data stored for `key` by [`TreeCache::store_data`], if a file is on disk, reads
+    /// as a `T` and `check` accepts it.
+    pub fn load_data<T: serde::de::DeserializeOwned>(
         &self,
         key: u64,
-        check: impl Fn(&TransferField) -> bool,
-    ) -> Option<TransferField> {
-        match self.load_checked(key, |t| matches!(t, CachedTree::Transfer(f) if check(f)))? {
-            CachedTree::Transfer(f) => Some(f),
-            _ => None,
+        check: impl Fn(&T) -> bool,
+    ) -> Option<T> {
+        let mut data = None;
+        self.load_checked(key, |t| match t {
+            CachedTree::Transfer(v) => {
+                data = T::deserialize(v).ok().filter(|d| check(d));
+                data.is_some()
+            }
+            _ => false,
+        })?;
+        data
+    }
+
+    /// Stores `data` for `key` (see [`CachedTree::Transfer`]).
+    pub fn store_data<T: serde::Serialize>(&self, key: u64, data: &T) {
+        if let Ok(v) = serde_json::to_value(data) {
+            self.store(key, &CachedTree::Transfer(v));
         }
     }
 
     /// The file for `key` if it names that key and this format and `ok` accepts its content;
     /// a hit marks the file as recently used.
-    fn load_checked(&self, key: u64, ok: impl Fn(&CachedTree) -> bool) -> Option<CachedTree> {
+    fn load_checked(
+        &self,
+        key: u64,
+        mut ok: impl FnMut(&CachedTree) -> bool,
+    ) -> Option<CachedTree> {
         let path = self.path(key);
         let text = std::fs::read_to_string(&path).ok()?;
         let file: CacheFile = serde_json::from_str(&text).ok()?;

@@ -1,6 +1,6 @@
 //! Lights prepared for area sampling, the baseline of 001 Sect. 3.6.
 
-use crate::reference::{AreaLight, LightSampler};
+use crate::sampling::area_light::{AreaLight, LightSampler};
 use crate::scene::Scene;
 use crate::shading::PreparedScene;
 use crate::shading::brdf::luminance;

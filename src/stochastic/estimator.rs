@@ -22,11 +22,14 @@
 //! sample and only the face seen first from x has a non-zero integrand, so the same formula
 //! holds with Ω_l the sum of the face solid angles.
 
+use super::AreaLights;
 use super::light_set::{LightSet, SILHOUETTE};
+use crate::accel::Bvh;
 use crate::accel::Ray;
 use crate::math::{Frame, Pcg32};
-use crate::render::RenderContext;
 use crate::scene::Material;
+use crate::scene::Scene;
+use crate::shading::PreparedScene;
 use crate::shading::brdf::{BrdfSampler, eval_cos};
 use crate::shading::{PreparedObject, ShadingPoint};
 use glam::DVec3;
@@ -51,6 +54,16 @@ pub enum LightSampling {
     SolidAngle,
     /// Uniform over each light's area (the baseline of 001 Sect. 3.6); light samples only.
     Area,
+}
+
+/// What the estimators read of a prepared scene: the renderer's context lends it
+/// (`render::RenderContext::sampled`), so that this layer needs nothing of the renderer.
+#[derive(Clone, Copy)]
+pub struct SampledScene<'a> {
+    pub scene: &'a Scene,
+    pub prepared: &'a PreparedScene,
+    pub bvh: &'a Bvh,
+    pub area_lights: &'a AreaLights,
 }
 
 /// Sums over the samples of one shading point.
@@ -108,7 +121,7 @@ const RAY_EPS: f64 = 1e-9;
 /// Draws `spp` samples at `sp` and returns the sums of S_N and U_N.
 #[allow(clippy::too_many_arguments)]
 pub fn direct_samples(
-    ctx: &RenderContext,
+    ctx: &SampledScene,
     sp: &ShadingPoint,
     material: &Material,
     spp: u32,
@@ -127,7 +140,7 @@ pub fn direct_samples(
 
 #[allow(clippy::too_many_arguments)]
 fn solid_angle_samples(
-    ctx: &RenderContext,
+    ctx: &SampledScene,
     sp: &ShadingPoint,
     frame: &Frame,
     material: &Material,
@@ -140,7 +153,7 @@ fn solid_angle_samples(
         ..SampleSums::default()
     };
     let lights = &mut scratch.lights;
-    lights.build(&ctx.prepared, sp, frame);
+    lights.build(ctx.prepared, sp, frame);
     if lights.is_empty() {
         return sums; // nothing above the horizon: S = U = 0 exactly
     }
@@ -230,7 +243,7 @@ fn solid_angle_samples(
 /// another face of the same (self-occluding) light hides the sample, which zeroes U too. The
 /// second ray is cast only when the first was blocked.
 fn light_sample_visibility(
-    ctx: &RenderContext,
+    ctx: &SampledScene,
     sp: &ShadingPoint,
     ray: &Ray,
     light_object: u32,
@@ -260,7 +273,7 @@ fn light_sample_visibility(
 /// covers the direction. Lights that do not occlude are looked through (their emission still
 /// counts when they are the first light reached).
 fn trace_brdf_ray(
-    ctx: &RenderContext,
+    ctx: &SampledScene,
     sp: &ShadingPoint,
     lights: &LightSet,
     covering: u64,
@@ -313,7 +326,7 @@ fn distance_to_light(light: &PreparedObject, face: u32, x: DVec3, wd: DVec3) -> 
 /// Area sampling (no MIS): a light chosen ∝ luminance × area, a point uniform on its surface,
 /// converted to solid angle with the geometry term r² / cosθ_y (001 Eq. 3.19).
 fn area_samples(
-    ctx: &RenderContext,
+    ctx: &SampledScene,
     sp: &ShadingPoint,
     frame: &Frame,
     material: &Material,
@@ -324,7 +337,7 @@ fn area_samples(
         n: spp,
         ..SampleSums::default()
     };
-    let area = &ctx.area_lights;
+    let area = ctx.area_lights;
     let v = frame.to_local(sp.view);
     let x = sp.position;
     for _ in 0..spp {

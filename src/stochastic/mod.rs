@@ -15,6 +15,6 @@ pub mod estimators;
 pub mod light_set;
 
 pub use area::AreaLights;
-pub use estimator::{EstimatorScratch, LightSampling, SampleSums, direct_samples};
+pub use estimator::{EstimatorScratch, LightSampling, SampleSums, SampledScene, direct_samples};
 pub use estimators::{Estimator, combine, weighted_shadow};
 pub use light_set::{LightRun, LightSet, LightShape, light_shape};
