@@ -34,25 +34,30 @@ fn layers() -> BTreeMap<String, usize> {
     out
 }
 
-/// The library's top-level modules and, for each, its files.
+/// The library's top-level modules (those `src/lib.rs` declares; the binary's own modules,
+/// `src/cli`, are not the library's) and, for each, its files.
 fn modules() -> BTreeMap<String, Vec<PathBuf>> {
     let src = root().join("src");
+    let lib = std::fs::read_to_string(src.join("lib.rs")).unwrap();
     let mut out = BTreeMap::new();
-    for entry in std::fs::read_dir(&src).unwrap() {
-        let path = entry.unwrap().path();
-        let name = path.file_stem().unwrap().to_string_lossy().to_string();
-        if name == "lib" || name == "main" {
+    for line in lib.lines() {
+        let decl = line.trim().trim_start_matches("pub ");
+        let Some(name) = decl.strip_prefix("mod ").and_then(|r| r.strip_suffix(';')) else {
             continue;
-        }
+        };
+        let (dir, file) = (src.join(name), src.join(format!("{name}.rs")));
         let mut files = Vec::new();
-        if path.is_dir() {
-            collect(&path, &mut files);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            files.push(path);
-        } else {
-            continue;
+        if dir.is_dir() {
+            collect(&dir, &mut files);
         }
-        out.insert(name, files);
+        if file.is_file() {
+            files.push(file);
+        }
+        assert!(
+            !files.is_empty(),
+            "src/lib.rs declares {name}, which has no file"
+        );
+        out.insert(name.to_string(), files);
     }
     out
 }

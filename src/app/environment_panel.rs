@@ -72,7 +72,7 @@ impl Default for EnvironmentChoice {
             rotate_deg: 0.0,
             scale: 1.0,
             method: EnvMethod::Analytic,
-            spp: 128,
+            spp: crate::scene::environment_spec::DEFAULT_SPP,
             filter: true,
         }
     }

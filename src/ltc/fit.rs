@@ -614,6 +614,34 @@ pub fn fit_table_cells_with(
     )
 }
 
+/// `base` with its rows `first..=last` (roughness nodes) fitted again with `fo` at the table's
+/// own nodes, and every other row kept as it is (`penumbra fit-ltc --rows FIRST-LAST --base`).
+pub fn refit_rows(
+    base: &LtcTable,
+    first: usize,
+    last: usize,
+    fo: &FitOptions,
+) -> Result<LtcTable, String> {
+    let n = base.size();
+    if last >= n || first > last {
+        return Err(format!(
+            "--rows {first}-{last} outside the table's 0-{}",
+            n - 1
+        ));
+    }
+    let alphas: Vec<f64> = (first..=last).map(|i| base.alpha_at(i)).collect();
+    let mut cosines: Vec<f64> = (0..n).map(|j| base.cos_theta_at(j)).collect();
+    cosines[0] = 1.0;
+    let cells = fit_grid(&alphas, &cosines, fo, |_, _| {});
+    Ok(base.map_entries_indexed(|i, j, e| {
+        if (first..=last).contains(&i) {
+            cells[(i - first) * n + j].entry
+        } else {
+            e
+        }
+    }))
+}
+
 /// Fit every `(alphas[i], cosines[j])`, `cells[i * cosines.len() + j]`, with the warm start
 /// of the module doc; `alphas` increasing, `cosines` decreasing with `cosines[0] == 1`
 /// (the table's nodes, or any other grid: `penumbra ltc-error --fit`).

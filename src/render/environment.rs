@@ -93,6 +93,12 @@ pub enum StaticTerm {
 
 impl EnvironmentSettings {
     /// The settings `method` implies: culling per its name, the filter on for `rt`.
+    /// The settings a scene's environment asks for: its method and rays, or the defaults
+    /// (`EnvironmentSpec::method_or_default`, `spp_or_default`).
+    pub fn for_spec(spec: &crate::scene::environment_spec::EnvironmentSpec, seed: u64) -> Self {
+        Self::new(spec.method_or_default(), spec.spp_or_default(), seed)
+    }
+
     pub fn new(method: EnvMethod, spp: u32, seed: u64) -> Self {
         EnvironmentSettings {
             method,

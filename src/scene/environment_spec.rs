@@ -4,6 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
+/// Rays per camera ray of the environment's ray methods when neither the command line nor the
+/// scene says (002 Sect. 5 uses 128).
+pub const DEFAULT_SPP: u32 = 128;
+
 /// How E_occluded (and with it E) is computed; `penumbra render --env-method`.
 #[derive(
     Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
@@ -127,5 +131,167 @@ impl EnvironmentSpec {
         {
             *p = dir.join(&*p);
         }
+    }
+}
+
+impl EnvironmentSpec {
+    /// The method, [`EnvMethod::Analytic`] when none is given.
+    pub fn method_or_default(&self) -> EnvMethod {
+        self.method.unwrap_or(EnvMethod::Analytic)
+    }
+
+    /// The rays per camera ray, [`DEFAULT_SPP`] when none is given.
+    pub fn spp_or_default(&self) -> u32 {
+        self.spp.unwrap_or(DEFAULT_SPP)
+    }
+
+    /// The map as a scene file or `--env` names it: `sky`, `sky-sh` or the file's path.
+    pub fn map_name(&self) -> String {
+        match &self.source {
+            EnvironmentSource::Sky => "sky".to_string(),
+            EnvironmentSource::SkySh => "sky-sh".to_string(),
+            EnvironmentSource::File(p) => p.display().to_string(),
+        }
+    }
+}
+
+/// What the command line (or any caller) says of the environment over what the scene file
+/// says: each `Some` replaces the scene's value.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EnvironmentOverrides {
+    /// `sky`, `sky-sh`, a file, or `none` (no environment, whatever the scene says).
+    pub map: Option<String>,
+    pub rotate_deg: Option<f64>,
+    pub scale: Option<f64>,
+    pub method: Option<EnvMethod>,
+    pub spp: Option<u32>,
+}
+
+impl EnvironmentOverrides {
+    /// The environment of a scene whose file says `base`, with these overrides: a new map
+    /// keeps the scene's rotation, scale, method and rays unless they are overridden too; the
+    /// merged values are checked as a scene file's are. Rotation, scale or method without any
+    /// environment is an error (they would be silently ignored).
+    pub fn apply(&self, base: Option<&EnvironmentSpec>) -> Result<Option<EnvironmentSpec>, String> {
+        let mut spec = match (self.map.as_deref(), base) {
+            (Some("none"), _) => return Ok(None),
+            (Some(map), base) => {
+                let mut spec = EnvironmentSpec::new(map, None, None, None, None)?;
+                if let Some(b) = base {
+                    spec.rotate_deg = b.rotate_deg;
+                    spec.scale = b.scale;
+                    spec.method = b.method;
+                    spec.spp = b.spp;
+                }
+                spec
+            }
+            (None, Some(base)) => base.clone(),
+            (None, None) => {
+                if self.method.is_some() || self.rotate_deg.is_some() || self.scale.is_some() {
+                    return Err(
+                        "--env-method, --env-rotate and --env-scale need an environment: \
+                         pass --env sky|sky-sh|FILE"
+                            .into(),
+                    );
+                }
+                return Ok(None);
+            }
+        };
+        if let Some(r) = self.rotate_deg {
+            spec.rotate_deg = r;
+        }
+        if let Some(s) = self.scale {
+            spec.scale = s;
+        }
+        spec.method = self.method.or(spec.method);
+        spec.spp = self.spp.or(spec.spp);
+        EnvironmentSpec::new(
+            &spec.map_name(),
+            Some(spec.rotate_deg),
+            Some(spec.scale),
+            spec.method,
+            spec.spp,
+        )
+        .map(Some)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene_env() -> EnvironmentSpec {
+        EnvironmentSpec::new("sky", Some(30.0), Some(2.0), Some(EnvMethod::Rt), Some(64)).unwrap()
+    }
+
+    #[test]
+    fn overrides_merge_over_the_scene_files_environment() {
+        let base = scene_env();
+        // Nothing said: the scene's own.
+        let none = EnvironmentOverrides::default();
+        assert_eq!(none.apply(Some(&base)), Ok(Some(base.clone())));
+        assert_eq!(none.apply(None), Ok(None));
+        // `none` removes it.
+        let off = EnvironmentOverrides {
+            map: Some("none".into()),
+            ..Default::default()
+        };
+        assert_eq!(off.apply(Some(&base)), Ok(None));
+        // A new map keeps the scene's rotation, scale, method and rays.
+        let sh = EnvironmentOverrides {
+            map: Some("sky-sh".into()),
+            ..Default::default()
+        };
+        let got = sh.apply(Some(&base)).unwrap().unwrap();
+        assert_eq!(got.source, EnvironmentSource::SkySh);
+        assert_eq!(
+            (got.rotate_deg, got.scale, got.method, got.spp),
+            (30.0, 2.0, Some(EnvMethod::Rt), Some(64))
+        );
+        // Each value said replaces the scene's.
+        let all = EnvironmentOverrides {
+            map: None,
+            rotate_deg: Some(-10.0),
+            scale: Some(0.5),
+            method: Some(EnvMethod::Analytic),
+            spp: Some(8),
+        };
+        let got = all.apply(Some(&base)).unwrap().unwrap();
+        assert_eq!(
+            (got.rotate_deg, got.scale, got.method, got.spp),
+            (-10.0, 0.5, Some(EnvMethod::Analytic), Some(8))
+        );
+        assert_eq!(got.method_or_default(), EnvMethod::Analytic);
+        assert_eq!(scene_env().spp_or_default(), 64);
+        let bare = EnvironmentSpec::new("sky", None, None, None, None).unwrap();
+        assert_eq!(
+            (bare.method_or_default(), bare.spp_or_default()),
+            (EnvMethod::Analytic, DEFAULT_SPP)
+        );
+    }
+
+    #[test]
+    fn overrides_are_checked_like_a_scene_file() {
+        let orphan = EnvironmentOverrides {
+            method: Some(EnvMethod::Rt),
+            ..Default::default()
+        };
+        assert!(
+            orphan
+                .apply(None)
+                .unwrap_err()
+                .contains("need an environment")
+        );
+        let negative = EnvironmentOverrides {
+            scale: Some(-1.0),
+            ..Default::default()
+        };
+        assert!(negative.apply(Some(&scene_env())).is_err());
+        let zero_rays = EnvironmentOverrides {
+            map: Some("sky".into()),
+            spp: Some(0),
+            ..Default::default()
+        };
+        assert!(zero_rays.apply(None).is_err());
     }
 }

@@ -1,0 +1,250 @@
+//! `penumbra bench`: run time against error (one mode per function).
+
+use super::args::*;
+use super::render::{camera, load_scene, stderr_path};
+use anyhow::{Context, Result, bail};
+use penumbra::environment::EnvironmentSpec;
+use penumbra::render::{Image, RenderContext, image_io};
+use penumbra::scene::scene_file;
+use std::path::{Path, PathBuf};
+
+pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
+    use penumbra::bench::{output, runner, scaling};
+    if let Some(json) = &args.from_json {
+        let report = penumbra::bench::table::read_json(json)
+            .with_context(|| format!("{}", json.display()))?;
+        let dir = args.out_dir.clone().unwrap_or_else(|| {
+            json.parent()
+                .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+        });
+        say!("{}", output::equal_time_markdown(&report));
+        for f in output::write_bench_files(&report, &[], &dir, args.exposure)? {
+            say!("wrote {}", f.display());
+        }
+        return Ok(());
+    }
+    if let Some(BenchSuite::Realworld) = args.suite {
+        return bench_realworld(args);
+    }
+    if let Some(name) = &args.env {
+        return bench_environment(args, name);
+    }
+    if args.polyhedra {
+        let report = penumbra::bench::polyhedra::run_polyhedra(
+            args.size.0,
+            args.size.1,
+            args.repeats,
+            |m| eprintln!("{m}"),
+        )
+        .map_err(anyhow::Error::msg)?;
+        let dir = args
+            .out_dir
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out/bench/polyhedra"));
+        std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+        let md = penumbra::bench::polyhedra::polyhedra_markdown(&report);
+        say!("{md}");
+        let files = [
+            (dir.join("polyhedra.md"), md),
+            (
+                dir.join("polyhedra.json"),
+                serde_json::to_string_pretty(&report)?,
+            ),
+        ];
+        for (path, text) in files {
+            std::fs::write(&path, text).with_context(|| format!("{}", path.display()))?;
+            say!("wrote {}", path.display());
+        }
+        return Ok(());
+    }
+    if args.scaling {
+        let base = scene_file::load_embedded("fig4")?;
+        let report = scaling::run_scaling(
+            &base,
+            args.max_copies.max(2),
+            args.max_level,
+            args.size.0,
+            args.size.1,
+            args.repeats,
+            |m| eprintln!("{m}"),
+        )
+        .map_err(anyhow::Error::msg)?;
+        let dir = args
+            .out_dir
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out/bench/scaling"));
+        say!("{}", output::scaling_markdown(&report));
+        for f in output::write_scaling_files(&report, &dir)? {
+            say!("wrote {}", f.display());
+        }
+        return Ok(());
+    }
+    let Some(scene_name) = args.scene.clone() else {
+        bail!("bench needs a SCENE (or --scaling)");
+    };
+    let scene = load_scene(&scene_name)?;
+    let cam = camera(&args.camera, &scene)?;
+    let ctx = RenderContext::new(&scene);
+    let label = Path::new(&scene_name)
+        .file_stem()
+        .map_or(scene_name.clone(), |s| s.to_string_lossy().into_owned());
+    let dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out/bench").join(&label));
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+    let mut config = runner::BenchConfig::new(&label, cam, args.size.0, args.size.1);
+    config.aa = args.aa;
+    config.ladder = args.ladder.clone();
+    if !args.methods.is_empty() {
+        config.methods = args.methods.clone();
+    }
+    config.reference_spp = args.reference_spp;
+    config.seed = args.seed;
+    config.repeats = args.repeats;
+    let reference = match &args.reference {
+        Some(path) => {
+            let read = |p: &Path| -> Result<Image> {
+                image_io::read_pfm_image(p).with_context(|| format!("{}", p.display()))
+            };
+            runner::ReferenceImage {
+                image: read(path)?,
+                stderr: read(&stderr_path(path))?,
+                spp: args.reference_spp,
+                seconds: f64::NAN,
+            }
+        }
+        None => {
+            eprintln!(
+                "rendering the reference ({} spp, {}x{})...",
+                config.reference_spp, config.width, config.height
+            );
+            let r = runner::render_reference(&ctx, &config).map_err(anyhow::Error::msg)?;
+            let p = dir.join("reference.pfm");
+            image_io::write_pfm(&p, r.image.width, r.image.height, &r.image.to_rgb32())?;
+            let e = stderr_path(&p);
+            image_io::write_pfm(&e, r.stderr.width, r.stderr.height, &r.stderr.to_rgb32())?;
+            say!(
+                "reference: {:.1} s; wrote {} and {}",
+                r.seconds,
+                p.display(),
+                e.display()
+            );
+            r
+        }
+    };
+    let (report, strip) = runner::run_bench(&ctx, &config, &reference, |k, n, what| {
+        eprintln!("[{k}/{n}] {what}")
+    })
+    .map_err(anyhow::Error::msg)?;
+    say!("{}", output::equal_time_markdown(&report));
+    for f in output::write_bench_files(&report, &strip, &dir, args.exposure)? {
+        say!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+/// `penumbra bench --env SCENE`.
+pub(crate) fn bench_environment(args: &BenchArgs, name: &str) -> Result<()> {
+    use penumbra::bench::environment::{
+        EnvBenchOptions, environment_markdown, run_environment_bench,
+    };
+    let mut scene = load_scene(name)?;
+    if scene.environment.is_none() {
+        scene.environment =
+            Some(EnvironmentSpec::new("sky", None, None, None, None).map_err(anyhow::Error::msg)?);
+    }
+    let cam = camera(&args.camera, &scene)?;
+    let ladder = if args.ladder == [1, 2, 4, 8, 16, 32, 64, 128, 256] {
+        vec![16, 32, 64, 128, 256, 512]
+    } else {
+        args.ladder.clone()
+    };
+    let opts = EnvBenchOptions {
+        width: args.size.0,
+        height: args.size.1,
+        aa: args.aa,
+        reference_spp: args.reference_spp,
+        ladder,
+        repeats: args.repeats,
+        seed: args.seed,
+    };
+    let report = run_environment_bench(name, &scene, &cam, &opts, |m| eprintln!("{m}"))
+        .map_err(anyhow::Error::msg)?;
+    let stem = Path::new(name)
+        .file_stem()
+        .map_or_else(|| name.to_string(), |s| s.to_string_lossy().into_owned());
+    let dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("out/bench/env_{stem}")));
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+    let md = environment_markdown(&report);
+    say!("{md}");
+    for (path, text) in [
+        (dir.join("environment.md"), md),
+        (
+            dir.join("environment.json"),
+            serde_json::to_string_pretty(&report)?,
+        ),
+    ] {
+        std::fs::write(&path, text).with_context(|| format!("{}", path.display()))?;
+        say!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// `penumbra bench --suite realworld`.
+pub(crate) fn bench_realworld(args: &BenchArgs) -> Result<()> {
+    use penumbra::bench::realworld::{RealWorldConfig, realworld_markdown, run_realworld};
+    let config = RealWorldConfig {
+        width: args.size.0,
+        height: args.size.1,
+        aa: args.aa,
+        reference_spp: args.reference_spp,
+        repeats: args.repeats,
+        seed: args.seed,
+        only: args.only.clone(),
+    };
+    let dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out/bench/realworld"));
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+    // The tables are written again after every scene, so that a long run leaves what it did.
+    let write = |report: &penumbra::bench::realworld::RealWorldReport| -> Result<[PathBuf; 2]> {
+        let files = [
+            (dir.join("realworld.md"), realworld_markdown(report)),
+            (
+                dir.join("realworld.json"),
+                serde_json::to_string_pretty(report)?,
+            ),
+        ];
+        for (path, text) in &files {
+            std::fs::write(path, text).with_context(|| format!("{}", path.display()))?;
+        }
+        Ok(files.map(|f| f.0))
+    };
+    let report = run_realworld(
+        &dir,
+        &config,
+        |m| eprintln!("{m}"),
+        |partial| {
+            if let Err(e) = write(partial) {
+                eprintln!("warning: {e:#}");
+            }
+        },
+    )
+    .map_err(anyhow::Error::msg)?;
+    let md = realworld_markdown(&report);
+    say!("{md}");
+    for row in &report.scenes {
+        for n in row.warnings.iter().chain(&row.notes) {
+            say!("{}: {n}", row.scene);
+        }
+    }
+    for path in write(&report)? {
+        say!("wrote {}", path.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,13 @@
+//! The subcommands of `penumbra`, one module each; `args` is the grammar they share.
+
+pub(crate) mod args;
+pub(crate) mod bench;
+pub(crate) mod cache;
+pub(crate) mod edit;
+pub(crate) mod environment;
+pub(crate) mod ltc;
+pub(crate) mod probe;
+pub(crate) mod render;
+pub(crate) mod stress;
+
+pub(crate) use args::*;

@@ -1,0 +1,130 @@
+//! `penumbra probe`: one pixel's stages as the JSON debug dump.
+
+use super::args::*;
+use super::environment::{attach_environment, resolve_environment};
+use super::ltc::ltc_table;
+use super::render::{camera, load_scene};
+use anyhow::{Context, Result, bail};
+use penumbra::render::{RenderContext, RenderMethod};
+use std::path::Path;
+
+/// Writes the debug dump of one shading point (`penumbra probe`).
+pub(crate) fn probe(
+    args: &RenderArgs,
+    pixel: (f64, f64),
+    gh_steps: bool,
+    json: &Path,
+) -> Result<()> {
+    let mut scene = load_scene(&args.scene)?;
+    // The environment exactly as `render` resolves and attaches it (the same --env options).
+    resolve_environment(&mut scene, args)?;
+    let cam = camera(&args.camera, &scene)?;
+    let mut ctx = RenderContext::new(&scene);
+    ctx.prepared.ltc = ltc_table(&args.ltc_table)?;
+    attach_environment(&mut ctx, &scene, args)?;
+    // analytic-exact: the analytic stages plus the LTC's correction, sampled as the first
+    // pass of an `--aa 1` render with the same --spp and --seed samples this pixel.
+    let (method, correction) = match (args.method, args.method.analytic()) {
+        (_, Some(m)) => (m, None),
+        (RenderMethod::AnalyticExact, None) => (
+            penumbra::shading::Method::Analytic,
+            Some(penumbra::shading::CorrectionSampling {
+                samples: args.spp.unwrap_or(16),
+                seed: args.seed,
+                stream: penumbra::inspect::correction_stream(pixel, args.size.0),
+            }),
+        ),
+        _ => bail!(
+            "probe records the analytic stages: --method must be analytic, analytic-exact, \
+             per-triangle or unshadowed"
+        ),
+    };
+    let mut dump = penumbra::inspect::probe_corrected(
+        &ctx,
+        &args.scene,
+        &cam,
+        args.size,
+        pixel,
+        method,
+        correction,
+        gh_steps,
+    )
+    .map_err(anyhow::Error::msg)?;
+    if let (Some(sp), Some(m)) = (dump.point, dump.material.clone()) {
+        dump.monte_carlo = Some(penumbra::inspect::monte_carlo(
+            &ctx, &sp, &m, 65536, args.seed,
+        ));
+    }
+    if let Some(dir) = json.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+    }
+    std::fs::write(json, serde_json::to_string_pretty(&dump)?)
+        .with_context(|| format!("{}", json.display()))?;
+    say!("radiance {} at pixel {pixel:?}", dump.radiance);
+    for l in &dump.lights {
+        say!(
+            "  light {} '{}': shadowed {} unshadowed {}, visible {:.1} % of {:.4} sr",
+            l.light,
+            l.name,
+            l.shadowed,
+            l.unshadowed,
+            100.0 * l.visible_fraction(),
+            l.solid_angle
+        );
+    }
+    if let Some(mc) = dump.monte_carlo {
+        say!(
+            "  Monte Carlo ({} samples): {} ± {} (1σ)",
+            mc.samples,
+            mc.mean,
+            mc.stderr
+        );
+    }
+    if let Some(e) = &dump.environment {
+        let env = &dump.recording.environment;
+        say!(
+            "  environment {} (rotate {}°, scale {}), {}: radiance {}{}",
+            e.label,
+            e.rotate_deg,
+            e.scale,
+            e.settings.map_or("", |s| s.method.name()),
+            e.radiance,
+            if e.filtered_in_render {
+                " (before the 5×5 filter)"
+            } else {
+                ""
+            }
+        );
+        if let Some(s) = &e.sample {
+            say!(
+                "    E_unshadowed {} E_static {:?} E_occluded {:?} E {}",
+                s.unshadowed,
+                s.e_static,
+                s.occluded,
+                s.irradiance
+            );
+        }
+        if let (Some(st), Some(oc)) = (e.exact_static, e.exact_occluded) {
+            say!("    exact: E_static {st} E_occluded {oc}");
+        }
+        let terms = if env.terms.is_empty() {
+            &e.exact_terms
+        } else {
+            &env.terms
+        };
+        say!(
+            "    {} union terms, {} cones ({} merged), {} rays ({} traced)",
+            terms.len(),
+            env.cones.len(),
+            env.merged_cones.len(),
+            env.rays.len(),
+            env.rays
+                .iter()
+                .filter(|r| r.outcome != penumbra::shading::RayOutcome::Culled)
+                .count()
+        );
+    }
+    say!("wrote {}", json.display());
+    Ok(())
+}

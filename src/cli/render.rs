@@ -1,0 +1,202 @@
+//! `penumbra render`, `reference` and `compare`: images of a scene, and their comparison.
+
+use super::args::*;
+use super::environment::{attach_environment, resolve_environment};
+use super::ltc::ltc_table;
+use anyhow::{Context, Result, bail};
+use glam::DVec3;
+use penumbra::render::{Image, RenderContext, RenderSettings, image_io};
+use penumbra::scene::{Camera, Scene};
+use std::path::{Path, PathBuf};
+
+pub(crate) fn load_scene(name: &str) -> Result<Scene> {
+    let scene = penumbra::scene::scene_file::load_scene_by_name(name)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(scene)
+}
+
+pub(crate) fn camera(args: &CameraArgs, scene: &Scene) -> Result<Camera> {
+    let base = scene.camera;
+    let pick = |v: Option<DVec3>, f: fn(&Camera) -> DVec3, what: &str| -> Result<DVec3> {
+        v.or(base.as_ref().map(f))
+            .with_context(|| format!("the scene has no camera: pass --{what}"))
+    };
+    let cam = Camera {
+        eye: pick(args.eye, |c| c.eye, "eye")?,
+        target: pick(args.target, |c| c.target, "target")?,
+        up: pick(args.up, |c| c.up, "up")?,
+        fov_deg: args
+            .fov
+            .or(base.map(|c| c.fov_deg))
+            .context("the scene has no camera: pass --fov")?,
+        // A field of view given by flag is vertical, whatever the image's aspect.
+        aspect: if args.fov.is_some() {
+            None
+        } else {
+            base.and_then(|c| c.aspect)
+        },
+    };
+    cam.basis().map_err(anyhow::Error::msg)?;
+    Ok(cam)
+}
+
+pub(crate) fn write_outputs(img: &Image, out: &Path, exposure: f64) -> Result<Vec<PathBuf>> {
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+    }
+    let rgb = img.to_rgb32();
+    let pfm = out.with_extension("pfm");
+    let exr = out.with_extension("exr");
+    let png = out.with_extension("png");
+    image_io::write_pfm(&pfm, img.width, img.height, &rgb)
+        .with_context(|| format!("{}", pfm.display()))?;
+    image_io::write_exr(&exr, img.width, img.height, &rgb)?;
+    image_io::write_png(&png, img.width, img.height, &rgb, exposure)?;
+    Ok(vec![pfm, exr, png])
+}
+
+/// `dir/name_stderr.pfm` beside `dir/name.ext`: the standard error of a reference image.
+pub(crate) fn stderr_path(out: &Path) -> PathBuf {
+    out.with_file_name(format!(
+        "{}_stderr.pfm",
+        out.file_stem()
+            .map(|s| s.to_string_lossy())
+            .unwrap_or_default()
+    ))
+}
+
+pub(crate) fn settings(args: &RenderArgs) -> RenderSettings {
+    RenderSettings {
+        width: args.size.0,
+        height: args.size.1,
+        aa: args.aa,
+        method: args.method,
+        spp: args.spp.unwrap_or(16),
+        seed: args.seed,
+        light_sampling: args.light_sampling,
+        collect_stats: false,
+        exact_u: args.exact_u,
+    }
+}
+
+pub(crate) fn render(args: &RenderArgs) -> Result<()> {
+    let mut scene = load_scene(&args.scene)?;
+    resolve_environment(&mut scene, args)?;
+    let cam = camera(&args.camera, &scene)?;
+    let settings = settings(args);
+    let mut ctx = RenderContext::for_render(&scene, &settings);
+    ctx.prepared.ltc = ltc_table(&args.ltc_table)?;
+    for n in &ctx.prepared.notes {
+        eprintln!("note: {n}");
+    }
+    let env = attach_environment(&mut ctx, &scene, args)?;
+    let out = ctx
+        .render_full(&cam, &settings, None)
+        .map_err(anyhow::Error::msg)?;
+    let (img, stats) = (&out.image, out.stats);
+    let (nan, inf, neg) = img.invalid_counts();
+    let mut files = write_outputs(img, &args.out, args.exposure)?;
+    if let Some(err) = &out.stderr {
+        let p = stderr_path(&args.out);
+        image_io::write_pfm(&p, err.width, err.height, &err.to_rgb32())?;
+        files.push(p);
+    }
+    say!(
+        "{} {}x{} aa {} method {}: {:.3} s, {:.0} pixels/s ({} threads)",
+        args.scene,
+        settings.width,
+        settings.height,
+        settings.aa,
+        settings.method.name(),
+        stats.seconds,
+        stats.pixels_per_second,
+        rayon::current_num_threads()
+    );
+    if let (Some(env), Some(e)) = (env, &out.environment) {
+        let t = &e.stats;
+        say!(
+            "environment {} method {} spp {}: g-buffer {:.3} s, occlusion {:.3} s, filter {:.3} s, composition {:.3} s; rays traced {} of {}",
+            ctx.environment
+                .as_ref()
+                .map_or("", |x| x.light.label.as_str()),
+            env.method.name(),
+            env.spp,
+            t.gbuffer_seconds,
+            t.occlusion_seconds,
+            t.filter_seconds,
+            t.composition_seconds,
+            t.rays_traced,
+            t.rays_total
+        );
+        if let Some(r) = ctx.environment.as_ref().and_then(|x| x.transfer_report) {
+            say!("precomputed transfer (PRT) of the static surfaces: {r}");
+        }
+    }
+    if nan + inf + neg > 0 {
+        eprintln!("warning: {nan} NaN, {inf} infinite and {neg} negative pixel values");
+    }
+    if settings.method.analytic().is_some() {
+        say!(
+            "invariant, shadowed <= unshadowed per light piece: {} violations",
+            stats.violations
+        );
+    }
+    if stats.violations > 0 {
+        let p = args.out.with_extension("violations.json");
+        std::fs::write(&p, serde_json::to_string(&out.violation_pixels)?)
+            .with_context(|| format!("writing {}", p.display()))?;
+        eprintln!(
+            "warning: {} light pieces saw more than the light (a visible polygon not inside the \
+             light's: shadowed > unshadowed) at the pixels listed in {}; this is a bug, please \
+             report it with the scene",
+            stats.violations,
+            p.display()
+        );
+    }
+    for f in files {
+        say!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+pub(crate) fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
+    let scene = load_scene(&args.scene)?;
+    let cam = camera(&args.camera, &scene)?;
+    let ctx = RenderContext::new(&scene);
+    let settings = settings(args);
+    let start = std::time::Instant::now();
+    let (img, err) = penumbra::reference::render_reference(&ctx, &cam, &settings, samples, seed)
+        .map_err(anyhow::Error::msg)?;
+    say!(
+        "reference {}: {samples} samples per light, {:.3} s",
+        args.scene,
+        start.elapsed().as_secs_f64()
+    );
+    for f in write_outputs(&img, &args.out, args.exposure)? {
+        say!("wrote {}", f.display());
+    }
+    let stderr_path = stderr_path(&args.out);
+    image_io::write_pfm(&stderr_path, err.width, err.height, &err.to_rgb32())?;
+    say!("wrote {}", stderr_path.display());
+    Ok(())
+}
+
+pub(crate) fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> {
+    let read = |p: &Path| image_io::read_pfm(p).with_context(|| format!("{}", p.display()));
+    let (w, h, a) = read(image)?;
+    let (w2, h2, b) = read(reference)?;
+    if (w, h) != (w2, h2) {
+        bail!(
+            "{} is {w}x{h} but {} is {w2}x{h2}",
+            image.display(),
+            reference.display()
+        );
+    }
+    let s = stderr.map(read).transpose()?;
+    let stats = penumbra::render::compare::compare(&a, &b, s.as_ref().map(|s| &s.2[..]));
+    say!("{}", serde_json::to_string_pretty(&stats)?);
+    Ok(())
+}
