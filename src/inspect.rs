@@ -244,6 +244,37 @@ pub fn correction_stream(pixel: (f64, f64), width: u32) -> u64 {
     pixel.1.max(0.0) as u64 * width as u64 + pixel.0.max(0.0) as u64
 }
 
+/// What a probe of a pixel records for the render method `method`: the analytic stages that
+/// method runs, and for `analytic-exact` the LTC's correction sampled as the render's first
+/// pass samples the pixel (`spp` directions, `seed`, at `--aa 1` in an image `width` wide).
+/// The one decision of the command line's `probe` and the workbench's pick. A stochastic
+/// method has no stages to record: `Err` says so, in words for the user.
+pub fn probe_method(
+    method: crate::render::RenderMethod,
+    spp: u32,
+    seed: u64,
+    pixel: (f64, f64),
+    width: u32,
+) -> Result<(Method, Option<CorrectionSampling>), String> {
+    use crate::render::RenderMethod;
+    match (method, method.analytic()) {
+        (_, Some(m)) => Ok((m, None)),
+        (RenderMethod::AnalyticExact, None) => Ok((
+            Method::Analytic,
+            Some(CorrectionSampling {
+                samples: spp,
+                seed,
+                stream: correction_stream(pixel, width),
+            }),
+        )),
+        (m, None) => Err(format!(
+            "{} is stochastic: a probe records the analytic stages only (analytic, \
+             analytic-exact, per-triangle or unshadowed)",
+            m.name()
+        )),
+    }
+}
+
 /// [`probe`], with the LTC's correction sampled as `analytic-exact` does when `correction` is
 /// given (`method` is then the visibility method, `Method::Analytic`).
 #[allow(clippy::too_many_arguments)]
@@ -584,4 +615,38 @@ pub fn parse_pair(s: &str) -> Result<(f64, f64), String> {
     let a: f64 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
     let b: f64 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
     Ok((a, b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::RenderMethod;
+
+    /// The command line's probe and the workbench's pick read this one decision: every method
+    /// either has analytic stages to record (analytic-exact with the render's own samples) or
+    /// is refused with its name.
+    #[test]
+    fn every_render_method_is_probed_or_refused_by_name() {
+        for m in RenderMethod::ALL {
+            match probe_method(m, 7, 3, (5.0, 2.0), 10) {
+                Ok((method, correction)) => {
+                    assert_eq!(Some(method), m.analytic().or(Some(Method::Analytic)));
+                    match m {
+                        RenderMethod::AnalyticExact => {
+                            let c = correction.expect("analytic-exact samples its correction");
+                            assert_eq!((c.samples, c.seed, c.stream), (7, 3, 25));
+                        }
+                        _ => assert!(correction.is_none(), "{}", m.name()),
+                    }
+                }
+                Err(why) => {
+                    assert!(m.analytic().is_none() && m != RenderMethod::AnalyticExact);
+                    assert!(
+                        why.contains(m.name()) && why.contains("stochastic"),
+                        "{why}"
+                    );
+                }
+            }
+        }
+    }
 }

@@ -37,6 +37,7 @@ mod ltc_ggx;
 mod ltc_polygon_error;
 mod ltc_table;
 mod near_convex;
+mod one_code_path;
 mod quantitative_invisibility;
 mod recorder;
 mod scene_edit;

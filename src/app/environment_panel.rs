@@ -21,19 +21,20 @@ pub enum MapChoice {
 impl MapChoice {
     /// `none`, `sky`, `sky-sh` or a file path (the command line's `--env`).
     pub fn parse(s: &str) -> Self {
-        match s {
-            "none" | "" => MapChoice::None,
-            "sky" => MapChoice::Sky,
-            "sky-sh" => MapChoice::SkySh,
-            path => MapChoice::File(PathBuf::from(path)),
+        match EnvironmentSource::from_name(s) {
+            _ if s == "none" => MapChoice::None,
+            None => MapChoice::None,
+            Some(EnvironmentSource::Sky) => MapChoice::Sky,
+            Some(EnvironmentSource::SkySh) => MapChoice::SkySh,
+            Some(EnvironmentSource::File(p)) => MapChoice::File(p),
         }
     }
 
     fn label(&self) -> String {
         match self {
             MapChoice::None => "none".into(),
-            MapChoice::Sky => "sky".into(),
-            MapChoice::SkySh => "sky-sh".into(),
+            MapChoice::Sky => EnvironmentSource::Sky.name(),
+            MapChoice::SkySh => EnvironmentSource::SkySh.name(),
             MapChoice::File(p) => p
                 .file_name()
                 .map_or_else(|| p.display().to_string(), |f| f.to_string_lossy().into()),

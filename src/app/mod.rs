@@ -27,10 +27,10 @@ pub mod tonemap;
 pub mod viewport;
 
 use crate::bench::BenchReport;
-use crate::inspect::{MonteCarloEstimate, correction_stream, monte_carlo, probe_corrected};
+use crate::inspect::{MonteCarloEstimate, monte_carlo, probe_corrected, probe_method};
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::scene_file;
-use crate::shading::{CorrectionSampling, Method};
+use crate::shading::Method;
 use egui::{Color32, Key, RichText, Sense, TextureHandle, TextureOptions, Ui};
 use files::Opened;
 use inspector::Inspector;
@@ -560,17 +560,14 @@ impl WorkbenchApp {
         let Some(ctx) = self.ctx.clone() else {
             return;
         };
-        let method = self.state.method.analytic().unwrap_or(Method::Analytic);
-        // analytic-exact records the LTC's correction too, sampled as the render's first pass
-        // samples this pixel (at `--aa 1`).
-        let correction = (self.state.method == RenderMethod::AnalyticExact).then(|| {
-            let s = self.settings();
-            CorrectionSampling {
-                samples: s.spp,
-                seed: s.seed,
-                stream: correction_stream((x, y), self.render_size.0),
-            }
-        });
+        // What the pick records is the library's decision (`inspect::probe_method`), as for
+        // `penumbra probe`; a stochastic method is said plainly, and its analytic stages shown.
+        let s = self.settings();
+        let (method, correction, note) =
+            match probe_method(self.state.method, s.spp, s.seed, (x, y), self.render_size.0) {
+                Ok((m, c)) => (m, c, None),
+                Err(why) => (Method::Analytic, None, Some(why)),
+            };
         let cam = self.orbit.camera();
         match probe_corrected(
             &ctx,
@@ -587,6 +584,9 @@ impl WorkbenchApp {
                     "picked ({x:.0}, {y:.0}): {}",
                     p.object_name.clone().unwrap_or_else(|| "background".into())
                 );
+                if let Some(why) = note {
+                    self.status = format!("{}; {why}: the analytic stages are shown", self.status);
+                }
                 self.inspector = Some(Inspector::new(p));
                 self.monte_carlo = None;
             }

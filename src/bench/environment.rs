@@ -18,7 +18,6 @@ use crate::render::compare::{Comparison, compare};
 use crate::render::environment::{Culling, EnvironmentSettings, EnvironmentStats, StaticTerm};
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::{Camera, Scene};
-use crate::shading::PrepareOptions;
 use std::fmt::Write as _;
 use std::sync::Arc;
 
@@ -95,17 +94,6 @@ pub fn run_environment_bench(
         EnvironmentMap::from_sh(&full.sh, w, h),
         format!("{} (3-band)", full.label),
     ));
-    let rays = u64::from(opts.width) * u64::from(opts.height) * u64::from(opts.aa).pow(2);
-    let t = std::time::Instant::now();
-    let mut ctx = RenderContext::with_options(
-        Arc::new(scene.clone()),
-        PrepareOptions {
-            expected_rays: rays,
-            environment: true,
-            ..PrepareOptions::default()
-        },
-    );
-    let prepare_seconds = t.elapsed().as_secs_f64();
     let settings = RenderSettings {
         width: opts.width,
         height: opts.height,
@@ -113,6 +101,11 @@ pub fn run_environment_bench(
         method: RenderMethod::Unshadowed,
         ..RenderSettings::default()
     };
+    // Prepared as `penumbra render` prepares this image (the scene has an environment: checked
+    // above).
+    let t = std::time::Instant::now();
+    let mut ctx = RenderContext::for_render(scene, &settings);
+    let prepare_seconds = t.elapsed().as_secs_f64();
     let stderr: std::cell::RefCell<Option<Image>> = std::cell::RefCell::new(None);
     let prt: std::cell::Cell<Option<PrtReport>> = std::cell::Cell::new(None);
     let mut run = |label: &str,

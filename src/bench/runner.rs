@@ -56,6 +56,13 @@ impl BenchConfig {
         }
     }
 
+    /// `scene` prepared as `penumbra render` prepares it for this config's image
+    /// (`RenderContext::for_render`: the cost model sizes the trees for its camera rays), so
+    /// that what the benchmark times is what a render of the same settings runs.
+    pub fn prepare(&self, scene: &crate::scene::Scene) -> RenderContext {
+        RenderContext::for_render(scene, &self.settings(RenderMethod::Analytic, 1, self.seed))
+    }
+
     fn settings(&self, method: RenderMethod, spp: u32, seed: u64) -> RenderSettings {
         self.settings_with(method, spp, seed, self.light_sampling, false)
     }

@@ -4,7 +4,7 @@ use super::args::*;
 use super::render::{camera, load_scene, stderr_path};
 use anyhow::{Context, Result, bail};
 use penumbra::environment::EnvironmentSpec;
-use penumbra::render::{Image, RenderContext, image_io};
+use penumbra::render::{Image, image_io};
 use penumbra::scene::scene_file;
 use std::path::{Path, PathBuf};
 
@@ -84,7 +84,6 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
     };
     let scene = load_scene(&scene_name)?;
     let cam = camera(&args.camera, &scene)?;
-    let ctx = RenderContext::new(&scene);
     let label = Path::new(&scene_name)
         .file_stem()
         .map_or(scene_name.clone(), |s| s.to_string_lossy().into_owned());
@@ -102,6 +101,7 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
     config.reference_spp = args.reference_spp;
     config.seed = args.seed;
     config.repeats = args.repeats;
+    let ctx = config.prepare(&scene);
     let reference = match &args.reference {
         Some(path) => {
             let read = |p: &Path| -> Result<Image> {

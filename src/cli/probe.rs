@@ -3,9 +3,9 @@
 use super::args::*;
 use super::environment::{attach_environment, resolve_environment};
 use super::ltc::ltc_table;
-use super::render::{camera, load_scene};
-use anyhow::{Context, Result, bail};
-use penumbra::render::{RenderContext, RenderMethod};
+use super::render::{camera, load_scene, settings};
+use anyhow::{Context, Result};
+use penumbra::render::RenderContext;
 use std::path::Path;
 
 /// Writes the debug dump of one shading point (`penumbra probe`).
@@ -19,26 +19,21 @@ pub(crate) fn probe(
     // The environment exactly as `render` resolves and attaches it (the same --env options).
     resolve_environment(&mut scene, args)?;
     let cam = camera(&args.camera, &scene)?;
-    let mut ctx = RenderContext::new(&scene);
+    // Prepared as `penumbra render` prepares the same image, so that the probe records what
+    // that render computes at this pixel.
+    let mut ctx = RenderContext::for_render(&scene, &settings(args));
     ctx.prepared.ltc = ltc_table(&args.ltc_table)?;
     attach_environment(&mut ctx, &scene, args)?;
     // analytic-exact: the analytic stages plus the LTC's correction, sampled as the first
     // pass of an `--aa 1` render with the same --spp and --seed samples this pixel.
-    let (method, correction) = match (args.method, args.method.analytic()) {
-        (_, Some(m)) => (m, None),
-        (RenderMethod::AnalyticExact, None) => (
-            penumbra::shading::Method::Analytic,
-            Some(penumbra::shading::CorrectionSampling {
-                samples: args.spp.unwrap_or(16),
-                seed: args.seed,
-                stream: penumbra::inspect::correction_stream(pixel, args.size.0),
-            }),
-        ),
-        _ => bail!(
-            "probe records the analytic stages: --method must be analytic, analytic-exact, \
-             per-triangle or unshadowed"
-        ),
-    };
+    let (method, correction) = penumbra::inspect::probe_method(
+        args.method,
+        args.spp.unwrap_or(16),
+        args.seed,
+        pixel,
+        args.size.0,
+    )
+    .map_err(anyhow::Error::msg)?;
     let mut dump = penumbra::inspect::probe_corrected(
         &ctx,
         &args.scene,

@@ -165,8 +165,8 @@ pub(crate) fn render(args: &RenderArgs) -> Result<()> {
 pub(crate) fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
     let scene = load_scene(&args.scene)?;
     let cam = camera(&args.camera, &scene)?;
-    let ctx = RenderContext::new(&scene);
     let settings = settings(args);
+    let ctx = RenderContext::for_render(&scene, &settings);
     let start = std::time::Instant::now();
     let (img, err) = penumbra::reference::render_reference(&ctx, &cam, &settings, samples, seed)
         .map_err(anyhow::Error::msg)?;

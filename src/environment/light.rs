@@ -36,18 +36,15 @@ impl EnvironmentLight {
     /// The map `source` names, unrotated and unscaled, with its label (the workbench keeps it
     /// to rotate and scale it again without reading the file).
     pub fn load_map(source: &EnvironmentSource) -> anyhow::Result<(EnvironmentMap, String)> {
-        Ok(match source {
-            EnvironmentSource::Sky => (EnvironmentMap::sky(SKY_WIDTH, SKY_HEIGHT), "sky".into()),
+        let map = match source {
+            EnvironmentSource::Sky => EnvironmentMap::sky(SKY_WIDTH, SKY_HEIGHT),
             EnvironmentSource::SkySh => {
                 let sky = EnvironmentMap::sky(SKY_WIDTH, SKY_HEIGHT);
-                let sh = Sh9::project(&sky);
-                (
-                    EnvironmentMap::from_sh(&sh, SKY_WIDTH, SKY_HEIGHT),
-                    "sky-sh".into(),
-                )
+                EnvironmentMap::from_sh(&Sh9::project(&sky), SKY_WIDTH, SKY_HEIGHT)
             }
-            EnvironmentSource::File(p) => (EnvironmentMap::load(p)?, p.display().to_string()),
-        })
+            EnvironmentSource::File(p) => EnvironmentMap::load(p)?,
+        };
+        Ok((map, source.name()))
     }
 
     /// The light of a map whose rotation and scale are already set.

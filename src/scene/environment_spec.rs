@@ -76,6 +76,28 @@ pub enum EnvironmentSource {
     File(PathBuf),
 }
 
+impl EnvironmentSource {
+    /// The source a scene file's `map` or `--env` names: `sky`, `sky-sh`, or else a file path;
+    /// `None` for an empty name. The one reading of those names.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "" => None,
+            "sky" => Some(EnvironmentSource::Sky),
+            "sky-sh" => Some(EnvironmentSource::SkySh),
+            path => Some(EnvironmentSource::File(PathBuf::from(path))),
+        }
+    }
+
+    /// The name [`EnvironmentSource::from_name`] reads back: `sky`, `sky-sh` or the path.
+    pub fn name(&self) -> String {
+        match self {
+            EnvironmentSource::Sky => "sky".to_string(),
+            EnvironmentSource::SkySh => "sky-sh".to_string(),
+            EnvironmentSource::File(p) => p.display().to_string(),
+        }
+    }
+}
+
 /// An environment as a scene file or the command line describes it (plain data: loading the
 /// map is `EnvironmentLight::load`'s business).
 #[derive(Clone, Debug, PartialEq)]
@@ -98,12 +120,8 @@ impl EnvironmentSpec {
         method: Option<EnvMethod>,
         spp: Option<u32>,
     ) -> Result<Self, String> {
-        let source = match map {
-            "sky" => EnvironmentSource::Sky,
-            "sky-sh" => EnvironmentSource::SkySh,
-            "" => return Err("environment map must be 'sky', 'sky-sh' or a file".into()),
-            path => EnvironmentSource::File(PathBuf::from(path)),
-        };
+        let source = EnvironmentSource::from_name(map)
+            .ok_or("environment map must be 'sky', 'sky-sh' or a file")?;
         let rotate_deg = rotate_deg.unwrap_or(0.0);
         let scale = scale.unwrap_or(1.0);
         if !rotate_deg.is_finite() {
@@ -145,13 +163,9 @@ impl EnvironmentSpec {
         self.spp.unwrap_or(DEFAULT_SPP)
     }
 
-    /// The map as a scene file or `--env` names it: `sky`, `sky-sh` or the file's path.
+    /// The map as a scene file or `--env` names it ([`EnvironmentSource::name`]).
     pub fn map_name(&self) -> String {
-        match &self.source {
-            EnvironmentSource::Sky => "sky".to_string(),
-            EnvironmentSource::SkySh => "sky-sh".to_string(),
-            EnvironmentSource::File(p) => p.display().to_string(),
-        }
+        self.source.name()
     }
 }
 

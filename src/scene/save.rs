@@ -209,8 +209,7 @@ pub fn scene_texts(
     }
     let environment = scene.environment.as_ref().map(|e| EnvironmentOut {
         map: match &e.source {
-            EnvironmentSource::Sky => "sky".into(),
-            EnvironmentSource::SkySh => "sky-sh".into(),
+            EnvironmentSource::Sky | EnvironmentSource::SkySh => e.source.name(),
             EnvironmentSource::File(p) => {
                 let abs = std::path::absolute(p).unwrap_or_else(|_| p.clone());
                 let dir = std::path::absolute(base_dir).unwrap_or_else(|_| base_dir.into());
