@@ -336,10 +336,7 @@ pub fn probe_corrected(
                 scale: map.scale,
                 settings: Some(env.settings),
                 radiance,
-                filtered_in_render: matches!(
-                    env.settings.method,
-                    crate::environment::EnvMethod::Rt | crate::environment::EnvMethod::RtUnculled
-                ) && env.settings.filter,
+                filtered_in_render: env.settings.filters(),
                 sample: recording.environment.samples.first().copied(),
                 ..EnvironmentProbe::default()
             })

@@ -232,7 +232,7 @@ impl EnvironmentPanel {
                         .text("rays per point"),
                 );
             }
-            if matches!(choice.method, EnvMethod::Rt | EnvMethod::RtUnculled) {
+            if choice.method.is_filterable() {
                 ui.checkbox(&mut choice.filter, "5×5 cross-bilateral filter");
             }
         }

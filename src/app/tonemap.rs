@@ -3,7 +3,6 @@
 
 use crate::render::image_io::srgb_oetf;
 use crate::render::{Image, RenderOutput};
-use crate::shading::brdf::luminance;
 use egui::Color32;
 use glam::DVec3;
 
@@ -87,15 +86,12 @@ pub fn aov_values(out: &RenderOutput, aov: Aov) -> Option<AovValues> {
         Aov::U => b.map(|b| img(&b.u)),
         Aov::SN => b.map(|b| img(&b.s_n)),
         Aov::UN => b.map(|b| img(&b.u_n)),
+        // The W_N the denoiser's noise estimate reads (Eq. 23 on luminance, 1 where undefined
+        // or invalid): the one definition, `denoise::weighted_shadow`.
         Aov::W => b.map(|b| {
-            AovValues::Scalar(
-                b.s_n
-                    .pixels
-                    .iter()
-                    .zip(&b.u_n.pixels)
-                    .map(|(s, u)| crate::stochastic::weighted_shadow(luminance(*s), luminance(*u)))
-                    .collect(),
-            )
+            AovValues::Scalar(crate::denoise::ratio::weighted_shadow(
+                &b.s_n, &b.u_n, &b.gbuffer,
+            ))
         }),
         Aov::NoiseEstimate => out
             .denoise
@@ -190,6 +186,7 @@ pub fn display(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::luminance;
 
     #[test]
     fn tonemap_matches_the_png_writer() {

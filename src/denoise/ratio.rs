@@ -29,6 +29,20 @@ pub struct DenoiseAovs {
 
 pub use crate::raster::luminance;
 
+/// The illumination-weighted shadow W_N = S_N / U_N (Eq. 23) of one value: clamped to [0, 1]
+/// (it lies there whenever 0 ≤ S_N ≤ U_N, both sums using the same weights), and 1 where U_N
+/// is not positive (no sample saw the light: 0/0, which 003 Sect. 4.2 sets to 1). The one
+/// definition, for the ratio estimators per channel (`stochastic::weighted_shadow`) and for
+/// the image below.
+#[inline]
+pub fn weighted_shadow_value(s_n: f64, u_n: f64) -> f64 {
+    if u_n > 0.0 {
+        (s_n / u_n).clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
+}
+
 /// The grayscale weighted shadow of Eq. 23, W_N = S_N / U_N, on luminance (the grayscale
 /// weighted shadow of 003 Sect. 3.4), which feeds the noise estimate.
 ///
@@ -46,9 +60,7 @@ pub fn weighted_shadow(s_n: &Image, u_n: &Image, g: &GBuffer) -> Vec<f64> {
             // Halving (exact for normal values) keeps the weighted sums below f64::MAX.
             let s = luminance(sanitize(s_n.pixels[i]) * 0.5);
             let u = luminance(sanitize(u_n.pixels[i]) * 0.5);
-            if u > 0.0 {
-                *w = (s / u).clamp(0.0, 1.0);
-            }
+            *w = weighted_shadow_value(s, u);
         }
     });
     w

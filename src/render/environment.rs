@@ -99,6 +99,12 @@ impl EnvironmentSettings {
         Self::new(spec.method_or_default(), spec.spp_or_default(), seed)
     }
 
+    /// Whether this render filters E_occluded: a method the filter applies to
+    /// (`EnvMethod::is_filterable`) with the filter on.
+    pub fn filters(&self) -> bool {
+        self.method.is_filterable() && self.filter
+    }
+
     pub fn new(method: EnvMethod, spp: u32, seed: u64) -> Self {
         EnvironmentSettings {
             method,
@@ -108,7 +114,7 @@ impl EnvironmentSettings {
                 EnvMethod::RtUnculled => Culling::None,
                 _ => Culling::DirectionAndLength,
             },
-            filter: matches!(method, EnvMethod::Rt | EnvMethod::RtUnculled),
+            filter: method.is_filterable(),
             max_cones: None,
             static_term: StaticTerm::Prt,
         }
@@ -303,9 +309,8 @@ pub fn render_environment(
         .map(|p| p.cones as f32 / (aa * aa) as f32)
         .collect();
 
-    let is_rt = matches!(env.settings.method, EnvMethod::Rt | EnvMethod::RtUnculled);
     let t_filter = Instant::now();
-    let filtered = (is_rt && env.settings.filter).then(|| {
+    let filtered = env.settings.filters().then(|| {
         let g = GBuffer::from_fn(width, height, |x, y| {
             pixels[(y * width + x) as usize].surface
         });

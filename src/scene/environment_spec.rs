@@ -55,6 +55,12 @@ impl EnvMethod {
         }
     }
 
+    /// Whether 002's 5×5 cross-bilateral filter applies to the method's E_occluded: the
+    /// ray-traced `rt` and `rt-unculled` (the one place that says so).
+    pub fn is_filterable(self) -> bool {
+        matches!(self, EnvMethod::Rt | EnvMethod::RtUnculled)
+    }
+
     /// Whether the method draws rays (and so depends on `spp` and the seed).
     pub fn is_stochastic(self) -> bool {
         matches!(

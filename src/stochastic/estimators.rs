@@ -16,17 +16,9 @@ pub enum Estimator {
     RatioGray,
 }
 
-/// The illumination-weighted shadow W_N = S_N / U_N (Eq. 23) of one channel. Where U_N is 0,
-/// no sample saw the light at all and W_N is taken as 1 (the paper's choice for the noise
-/// estimate); S_N ≤ U_N always holds because both sums use the same weights.
-#[inline]
-pub fn weighted_shadow(s_n: f64, u_n: f64) -> f64 {
-    if u_n > 0.0 {
-        (s_n / u_n).clamp(0.0, 1.0)
-    } else {
-        1.0
-    }
-}
+/// The illumination-weighted shadow W_N = S_N / U_N (Eq. 23) of one channel (the denoiser's
+/// definition: 1 where U_N is 0, clamped to [0, 1]).
+pub use crate::denoise::ratio::weighted_shadow_value as weighted_shadow;
 
 /// Combines the analytic unshadowed U with the stochastic S_N and U_N.
 #[inline]
