@@ -9,6 +9,7 @@
 //! * [`files`]: scenes, dumps, bench reports, images, the CLI command.
 
 pub mod bench_job;
+pub mod command;
 pub mod environment_panel;
 pub mod files;
 pub mod gizmo;
@@ -32,7 +33,8 @@ use crate::inspect::{MonteCarloEstimate, monte_carlo, probe_corrected, probe_met
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::scene_file;
 use crate::shading::Method;
-use egui::{Color32, Key, RichText, Sense, TextureHandle, TextureOptions, Ui};
+use command::Command;
+use egui::{Color32, RichText, Sense, TextureHandle, TextureOptions, Ui};
 use files::Opened;
 use inspector::Inspector;
 use layout::{Pane, Preset};
@@ -181,22 +183,6 @@ pub struct WorkbenchApp {
     env_panel: environment_panel::EnvironmentPanel,
     env_maps: environment_panel::MapCache,
 }
-
-/// Keyboard shortcuts, listed in the help panel.
-pub const SHORTCUTS: &[(&str, &str)] = &[
-    ("→ / Space", "next stage"),
-    ("←", "previous stage"),
-    ("Home", "show all stages"),
-    ("P", "play / pause the stages"),
-    ("R", "reset the camera"),
-    ("Ctrl+S", "save the rendered image"),
-    ("Ctrl+D", "save the debug dump of the picked point"),
-    ("Ctrl+O", "open a scene, dump, bench report or reference"),
-    ("F12", "screenshot of the window"),
-    ("F1", "this help"),
-    ("drag", "orbit (left), pan (right or middle); scroll: zoom"),
-    ("click", "pick a pixel"),
-];
 
 impl WorkbenchApp {
     /// A workbench on `state.scene`; `repaint` wakes the UI when a frame is ready.
@@ -717,25 +703,10 @@ impl WorkbenchApp {
     }
 
     fn handle_input(&mut self, ctx: &egui::Context) {
-        let (dropped, keys) = ctx.input(|i| {
+        let (dropped, pressed) = ctx.input(|i| {
             (
                 i.raw.dropped_files.clone(),
-                (
-                    i.key_pressed(Key::ArrowRight) || i.key_pressed(Key::Space),
-                    i.key_pressed(Key::ArrowLeft),
-                    i.key_pressed(Key::Home),
-                    i.key_pressed(Key::P),
-                    i.key_pressed(Key::R),
-                    i.modifiers.command && i.key_pressed(Key::S),
-                    i.modifiers.command && i.key_pressed(Key::D),
-                    i.modifiers.command && i.key_pressed(Key::O),
-                    i.key_pressed(Key::F12),
-                    i.key_pressed(Key::F1),
-                    i.key_pressed(Key::Escape),
-                    i.modifiers.command && !i.modifiers.shift && i.key_pressed(Key::Z),
-                    i.modifiers.command
-                        && (i.key_pressed(Key::Y) || (i.modifiers.shift && i.key_pressed(Key::Z))),
-                ),
+                Command::ALL.map(|c| c.pressed(i)),
             )
         });
         for f in dropped {
@@ -745,50 +716,49 @@ impl WorkbenchApp {
             }
         }
         let typing = ctx.egui_wants_keyboard_input();
-        let (next, prev, home, play, reset, save, dump, open, shot, help, escape, undo, redo) =
-            keys;
-        if undo && !typing {
-            self.undo_edit();
+        for (c, pressed) in Command::ALL.into_iter().zip(pressed) {
+            if pressed && (!typing || c.while_typing()) {
+                self.run_command(c);
+            }
         }
-        if redo && !typing {
-            self.redo_edit();
-        }
-        if escape {
-            self.maximised = None;
-        }
-        if !typing {
-            if let Some(ins) = &mut self.inspector {
-                if next {
+    }
+
+    /// Carries out `command`, whether a key, a menu entry or a button issued it.
+    pub fn run_command(&mut self, command: Command) {
+        match command {
+            Command::Undo => self.undo_edit(),
+            Command::Redo => self.redo_edit(),
+            Command::Restore => self.maximised = None,
+            Command::NextStage => {
+                if let Some(ins) = &mut self.inspector {
                     ins.next();
                 }
-                if prev {
+            }
+            Command::PreviousStage => {
+                if let Some(ins) = &mut self.inspector {
                     ins.previous();
                 }
-                if home {
+            }
+            Command::AllStages => {
+                if let Some(ins) = &mut self.inspector {
                     ins.step = None;
                 }
-                if play {
+            }
+            Command::PlayStages => {
+                if let Some(ins) = &mut self.inspector {
                     ins.playing = !ins.playing;
                 }
             }
-            if reset && let Some(cam) = self.ctx.as_ref().and_then(|c| c.scene.camera) {
-                self.orbit = OrbitCamera::from_camera(&cam);
+            Command::ResetCamera => {
+                if let Some(cam) = self.ctx.as_ref().and_then(|c| c.scene.camera) {
+                    self.orbit = OrbitCamera::from_camera(&cam);
+                }
             }
-        }
-        if save {
-            self.save_image_dialog();
-        }
-        if dump {
-            self.save_dump_dialog();
-        }
-        if open {
-            self.open_dialog();
-        }
-        if shot {
-            self.screenshot_dialog(None);
-        }
-        if help {
-            self.show_help = !self.show_help;
+            Command::SaveImage => self.save_image_dialog(),
+            Command::SaveDump => self.save_dump_dialog(),
+            Command::Open => self.open_dialog(),
+            Command::Screenshot => self.screenshot_dialog(None),
+            Command::ToggleHelp => self.show_help = !self.show_help,
         }
     }
 
@@ -875,8 +845,8 @@ impl WorkbenchApp {
     fn menu_ui(&mut self, ui: &mut Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| {
-                if ui.button("Open… (Ctrl+O)").clicked() {
-                    self.open_dialog();
+                if ui.button(Command::Open.menu_text("Open…")).clicked() {
+                    self.run_command(Command::Open);
                 }
                 ui.menu_button("Embedded scenes", |ui| {
                     for name in scene_file::embedded_scene_names() {
@@ -893,14 +863,23 @@ impl WorkbenchApp {
                     }
                 });
                 ui.separator();
-                if ui.button("Save image… (Ctrl+S)").clicked() {
-                    self.save_image_dialog();
+                if ui
+                    .button(Command::SaveImage.menu_text("Save image…"))
+                    .clicked()
+                {
+                    self.run_command(Command::SaveImage);
                 }
-                if ui.button("Save debug dump… (Ctrl+D)").clicked() {
-                    self.save_dump_dialog();
+                if ui
+                    .button(Command::SaveDump.menu_text("Save debug dump…"))
+                    .clicked()
+                {
+                    self.run_command(Command::SaveDump);
                 }
-                if ui.button("Screenshot of the window… (F12)").clicked() {
-                    self.screenshot_dialog(None);
+                if ui
+                    .button(Command::Screenshot.menu_text("Screenshot of the window…"))
+                    .clicked()
+                {
+                    self.run_command(Command::Screenshot);
                 }
                 if ui.button("Screenshot of the sphere view…").clicked() {
                     let r = self.sphere_rect;
@@ -948,7 +927,7 @@ impl WorkbenchApp {
                         }
                     }
                 });
-                ui.checkbox(&mut self.show_help, "help (F1)");
+                ui.checkbox(&mut self.show_help, Command::ToggleHelp.menu_text("help"));
             });
         });
     }
@@ -1038,17 +1017,17 @@ impl WorkbenchApp {
         ui.horizontal(|ui| {
             if ui
                 .add_enabled(self.editor.can_undo(), egui::Button::new("undo"))
-                .on_hover_text("Ctrl+Z")
+                .on_hover_text(Command::Undo.shortcut_text())
                 .clicked()
             {
-                self.undo_edit();
+                self.run_command(Command::Undo);
             }
             if ui
                 .add_enabled(self.editor.can_redo(), egui::Button::new("redo"))
-                .on_hover_text("Ctrl+Y")
+                .on_hover_text(Command::Redo.shortcut_text())
                 .clicked()
             {
-                self.redo_edit();
+                self.run_command(Command::Redo);
             }
             if ui.button("Save scene…").clicked() {
                 self.save_scene_dialog();
@@ -1419,7 +1398,7 @@ impl WorkbenchApp {
         use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
         ui.horizontal(|ui| {
             if ui.button("Load bench JSON or reference PFM…").clicked() {
-                self.open_dialog();
+                self.run_command(Command::Open);
             }
         });
         // penumbra bench on the current view, in the background.
@@ -1582,9 +1561,9 @@ impl WorkbenchApp {
             egui::Window::new("Help").open(&mut self.show_help).show(&ctx, |ui| {
                 ui.label(RichText::new("Keyboard and mouse").strong());
                 egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
-                    for (k, what) in SHORTCUTS {
-                        ui.monospace(*k);
-                        ui.label(*what);
+                    for (k, what) in command::help_rows() {
+                        ui.monospace(k);
+                        ui.label(what);
                         ui.end_row();
                     }
                 });

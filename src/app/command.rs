@@ -1,0 +1,199 @@
+//! Every action of the workbench that a key, a menu entry or a button can start, as one
+//! [`Command`] (after rerun's `UICommand`): its name, its shortcut (defined here once, and
+//! shown in the menus and in the help from here), and whether it waits while a text field has
+//! the keyboard. `WorkbenchApp::run_command` carries them out.
+
+use egui::{InputState, Key};
+
+/// An action of the workbench.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Command {
+    Undo,
+    Redo,
+    /// Leave a maximised pane.
+    Restore,
+    NextStage,
+    PreviousStage,
+    AllStages,
+    PlayStages,
+    ResetCamera,
+    SaveImage,
+    SaveDump,
+    Open,
+    Screenshot,
+    ToggleHelp,
+}
+
+impl Command {
+    /// Every command, in the order a frame's key presses are carried out.
+    pub const ALL: [Command; 13] = [
+        Command::Undo,
+        Command::Redo,
+        Command::Restore,
+        Command::NextStage,
+        Command::PreviousStage,
+        Command::AllStages,
+        Command::PlayStages,
+        Command::ResetCamera,
+        Command::SaveImage,
+        Command::SaveDump,
+        Command::Open,
+        Command::Screenshot,
+        Command::ToggleHelp,
+    ];
+
+    /// What the command does, as the help and the menus say it.
+    pub fn label(self) -> &'static str {
+        match self {
+            Command::Undo => "undo the last move",
+            Command::Redo => "redo",
+            Command::Restore => "leave a maximised pane",
+            Command::NextStage => "next stage",
+            Command::PreviousStage => "previous stage",
+            Command::AllStages => "show all stages",
+            Command::PlayStages => "play / pause the stages",
+            Command::ResetCamera => "reset the camera",
+            Command::SaveImage => "save the rendered image",
+            Command::SaveDump => "save the debug dump of the picked point",
+            Command::Open => "open a scene, dump, bench report or reference",
+            Command::Screenshot => "screenshot of the window",
+            Command::ToggleHelp => "this help",
+        }
+    }
+
+    /// The shortcut as written in the help and the menus.
+    pub fn shortcut_text(self) -> &'static str {
+        match self {
+            Command::Undo => "Ctrl+Z",
+            Command::Redo => "Ctrl+Y / Ctrl+Shift+Z",
+            Command::Restore => "Esc",
+            Command::NextStage => "→ / Space",
+            Command::PreviousStage => "←",
+            Command::AllStages => "Home",
+            Command::PlayStages => "P",
+            Command::ResetCamera => "R",
+            Command::SaveImage => "Ctrl+S",
+            Command::SaveDump => "Ctrl+D",
+            Command::Open => "Ctrl+O",
+            Command::Screenshot => "F12",
+            Command::ToggleHelp => "F1",
+        }
+    }
+
+    /// A menu entry's text: `name (shortcut)`.
+    pub fn menu_text(self, name: &str) -> String {
+        format!("{name} ({})", self.shortcut_text())
+    }
+
+    /// Whether the command's shortcut was pressed this frame (Ctrl is the command key: ⌘ on
+    /// macOS).
+    pub fn pressed(self, i: &InputState) -> bool {
+        let ctrl = i.modifiers.command;
+        match self {
+            Command::Undo => ctrl && !i.modifiers.shift && i.key_pressed(Key::Z),
+            Command::Redo => {
+                ctrl && (i.key_pressed(Key::Y) || (i.modifiers.shift && i.key_pressed(Key::Z)))
+            }
+            Command::Restore => i.key_pressed(Key::Escape),
+            Command::NextStage => i.key_pressed(Key::ArrowRight) || i.key_pressed(Key::Space),
+            Command::PreviousStage => i.key_pressed(Key::ArrowLeft),
+            Command::AllStages => i.key_pressed(Key::Home),
+            Command::PlayStages => i.key_pressed(Key::P),
+            Command::ResetCamera => i.key_pressed(Key::R),
+            Command::SaveImage => ctrl && i.key_pressed(Key::S),
+            Command::SaveDump => ctrl && i.key_pressed(Key::D),
+            Command::Open => ctrl && i.key_pressed(Key::O),
+            Command::Screenshot => i.key_pressed(Key::F12),
+            Command::ToggleHelp => i.key_pressed(Key::F1),
+        }
+    }
+
+    /// Whether the shortcut acts while a text field has the keyboard (a plain key such as
+    /// Space or R belongs to the text field then).
+    pub fn while_typing(self) -> bool {
+        !matches!(
+            self,
+            Command::Undo
+                | Command::Redo
+                | Command::NextStage
+                | Command::PreviousStage
+                | Command::AllStages
+                | Command::PlayStages
+                | Command::ResetCamera
+        )
+    }
+}
+
+/// The help's rows: every command's shortcut and what it does, then the mouse.
+pub fn help_rows() -> impl Iterator<Item = (&'static str, &'static str)> {
+    const MOUSE: [(&str, &str); 2] = [
+        ("drag", "orbit (left), pan (right or middle); scroll: zoom"),
+        ("click", "pick a pixel"),
+    ];
+    Command::ALL
+        .into_iter()
+        .map(|c| (c.shortcut_text(), c.label()))
+        .chain(MOUSE)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each shortcut fires its own command and no other (a shared key would run two).
+    #[test]
+    fn each_shortcut_runs_exactly_its_command() {
+        let cases: [(Key, egui::Modifiers, Command); 14] = [
+            (Key::Z, egui::Modifiers::COMMAND, Command::Undo),
+            (Key::Y, egui::Modifiers::COMMAND, Command::Redo),
+            (
+                Key::Z,
+                egui::Modifiers::COMMAND.plus(egui::Modifiers::SHIFT),
+                Command::Redo,
+            ),
+            (Key::Escape, egui::Modifiers::NONE, Command::Restore),
+            (Key::ArrowRight, egui::Modifiers::NONE, Command::NextStage),
+            (Key::Space, egui::Modifiers::NONE, Command::NextStage),
+            (
+                Key::ArrowLeft,
+                egui::Modifiers::NONE,
+                Command::PreviousStage,
+            ),
+            (Key::Home, egui::Modifiers::NONE, Command::AllStages),
+            (Key::P, egui::Modifiers::NONE, Command::PlayStages),
+            (Key::R, egui::Modifiers::NONE, Command::ResetCamera),
+            (Key::S, egui::Modifiers::COMMAND, Command::SaveImage),
+            (Key::D, egui::Modifiers::COMMAND, Command::SaveDump),
+            (Key::O, egui::Modifiers::COMMAND, Command::Open),
+            (Key::F12, egui::Modifiers::NONE, Command::Screenshot),
+        ];
+        for (key, modifiers, want) in cases {
+            let ctx = egui::Context::default();
+            let mut input = egui::RawInput::default();
+            input.events.push(egui::Event::ModifiersChanged(modifiers));
+            input.events.push(egui::Event::Key {
+                key,
+                physical_key: None,
+                pressed: true,
+                repeat: false,
+                modifiers,
+            });
+            let mut fired = Vec::new();
+            let mut out = ctx.run_ui(input, |ui| {
+                fired = ui.input(|i| {
+                    Command::ALL
+                        .into_iter()
+                        .filter(|c| c.pressed(i))
+                        .collect::<Vec<Command>>()
+                });
+            });
+            out.textures_delta.clear();
+            assert_eq!(fired, vec![want], "{key:?} with {modifiers:?}");
+        }
+        // Every command is in the help, with its shortcut.
+        let rows: Vec<_> = help_rows().collect();
+        for c in Command::ALL {
+            assert!(rows.contains(&(c.shortcut_text(), c.label())), "{c:?}");
+        }
+    }
+}
