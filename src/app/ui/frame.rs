@@ -1,0 +1,236 @@
+//! The workbench's the frame: the panes' dispatch, the viewport and its texture, pending screenshots.
+
+use super::super::*;
+
+impl WorkbenchApp {
+    /// One frame of the whole UI (also driven by the headless tests).
+    pub fn frame_ui(&mut self, ui: &mut Ui) {
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_frame).as_secs_f64();
+        self.last_frame = now;
+        self.frame_ms = 0.9 * self.frame_ms + 0.1 * dt * 1e3;
+        let ctx = ui.ctx().clone();
+        self.handle_input(&ctx);
+        if let Some(ins) = &mut self.inspector
+            && ins.tick(dt)
+        {
+            ctx.request_repaint();
+        }
+        if self.inspector.as_ref().is_some_and(|i| i.playing) {
+            ctx.request_repaint_after(std::time::Duration::from_millis(100));
+        }
+        self.update_texture(&ctx);
+
+        egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui));
+        egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
+        self.follow_step();
+        egui::CentralPanel::default().show(ui, |ui| match self.maximised {
+            Some(pane) => {
+                ui.horizontal(|ui| {
+                    ui.strong(pane.title());
+                    if ui.small_button("restore (Esc)").clicked() {
+                        self.maximised = None;
+                    }
+                });
+                self.pane_ui(ui, pane);
+            }
+            None => {
+                let mut tree = std::mem::replace(
+                    &mut self.tree,
+                    egui_tiles::Tree::empty(egui::Id::unique("penumbra_tiles_swap")),
+                );
+                let mut host = panes::PaneHost {
+                    app: self,
+                    maximise: None,
+                };
+                tree.ui(&mut host, ui);
+                let maximise = host.maximise;
+                self.tree = tree;
+                if maximise.is_some() {
+                    self.maximised = maximise;
+                }
+            }
+        });
+        if self.show_help {
+            egui::Window::new("Help").open(&mut self.show_help).show(&ctx, |ui| {
+                ui.label(RichText::new("Keyboard and mouse").strong());
+                egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
+                    for (k, what) in command::help_rows() {
+                        ui.monospace(k);
+                        ui.label(what);
+                        ui.end_row();
+                    }
+                });
+                ui.label("Drop a .toml/.obj scene, a debug dump or bench .json, or a reference .pfm on the window.");
+            });
+        }
+        self.maybe_request();
+        self.maybe_auto_pick();
+        self.take_pending_screenshot(&ctx);
+        self.advance_lesson_capture(&ctx);
+        if self.worker.is_busy() {
+            ctx.request_repaint_after(std::time::Duration::from_millis(50));
+        }
+    }
+
+    /// Draws one pane of the tile tree.
+    pub fn pane_ui(&mut self, ui: &mut Ui, pane: Pane) {
+        let pick_first = "Click a pixel of the viewport to see its shading point here.";
+        match pane {
+            Pane::Viewport => self.viewport_ui(ui),
+            Pane::Sphere => match &self.inspector {
+                Some(ins) => {
+                    self.subject_rect = Some(ui.max_rect());
+                    ins.sphere_pane(ui, &mut self.state.sphere);
+                    self.sphere_rect = Some(ui.min_rect());
+                }
+                None => {
+                    ui.label(pick_first);
+                }
+            },
+            Pane::Hemisphere => match &self.inspector {
+                Some(ins) => {
+                    self.subject_rect = Some(ui.max_rect());
+                    ins.hemisphere_pane(ui, &mut self.state.sphere)
+                }
+                None => {
+                    ui.label(pick_first);
+                }
+            },
+            Pane::Planar => match &self.inspector {
+                Some(ins) => {
+                    self.subject_rect = Some(ui.max_rect());
+                    ins.planar_pane(ui)
+                }
+                None => {
+                    ui.label(pick_first);
+                }
+            },
+            // Text that wraps to the tile: scrolled vertically only.
+            Pane::Stages => {
+                egui::ScrollArea::vertical()
+                    .id_salt("stages_scroll")
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| self.stages_ui(ui));
+            }
+            Pane::Numbers => scrolled(ui, "numbers_scroll", |ui| self.numbers_ui(ui)),
+            Pane::Settings => scrolled(ui, "settings_scroll", |ui| self.settings_ui(ui)),
+            Pane::Scene => scrolled(ui, "scene_scroll", |ui| self.scene_ui(ui)),
+            Pane::LightStructure => scrolled(ui, "light_scroll", |ui| self.light_structure_ui(ui)),
+            Pane::Plots => scrolled(ui, "plots_scroll", |ui| self.plots_ui(ui)),
+            Pane::Environment => scrolled(ui, "env_scroll", |ui| self.environment_ui(ui)),
+        }
+    }
+
+    pub(in crate::app) fn viewport_ui(&mut self, ui: &mut Ui) {
+        // The image keeps its aspect in any tile: the largest rectangle of that aspect,
+        // centred, so that resizing a tile never stretches the camera.
+        let full = ui.available_size();
+        let aspect = self.state.aspect;
+        let avail = if aspect > 0.0 {
+            let w = full.x.min(full.y * aspect);
+            egui::vec2(w, w / aspect)
+        } else {
+            full
+        };
+        let pad = (full - avail) * 0.5;
+        ui.add_space(pad.y.max(0.0));
+        ui.horizontal(|ui| {
+            ui.add_space(pad.x.max(0.0));
+            self.viewport_image_ui(ui, avail);
+        });
+    }
+
+    /// The numbers of the picked point and the Monte Carlo check.
+    pub(in crate::app) fn numbers_ui(&mut self, ui: &mut Ui) {
+        let Some(ins) = &mut self.inspector else {
+            ui.label("Click a pixel to inspect its shading point, or open a debug dump.");
+            return;
+        };
+        ins.numbers_ui(ui, self.monte_carlo.as_ref());
+        ins.environment_ui(ui);
+        if ui.button("Monte Carlo check (65536 samples)").clicked() {
+            self.run_monte_carlo(65536);
+        }
+    }
+
+    /// Uploads the newest frame (or re-maps the shown one after a display change).
+    pub(in crate::app) fn update_texture(&mut self, ctx: &egui::Context) {
+        let Some(frame) = self.worker.latest() else {
+            return;
+        };
+        let display_key = format!(
+            "{:?}|{}|{:?}",
+            self.state.aov, self.state.exposure, self.state.tonemap
+        );
+        let key = (
+            frame.generation,
+            frame.frame.scale,
+            frame.frame.passes,
+            display_key.clone(),
+        );
+        if self.shown.as_ref() == Some(&key) {
+            return;
+        }
+        let want = viewport::Display {
+            aov: self.state.aov,
+            exposure: self.state.exposure,
+            tonemap: self.state.tonemap,
+        };
+        *self
+            .worker
+            .display
+            .lock()
+            .unwrap_or_else(|e| e.into_inner()) = want;
+        // Mapped on the render thread when the settings match; here only after a change.
+        let shown = match &frame.display {
+            Some((d, img, range)) if *d == want => Some((img.clone(), *range)),
+            _ => frame_image(&frame.frame, want.aov, want.exposure, want.tonemap)
+                .or_else(|| frame_image(&frame.frame, Aov::Final, want.exposure, want.tonemap)),
+        };
+        if let Some((img, range)) = shown {
+            let opts = if frame.frame.scale > 1 {
+                TextureOptions::NEAREST
+            } else {
+                TextureOptions::LINEAR
+            };
+            match &mut self.texture {
+                Some(t) => t.set(img, opts),
+                None => self.texture = Some(ctx.load_texture("viewport", img, opts)),
+            }
+            self.scalar_range = range;
+        }
+        // Error against a loaded reference of the same size.
+        if frame.frame.scale == 1
+            && let Some(r) = &self.trace.reference
+            && r.width == frame.frame.output.image.width
+            && r.height == frame.frame.output.image.height
+            && frame.generation == self.trace.generation
+        {
+            let c = crate::render::compare::compare(
+                &frame.frame.output.image.to_rgb32(),
+                &r.to_rgb32(),
+                None,
+            );
+            self.trace.points.push((frame.frame.elapsed, c.rmse));
+        }
+        self.shown = Some(key);
+    }
+
+    pub(in crate::app) fn take_pending_screenshot(&mut self, ctx: &egui::Context) {
+        let Some((path, crop)) = self.pending_screenshot.take() else {
+            return;
+        };
+        let ppp = ctx.pixels_per_point();
+        ctx.request_screenshot(move |img| {
+            let img = match crop {
+                Some(r) => img.region(&r, Some(ppp)),
+                None => (*img).clone(),
+            };
+            if let Err(e) = files::save_screenshot(&img, &path) {
+                eprintln!("screenshot: {e:#}");
+            }
+        });
+        self.status = "screenshot requested".into();
+    }
+}

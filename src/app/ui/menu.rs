@@ -1,0 +1,95 @@
+//! The workbench's the menu bar (its entries issue `Command`s).
+
+use super::super::*;
+
+impl WorkbenchApp {
+    pub(in crate::app) fn menu_ui(&mut self, ui: &mut Ui) {
+        egui::MenuBar::new().ui(ui, |ui| {
+            ui.menu_button("File", |ui| {
+                if ui.button(Command::Open.menu_text("Open…")).clicked() {
+                    self.run_command(Command::Open);
+                }
+                ui.menu_button("Embedded scenes", |ui| {
+                    for name in scene_file::embedded_scene_names() {
+                        if ui.button(*name).clicked() {
+                            self.load_scene(name);
+                        }
+                    }
+                });
+                ui.menu_button("Recent", |ui| {
+                    for r in self.state.recent.clone() {
+                        if ui.button(&r).clicked() {
+                            self.load_scene(&r);
+                        }
+                    }
+                });
+                ui.separator();
+                if ui
+                    .button(Command::SaveImage.menu_text("Save image…"))
+                    .clicked()
+                {
+                    self.run_command(Command::SaveImage);
+                }
+                if ui
+                    .button(Command::SaveDump.menu_text("Save debug dump…"))
+                    .clicked()
+                {
+                    self.run_command(Command::SaveDump);
+                }
+                if ui
+                    .button(Command::Screenshot.menu_text("Screenshot of the window…"))
+                    .clicked()
+                {
+                    self.run_command(Command::Screenshot);
+                }
+                if ui.button("Screenshot of the sphere view…").clicked() {
+                    let r = self.sphere_rect;
+                    self.screenshot_dialog(r);
+                }
+                if ui.button("Copy CLI command").clicked() {
+                    let passes = self.worker.latest().map_or(1, |f| f.frame.passes);
+                    let mut s = self.settings();
+                    s.spp *= passes;
+                    let cmd = files::cli_command(
+                        &self.state.scene,
+                        &self.orbit.camera(),
+                        &s,
+                        self.state.exposure,
+                    );
+                    ui.ctx().copy_text(cmd.clone());
+                    self.status = format!("copied: {cmd}");
+                }
+            });
+            ui.menu_button("View", |ui| {
+                if ui.checkbox(&mut self.state.dark, "dark theme").changed() {
+                    self.apply_theme(ui.ctx());
+                }
+                ui.separator();
+                ui.menu_button("Layout", |ui| {
+                    for p in Preset::ALL {
+                        if ui
+                            .selectable_label(self.state.preset == p, p.name())
+                            .clicked()
+                        {
+                            self.set_preset(p);
+                        }
+                    }
+                });
+                ui.menu_button("Panes", |ui| {
+                    for p in Pane::ALL {
+                        let mut shown = layout::find(&self.tree, p)
+                            .is_some_and(|id| self.tree.tiles.is_visible(id));
+                        if ui.checkbox(&mut shown, p.title()).changed() {
+                            if shown {
+                                layout::reveal(&mut self.tree, p);
+                            } else if let Some(id) = layout::find(&self.tree, p) {
+                                self.tree.tiles.set_visible(id, false);
+                            }
+                        }
+                    }
+                });
+                ui.checkbox(&mut self.show_help, Command::ToggleHelp.menu_text("help"));
+            });
+        });
+    }
+}

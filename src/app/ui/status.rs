@@ -1,0 +1,44 @@
+//! The workbench's the status bar.
+
+use super::super::*;
+
+impl WorkbenchApp {
+    pub(in crate::app) fn status_ui(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            match self.worker.latest() {
+                Some(f) => {
+                    let fr = &f.frame;
+                    let (w, h) = (fr.output.image.width, fr.output.image.height);
+                    let px = (w * h) as f64 * fr.passes as f64;
+                    let env = match (&fr.output.environment, &self.state.environment) {
+                        (Some(_), c) => format!(" + environment {}", c.method.name()),
+                        _ => String::new(),
+                    };
+                    ui.label(format!(
+                        "{}{env} {}×{} (1/{}), pass {}, {} spp, {:.2} s, {:.0} kpixels/s{}",
+                        f.settings.method.name(),
+                        w,
+                        h,
+                        fr.scale,
+                        fr.passes,
+                        fr.spp,
+                        fr.elapsed,
+                        px / fr.elapsed.max(1e-9) / 1e3,
+                        if self.worker.is_busy() {
+                            " — rendering"
+                        } else {
+                            " — done"
+                        }
+                    ));
+                }
+                None => {
+                    ui.label("rendering…");
+                }
+            }
+            ui.separator();
+            ui.label(format!("UI {:.1} ms", self.frame_ms));
+            ui.separator();
+            ui.label(&self.status);
+        });
+    }
+}
