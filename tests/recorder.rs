@@ -133,6 +133,14 @@ fn exact_silhouettes_are_recorded_as_found() {
                 let recorded = ctx.radiance(&ray, Method::Analytic, &mut scratch, &mut rec);
                 let plain = ctx.radiance(&ray, Method::Analytic, &mut scratch, &mut NoRecorder);
                 assert_eq!(recorded, plain);
+                // Contour edges are recorded where the path computed them: never for an exact
+                // silhouette read from a tree (the debugger draws only what was computed).
+                for l in &rec.lights {
+                    for e in &l.exact {
+                        let recorded = l.contours.iter().any(|(o, _)| *o == e.occluder);
+                        assert_eq!(recorded, !e.from_tree, "occluder {:?}", e.occluder);
+                    }
+                }
                 for e in rec.lights.iter().flat_map(|l| &l.exact) {
                     assert_eq!(e.from_tree, trees);
                     from_tree += e.from_tree as usize;

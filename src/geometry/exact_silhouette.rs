@@ -710,19 +710,9 @@ fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) 
 /// `c` of quantitative invisibility, by the very test of [`blocked`] (which is `c > 0`).
 pub fn count_ray_hits(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) -> u32 {
     let ray = PreparedRay::new(&Ray::new(x, dir));
-    let hit_face = |f: usize| face_hit(poly, x, dir, &ray, skip, f);
-    match &poly.face_bvh {
-        Some(bvh) if !scan => {
-            let mut c = 0;
-            // Every face once (the hierarchy's leaves partition the faces); never stop early.
-            bvh.any(x, dir, |f| {
-                c += u32::from(hit_face(f as usize));
-                false
-            });
-            c
-        }
-        _ => (0..poly.face_count()).filter(|&f| hit_face(f)).count() as u32,
-    }
+    count_faces(poly, x, dir, scan, |f| {
+        face_hit(poly, x, dir, &ray, skip, f)
+    })
 }
 
 /// [`count_ray_hits`] through the face hierarchy; with `edge_on = Some(tol)` the faces whose
@@ -738,18 +728,31 @@ pub(crate) fn count_ray_hits_edge_on(
         return count_ray_hits(poly, x, dir, skip, false);
     };
     let ray = PreparedRay::new(&Ray::new(x, dir));
-    let hit_face =
-        |f: usize| poly.face_planes[f].eval(x).abs() > tol && face_hit(poly, x, dir, &ray, skip, f);
+    count_faces(poly, x, dir, false, |f| {
+        poly.face_planes[f].eval(x).abs() > tol && face_hit(poly, x, dir, &ray, skip, f)
+    })
+}
+
+/// How many faces `hit` accepts among those the ray from `x` along `dir` may meet: through the
+/// face hierarchy (whose leaves partition the faces: every face once, never stopping early)
+/// unless `scan`, else every face.
+fn count_faces(
+    poly: &Polyhedron,
+    x: DVec3,
+    dir: DVec3,
+    scan: bool,
+    hit: impl Fn(usize) -> bool,
+) -> u32 {
     match &poly.face_bvh {
-        Some(bvh) => {
+        Some(bvh) if !scan => {
             let mut c = 0;
             bvh.any(x, dir, |f| {
-                c += u32::from(hit_face(f as usize));
+                c += u32::from(hit(f as usize));
                 false
             });
             c
         }
-        None => (0..poly.face_count()).filter(|&f| hit_face(f)).count() as u32,
+        _ => (0..poly.face_count()).filter(|&f| hit(f)).count() as u32,
     }
 }
 

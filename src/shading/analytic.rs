@@ -33,9 +33,9 @@ use super::outline::{Outline, OutlineScratch, Role};
 use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::{
-    ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, Polyhedron,
-    ProjectionPlane, SetDifference, Sidedness, SilhouettePoint, SphericalPolygon, classify_overlap,
-    clip_to_horizon, clip_to_window, contour_edges, face_polygon, window_cone,
+    ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, ProjectionPlane,
+    SetDifference, Sidedness, SilhouettePoint, SphericalPolygon, classify_overlap, clip_to_horizon,
+    clip_to_window, contour_edges, face_polygon, window_cone,
 };
 use crate::ltc::{LtcEntry, form_factor};
 use crate::math::Frame;
@@ -321,7 +321,16 @@ fn shade_light<R: Recorder>(
             // A closed non-convex light as a whole: its exact silhouette already accounts for
             // the faces it hides of itself (001 Fig. 4.1), so its own mesh is not subtracted.
             rec.begin_light(l, None);
-            record_contour(rec, None, &light.poly, sp.position, &ctx.frame);
+            record_contour(
+                rec,
+                None,
+                light,
+                outline,
+                false,
+                &scratch.light_sph,
+                sp,
+                &ctx.frame,
+            );
             if exact {
                 let exact_scratch = &scratch.outline.exact;
                 record_exact(light, None, from_tree, sp, &ctx.frame, exact_scratch, rec);
@@ -360,7 +369,6 @@ fn shade_light<R: Recorder>(
                     )),
                 };
                 rec.begin_light(l, Some(f));
-                record_contour(rec, None, faces, sp.position, &ctx.frame);
                 face_polygon(
                     faces,
                     f,
@@ -426,26 +434,51 @@ fn record_exact<R: Recorder>(
     rec.exact_silhouette(&record);
 }
 
-/// Hands the contour edges of `poly` seen from `x` (the predicate the silhouette stage chains
-/// by, `contour_edges`) to a recorder that keeps them; nothing at all for [`super::NoRecorder`].
+/// Hands a recorder the contour edges the outline stage worked from, and only those (the
+/// debugger draws the recording, never a recomputation; nothing at all for
+/// [`super::NoRecorder`]):
+///
+/// * a convex silhouette read from a BSP tree: its arcs, which are the contour edges of a convex
+///   mesh (the tree stores them as the silhouette's cycle);
+/// * a silhouette chained or an exact one computed at the point: the contour edges from `x`
+///   (`contour_edges`, the predicate both start from);
+/// * an exact silhouette read from a tree, one found inside a light's window, or a mesh taken
+///   face by face: none, since none were computed.
+#[allow(clippy::too_many_arguments)]
 fn record_contour<R: Recorder>(
     rec: &mut R,
     occluder: Option<usize>,
-    poly: &Polyhedron,
-    x: DVec3,
+    obj: &PreparedObject,
+    outline: Outline,
+    windowed: bool,
+    silhouette: &SphericalPolygon,
+    sp: &ShadingPoint,
     frame: &Frame,
 ) {
     if !R::ENABLED {
         return;
     }
-    let dir = |i: u32| {
-        frame
-            .to_local(poly.vertices[i as usize] - x)
-            .normalize_or_zero()
+    let Outline::Whole { exact, from_tree } = outline else {
+        return;
     };
-    let edges: Vec<[DVec3; 2]> = contour_edges(poly, x)
-        .map(|[a, b]| [dir(a), dir(b)])
-        .collect();
+    let edges: Vec<[DVec3; 2]> = match (exact, from_tree) {
+        (false, true) => silhouette
+            .loops()
+            .flat_map(|lp| (0..lp.len()).map(move |k| [lp[k], lp[(k + 1) % lp.len()]]))
+            .collect(),
+        (_, false) if !windowed => {
+            let (poly, x) = (&obj.poly, sp.position);
+            let dir = |i: u32| {
+                frame
+                    .to_local(poly.vertices[i as usize] - x)
+                    .normalize_or_zero()
+            };
+            contour_edges(poly, x)
+                .map(|[a, b]| [dir(a), dir(b)])
+                .collect()
+        }
+        _ => return,
+    };
     rec.contour(occluder, &edges);
 }
 
@@ -594,7 +627,6 @@ pub(super) fn subtract_occluder<R: Recorder>(
         }
     }
     let cut = cut.as_ref();
-    record_contour(rec, Some(oi), &occ.poly, sp.position, frame);
     let skip_face = if own_mesh {
         piece.and_then(|p| p.face.map(|(f, _)| f))
     } else {
@@ -639,6 +671,16 @@ pub(super) fn subtract_occluder<R: Recorder>(
             )
         };
         if let Outline::Whole { exact, from_tree } = outline {
+            record_contour(
+                rec,
+                Some(oi),
+                occ,
+                outline,
+                windowed,
+                &scratch.occ_sph,
+                sp,
+                frame,
+            );
             if exact && !windowed {
                 record_exact(
                     occ,
