@@ -390,7 +390,7 @@ pub fn probe_corrected(
                 value: r.correction,
                 stderr: r.variance.map(f64::sqrt),
             });
-            hit.emitted + r.total()
+            crate::shading::analytic_exact_pixel(hit.emitted, r.ltc, r.correction)
         }
         None => ctx.radiance(&ray, method, &mut scratch, &mut recording),
     } + env_radiance;

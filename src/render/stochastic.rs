@@ -13,7 +13,8 @@ use crate::denoise::{
 use crate::math::Pcg32;
 use crate::scene::camera::CameraBasis;
 use crate::shading::{
-    CorrectionSampling, Method, NoRecorder, ShadingScratch, shade, shade_corrected,
+    CorrectionSampling, Method, NoRecorder, ShadingScratch, analytic_exact_pixel, shade,
+    shade_corrected,
 };
 use crate::stochastic::{Estimator, EstimatorScratch, combine, direct_samples};
 use glam::DVec3;
@@ -288,7 +289,11 @@ pub fn compose_cancellable(
                 height: h,
                 pixels: (0..buffers.u.pixels.len())
                     .map(|i| {
-                        buffers.emitted.pixels[i] + buffers.u.pixels[i] + buffers.s_n.pixels[i]
+                        analytic_exact_pixel(
+                            buffers.emitted.pixels[i],
+                            buffers.u.pixels[i],
+                            buffers.s_n.pixels[i],
+                        )
                     })
                     .collect(),
             };

@@ -215,6 +215,14 @@ pub struct CorrectedRadiance {
     pub variance: DVec3,
 }
 
+/// A pixel of `analytic-exact`: what the camera ray sees emitted, plus the LTC image, plus the
+/// LTC's sampled correction, summed in that order. The one composition of the render (on its
+/// per-pixel buffers) and of the probe (on the picked ray), so that both give the same bits.
+#[inline]
+pub fn analytic_exact_pixel(emitted: DVec3, ltc: DVec3, correction: DVec3) -> DVec3 {
+    emitted + ltc + correction
+}
+
 impl CorrectedRadiance {
     pub fn total(&self) -> DVec3 {
         self.ltc + self.correction

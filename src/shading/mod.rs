@@ -14,7 +14,8 @@ pub mod tree_cache;
 pub mod tree_library;
 
 pub use analytic::{
-    CorrectedRadiance, ShadingScratch, ShadingStats, Shortcuts, shade, shade_corrected,
+    CorrectedRadiance, ShadingScratch, ShadingStats, Shortcuts, analytic_exact_pixel, shade,
+    shade_corrected,
 };
 pub use environment::{
     EnvironmentIntegrals, EnvironmentOccluders, EnvironmentPass, environment_integrals,
