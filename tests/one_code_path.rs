@@ -1,26 +1,17 @@
 //! One code path (issue 27): the benchmark times what `penumbra render` runs. A scene is
 //! prepared the same way by both (`BenchConfig::prepare` is `RenderContext::for_render` for
-//! the config's image), so both prepare every mesh alike and the bench's analytic image equals
+//! the config's image), so on every embedded scene both prepare every mesh alike and the bench's analytic image equals
 //! the render's bit for bit.
 
 use penumbra::bench::runner::{self, BenchConfig};
 use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
-use penumbra::scene::scene_file::load_embedded;
+use penumbra::scene::scene_file::{self, load_embedded};
 use penumbra::stochastic::LightSampling;
 
 #[test]
 fn the_bench_renders_the_analytic_image_that_render_renders() {
-    for name in [
-        "default",
-        "fig4",
-        "chair",
-        "nonconvex",
-        "polyhedra",
-        "instances",
-        "letters",
-        "glossy",
-        "env_figures",
-    ] {
+    // Every embedded scene, as `penumbra scenes` lists them.
+    for &name in scene_file::embedded_scene_names() {
         let scene = load_embedded(name).unwrap();
         let camera = scene.camera.expect("embedded scenes have a camera");
         let (w, h, aa) = (40, 30, 2);
