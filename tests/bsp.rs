@@ -90,7 +90,7 @@ fn bsp_silhouettes_equal_the_silhouette_on_the_fly() {
 /// a leaf's precomputed silhouette rests on (001 Sect. 5.1), checked on the cells themselves.
 #[test]
 fn the_cell_of_a_point_contains_it_and_keeps_its_contour() {
-    use penumbra::geometry::{bsp_cell, bsp_path, contour_edges};
+    use penumbra::geometry::{SilhouetteTree, bsp_cell, contour_edges};
     let mut rng = Pcg32::new(3, 4);
     for name in ["cone", "icosahedron"] {
         let poly = polyhedron(name);
@@ -98,7 +98,7 @@ fn the_cell_of_a_point_contains_it_and_keeps_its_contour() {
         let (bsp, _) = SilhouetteBsp::build_convex(&poly, lo, hi).unwrap();
         for _ in 0..300 {
             let x = lo + (hi - lo) * DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
-            let path = bsp_path(&bsp.nodes, &bsp.planes, x).unwrap();
+            let path = bsp.path(x).unwrap();
             let cell = bsp_cell(&path, lo, hi, 1e-12);
             assert!(!cell.is_empty());
             for f in &cell.faces {

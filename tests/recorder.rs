@@ -5,6 +5,7 @@ use penumbra::ltc::form_factor;
 use penumbra::render::{RenderContext, RenderSettings, subpixel_rays};
 use penumbra::scene::scene_file;
 use penumbra::shading::{Lobe, Method, NoRecorder, ShadingScratch, Stage, StageRecording};
+use std::f64::consts::TAU;
 
 #[test]
 fn recorded_stages_reproduce_the_rendered_pixels() {
@@ -58,6 +59,56 @@ fn recorded_stages_reproduce_the_rendered_pixels() {
         }
     }
     assert!(checked > 50);
+}
+
+/// The recorded edge terms of each lobe are the terms of the integral the stage computed: for
+/// the diffuse lobe (the identity LTC) they sum to the recorded form factor, and each one is
+/// the edge integral of its arc (000 Eq. 9) evaluated independently here.
+#[test]
+fn recorded_edge_terms_sum_to_the_recorded_integral() {
+    use penumbra::ltc::edge_integral;
+    let scene = scene_file::load_embedded("fig4").unwrap();
+    let ctx = RenderContext::new(&scene);
+    let cam = scene.camera.unwrap();
+    let basis = cam.basis().unwrap();
+    let (w, h) = (16, 12);
+    let mut scratch = ShadingScratch::default();
+    let mut checked = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let ray = subpixel_rays(&basis, x, y, 1, w, h).next().unwrap();
+            let mut rec = StageRecording::new(false);
+            ctx.radiance(&ray, Method::Analytic, &mut scratch, &mut rec);
+            for l in &rec.lights {
+                assert_eq!(l.lobes.len(), l.lobe_edge_terms.len());
+                for ((lobe, _, clipped, integral), (lobe2, terms)) in
+                    l.lobes.iter().zip(&l.lobe_edge_terms)
+                {
+                    assert_eq!(lobe, lobe2);
+                    for (lp, t) in clipped.loops().zip(terms) {
+                        if lp.len() < 3 {
+                            assert!(t.is_empty());
+                            continue;
+                        }
+                        assert_eq!(t.len(), lp.len());
+                        for k in 0..lp.len() {
+                            let e = edge_integral(lp[k], lp[(k + 1) % lp.len()]) / TAU;
+                            assert!((t[k] - e).abs() <= 1e-15, "{} vs {e}", t[k]);
+                        }
+                    }
+                    if *lobe == Lobe::Diffuse {
+                        let sum: f64 = terms.iter().flatten().sum();
+                        assert!(
+                            (sum.max(0.0) - integral).abs() <= 1e-12,
+                            "{sum} vs {integral}"
+                        );
+                        checked += (*integral > 0.0) as usize;
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 50, "{checked} lit diffuse lobes checked");
 }
 
 /// The recorded contour edges are what the silhouette stage chained: for every whole light (a

@@ -209,52 +209,202 @@ fn a_debug_dump_replays_without_the_scene() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The first pixel of a scan of `ctx`'s scene whose probe took light `light` whole and looked
+/// its silhouette up in its tree and found it there (or, for a light without a tree,
+/// recorded its contour): the point, and the light's record.
+fn probe_through_the_tree(
+    ctx: &penumbra::render::RenderContext,
+    scene: &penumbra::scene::Scene,
+    light: usize,
+) -> (glam::DVec3, penumbra::shading::LightRecord) {
+    let id = ctx.prepared.lights[light].0 as usize;
+    let has_tree = ctx.prepared.objects[id].silhouette_tree().is_some();
+    let size = (48, 48);
+    let camera = scene.camera.expect("the scene has a camera");
+    for j in 0..size.1 {
+        for i in 0..size.0 {
+            let Ok(p) = probe(
+                ctx,
+                "test",
+                &camera,
+                size,
+                (i as f64, j as f64),
+                Method::Analytic,
+                false,
+            ) else {
+                continue;
+            };
+            let Some(point) = p.point else {
+                continue;
+            };
+            if let Some(r) = p.recording.lights.into_iter().find(|r| {
+                r.light == light
+                    && r.piece.is_none()
+                    && if has_tree {
+                        r.trees.iter().any(|t| t.occluder.is_none() && t.answered)
+                    } else {
+                        r.contour_points
+                            .iter()
+                            .any(|(o, e)| o.is_none() && !e.is_empty())
+                    }
+            }) {
+                return (point.position, r);
+            }
+        }
+    }
+    panic!("no pixel looks light {light} up in its tree");
+}
+
+/// Draws `obj` in a light view with `view`'s settings: the shape count and what was drawn.
+fn light_view_shapes(
+    view: penumbra::app::light_view::LightView,
+    obj: &penumbra::shading::PreparedObject,
+    x: glam::DVec3,
+    record: &penumbra::shading::LightRecord,
+) -> (usize, penumbra::app::light_view::Drawn) {
+    use penumbra::app::light_view::LightView;
+    let mut h = Harness::new_ui_state(
+        |ui, v: &mut LightView| v.ui(ui, obj, Some(x), Some(record)),
+        view,
+    );
+    h.run();
+    let n = h.output().shapes.len();
+    (n, h.state().drawn.clone())
+}
+
 #[test]
 fn the_light_view_draws_the_bsp_planes_of_a_non_convex_light() {
     use penumbra::app::light_view::LightView;
     let scene = penumbra::scene::scene_file::load_embedded("nonconvex").unwrap();
     let ctx = penumbra::render::RenderContext::new(&scene);
-    let obj = ctx
+    let light = ctx
         .prepared
-        .objects
+        .lights
         .iter()
-        .find(|o| o.name == "u_light")
-        .expect("the U-shaped light")
-        .clone();
-    let tree = obj
-        .exact_bsp
-        .as_ref()
-        .expect("a closed non-convex light has a tree");
-    // A floor point under the light (the point of docs/images/workbench/bsp_cell.png).
-    let x = glam::DVec3::new(0.36331, 0.0, 0.66902);
-    let depth = penumbra::geometry::bsp_path(&tree.nodes, &tree.planes, x)
-        .unwrap()
-        .steps
-        .len();
+        .position(|&(id, _)| ctx.prepared.objects[id as usize].name == "u_light")
+        .expect("the U-shaped light");
+    let obj = &ctx.prepared.objects[ctx.prepared.lights[light].0 as usize];
+    assert!(
+        obj.exact_bsp.is_some(),
+        "a closed non-convex light has a tree"
+    );
+    let (x, record) = probe_through_the_tree(&ctx, &scene, light);
+    let lookup = record.trees.iter().find(|t| t.occluder.is_none()).unwrap();
+    let depth = lookup.steps.len();
     assert!(depth > 0);
 
-    let shapes = |view: LightView| {
-        let mut h = Harness::new_ui_state(|ui, v: &mut LightView| v.ui(ui, &obj, Some(x)), view);
-        h.run();
-        let n = h.output().shapes.len();
-        (n, h.state().drawn.clone())
-    };
-    let (without, drawn) = shapes(LightView {
-        path_planes: false,
-        ..LightView::default()
-    });
+    let (without, drawn) = light_view_shapes(
+        LightView {
+            path_planes: false,
+            ..LightView::default()
+        },
+        obj,
+        x,
+        &record,
+    );
     assert_eq!(drawn.path_planes, 0);
     assert_eq!(drawn.leaf_depth, Some(depth));
-    let (with_path, drawn) = shapes(LightView::default());
+    let (with_path, drawn) = light_view_shapes(LightView::default(), obj, x, &record);
     // Every plane on the path cuts its node's cell: one section each, a fill and an outline
     // per section, and a depth label.
     assert_eq!(drawn.path_planes, depth);
     assert!(with_path >= without + 3 * depth, "{with_path} vs {without}");
-    let (_, drawn) = shapes(LightView {
-        levels: 2,
-        ..LightView::default()
-    });
+    let (_, drawn) = light_view_shapes(
+        LightView {
+            levels: 2,
+            ..LightView::default()
+        },
+        obj,
+        x,
+        &record,
+    );
     assert!((1..=3).contains(&drawn.level_planes), "{drawn:?}");
+}
+
+/// The light view shows the tree the renderer looked the light up in, and the contour edges
+/// it recorded, not a tree or a contour of its own (issue 27 item 5): on hoisted trees, whose
+/// layout differs from the tree they come from, and on a convex hull standing in for a mesh
+/// written by Blender.
+#[test]
+fn the_light_view_shows_the_tree_the_renderer_used() {
+    use penumbra::app::light_view::LightView;
+    use penumbra::geometry::TreeKind;
+    let cases: [(&str, bool); 2] = [
+        ("nonconvex", true),
+        (
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/tests/data/blender/primitives.toml"
+            ),
+            false,
+        ),
+    ];
+    let mut stand_ins = 0;
+    for (name, hoist) in cases {
+        let mut scene = penumbra::scene::scene_file::load_scene_by_name(name).unwrap();
+        // Blender's UV sphere, convex only up to the 6 digits of its OBJ, made a light: the
+        // convex hull stands in for it, with a tree of its own.
+        if let Some(o) = scene.objects.iter_mut().find(|o| o.name == "UVSphere") {
+            o.material.ke = glam::DVec3::splat(3.0);
+            o.flags.light = true;
+        }
+        let mut ctx = penumbra::render::RenderContext::new(&scene);
+        if hoist {
+            ctx.prepared.use_hoisted_trees();
+        }
+        for (light, &(id, _)) in ctx.prepared.lights.iter().enumerate() {
+            let obj = &ctx.prepared.objects[id as usize];
+            let tree = obj.silhouette_tree();
+            if hoist {
+                let kind = tree.map(|t| t.kind());
+                assert!(
+                    matches!(kind, Some(TreeKind::HoistedConvex | TreeKind::HoistedExact)),
+                    "{name}: {} has {kind:?}",
+                    obj.name
+                );
+            }
+            stand_ins += obj.stand_in.is_some() as usize;
+            let (x, record) = probe_through_the_tree(&ctx, &scene, light);
+            let lookup = record.trees.iter().find(|t| t.occluder.is_none());
+            assert_eq!(
+                lookup.map(|l| l.kind),
+                tree.map(|t| t.kind()),
+                "{name}: {}",
+                obj.name
+            );
+            let (_, drawn) = light_view_shapes(LightView::default(), obj, x, &record);
+            assert_eq!(drawn.tree, tree.map(|t| t.kind()), "{name}: {}", obj.name);
+            assert_eq!(drawn.leaf_depth, lookup.map(|l| l.steps.len()));
+            // The contour drawn is the recorded one: a convex silhouette's cycle (read from a
+            // tree or chained at the point); an exact tree computes no contour.
+            let recorded = record
+                .contour_points
+                .iter()
+                .find(|(o, _)| o.is_none())
+                .map_or(0, |(_, e)| e.len());
+            assert_eq!(drawn.contour_edges, recorded);
+            let exact = matches!(
+                tree.map(|t| t.kind()),
+                Some(TreeKind::Exact | TreeKind::HoistedExact)
+            );
+            assert_eq!(recorded == 0, exact, "{name}: {}", obj.name);
+            if let Some(s) = &obj.stand_in {
+                // The hull is what was shaded and what is drawn: its vertices, not the mesh's.
+                assert!(obj.poly.vertices.len() <= s.mesh_vertices);
+                let on_hull = |p: glam::DVec3| obj.poly.vertices.contains(&p);
+                let (_, edges) = record
+                    .contour_points
+                    .iter()
+                    .find(|(o, _)| o.is_none())
+                    .unwrap();
+                assert!(edges.iter().flatten().all(|&p| on_hull(p)));
+            }
+        }
+    }
+    assert!(
+        stand_ins > 0,
+        "the Blender sphere light is drawn as its stand-in hull"
+    );
 }
 
 /// The environment light in the workbench (issue 13 item 6): a scene file's `[environment]`

@@ -1,18 +1,16 @@
-//! A light's polyhedron as a wireframe, with the contour edges seen from the picked point
-//! (001 Eq. 4.2, `geometry::contour_edges`, the function the silhouette stage uses) drawn in
-//! the orientation that makes the silhouette loop positive, and front faces shaded; and, for a
-//! mesh with a BSP tree of precomputed silhouettes (001 Sect. 5), how the tree carves space:
-//! the planes on the picked point's path, each cut to the cell of its node
-//! (`geometry::path_sections`), optionally every plane of the first levels
-//! (`geometry::level_sections`), and the leaf's cell (`geometry::bsp_cell`), with the tree's
-//! size and the leaf's depth.
+//! A light's polyhedron as a wireframe, with what the renderer recorded at the picked point
+//! drawn on it: the contour edges its silhouette stage worked from (001 Eq. 4.2), in the
+//! orientation that makes the silhouette loop positive, with the front faces shaded; and, when
+//! the stage looked the silhouette up in a BSP tree of precomputed silhouettes (001 Sect. 5),
+//! that tree (`PreparedObject::silhouette_tree`, the one shading reads: hoisted, convex or
+//! exact) and how it carves space: the planes on the recorded path, each cut to the cell of
+//! its node (`geometry::path_sections`), optionally every plane of the first levels
+//! (`SilhouetteTree::level_sections`), and the leaf's cell (`geometry::bsp_cell`). Nothing here
+//! looks anything up again: a point the renderer did not take through a tree shows no path.
 
 use crate::geometry::silhouette::is_front_facing;
-use crate::geometry::{
-    BspNode, Plane, PlaneSection, bsp_cell, bsp_path, bsp_size, contour_edges, level_sections,
-    path_sections,
-};
-use crate::shading::PreparedObject;
+use crate::geometry::{BspPath, PlaneSection, TreeKind, bsp_cell, path_sections};
+use crate::shading::{LightRecord, PreparedObject};
 use egui::{Color32, Pos2, Sense, Shape, Stroke, Ui, Vec2};
 use glam::DVec3;
 
@@ -45,6 +43,10 @@ pub struct Drawn {
     /// Depth of the picked point's leaf, and the faces of its cell.
     pub leaf_depth: Option<usize>,
     pub cell_faces: usize,
+    /// The tree the recording says the renderer looked the light's silhouette up in.
+    pub tree: Option<TreeKind>,
+    /// Contour edges drawn, from the recording.
+    pub contour_edges: usize,
 }
 
 impl Default for LightView {
@@ -60,44 +62,6 @@ impl Default for LightView {
     }
 }
 
-/// The parts of either kind of tree the view needs.
-struct Tree<'a> {
-    kind: &'static str,
-    nodes: &'a [BspNode],
-    planes: &'a [Plane],
-    lo: DVec3,
-    hi: DVec3,
-    /// Bytes the tree takes in memory (nodes, planes and leaf data).
-    bytes: usize,
-}
-
-fn tree_of(obj: &PreparedObject) -> Option<Tree<'_>> {
-    use std::mem::size_of_val;
-    if let Some(t) = &obj.bsp {
-        return Some(Tree {
-            kind: "convex silhouettes, 001 Sect. 5.1",
-            nodes: &t.nodes,
-            planes: &t.planes,
-            lo: t.lo,
-            hi: t.hi,
-            bytes: size_of_val(&t.nodes[..])
-                + size_of_val(&t.planes[..])
-                + size_of_val(&t.data[..]),
-        });
-    }
-    obj.exact_bsp.as_ref().map(|t| Tree {
-        kind: "exact silhouettes, 001 Sect. 5.4",
-        nodes: &t.nodes,
-        planes: &t.planes,
-        lo: t.lo,
-        hi: t.hi,
-        bytes: size_of_val(&t.nodes[..])
-            + size_of_val(&t.planes[..])
-            + size_of_val(&t.loops[..])
-            + size_of_val(&t.points[..]),
-    })
-}
-
 /// The colour of a plane at `depth` in a tree of depth `max`: red at the root through the
 /// hues to violet at the deepest level.
 pub fn depth_colour(depth: usize, max: usize) -> Color32 {
@@ -106,12 +70,26 @@ pub fn depth_colour(depth: usize, max: usize) -> Color32 {
 }
 
 impl LightView {
-    /// Draws the mesh of `obj`; with a picked point, its contour edges and front faces from
-    /// there, and the BSP planes and cell of the point.
-    pub fn ui(&mut self, ui: &mut Ui, obj: &PreparedObject, point: Option<DVec3>) {
+    /// Draws the mesh of `obj`; with a picked point and the recording of its light (`record`,
+    /// the light taken whole), the contour edges and the tree lookup recorded there.
+    pub fn ui(
+        &mut self,
+        ui: &mut Ui,
+        obj: &PreparedObject,
+        point: Option<DVec3>,
+        record: Option<&LightRecord>,
+    ) {
         let poly = &obj.poly;
-        let tree = tree_of(obj);
-        self.drawn = Drawn::default();
+        let tree = obj.silhouette_tree();
+        let lookup = record.and_then(|r| r.trees.iter().find(|t| t.occluder.is_none()));
+        let contour = record
+            .and_then(|r| r.contour_points.iter().find(|(o, _)| o.is_none()))
+            .map(|(_, e)| e.as_slice())
+            .unwrap_or_default();
+        self.drawn = Drawn {
+            tree: lookup.map(|t| t.kind),
+            ..Drawn::default()
+        };
         if tree.is_some() {
             // One control a line: side by side they would widen the panel (and the viewport
             // beside it would shrink and render again).
@@ -173,8 +151,9 @@ impl LightView {
         let from_tree = obj.to_tree.map(|m| m.inverse());
         let world = |p: DVec3| from_tree.map_or(p, |m| m.transform_point3(p));
         let mut depth_labels = Vec::new();
-        if let Some(t) = &tree {
-            let (_, _, max_depth) = bsp_size(t.nodes);
+        if let Some(t) = tree {
+            let (lo, hi) = t.bounds();
+            let (_, _, max_depth) = t.size();
             let draw_section = |s: &PlaneSection, fill: u8, width: f32| {
                 let col = depth_colour(s.depth, max_depth);
                 let pts: Vec<Pos2> = s.polygon.iter().map(|&p| project(world(p))).collect();
@@ -186,17 +165,20 @@ impl LightView {
                 painter.add(Shape::closed_line(pts, Stroke::new(width, col)));
             };
             if self.levels > 0 {
-                let sections = level_sections(t.nodes, t.planes, t.lo, t.hi, self.levels, tol);
+                let sections = t.level_sections(self.levels, tol);
                 for s in &sections {
                     draw_section(s, 18, 0.8);
                 }
                 self.drawn.level_planes = sections.len();
             }
-            if let Some(x) = point
-                && let Some(path) = bsp_path(t.nodes, t.planes, obj.tree_point(x))
-            {
+            // The recorded path, in the tree the recording names (the renderer's own).
+            if let Some(l) = lookup.filter(|l| l.kind == t.kind()) {
+                let path = BspPath {
+                    steps: l.steps.clone(),
+                    leaf: 0,
+                };
                 if self.path_planes {
-                    let sections = path_sections(&path, t.lo, t.hi, tol);
+                    let sections = path_sections(&path, lo, hi, tol);
                     for s in &sections {
                         draw_section(s, 30, 1.3);
                         let mid = s.polygon.iter().sum::<DVec3>() / s.polygon.len() as f64;
@@ -204,7 +186,7 @@ impl LightView {
                     }
                     self.drawn.path_planes = sections.len();
                 }
-                let cell = bsp_cell(&path, t.lo, t.hi, tol);
+                let cell = bsp_cell(&path, lo, hi, tol);
                 for f in &cell.faces {
                     let pts: Vec<Pos2> = f.iter().map(|&p| project(world(p))).collect();
                     painter.add(Shape::convex_polygon(
@@ -242,11 +224,10 @@ impl LightView {
             let b = project(poly.vertices[edge.v[1] as usize]);
             painter.line_segment([a, b], Stroke::new(1.0, weak));
         }
-        let mut n_contour = 0;
         if let Some(x) = point {
-            for [i, j] in contour_edges(poly, x) {
-                let a = project(poly.vertices[i as usize]);
-                let b = project(poly.vertices[j as usize]);
+            for &[p, q] in contour {
+                let a = project(p);
+                let b = project(q);
                 painter.line_segment([a, b], Stroke::new(2.5, CONTOUR));
                 let d = (b - a).normalized();
                 if d.is_finite() {
@@ -258,8 +239,8 @@ impl LightView {
                         Stroke::NONE,
                     ));
                 }
-                n_contour += 1;
             }
+            self.drawn.contour_edges = contour.len();
             painter.circle_filled(project(x), 4.0, CELL);
             painter.circle_stroke(project(x), 4.0, Stroke::new(1.0, Color32::BLACK));
         }
@@ -276,26 +257,32 @@ impl LightView {
 
         // What was drawn, in words.
         let d = &poly.diagnostics;
-        match &tree {
+        match tree {
             None => {
                 ui.small("no BSP tree (silhouettes computed at each point)");
             }
             Some(t) => {
-                let (n, leaves, depth) = bsp_size(t.nodes);
+                let (n, leaves, depth) = t.size();
                 ui.small(format!(
                     "BSP tree ({}): {n} nodes, {leaves} leaves, depth {depth}, {} planes, \
                      {:.1} KiB in memory",
-                    t.kind,
-                    t.planes.len(),
-                    t.bytes as f64 / 1024.0
+                    t.kind().describe(),
+                    t.planes().len(),
+                    t.stored_bytes() as f64 / 1024.0
                 ));
                 let dr = &self.drawn;
-                match dr.leaf_depth {
-                    Some(leaf_depth) => {
+                match (dr.leaf_depth, lookup) {
+                    (Some(leaf_depth), Some(l)) => {
                         ui.small(format!(
-                            "the picked point (blue dot) is in a leaf at depth {leaf_depth}; \
-                             its cell (blue) has {} faces",
-                            dr.cell_faces
+                            "the renderer looked the picked point (blue dot) up in a leaf at \
+                             depth {leaf_depth}; its cell (blue) has {} faces{}",
+                            dr.cell_faces,
+                            if l.answered {
+                                ""
+                            } else {
+                                "; the leaf was left to the on-the-fly path, or the point is \
+                                 outside the tree's box: the silhouette was computed there"
+                            }
                         ));
                         if self.path_planes {
                             ui.small(format!(
@@ -305,7 +292,13 @@ impl LightView {
                             ));
                         }
                     }
-                    None => {
+                    _ if point.is_some() => {
+                        ui.small(
+                            "the renderer did not look this light up in its tree at the picked \
+                             point (below the horizon, or taken face by face)",
+                        );
+                    }
+                    _ => {
                         ui.small("pick a point to see its cell and the planes on its path");
                     }
                 }
@@ -316,6 +309,13 @@ impl LightView {
                     ));
                 }
             }
+        }
+        if let Some(s) = &obj.stand_in {
+            ui.small(format!(
+                "drawn and shaded: the convex hull standing in for the mesh ({} vertices, {} \
+                 faces; every point of the hull within {:.2e} of it)",
+                s.mesh_vertices, s.mesh_faces, s.deviation
+            ));
         }
         ui.small(format!(
             "{} vertices, {} edges, {} faces; {}{}",
@@ -330,7 +330,10 @@ impl LightView {
                 "non-convex"
             },
             match point {
-                Some(_) => format!(", {n_contour} contour edges (yellow) from the picked point"),
+                Some(_) => format!(
+                    ", {} contour edges (yellow) recorded at the picked point",
+                    self.drawn.contour_edges
+                ),
                 None => ", pick a point to see its contour edges".into(),
             }
         ));

@@ -6,7 +6,6 @@
 use super::stages::{Step, StepKind};
 use super::tonemap::{ToneMap, tonemap};
 use crate::inspect::{Probe, sky_grid_direction};
-use crate::ltc::edge_integral;
 use crate::shading::{EnvironmentSide, LightRecord, RayOutcome, Stage};
 use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Ui, Vec2};
 use glam::DVec3;
@@ -960,17 +959,10 @@ pub fn step_details_ui(ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
         ui.add(egui::Label::new(egui::RichText::new(text).small()).wrap());
     }
     if s.kind == StepKind::Integral {
-        for (lobe, _, clipped, integral) in &rec.lobes {
+        for ((lobe, _, _, integral), (_, terms)) in rec.lobes.iter().zip(&rec.lobe_edge_terms) {
             ui.label(format!("{lobe:?} lobe: ∫ = {integral:.6}; per edge:"));
-            for (li, lp) in clipped.loops().enumerate() {
-                let parts: Vec<String> = (0..lp.len())
-                    .map(|k| {
-                        format!(
-                            "{:+.5}",
-                            edge_integral(lp[k], lp[(k + 1) % lp.len()]) / std::f64::consts::TAU
-                        )
-                    })
-                    .collect();
+            for (li, loop_terms) in terms.iter().enumerate() {
+                let parts: Vec<String> = loop_terms.iter().map(|t| format!("{t:+.5}")).collect();
                 ui.add(egui::Label::new(format!("  loop {li}: {}", parts.join(" "))).wrap());
             }
         }

@@ -55,29 +55,6 @@ pub fn bsp_leaf(nodes: &[BspNode], planes: &[Plane], x: DVec3) -> usize {
     }
 }
 
-/// The path of `x` from the root of `nodes`.
-pub fn bsp_path(nodes: &[BspNode], planes: &[Plane], x: DVec3) -> Option<BspPath> {
-    if nodes.is_empty() {
-        return None;
-    }
-    let mut path = BspPath::default();
-    let mut n = 0usize;
-    loop {
-        match nodes[n] {
-            BspNode::Inner { plane, back, front } => {
-                let p = planes[plane as usize];
-                let f = p.eval(x) > 0.0;
-                path.steps.push((p, f));
-                n = if f { front as usize } else { back as usize };
-            }
-            BspNode::Leaf { .. } => {
-                path.leaf = n;
-                return Some(path);
-            }
-        }
-    }
-}
-
 /// The cell of a path: the box `[lo, hi]` cut to the side taken at every step.
 pub fn bsp_cell(path: &BspPath, lo: DVec3, hi: DVec3, tol: f64) -> ConvexCell {
     let mut cell = ConvexCell::cuboid(lo, hi);
@@ -152,27 +129,6 @@ pub fn hoisted_edge_counts(
     let (mut in_leaves, mut below) = (0, 0);
     let root = walk(nodes, 0, leaf_edges, &mut in_leaves, &mut below);
     (in_leaves, below + root.len())
-}
-
-/// Size of a tree, for the structure view: (nodes, leaves, depth).
-pub fn bsp_size(nodes: &[BspNode]) -> (usize, usize, usize) {
-    fn depth(nodes: &[BspNode], n: usize) -> usize {
-        match nodes[n] {
-            BspNode::Inner { back, front, .. } => {
-                1 + depth(nodes, back as usize).max(depth(nodes, front as usize))
-            }
-            BspNode::Leaf { .. } => 0,
-        }
-    }
-    let leaves = nodes
-        .iter()
-        .filter(|n| matches!(n, BspNode::Leaf { .. }))
-        .count();
-    (
-        nodes.len(),
-        leaves,
-        if nodes.is_empty() { 0 } else { depth(nodes, 0) },
-    )
 }
 
 /// The BSP tree of precomputed silhouettes of one convex mesh, in the mesh's coordinates.

@@ -25,7 +25,7 @@ use crate::math::Frame;
 use glam::DVec3;
 
 /// Marks a leaf in [`HoistedNode::plane`].
-const LEAF: u32 = u32::MAX;
+pub(super) const LEAF: u32 = u32::MAX;
 
 /// A node in preorder: an inner node's back child is the next node, its front child `front`;
 /// a leaf has `plane == LEAF` and `front` 1 if it is left to the on-the-fly path. Either kind

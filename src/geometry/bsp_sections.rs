@@ -4,7 +4,7 @@
 //! where the cut happens.
 
 use super::Plane;
-use super::bsp::{BspNode, BspPath};
+use super::bsp::BspPath;
 use super::convex_cell::ConvexCell;
 use glam::DVec3;
 
@@ -32,37 +32,6 @@ pub fn path_sections(path: &BspPath, lo: DVec3, hi: DVec3, tol: f64) -> Vec<Plan
     out
 }
 
-/// The planes of every inner node above depth `levels`, each cut to its node's cell: the first
-/// `levels` levels of the partition of `[lo, hi]` (up to 2^levels − 1 planes).
-pub fn level_sections(
-    nodes: &[BspNode],
-    planes: &[Plane],
-    lo: DVec3,
-    hi: DVec3,
-    levels: usize,
-    tol: f64,
-) -> Vec<PlaneSection> {
-    let mut out = Vec::new();
-    // Depth first with an explicit stack: (node, its cell, its depth).
-    let mut stack = vec![(0usize, ConvexCell::cuboid(lo, hi), 0usize)];
-    while let Some((n, cell, depth)) = stack.pop() {
-        let Some(&BspNode::Inner { plane, back, front }) = nodes.get(n) else {
-            continue;
-        };
-        if depth >= levels || cell.is_empty() {
-            continue;
-        }
-        let p = planes[plane as usize];
-        if let Some(polygon) = cell.plane_section(&p, tol) {
-            out.push(PlaneSection { depth, polygon });
-        }
-        let (b, f) = cell.split(&p, tol);
-        stack.push((front as usize, f, depth + 1));
-        stack.push((back as usize, b, depth + 1));
-    }
-    out
-}
-
 /// The plane whose back side is the side `front` names of `plane`.
 fn kept_side(plane: Plane, front: bool) -> Plane {
     if front {
@@ -78,11 +47,14 @@ fn kept_side(plane: Plane, front: bool) -> Plane {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{bsp_cell, bsp_path};
+    use crate::geometry::SilhouetteBsp;
+    use crate::geometry::bsp::BspNode;
+    use crate::geometry::bsp_cell;
+    use crate::geometry::silhouette_tree::SilhouetteTree;
 
     /// A hand-made tree over the box [0, 4]³: the root splits at x = 2, its front child at
     /// y = 1, and that node's back child at z = 3.
-    fn tree() -> (Vec<BspNode>, Vec<Plane>) {
+    fn tree() -> SilhouetteBsp {
         let planes = vec![
             Plane {
                 n: DVec3::X,
@@ -119,7 +91,13 @@ mod tests {
             leaf,
             leaf,
         ];
-        (nodes, planes)
+        SilhouetteBsp {
+            planes,
+            nodes,
+            data: Vec::new(),
+            lo: DVec3::ZERO,
+            hi: DVec3::splat(4.0),
+        }
     }
 
     fn area(poly: &[DVec3]) -> f64 {
@@ -132,10 +110,10 @@ mod tests {
 
     #[test]
     fn each_plane_is_cut_to_its_nodes_cell() {
-        let (nodes, planes) = tree();
-        let (lo, hi) = (DVec3::ZERO, DVec3::splat(4.0));
+        let t = tree();
+        let (lo, hi) = (t.lo, t.hi);
         let x = DVec3::new(3.0, 0.5, 3.5);
-        let path = bsp_path(&nodes, &planes, x).unwrap();
+        let path = t.path(x).unwrap();
         assert_eq!(path.leaf, 5);
         let s = path_sections(&path, lo, hi, 1e-12);
         assert_eq!(s.iter().map(|s| s.depth).collect::<Vec<_>>(), [0, 1, 2]);
@@ -160,13 +138,10 @@ mod tests {
 
     #[test]
     fn levels_take_every_node_above_the_depth() {
-        let (nodes, planes) = tree();
-        let (lo, hi) = (DVec3::ZERO, DVec3::splat(4.0));
+        let t = tree();
+        assert_eq!(t.size(), (7, 4, 3));
         let depths = |k| {
-            let mut d: Vec<usize> = level_sections(&nodes, &planes, lo, hi, k, 1e-12)
-                .iter()
-                .map(|s| s.depth)
-                .collect();
+            let mut d: Vec<usize> = t.level_sections(k, 1e-12).iter().map(|s| s.depth).collect();
             d.sort();
             d
         };

@@ -25,6 +25,7 @@ pub mod ray;
 pub mod separation;
 pub mod set_difference;
 pub mod silhouette;
+pub mod silhouette_tree;
 pub mod silhouette_walk;
 pub mod spherical_polygon;
 #[cfg(test)]
@@ -32,10 +33,10 @@ pub(crate) mod test_util;
 pub mod triangle;
 pub mod windowed_silhouette;
 
-pub use bsp::{BspNode, BspPath, BspStats, SilhouetteBsp, bsp_cell, bsp_leaf, bsp_path, bsp_size};
+pub use bsp::{BspNode, BspPath, BspStats, SilhouetteBsp, bsp_cell, bsp_leaf};
 pub use bsp_hoisted::{HoistedKind, HoistedSilhouetteBsp};
 pub use bsp_nonconvex::{ExactBspLimits, ExactBspStats, ExactSilhouetteBsp};
-pub use bsp_sections::{PlaneSection, level_sections, path_sections};
+pub use bsp_sections::{PlaneSection, path_sections};
 pub use cell_triangulation::{SilhouetteTriangulation, TriangulationLimits, TriangulationStats};
 pub use convex_cell::{CellSide, ConvexCell};
 pub use exact_silhouette::{
@@ -53,6 +54,7 @@ pub use quantitative_invisibility::QiStats;
 pub use separation::separating_plane;
 pub use set_difference::{GreinerHormannSteps, SetDifference};
 pub use silhouette::{Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette};
+pub use silhouette_tree::{SilhouetteTree, TreeKind, TreeNode};
 pub use spherical_polygon::{SphericalPolygon, orient};
 pub use windowed_silhouette::{
     WindowScratch, WindowStats, clip_to_window, exact_silhouette_in_window, window_cone,

@@ -59,17 +59,28 @@ pub fn edge_integral(a: DVec3, b: DVec3) -> f64 {
 /// vertices contribute 0. Allocation-free.
 pub fn form_factor<'a>(loops: impl IntoIterator<Item = &'a [DVec3]>) -> f64 {
     let mut sum = 0.0;
-    for lp in loops {
+    form_factor_terms(loops, |_, _, term| sum += term);
+    sum / TAU
+}
+
+/// The terms of [`form_factor`]'s sum (000 Eq. 9) in the order it adds them:
+/// `term(loop, k, edge_integral(p_{k−1}, p_k))`, each loop from its closing edge (`k = 0`
+/// is the edge from the last vertex to the first). The debugger's recording lists them.
+#[inline]
+pub fn form_factor_terms<'a>(
+    loops: impl IntoIterator<Item = &'a [DVec3]>,
+    mut term: impl FnMut(usize, usize, f64),
+) {
+    for (li, lp) in loops.into_iter().enumerate() {
         if lp.len() < 3 {
             continue;
         }
         let mut prev = lp[lp.len() - 1];
-        for &p in lp {
-            sum += edge_integral(prev, p);
+        for (k, &p) in lp.iter().enumerate() {
+            term(li, k, edge_integral(prev, p));
             prev = p;
         }
     }
-    sum / TAU
 }
 
 #[cfg(test)]

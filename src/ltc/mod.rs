@@ -16,5 +16,5 @@ pub mod polygon_error;
 pub mod published;
 pub mod table;
 
-pub use edge_integral::{edge_integral, form_factor};
+pub use edge_integral::{edge_integral, form_factor, form_factor_terms};
 pub use table::{LtcEntry, LtcTable};

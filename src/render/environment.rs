@@ -28,7 +28,7 @@ use crate::raster::gbuffer::{GBuffer, Surface};
 use crate::scene::camera::CameraBasis;
 use crate::shading::{
     EnvironmentOccluders, EnvironmentPass, EnvironmentSample, NoRecorder, RayOutcome, Recorder,
-    ShadingPoint, ShadingScratch, environment_integrals,
+    ShadingPoint, ShadingScratch, environment_integrals, shadowed_irradiance,
 };
 use glam::DVec3;
 use std::sync::Arc;
@@ -480,7 +480,7 @@ fn shade_pixel<R: Recorder>(
         };
         px.nanos_occlusion += t1.elapsed().as_nanos() as u64;
         if R::ENABLED {
-            let e = (e_static - e_occluded).max(DVec3::ZERO);
+            let e = shadowed_irradiance(e_static, e_occluded);
             rec.environment_sample(&EnvironmentSample {
                 method: env.settings.method,
                 unshadowed: env.light.irradiance(sp.normal),
@@ -492,7 +492,7 @@ fn shade_pixel<R: Recorder>(
                 radiance: rho_pi * e,
             });
         }
-        px.radiance += rho_pi * (e_static - e_occluded).max(DVec3::ZERO) / k;
+        px.radiance += rho_pi * shadowed_irradiance(e_static, e_occluded) / k;
         px.base += rho_pi * e_static / k;
         px.occluded += e_occluded / k;
         px.albedo += rho_pi / k;

@@ -30,7 +30,7 @@ use super::ltc_correction::{
     CorrectionEstimate, CorrectionSampling, CorrectionScratch, GlossyLobe, estimate_correction,
 };
 use super::outline::{Outline, OutlineScratch, Role};
-use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage};
+use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage, TreeLookupRecord};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::{
     ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, ProjectionPlane,
@@ -412,11 +412,13 @@ fn record_exact<R: Recorder>(
     let local = |d: DVec3| frame.to_local(d);
     let record = if from_tree {
         let crossings = obj
-            .exact_bsp
-            .as_ref()
-            .and_then(|t| t.leaf_points(&obj.poly, obj.tree_point(x)))
-            .map(|pts| {
-                pts.filter(|p| matches!(p, SilhouettePoint::Crossing(..)))
+            .silhouette_tree()
+            .and_then(|t| t.leaf_loops(&obj.poly, obj.tree_point(x)))
+            .map(|loops| {
+                loops
+                    .into_iter()
+                    .flatten()
+                    .filter(|p| matches!(p, SilhouettePoint::Crossing(..)))
                     .filter_map(|p| p.direction(&obj.poly, x))
                     .map(local)
                     .collect()
@@ -452,6 +454,9 @@ fn record_exact<R: Recorder>(
 ///   (`contour_edges`, the predicate both start from);
 /// * an exact silhouette read from a tree, one found inside a light's window, or a mesh taken
 ///   face by face: none, since none were computed.
+///
+/// And, when the outline stage consulted the mesh's tree (every whole outline but a windowed
+/// one), the lookup: which tree, the planes on the point's path, whether its leaf answered.
 #[allow(clippy::too_many_arguments)]
 fn record_contour<R: Recorder>(
     rec: &mut R,
@@ -469,25 +474,53 @@ fn record_contour<R: Recorder>(
     let Outline::Whole { exact, from_tree } = outline else {
         return;
     };
-    let edges: Vec<[DVec3; 2]> = match (exact, from_tree) {
-        (false, true) => silhouette
-            .loops()
-            .flat_map(|lp| (0..lp.len()).map(move |k| [lp[k], lp[(k + 1) % lp.len()]]))
-            .collect(),
+    let (poly, x) = (&obj.poly, sp.position);
+    let tree = obj.silhouette_tree().filter(|_| !windowed);
+    let tree_x = obj.tree_point(x);
+    if let Some(t) = tree {
+        rec.tree_lookup(&TreeLookupRecord {
+            occluder,
+            kind: t.kind(),
+            tree_point: tree_x,
+            steps: t.path(tree_x).map(|p| p.steps).unwrap_or_default(),
+            answered: from_tree,
+        });
+    }
+    let (edges, world): (Vec<[DVec3; 2]>, Vec<[DVec3; 2]>) = match (exact, from_tree) {
+        (false, true) => {
+            let edges = silhouette
+                .loops()
+                .flat_map(|lp| (0..lp.len()).map(move |k| [lp[k], lp[(k + 1) % lp.len()]]))
+                .collect();
+            // The same loops' vertices on the mesh (a convex tree stores vertices only); a
+            // vertex at the point itself has no direction and is left out of both.
+            let mut world = Vec::new();
+            for lp in tree
+                .and_then(|t| t.leaf_loops(poly, tree_x))
+                .unwrap_or_default()
+            {
+                let pts: Vec<DVec3> = lp
+                    .iter()
+                    .filter_map(|p| match *p {
+                        SilhouettePoint::Vertex(v) => Some(poly.vertices[v as usize]),
+                        SilhouettePoint::Crossing(..) => None,
+                    })
+                    .filter(|&w| (w - x).try_normalize().is_some())
+                    .collect();
+                world.extend((0..pts.len()).map(|k| [pts[k], pts[(k + 1) % pts.len()]]));
+            }
+            (edges, world)
+        }
         (_, false) if !windowed => {
-            let (poly, x) = (&obj.poly, sp.position);
-            let dir = |i: u32| {
-                frame
-                    .to_local(poly.vertices[i as usize] - x)
-                    .normalize_or_zero()
-            };
+            let at = |i: u32| poly.vertices[i as usize];
+            let dir = |i: u32| frame.to_local(at(i) - x).normalize_or_zero();
             contour_edges(poly, x)
-                .map(|[a, b]| [dir(a), dir(b)])
-                .collect()
+                .map(|[a, b]| ([dir(a), dir(b)], [at(a), at(b)]))
+                .unzip()
         }
         _ => return,
     };
-    rec.contour(occluder, &edges);
+    rec.contour(occluder, &edges, &world);
 }
 
 /// Is face `f` of `obj` the face the shading point lies on, or coplanar with it?

@@ -70,6 +70,16 @@ pub struct EnvironmentIntegrals {
     pub set_differences: u32,
 }
 
+/// The shadowed irradiance `E = E_static − E_occluded` (002 Eq. 6), the value every caller
+/// shades with (the renderer, its recording, and the stress test that checks it). The two
+/// terms are integrals over nested regions, so their difference is nonnegative up to the
+/// rounding of the set differences: a few ulps below zero are rounding and clamp to zero; a
+/// real negative would be a bug, which the stress test looks for in the raw difference.
+#[inline]
+pub fn shadowed_irradiance(e_static: DVec3, e_occluded: DVec3) -> DVec3 {
+    (e_static - e_occluded).max(DVec3::ZERO)
+}
+
 /// How far [`environment_integrals`] goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EnvironmentPass {

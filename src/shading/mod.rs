@@ -19,6 +19,7 @@ pub use analytic::{
 };
 pub use environment::{
     EnvironmentIntegrals, EnvironmentOccluders, EnvironmentPass, environment_integrals,
+    shadowed_irradiance,
 };
 pub use invariant::visible_within_light;
 pub use ltc_correction::CorrectionSampling;
@@ -27,7 +28,7 @@ pub use prepared::{MeshPath, MoveReuse, PrepareOptions, PreparedObject, Prepared
 pub use recorder::{
     EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide, EnvironmentTerm,
     ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, RayOutcome, Recorder,
-    SetDifferenceRecord, Stage, StageRecording,
+    SetDifferenceRecord, Stage, StageRecording, TreeLookupRecord,
 };
 pub use tree_library::TreeLibrary;
 

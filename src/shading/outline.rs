@@ -183,14 +183,9 @@ impl PreparedObject {
         out: &mut SphericalPolygon,
         hoisted_buf: &mut Vec<[u32; 2]>,
     ) -> bool {
-        let tree_x = self.tree_point(x);
-        if let Some(h) = &self.hoisted {
-            return h.silhouette_at(&self.poly, x, tree_x, frame, out, hoisted_buf);
-        }
-        match (&self.bsp, &self.exact_bsp) {
-            (Some(t), _) => t.silhouette_at(&self.poly, x, tree_x, frame, out),
-            (None, Some(t)) => t.silhouette_at(&self.poly, x, tree_x, frame, out),
-            (None, None) => false,
+        match self.silhouette_tree() {
+            Some(t) => t.silhouette_at(&self.poly, x, self.tree_point(x), frame, out, hoisted_buf),
+            None => false,
         }
     }
 }

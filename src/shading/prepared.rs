@@ -21,8 +21,8 @@ use super::tree_library::{LibraryEntry, TreeLibrary};
 use crate::geometry::bsp::face_planes_exceed;
 use crate::geometry::{
     EDGE_PAIRS_MAX_EDGES, ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Plane,
-    PointCoding, Polyhedron, SilhouetteBsp, SilhouetteTriangulation, TriangulationLimits,
-    convex_stand_in, separating_plane, solid_angle_bound, star_centre,
+    PointCoding, Polyhedron, SilhouetteBsp, SilhouetteTree, SilhouetteTriangulation,
+    TriangulationLimits, convex_stand_in, separating_plane, solid_angle_bound, star_centre,
 };
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
@@ -309,6 +309,22 @@ impl PreparedObject {
     #[inline]
     pub fn piece_face(&self, g: usize) -> u32 {
         self.fan.as_ref().map_or(g as u32, |f| f.face_of[g])
+    }
+
+    /// The tree shading reads this mesh's silhouettes from: the hoisted form when present, else
+    /// the convex or the exact tree; `None` when the silhouettes are computed at each point.
+    /// The debugger draws the tree this names (and the recording says what a lookup in it
+    /// found), so that it never shows a tree the renderer did not use.
+    #[inline]
+    pub fn silhouette_tree(&self) -> Option<&dyn SilhouetteTree> {
+        if let Some(h) = &self.hoisted {
+            return Some(h.as_ref());
+        }
+        match (&self.bsp, &self.exact_bsp) {
+            (Some(t), _) => Some(t.as_ref()),
+            (None, Some(t)) => Some(t.as_ref()),
+            (None, None) => None,
+        }
     }
 
     /// The point at which to look up this object's tree for the shading point `x`.

@@ -6,7 +6,7 @@
 //! [`StageRecording`] and receives copies of every intermediate polygon of the *same* call.
 
 use crate::geometry::cone::Cone;
-use crate::geometry::{GreinerHormannSteps, PlanarPolygon, SphericalPolygon};
+use crate::geometry::{GreinerHormannSteps, PlanarPolygon, Plane, SphericalPolygon, TreeKind};
 use crate::scene::environment_spec::EnvMethod;
 use glam::DVec3;
 
@@ -44,7 +44,11 @@ pub trait Recorder {
     /// seen from the shading point: each edge as its two endpoint directions in the shading
     /// frame, oriented counter-clockwise around its front-facing face. The silhouette stage
     /// chains exactly these edges (convex and flat meshes) or cuts its loops out of them.
-    fn contour(&mut self, _occluder: Option<usize>, _edges: &[[DVec3; 2]]) {}
+    /// `world` holds the same edges' endpoints on the mesh, in world space (for views drawn in
+    /// the scene rather than on the sphere).
+    fn contour(&mut self, _occluder: Option<usize>, _edges: &[[DVec3; 2]], _world: &[[DVec3; 2]]) {}
+    /// A lookup in the light's (`occluder == None`) or an occluder's BSP tree of silhouettes.
+    fn tree_lookup(&mut self, _record: &TreeLookupRecord) {}
     /// How the exact silhouette of a closed non-convex light (`occluder == None`) or occluder
     /// was found at this point (001 Sect. 4.3, 5.2).
     fn exact_silhouette(&mut self, _record: &ExactSilhouetteRecord) {}
@@ -114,6 +118,20 @@ pub struct ExactSilhouetteRecord {
     pub rejected: Vec<[DVec3; 2]>,
 }
 
+/// A lookup in a mesh's BSP tree of precomputed silhouettes (001 Sect. 5), for the debugger:
+/// which tree shading read (`PreparedObject::silhouette_tree`), the planes tested on the way
+/// to the point's leaf with the side taken, and whether that leaf answered (else the
+/// silhouette was computed at the point).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TreeLookupRecord {
+    pub occluder: Option<usize>,
+    pub kind: TreeKind,
+    /// The shading point in the tree's frame (an instance shares its group's tree).
+    pub tree_point: DVec3,
+    pub steps: Vec<(Plane, bool)>,
+    pub answered: bool,
+}
+
 /// Which BRDF lobe an integral belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Lobe {
@@ -141,6 +159,12 @@ pub struct LightRecord {
     /// Contour edges of the light (`None`) and of the occluders met, as unit directions.
     #[serde(default)]
     pub contours: Vec<(Option<usize>, Vec<[DVec3; 2]>)>,
+    /// The same edges' endpoints on the mesh, in world space.
+    #[serde(default)]
+    pub contour_points: Vec<(Option<usize>, Vec<[DVec3; 2]>)>,
+    /// Lookups in the BSP trees of the light and the occluders met.
+    #[serde(default)]
+    pub trees: Vec<TreeLookupRecord>,
     /// How the exact silhouettes of non-convex meshes were found.
     #[serde(default)]
     pub exact: Vec<ExactSilhouetteRecord>,
@@ -149,6 +173,10 @@ pub struct LightRecord {
     /// Per lobe: the transformed and the clipped polygon, and the lobe's integral (for the
     /// specular lobe the fitted distribution's, `LtcEntry::mix(E(M⁻¹V), E(V))`).
     pub lobes: Vec<(Lobe, SphericalPolygon, SphericalPolygon, f64)>,
+    /// Per lobe: the edge terms of its clipped polygon's form factor (000 Eq. 9), per loop,
+    /// from the edge leaving vertex 0 (`ltc::form_factor_terms`, over 2π).
+    #[serde(default)]
+    pub lobe_edge_terms: Vec<(Lobe, Vec<Vec<f64>>)>,
     pub diffuse: DVec3,
     pub specular: DVec3,
     /// The sampled correction of the LTC (`analytic-exact`): `specular + correction` is an
@@ -309,10 +337,17 @@ impl Recorder for StageRecording {
             .occluder_polygons
             .push((occluder, piece, stage, poly.clone()));
     }
-    fn contour(&mut self, occluder: Option<usize>, edges: &[[DVec3; 2]]) {
+    fn contour(&mut self, occluder: Option<usize>, edges: &[[DVec3; 2]], world: &[[DVec3; 2]]) {
         let cur = self.current();
         if !cur.contours.iter().any(|(o, _)| *o == occluder) {
             cur.contours.push((occluder, edges.to_vec()));
+            cur.contour_points.push((occluder, world.to_vec()));
+        }
+    }
+    fn tree_lookup(&mut self, record: &TreeLookupRecord) {
+        let cur = self.current();
+        if !cur.trees.iter().any(|t| t.occluder == record.occluder) {
+            cur.trees.push(record.clone());
         }
     }
     fn exact_silhouette(&mut self, record: &ExactSilhouetteRecord) {
@@ -346,9 +381,22 @@ impl Recorder for StageRecording {
         clipped: &SphericalPolygon,
         integral: f64,
     ) {
-        self.current()
-            .lobes
+        // The terms of the form factor of the clipped polygon, as the stage added them
+        // (each edge's integral over 2π), listed per loop from the edge leaving vertex 0.
+        let mut terms: Vec<Vec<f64>> = clipped.loops().map(|_| Vec::new()).collect();
+        crate::ltc::form_factor_terms(clipped.loops(), |li, _, t| {
+            terms[li].push(t / std::f64::consts::TAU)
+        });
+        for t in &mut terms {
+            // The sum starts with the closing edge (last → first): put it last.
+            if !t.is_empty() {
+                t.rotate_left(1);
+            }
+        }
+        let cur = self.current();
+        cur.lobes
             .push((lobe, transformed.clone(), clipped.clone(), integral));
+        cur.lobe_edge_terms.push((lobe, terms));
     }
     fn end_light(&mut self, diffuse: DVec3, specular: DVec3) {
         let cur = self.current();

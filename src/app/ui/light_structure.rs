@@ -29,12 +29,16 @@ impl WorkbenchApp {
             && let Some(&(id, _)) = ctx.prepared.lights.get(l)
         {
             let obj = &ctx.prepared.objects[id as usize];
-            let point = self
-                .inspector
-                .as_ref()
-                .and_then(|i| i.probe.point)
-                .map(|p| p.position);
-            self.light_view.ui(ui, obj, point);
+            let probe = self.inspector.as_ref().map(|i| &i.probe);
+            let point = probe.and_then(|p| p.point).map(|p| p.position);
+            // The light's record taken whole (a light taken face by face has no outline).
+            let record = probe.and_then(|p| {
+                p.recording
+                    .lights
+                    .iter()
+                    .find(|r| r.light == l && r.piece.is_none())
+            });
+            self.light_view.ui(ui, obj, point, record);
         }
     }
 }
