@@ -19,9 +19,10 @@
 //! exact there.
 
 use super::SphericalPolygon;
+use super::contour_pieces::{ArcPosition, ContourArc, ContourPieces, End};
 use super::edge_hierarchy::{ContourScratch, contour_edge_indices, coplanar_tolerance};
-use super::polyhedron::Polyhedron;
-use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
+use super::polyhedron::{NO_FACE, Polyhedron};
+use super::quantitative_invisibility::QiScratch;
 use super::ray::Ray;
 use super::silhouette::is_front_facing;
 use super::triangle::{PreparedRay, is_degenerate};
@@ -39,55 +40,13 @@ pub enum Degenerate {
     OpenChain,
 }
 
-/// Where a piece of a contour edge starts or ends.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum End {
-    Vertex(u32),
-    Crossing(u32),
-}
-
-#[derive(Clone, Copy, Debug)]
-struct ContourEdge {
-    v: [u32; 2],
-    faces: [u32; 2],
-    /// Unit directions from the point to the (oriented) ends.
-    a: DVec3,
-    b: DVec3,
-    /// Unit normal of the arc's great circle, a × b normalised.
-    n: DVec3,
-}
-
-#[derive(Clone, Copy, Debug)]
-struct Piece {
-    edge: u32,
-    start: End,
-    end: End,
-    from: DVec3,
-    to: DVec3,
-    used: bool,
-}
-
 /// Reusable buffers of [`exact_silhouette`].
 #[derive(Clone, Debug, Default)]
 pub struct ExactSilhouetteScratch {
-    edges: Vec<ContourEdge>,
-    /// (edge, arc parameter, crossing id) of every apparent intersection, twice each.
-    cuts: Vec<(u32, f64, u32)>,
-    crossings: Vec<DVec3>,
-    /// The two contour edges (indices into `edges`) of each crossing.
-    crossing_edges: Vec<(u32, u32)>,
-    pieces: Vec<Piece>,
-    /// Pieces kept, as indices into `pieces`.
-    kept: Vec<u32>,
-    /// The kept pieces in loop order, with whether the piece closes its loop.
-    chain: Vec<(u32, bool)>,
+    /// The contour arcs and the stages shared with the windowed silhouette.
+    pieces: ContourPieces,
     /// Edges gathered by a lookup in a hoisted tree (`bsp_hoisted`), reused.
     pub hoisted: Vec<[u32; 2]>,
-    /// The sweep's boxes and active list ([`candidate_pairs`]).
-    sweep: SweepScratch,
-    /// The pairs of contour edges that may cross, in the order of the all-pairs loop (when
-    /// [`candidate_pairs`] swept).
-    pairs: Vec<(u32, u32)>,
     /// Test every pair of contour edges and every face along each piece's ray, and scan every
     /// edge for the contour: no sweep, no face or edge hierarchy (the reference all are tested
     /// against).
@@ -98,9 +57,6 @@ pub struct ExactSilhouetteScratch {
     /// The contour edges' indices, ascending, and the buffers of their search.
     contour_ids: Vec<u32>,
     contour: ContourScratch,
-    /// Kept pieces by the end they start at, for chaining: (key of the end, position in
-    /// `kept`), sorted.
-    starts: Vec<(u64, u32)>,
     /// One ray per piece instead of quantitative invisibility (implied by `all_pairs`).
     pub per_piece_rays: bool,
     /// The propagation of quantitative invisibility (step 4).
@@ -228,7 +184,8 @@ pub fn exact_silhouette(
     {
         return Err(Degenerate::CoplanarFace);
     }
-    scratch.edges.clear();
+    let pieces = &mut scratch.pieces;
+    pieces.clear();
     for &ei in &scratch.contour_ids {
         let e = &poly.edges[ei as usize];
         // The orientation of `contour_edges`: the mesh to the left on the sphere (for a
@@ -245,191 +202,36 @@ pub fn exact_silhouette(
             // An edge seen end-on: zero length, no area; it cannot bound anything.
             continue;
         };
-        scratch.edges.push(ContourEdge {
-            v: [i, j],
-            faces: e.faces,
-            a,
-            b,
-            n,
-        });
+        pieces
+            .arcs
+            .push(ContourArc::whole([i, j], e.faces, a, b, n));
     }
-    stats.contour_edges = scratch.edges.len() as u32;
+    stats.contour_edges = pieces.arcs.len() as u32;
 
-    // 2. Apparent intersections of pairs of contour edges without a common vertex (Eq. 4.4:
-    //    the line through x shared by the two arcs' planes), among the candidate pairs.
-    scratch.cuts.clear();
-    scratch.crossings.clear();
-    scratch.crossing_edges.clear();
-    let swept = !scratch.all_pairs
-        && candidate_pairs(
-            scratch.edges.iter().map(|e| (e.a, e.b, e.n)),
-            &mut scratch.sweep,
-            &mut scratch.pairs,
-        );
-    let edges = &scratch.edges;
-    let mut test = |i: usize, j: usize| -> Result<(), Degenerate> {
-        let (e, g) = (&edges[i], &edges[j]);
-        if e.v.iter().any(|v| g.v.contains(v)) {
-            return Ok(());
-        }
-        let Some(mut p) = e.n.cross(g.n).try_normalize() else {
-            return Ok(()); // arcs on one great circle: they overlap or miss, never cross
-        };
-        if p.dot(e.a + e.b) < 0.0 {
-            p = -p;
-        }
-        // Where p lies on each arc, from the sines of its angles to the two ends (no atan2
-        // for the many pairs that do not cross).
-        let (ie, ig) = (arc_position(e, p), arc_position(g, p));
-        if ie == ArcPosition::Inside && ig == ArcPosition::Inside {
-            let (te, tg) = (arc_parameter(e, p), arc_parameter(g, p));
-            let id = scratch.crossings.len() as u32;
-            scratch.crossings.push(p);
-            scratch.crossing_edges.push((i as u32, j as u32));
-            scratch.cuts.push((i as u32, te, id));
-            scratch.cuts.push((j as u32, tg, id));
-        } else if ie != ArcPosition::Outside && ig != ArcPosition::Outside {
-            return Err(Degenerate::CrossingAtEnd);
-        }
-        Ok(())
-    };
-    if swept {
-        for &(i, j) in &scratch.pairs {
-            test(i as usize, j as usize)?;
-        }
-    } else {
-        for i in 0..edges.len() {
-            for j in i + 1..edges.len() {
-                test(i, j)?;
-            }
-        }
-    }
-    stats.apparent_intersections = scratch.crossings.len() as u32;
-
-    // 3. Pieces between consecutive cuts along each edge.
-    scratch
-        .cuts
-        .sort_unstable_by(|p, q| p.0.cmp(&q.0).then(p.1.total_cmp(&q.1)));
-    scratch.pieces.clear();
-    let mut k = 0;
-    for (i, e) in scratch.edges.iter().enumerate() {
-        let mut start = End::Vertex(e.v[0]);
-        let mut from = e.a;
-        while k < scratch.cuts.len() && scratch.cuts[k].0 == i as u32 {
-            let id = scratch.cuts[k].2;
-            let to = scratch.crossings[id as usize];
-            scratch.pieces.push(Piece {
-                edge: i as u32,
-                start,
-                end: End::Crossing(id),
-                from,
-                to,
-                used: false,
-            });
-            start = End::Crossing(id);
-            from = to;
-            k += 1;
-        }
-        scratch.pieces.push(Piece {
-            edge: i as u32,
-            start,
-            end: End::Vertex(e.v[1]),
-            from,
-            to: e.b,
-            used: false,
-        });
-    }
-    stats.pieces = scratch.pieces.len() as u32;
-
-    // 4. Keep the pieces whose midpoint ray meets no face but the edge's own two: one ray per
-    //    piece, or quantitative invisibility (one ray per connected set of pieces, the count
-    //    carried along) on a closed manifold mesh.
-    scratch.kept.clear();
-    if scratch.all_pairs || scratch.per_piece_rays || poly.vertex_faces.is_none() || qi_disabled() {
-        for (pi, piece) in scratch.pieces.iter().enumerate() {
-            let mid = (piece.from + piece.to).normalize();
-            let faces = scratch.edges[piece.edge as usize].faces;
-            if !blocked(poly, x, mid, faces, scratch.all_pairs) {
-                scratch.kept.push(pi as u32);
-            }
-        }
-        stats.rays = stats.pieces;
-    } else {
-        let qi = &mut scratch.qi;
-        qi.edges.clear();
-        qi.edges.extend(scratch.edges.iter().map(|e| QiEdge {
-            v: e.v,
-            faces: e.faces,
-            n: e.n,
-        }));
-        let end = |e: End| match e {
-            End::Vertex(v) => QiEnd::Vertex(v),
-            End::Crossing(id) => QiEnd::Crossing(id),
-        };
-        qi.pieces.clear();
-        qi.pieces.extend(scratch.pieces.iter().map(|p| QiPiece {
-            edge: p.edge,
-            start: end(p.start),
-            end: end(p.end),
-            from: p.from,
-            to: p.to,
-        }));
-        stats.rays = qi.solve_kept(poly, x, &scratch.crossings, None, &mut scratch.kept);
-    }
-    stats.kept = scratch.kept.len() as u32;
-
-    // 5. Chain the kept pieces into loops through their shared ends: the next piece is the
-    //    first unused kept piece (in `kept` order) that starts where the current one ends.
-    scratch.chain.clear();
-    scratch.starts.clear();
-    for (pos, &q) in scratch.kept.iter().enumerate() {
-        scratch
-            .starts
-            .push((end_key(scratch.pieces[q as usize].start), pos as u32));
-    }
-    scratch.starts.sort_unstable();
-    for s in 0..scratch.kept.len() {
-        let first = scratch.kept[s] as usize;
-        if scratch.pieces[first].used {
-            continue;
-        }
-        let start = scratch.pieces[first].start;
-        let mut cur = first;
-        loop {
-            scratch.pieces[cur].used = true;
-            out.push_vertex(frame.to_local(scratch.pieces[cur].from));
-            let end = scratch.pieces[cur].end;
-            scratch.chain.push((cur as u32, end == start));
-            if end == start {
-                break;
-            }
-            let key = end_key(end);
-            let from = scratch.starts.partition_point(|&(k, _)| k < key);
-            let next = scratch.starts[from..]
-                .iter()
-                .take_while(|&&(k, _)| k == key)
-                .map(|&(_, pos)| scratch.kept[pos as usize] as usize)
-                .find(|&q| !scratch.pieces[q].used);
-            match next {
-                Some(q) => cur = q,
-                None => {
-                    out.clear();
-                    return Err(Degenerate::OpenChain);
-                }
-            }
-        }
-        out.close_loop();
+    // 2.-5. The stages shared with the windowed silhouette (`contour_pieces`): apparent
+    //    intersections (Eq. 4.4), pieces between them, the pieces whose midpoint ray meets no
+    //    face but the edge's own two (one ray per piece, or quantitative invisibility on a
+    //    manifold mesh), chained into loops through their shared ends.
+    pieces.find_crossings(scratch.all_pairs, arc_position)?;
+    stats.apparent_intersections = pieces.crossings.len() as u32;
+    pieces.split_into_pieces();
+    stats.pieces = pieces.pieces.len() as u32;
+    stats.rays = pieces.keep_visible(
+        poly,
+        x,
+        scratch.all_pairs || scratch.per_piece_rays,
+        scratch.all_pairs,
+        None,
+        |f| f == NO_FACE,
+        &mut scratch.qi,
+    );
+    stats.kept = pieces.kept.len() as u32;
+    pieces.index_starts();
+    if let Err(e) = pieces.chain_closed_loops(frame, out) {
+        out.clear();
+        return Err(e);
     }
     Ok(stats)
-}
-
-/// A sort key of a piece end: vertices, then crossings.
-#[inline]
-fn end_key(e: End) -> u64 {
-    match e {
-        End::Vertex(v) => v as u64,
-        End::Crossing(id) => 1 << 32 | id as u64,
-    }
 }
 
 impl ExactSilhouetteScratch {
@@ -437,26 +239,20 @@ impl ExactSilhouetteScratch {
     /// midpoint (unit, world orientation), its edge's own faces, its count `c` and whether
     /// that count came from a ray at the piece (for tests: every count equals the ray's).
     pub fn qi_counts(&self) -> impl Iterator<Item = (DVec3, [u32; 2], i32, bool)> + '_ {
-        self.qi.pieces.iter().enumerate().map(|(q, p)| {
-            (
-                (p.from + p.to).normalize(),
-                self.qi.edges[p.edge as usize].faces,
-                self.qi.count[q],
-                self.qi.from_ray[q],
-            )
-        })
+        ContourPieces::qi_counts(&self.qi)
     }
 
     /// The apparent intersections found by the last call (unit directions from the point, in
     /// world orientation), for the debugger.
     pub fn crossings(&self) -> &[DVec3] {
-        &self.crossings
+        &self.pieces.crossings
     }
 
     /// The pieces of contour edges the last successful call rejected (their midpoint ray met
     /// the mesh), as (from, to) unit directions in world orientation, for the debugger.
     pub fn rejected_pieces(&self) -> impl Iterator<Item = [DVec3; 2]> + '_ {
         self.pieces
+            .pieces
             .iter()
             .filter(|p| !p.used)
             .map(|p| [p.from, p.to])
@@ -614,14 +410,16 @@ impl PointCoding {
 /// [`SilhouettePoint`]s; each loop is followed by `None`.
 pub fn symbolic_loops(scratch: &ExactSilhouetteScratch, out: &mut Vec<Option<SilhouettePoint>>) {
     out.clear();
-    for &(piece, closes) in &scratch.chain {
-        let p = &scratch.pieces[piece as usize];
+    let pieces = &scratch.pieces;
+    for &(piece, closes) in &pieces.chain {
+        let p = &pieces.pieces[piece as usize];
         out.push(Some(match p.start {
             End::Vertex(v) => SilhouettePoint::Vertex(v),
             End::Crossing(id) => {
-                let (i, j) = scratch.crossing_edges[id as usize];
-                SilhouettePoint::Crossing(scratch.edges[i as usize].v, scratch.edges[j as usize].v)
+                let (i, j) = pieces.crossing_arcs[id as usize];
+                SilhouettePoint::Crossing(pieces.arcs[i as usize].v, pieces.arcs[j as usize].v)
             }
+            End::Boundary(_) => unreachable!("a whole silhouette has no window boundary"),
         }));
         if closes {
             out.push(None);
@@ -629,30 +427,14 @@ pub fn symbolic_loops(scratch: &ExactSilhouetteScratch, out: &mut Vec<Option<Sil
     }
 }
 
-/// Angle from the arc's start to the direction p, measured in the arc's plane.
-#[inline]
-fn arc_parameter(e: &ContourEdge, p: DVec3) -> f64 {
-    e.a.cross(p).dot(e.n).atan2(e.a.dot(p))
-}
-
-/// Where a direction on an arc's great circle lies relative to the arc.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum ArcPosition {
-    /// More than [`END_TOLERANCE`] inside both ends.
-    Inside,
-    /// Within [`END_TOLERANCE`] of an end (inside or out).
-    AtEnd,
-    Outside,
-}
-
 /// The position of `p` (on the arc's great circle, on the side of the arc's midpoint) on the
 /// arc: the signed angles θ from the start and len − θ to the end are read from their sines,
 /// which equal the angles to first order where the tolerance applies; an angle past π/2 (cosine
 /// negative) is far from that end whatever its sine.
 #[inline]
-fn arc_position(e: &ContourEdge, p: DVec3) -> ArcPosition {
-    let from_start = (e.a.cross(p).dot(e.n), e.a.dot(p));
-    let to_end = (p.cross(e.b).dot(e.n), p.dot(e.b));
+fn arc_position(e: &ContourArc, p: DVec3) -> ArcPosition {
+    let from_start = (e.from.cross(p).dot(e.n), e.from.dot(p));
+    let to_end = (p.cross(e.to).dot(e.n), p.dot(e.to));
     let side = |(sin, cos): (f64, f64)| {
         if sin > END_TOLERANCE || (sin > 0.0 && cos < 0.0) {
             ArcPosition::Inside
@@ -678,10 +460,11 @@ pub(crate) fn blocked_ray(
     x: DVec3,
     dir: DVec3,
     skip: [u32; 2],
+    scan: bool,
     edge_on: Option<f64>,
 ) -> bool {
     let Some(tol) = edge_on else {
-        return blocked(poly, x, dir, skip, false);
+        return blocked(poly, x, dir, skip, scan);
     };
     let ray = PreparedRay::new(&Ray::new(x, dir));
     let hit_face =

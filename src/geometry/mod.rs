@@ -7,6 +7,7 @@ pub mod bsp_nonconvex;
 pub mod bsp_sections;
 pub mod cell_triangulation;
 pub mod cone;
+mod contour_pieces;
 pub mod convex_cell;
 pub mod convex_hull;
 pub mod edge_hierarchy;

@@ -33,9 +33,10 @@
 //! takes the full exact silhouette.
 
 use super::SphericalPolygon;
-use super::exact_silhouette::{SweepScratch, blocked_ray, candidate_pairs};
+use super::contour_pieces::{ArcPosition, ContourArc, ContourPieces, End};
+use super::exact_silhouette::blocked_ray;
 use super::polyhedron::{NO_FACE, Polyhedron};
-use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
+use super::quantitative_invisibility::QiScratch;
 use super::silhouette::is_front_facing;
 use crate::math::Frame;
 use glam::DVec3;
@@ -53,40 +54,6 @@ pub const MAX_WINDOW_CORNERS: usize = 64;
 /// Relative tolerance of the boundary tests (far above rounding of unit vectors).
 const TOL: f64 = 1e-10;
 
-/// A contour arc clipped to the window.
-#[derive(Clone, Copy, Debug)]
-struct Clipped {
-    faces: [u32; 2],
-    /// Mesh vertices of the whole arc's ends (for crossings: arcs sharing a vertex do not cross).
-    v: [u32; 2],
-    /// Unit normal of the arc's great circle.
-    n: DVec3,
-    /// The clipped ends (unit) and, for an end on `∂W'`, the side it lies on.
-    from: DVec3,
-    to: DVec3,
-    from_side: Option<u32>,
-    to_side: Option<u32>,
-}
-
-#[derive(Clone, Copy, Debug)]
-struct Piece {
-    arc: u32,
-    from: DVec3,
-    to: DVec3,
-    /// Where it starts and ends: a mesh vertex, a crossing id, or a point on side `s` of `∂W'`
-    /// (unique id per boundary point).
-    start: End,
-    end: End,
-    used: bool,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum End {
-    Vertex(u32),
-    Crossing(u32),
-    Boundary(u32),
-}
-
 /// Reusable buffers of [`exact_silhouette_in_window`].
 #[derive(Clone, Debug, Default)]
 pub struct WindowScratch {
@@ -95,20 +62,12 @@ pub struct WindowScratch {
     edge_stamp: Vec<u32>,
     stamp: u32,
     candidates: Vec<u32>,
-    arcs: Vec<Clipped>,
-    cuts: Vec<(u32, f64, u32)>,
-    crossings: Vec<DVec3>,
-    pieces: Vec<Piece>,
-    /// Boundary points: (side, position along ∂W', direction).
-    boundary: Vec<(u32, f64, DVec3)>,
-    kept: Vec<u32>,
+    /// The clipped arcs and the stages shared with the whole silhouette.
+    pieces: ContourPieces,
     /// Open chains: (first piece, last piece).
     chains: Vec<(u32, u32)>,
     order: Vec<(f64, u32, bool)>,
     loop_buf: Vec<DVec3>,
-    /// The sweep over the clipped arcs, and the pairs it keeps.
-    sweep: SweepScratch,
-    pairs: Vec<(u32, u32)>,
     /// Test every pair of arcs and cast one ray per piece (the reference the sweep and the
     /// propagation are tested against).
     pub all_pairs: bool,
@@ -222,7 +181,8 @@ pub fn exact_silhouette_in_window(
 
     // 2. Contour arcs among them, oriented with the mesh on the side `orient` of a × b (the
     //    window's own orientation, both being positively oriented loops), clipped to W'.
-    scratch.arcs.clear();
+    let pieces = &mut scratch.pieces;
+    pieces.clear();
     for &e in &scratch.candidates {
         let edge = &poly.edges[e as usize];
         let [g0, g1] = edge.faces;
@@ -291,7 +251,7 @@ pub fn exact_silhouette_in_window(
             continue;
         }
         stats.contour_arcs += 1;
-        scratch.arcs.push(Clipped {
+        pieces.arcs.push(ContourArc {
             faces: edge.faces,
             v: [i, j],
             n,
@@ -302,109 +262,17 @@ pub fn exact_silhouette_in_window(
         });
     }
 
-    // 3. Apparent intersections among the clipped arcs (Eq. 4.4), strictly inside both.
-    scratch.cuts.clear();
-    scratch.crossings.clear();
-    // Among the pairs whose boxes meet (a sweep, for many arcs), in the all-pairs order.
-    let swept = !scratch.all_pairs
-        && candidate_pairs(
-            scratch.arcs.iter().map(|a| (a.from, a.to, a.n)),
-            &mut scratch.sweep,
-            &mut scratch.pairs,
-        );
-    let arcs = &scratch.arcs;
-    let mut test = |i: usize, j: usize| -> Option<()> {
-        let (e, g) = (&arcs[i], &arcs[j]);
-        if e.v.iter().any(|v| g.v.contains(v)) {
-            return Some(());
-        }
-        let Some(mut p) = e.n.cross(g.n).try_normalize() else {
-            return Some(());
-        };
-        if p.dot(e.from + e.to) < 0.0 {
-            p = -p;
-        }
-        let (ie, ig) = (
-            inside_arc(e.from, e.to, e.n, p),
-            inside_arc(g.from, g.to, g.n, p),
-        );
-        match (ie, ig) {
-            (Some(true), Some(true)) => {
-                let id = scratch.crossings.len() as u32;
-                scratch.crossings.push(p);
-                scratch.cuts.push((i as u32, arc_t(e, p), id));
-                scratch.cuts.push((j as u32, arc_t(g, p), id));
-            }
-            (Some(false), _) | (_, Some(false)) => {}
-            _ => return None, // at (or within rounding of) an end
-        }
-        Some(())
-    };
-    if swept {
-        for &(i, j) in &scratch.pairs {
-            test(i as usize, j as usize)?;
-        }
-    } else {
-        for i in 0..arcs.len() {
-            for j in i + 1..arcs.len() {
-                test(i, j)?;
-            }
-        }
-    }
-
-    // 4. Pieces between consecutive cuts; boundary ends get ids of their own.
-    scratch
-        .cuts
-        .sort_unstable_by(|p, q| p.0.cmp(&q.0).then(p.1.total_cmp(&q.1)));
-    scratch.pieces.clear();
-    scratch.boundary.clear();
-    let mut k = 0;
-    for (i, e) in scratch.arcs.iter().enumerate() {
-        let mut start = match e.from_side {
-            Some(s) => {
-                let id = scratch.boundary.len() as u32;
-                scratch.boundary.push((s, 0.0, e.from));
-                End::Boundary(id)
-            }
-            None => End::Vertex(e.v[0]),
-        };
-        let mut from = e.from;
-        while k < scratch.cuts.len() && scratch.cuts[k].0 == i as u32 {
-            let id = scratch.cuts[k].2;
-            let to = scratch.crossings[id as usize];
-            scratch.pieces.push(Piece {
-                arc: i as u32,
-                from,
-                to,
-                start,
-                end: End::Crossing(id),
-                used: false,
-            });
-            start = End::Crossing(id);
-            from = to;
-            k += 1;
-        }
-        let end = match e.to_side {
-            Some(s) => {
-                let id = scratch.boundary.len() as u32;
-                scratch.boundary.push((s, 0.0, e.to));
-                End::Boundary(id)
-            }
-            None => End::Vertex(e.v[1]),
-        };
-        scratch.pieces.push(Piece {
-            arc: i as u32,
-            from,
-            to: e.to,
-            start,
-            end,
-            used: false,
-        });
-    }
-    stats.pieces = scratch.pieces.len() as u32;
+    // 3.-4. Apparent intersections among the clipped arcs (Eq. 4.4), strictly inside both,
+    //    and the pieces between them (`contour_pieces`, as the whole silhouette); boundary ends
+    //    get ids of their own.
+    pieces
+        .find_crossings(scratch.all_pairs, |e, p| inside_arc(e.from, e.to, e.n, p))
+        .ok()?;
+    pieces.split_into_pieces();
+    stats.pieces = pieces.pieces.len() as u32;
     // Positions along ∂W': side index plus the angle from the side's first corner over the
     // side's angle (monotone along the side).
-    for b in &mut scratch.boundary {
+    for b in &mut pieces.boundary {
         let s = b.0 as usize;
         let (c0, c1) = (scratch.window[s], scratch.window[(s + 1) % m]);
         let whole = c0.cross(c1).length().atan2(c0.dot(c1));
@@ -418,108 +286,57 @@ pub fn exact_silhouette_in_window(
 
     // 5. Keep the pieces whose midpoint ray meets no face but the arc's own two: one ray per
     //    piece, or quantitative invisibility (one ray per connected set of pieces in W').
-    scratch.kept.clear();
-    // Faces left out cannot block a ray (they are met edge-on at most).
+    //    Faces left out cannot block a ray (they are met edge-on at most).
     let edge_on = on_mesh.then_some(tol);
-    if scratch.all_pairs || scratch.per_piece_rays || poly.vertex_faces.is_none() || qi_disabled() {
-        for (pi, p) in scratch.pieces.iter().enumerate() {
-            let mid = (p.from + p.to).normalize();
-            if !blocked_ray(poly, x, mid, scratch.arcs[p.arc as usize].faces, edge_on) {
-                scratch.kept.push(pi as u32);
-            }
-        }
-        stats.rays = stats.pieces;
-    } else {
-        let qi = &mut scratch.qi;
-        qi.edges.clear();
-        // A face left out is no face of its edge: the edge counts as a boundary edge.
-        qi.edges.extend(scratch.arcs.iter().map(|a| QiEdge {
-            v: a.v,
-            faces: a.faces.map(|f| if absent(f) { NO_FACE } else { f }),
-            n: a.n,
-        }));
-        let end = |e: End| match e {
-            End::Vertex(v) => QiEnd::Vertex(v),
-            End::Crossing(id) => QiEnd::Crossing(id),
-            End::Boundary(_) => QiEnd::Other,
-        };
-        qi.pieces.clear();
-        qi.pieces.extend(scratch.pieces.iter().map(|p| QiPiece {
-            edge: p.arc,
-            start: end(p.start),
-            end: end(p.end),
-            from: p.from,
-            to: p.to,
-        }));
-        stats.rays = qi.solve_kept(poly, x, &scratch.crossings, edge_on, &mut scratch.kept);
-    }
-    stats.kept = scratch.kept.len() as u32;
+    stats.rays = pieces.keep_visible(
+        poly,
+        x,
+        scratch.all_pairs || scratch.per_piece_rays,
+        false,
+        edge_on,
+        absent,
+        &mut scratch.qi,
+    );
+    stats.kept = pieces.kept.len() as u32;
 
-    // 6. Chains. A chain starts at a piece whose start is on ∂W' or, for closed loops, at any
-    //    unused piece; the next piece starts where the current one ends.
-    let next_of = |end: End, pieces: &[Piece], kept: &[u32]| -> Option<usize> {
-        kept.iter()
-            .map(|&q| q as usize)
-            .find(|&q| !pieces[q].used && pieces[q].start == end)
-    };
+    // 6. Chains. Open chains first, from every piece that starts on ∂W'; the next piece
+    //    starts where the current one ends. Then the closed loops inside W'.
+    pieces.index_starts();
     scratch.chains.clear();
     scratch.loop_buf.clear();
-    // Open chains first: from every boundary start.
-    for s in 0..scratch.kept.len() {
-        let first = scratch.kept[s] as usize;
-        if scratch.pieces[first].used || !matches!(scratch.pieces[first].start, End::Boundary(_)) {
+    for s in 0..pieces.kept.len() {
+        let first = pieces.kept[s] as usize;
+        if pieces.pieces[first].used || !matches!(pieces.pieces[first].start, End::Boundary(_)) {
             continue;
         }
         let mut cur = first;
         loop {
-            scratch.pieces[cur].used = true;
-            match scratch.pieces[cur].end {
+            pieces.pieces[cur].used = true;
+            match pieces.pieces[cur].end {
                 End::Boundary(_) => break,
-                end => cur = next_of(end, &scratch.pieces, &scratch.kept)?,
+                end => cur = pieces.next_piece(end)?,
             }
         }
         scratch.chains.push((first as u32, cur as u32));
     }
-    // Closed loops inside W'.
-    for s in 0..scratch.kept.len() {
-        let first = scratch.kept[s] as usize;
-        if scratch.pieces[first].used {
-            continue;
-        }
-        if matches!(scratch.pieces[first].start, End::Boundary(_)) {
-            return None;
-        }
-        let start = scratch.pieces[first].start;
-        let mut cur = first;
-        loop {
-            scratch.pieces[cur].used = true;
-            out.push_vertex(frame.to_local(scratch.pieces[cur].from));
-            let end = scratch.pieces[cur].end;
-            if end == start {
-                break;
-            }
-            if matches!(end, End::Boundary(_)) {
-                out.clear();
-                return None;
-            }
-            cur = next_of(end, &scratch.pieces, &scratch.kept)?;
-        }
-        out.close_loop();
+    if pieces.chain_closed_loops(frame, out).is_err() {
+        out.clear();
+        return None;
     }
     // Open chains closed along ∂W', or W' itself.
     if scratch.chains.is_empty() {
         // Is ∂W' inside the covered region? One ray at a corner, away from every arc.
         let corner = scratch.window[0];
-        for e in &scratch.arcs {
+        for e in &pieces.arcs {
             if e.n.dot(corner).abs() <= 1e3 * TOL
-                && inside_arc(e.from, e.to, e.n, corner) != Some(false)
+                && inside_arc(e.from, e.to, e.n, corner) != ArcPosition::Outside
             {
                 out.clear();
                 return None;
             }
         }
         stats.rays += 1;
-        if blocked_ray(poly, x, corner, [NO_FACE; 2], edge_on) {
+        if blocked_ray(poly, x, corner, [NO_FACE; 2], false, edge_on) {
             for &w in &scratch.window {
                 out.push_vertex(frame.to_local(w));
             }
@@ -534,8 +351,8 @@ pub fn exact_silhouette_in_window(
             End::Boundary(id) => Some(boundary[id as usize].1),
             _ => None,
         };
-        let entry = pos(scratch.pieces[first as usize].start, &scratch.boundary)?;
-        let exit = pos(scratch.pieces[last as usize].end, &scratch.boundary)?;
+        let entry = pos(pieces.pieces[first as usize].start, &pieces.boundary)?;
+        let exit = pos(pieces.pieces[last as usize].end, &pieces.boundary)?;
         scratch.order.push((entry, c as u32, false));
         scratch.order.push((exit, c as u32, true));
     }
@@ -570,19 +387,19 @@ pub fn exact_silhouette_in_window(
             let (first, _) = scratch.chains[c];
             let mut cur = first as usize;
             loop {
-                out.push_vertex(frame.to_local(scratch.pieces[cur].from));
-                match scratch.pieces[cur].end {
+                out.push_vertex(frame.to_local(pieces.pieces[cur].from));
+                match pieces.pieces[cur].end {
                     End::Boundary(_) => break,
                     end => {
-                        cur = scratch
+                        cur = pieces
                             .kept
                             .iter()
                             .map(|&q| q as usize)
-                            .find(|&q| scratch.pieces[q].start == end)?;
+                            .find(|&q| pieces.pieces[q].start == end)?;
                     }
                 }
             }
-            out.push_vertex(frame.to_local(scratch.pieces[cur].to));
+            out.push_vertex(frame.to_local(pieces.pieces[cur].to));
             // Along ∂W' from this exit to the next entry, through the corners passed.
             let k = scratch
                 .order
@@ -623,14 +440,7 @@ impl WindowScratch {
     /// midpoint (unit, world orientation), its arc's own faces, its count `c` and whether that
     /// count came from a ray at the piece (for tests: every count equals the ray's).
     pub fn qi_counts(&self) -> impl Iterator<Item = (DVec3, [u32; 2], i32, bool)> + '_ {
-        self.qi.pieces.iter().enumerate().map(|(q, p)| {
-            (
-                (p.from + p.to).normalize(),
-                self.qi.edges[p.edge as usize].faces,
-                self.qi.count[q],
-                self.qi.from_ray[q],
-            )
-        })
+        ContourPieces::qi_counts(&self.qi)
     }
 }
 
@@ -794,27 +604,21 @@ fn push_distinct(buf: &mut Vec<DVec3>, v: DVec3) {
     }
 }
 
-/// Where `p` (on the great circle of normal `n`) lies on the arc from `a` to `b`: `Some(true)`
-/// strictly inside, `Some(false)` clearly outside, `None` within rounding of an end.
+/// Where `p` (on the great circle of normal `n`) lies on the arc from `a` to `b`: strictly
+/// inside, clearly outside, or within rounding of an end.
 #[inline]
-fn inside_arc(a: DVec3, b: DVec3, n: DVec3, p: DVec3) -> Option<bool> {
+fn inside_arc(a: DVec3, b: DVec3, n: DVec3, p: DVec3) -> ArcPosition {
     // p is inside iff it is on the positive side of both a's and b's perpendicular planes.
     let sa = n.cross(a).dot(p); // > 0: past a toward b
     let sb = b.cross(n).dot(p); // > 0: before b
     let e = 1e-10;
     if sa > e && sb > e && p.dot(a + b) > 0.0 {
-        Some(true)
+        ArcPosition::Inside
     } else if sa < -e || sb < -e || p.dot(a + b) <= 0.0 {
-        Some(false)
+        ArcPosition::Outside
     } else {
-        None
+        ArcPosition::AtEnd
     }
-}
-
-/// The position of `p` along a clipped arc (for sorting the cuts): the angle from its start.
-#[inline]
-fn arc_t(e: &Clipped, p: DVec3) -> f64 {
-    e.from.cross(p).dot(e.n).atan2(e.from.dot(p))
 }
 
 /// A bit set for the few chains of a window.
