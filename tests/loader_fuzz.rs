@@ -446,7 +446,8 @@ fn check_scene(s: &Scene, shade_it: bool) {
             continue;
         };
         let pts: Vec<DVec3> = f.iter().map(|&i| o.mesh.positions[i as usize]).collect();
-        let Some(n) = penumbra::scene::shapes::polygon_area_vector(&pts).try_normalize() else {
+        let Some(n) = penumbra::math::polygon_area_vector(pts.iter().copied()).try_normalize()
+        else {
             continue;
         };
         let c = pts.iter().copied().sum::<DVec3>() / pts.len() as f64;

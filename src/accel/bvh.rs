@@ -149,16 +149,8 @@ pub fn newell_normal(positions: &[DVec3], face: &[u32]) -> DVec3 {
     if face.len() < 3 || face.iter().any(|&i| i as usize >= positions.len()) {
         return DVec3::ZERO;
     }
-    let p = |k: usize| positions[face[k] as usize];
-    // Relative to the centroid, so that a face far from the world origin loses no digits.
-    let c = face.iter().map(|&i| positions[i as usize]).sum::<DVec3>() / face.len() as f64;
-    let mut n = DVec3::ZERO;
-    for k in 0..face.len() {
-        let a = p(k) - c;
-        let b = p((k + 1) % face.len()) - c;
-        n += a.cross(b);
-    }
-    n.normalize_or_zero()
+    crate::math::polygon_area_vector(face.iter().map(|&i| positions[i as usize]))
+        .normalize_or_zero()
 }
 
 #[derive(Clone, Copy)]

@@ -98,16 +98,9 @@ pub struct Polyhedron {
 /// The plane of a face loop: Newell's normal (robust for a possibly non-planar polygon)
 /// through the centroid; `None` for a face without area.
 fn face_plane(vertices: &[DVec3], loop_: &[u32]) -> Option<Plane> {
-    let mut n = DVec3::ZERO;
-    let mut centroid = DVec3::ZERO;
-    for k in 0..loop_.len() {
-        let a = vertices[loop_[k] as usize];
-        let b = vertices[loop_[(k + 1) % loop_.len()] as usize];
-        n += (a - b).cross(a + b) * 0.5;
-        centroid += a;
-    }
-    centroid /= loop_.len() as f64;
-    let n = n.try_normalize()?;
+    let points = loop_.iter().map(|&i| vertices[i as usize]);
+    let centroid = points.clone().sum::<DVec3>() / loop_.len() as f64;
+    let n = crate::math::polygon_area_vector(points).try_normalize()?;
     Some(Plane {
         n,
         d: n.dot(centroid),

@@ -1,8 +1,11 @@
-//! Small math utilities shared by every module: the shading frame and a deterministic RNG.
+//! Small math utilities shared by every module: the shading frame, a deterministic RNG and
+//! Newell's area vector of a polygon.
 
 mod frame;
+mod polygon;
 mod rng;
 
 pub use frame::Frame;
 pub use glam::{DMat3, DVec2, DVec3};
+pub use polygon::polygon_area_vector;
 pub use rng::Pcg32;

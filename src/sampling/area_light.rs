@@ -44,11 +44,8 @@ impl LightSampler {
             let mut area = 0.0;
             for (f, face) in m.faces.iter().enumerate() {
                 let p: Vec<DVec3> = face.iter().map(|&k| m.positions[k as usize]).collect();
-                let mut newell = DVec3::ZERO;
-                for k in 0..p.len() {
-                    newell += p[k].cross(p[(k + 1) % p.len()]);
-                }
-                let Some(n) = newell.try_normalize() else {
+                let Some(n) = crate::math::polygon_area_vector(p.iter().copied()).try_normalize()
+                else {
                     continue;
                 };
                 for k in 1..p.len().saturating_sub(1) {

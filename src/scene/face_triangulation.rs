@@ -98,7 +98,7 @@ pub fn face_surface(pts: &[DVec3], rounding: f64) -> FaceSurface {
 
 /// Every corner of the face `pts` turns the way of its Newell normal (up to [`turn_slack`]).
 fn is_convex(pts: &[DVec3], rounding: f64) -> bool {
-    let Some(n) = super::shapes::polygon_area_vector(pts).try_normalize() else {
+    let Some(n) = crate::math::polygon_area_vector(pts.iter().copied()).try_normalize() else {
         return true;
     };
     let m = pts.len();
@@ -131,7 +131,7 @@ pub fn ear_clip(pts: &[DVec3], slack: f64) -> Option<Vec<[usize; 3]>> {
     if m == 3 {
         return Some(vec![[0, 1, 2]]);
     }
-    let n = super::shapes::polygon_area_vector(pts).try_normalize()?;
+    let n = crate::math::polygon_area_vector(pts.iter().copied()).try_normalize()?;
     let frame = Frame::from_z(n);
     let o = pts[0];
     // In the plane, with the polygon counter-clockwise (Newell's normal is its front).
@@ -190,7 +190,7 @@ mod tests {
     use super::*;
 
     fn area(pts: &[DVec3]) -> f64 {
-        super::super::shapes::polygon_area_vector(pts).length()
+        crate::math::polygon_area_vector(pts.iter().copied()).length()
     }
 
     /// The triangles tile the polygon: their areas add up to its area, every one is
@@ -199,11 +199,11 @@ mod tests {
     fn check_tiling(pts: &[DVec3]) {
         let tris = ear_clip(pts, 1e-12).expect("a simple polygon has ears");
         assert_eq!(tris.len(), pts.len() - 2);
-        let n = super::super::shapes::polygon_area_vector(pts).normalize();
+        let n = crate::math::polygon_area_vector(pts.iter().copied()).normalize();
         let mut sum = 0.0;
         for t in &tris {
             let tp = [pts[t[0]], pts[t[1]], pts[t[2]]];
-            let a = super::super::shapes::polygon_area_vector(&tp);
+            let a = crate::math::polygon_area_vector(tp.iter().copied());
             assert!(a.dot(n) > 0.0, "triangle {t:?} is counter-clockwise");
             sum += a.length();
         }

@@ -666,7 +666,7 @@ pub fn repair_face(face: &[u32], positions: &[DVec3]) -> FaceRepair {
         ));
     }
     let pts: Vec<DVec3> = out.iter().filter_map(|&i| pos(i)).collect();
-    let area = super::shapes::polygon_area_vector(&pts).length();
+    let area = crate::math::polygon_area_vector(pts.iter().copied()).length();
     let longest = (0..pts.len())
         .map(|k| pts[k].distance(pts[(k + 1) % pts.len()]))
         .fold(0.0, f64::max);
@@ -1270,7 +1270,7 @@ mod tests {
             .iter()
             .map(|f| {
                 let p: Vec<DVec3> = f.iter().map(|&i| m.positions[i as usize]).collect();
-                crate::scene::shapes::polygon_area_vector(&p).z
+                crate::math::polygon_area_vector(p.iter().copied()).z
             })
             .sum();
         assert!((area - 12.0).abs() < 1e-12, "{area}");

@@ -11,6 +11,7 @@
 //! is zero degenerates gracefully (zero-area faces), it is never malformed in its indices.
 
 use super::Mesh;
+use crate::math::polygon_area_vector;
 use glam::{DAffine3, DMat3, DVec2, DVec3};
 use std::collections::HashMap;
 
@@ -91,7 +92,7 @@ impl Mesh {
             .iter()
             .map(|&i| self.positions.get(i as usize).copied())
             .collect();
-        pts.map_or(DVec3::ZERO, |p| polygon_area_vector(&p))
+        pts.map_or(DVec3::ZERO, polygon_area_vector)
     }
 
     /// Unit front normal of face `face`, or `None` if the face has no area.
@@ -262,20 +263,6 @@ fn clip_to_halfspace(poly: &[DVec3], n: DVec3) -> Vec<DVec3> {
         }
     }
     out
-}
-
-/// Newell's area vector of a polygon (direction = CCW front normal, length = area).
-pub fn polygon_area_vector(pts: &[DVec3]) -> DVec3 {
-    if pts.len() < 3 {
-        return DVec3::ZERO;
-    }
-    // Relative to the first vertex for accuracy far from the origin.
-    let o = pts[0];
-    let mut sum = DVec3::ZERO;
-    for k in 1..pts.len() - 1 {
-        sum += (pts[k] - o).cross(pts[k + 1] - o);
-    }
-    0.5 * sum
 }
 
 /// Reverses a face's winding, keeping its first vertex first.

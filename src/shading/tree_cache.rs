@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
 /// Bump whenever a tree build changes what it produces.
-pub const FORMAT: u32 = 5;
+pub const FORMAT: u32 = 6;
 
 /// The default bound on the cache's size on disk.
 pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
