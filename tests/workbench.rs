@@ -422,7 +422,7 @@ fn the_environment_panel_drives_the_render_and_the_picked_point() {
     let mut h = harness(state);
     wait_for_render(&mut h);
     assert_eq!(
-        h.state().state.environment.map,
+        h.state().settings.environment.map,
         penumbra::app::environment_panel::MapChoice::Sky
     );
     let frame = h.state().latest_frame().expect("a frame");
@@ -457,7 +457,7 @@ fn the_environment_panel_drives_the_render_and_the_picked_point() {
     h.get_by_label("E_occluded");
     h.get_by_label("union terms integrated:");
 
-    let mut choice = h.state().state.environment.clone();
+    let mut choice = h.state().settings.environment.clone();
     choice.method = EnvMethod::Rt;
     choice.spp = 16;
     h.state_mut().set_environment(choice);
@@ -478,5 +478,5 @@ fn the_environment_panel_drives_the_render_and_the_picked_point() {
     h.run_steps(2);
     // The rays' row of the numbers (the layer's check box is in the sphere's menu, closed).
     assert_eq!(h.query_all_by_label("rays").count(), 1);
-    assert!(h.state().state.sphere.layers.rays);
+    assert!(h.state().settings.sphere.layers.rays);
 }

@@ -29,7 +29,7 @@ fn the_presets_show_a_large_sphere_of_a_penumbra_point() {
         let app = h.state();
         assert!(layout::is_shown(&app.tree, Pane::Sphere), "{preset:?}");
         assert!(layout::is_shown(&app.tree, Pane::Viewport), "{preset:?}");
-        let side = app.state.sphere.sphere_side;
+        let side = app.settings.sphere.sphere_side;
         assert!(side >= 400.0, "{preset:?}: the sphere is {side} px");
         let ins = app.inspector.as_ref().expect("a point is picked at start");
         let p = &ins.probe;
@@ -64,7 +64,7 @@ fn the_viewport_keeps_the_aspect() {
         let r = h.state().viewport_rect.expect("the viewport is drawn");
         let aspect = r.width() / r.height();
         assert!(
-            (aspect - h.state().state.aspect).abs() < 0.02,
+            (aspect - h.state().settings.aspect).abs() < 0.02,
             "{preset:?}: {aspect}"
         );
     }
@@ -339,7 +339,7 @@ fn a_dropped_glb_opens_and_renders() {
         .push(std::sync::Arc::new(Dropped(path.clone())));
     h.step();
     let name = path.display().to_string();
-    assert_eq!(h.state().state.scene, name, "{}", h.state().status);
+    assert_eq!(h.state().settings.scene, name, "{}", h.state().status);
     wait_for_render(&mut h);
     h.run_steps(3);
     let scene = penumbra::scene::scene_file::load_scene(&path).unwrap();

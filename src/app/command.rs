@@ -1,7 +1,7 @@
 //! Every action of the workbench that a key, a menu entry or a button can start, as one
 //! [`Command`] (after rerun's `UICommand`): its name, its shortcut (defined here once, and
 //! shown in the menus and in the help from here), and whether it waits while a text field has
-//! the keyboard. `WorkbenchApp::run_command` carries them out.
+//! the keyboard. `AppState::run_command` carries them out.
 
 use egui::{InputState, Key};
 

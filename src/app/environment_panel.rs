@@ -150,8 +150,6 @@ impl MapCache {
 /// the render).
 #[derive(Default)]
 pub struct EnvironmentPanel {
-    /// An error from the last load, shown under the controls.
-    pub error: Option<String>,
     /// Rotation and scale while their slider is dragged (applied when it is let go: each
     /// change projects the map on SH again and restarts the render).
     rotate_edit: Option<f64>,
@@ -159,7 +157,9 @@ pub struct EnvironmentPanel {
 }
 
 impl EnvironmentPanel {
-    pub fn ui(&mut self, ui: &mut Ui, choice: &mut EnvironmentChoice) -> bool {
+    /// The controls over `choice`, with `error` (from the last load) under them; `true` when
+    /// the choice changed.
+    pub fn ui(&mut self, ui: &mut Ui, choice: &mut EnvironmentChoice, error: Option<&str>) -> bool {
         let mut changed = false;
         let before = choice.clone();
         ui.horizontal_wrapped(|ui| {
@@ -236,7 +236,7 @@ impl EnvironmentPanel {
                 ui.checkbox(&mut choice.filter, "5×5 cross-bilateral filter");
             }
         }
-        if let Some(e) = &self.error {
+        if let Some(e) = error {
             ui.colored_label(egui::Color32::LIGHT_RED, e);
         }
         changed |= *choice != before;

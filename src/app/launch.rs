@@ -105,10 +105,10 @@ pub fn run(opts: RunOptions) -> eframe::Result {
                 app.load_scene(s);
             }
             if let Some(m) = opts.method {
-                app.state.method = m;
+                app.settings.method = m;
             }
             if opts.env.is_some() || opts.env_method.is_some() {
-                let mut choice = app.state.environment.clone();
+                let mut choice = app.settings.environment.clone();
                 if let Some(map) = &opts.env {
                     choice.map = environment_panel::MapChoice::parse(map);
                 }
@@ -118,7 +118,7 @@ pub fn run(opts: RunOptions) -> eframe::Result {
                 app.set_environment(choice);
             }
             if opts.fit {
-                app.state.sphere.fit = true;
+                app.settings.sphere.fit = true;
             }
             if let Some(name) = &opts.light {
                 app.select_light(name);
@@ -371,7 +371,7 @@ impl eframe::App for Measure {
                         ui.ctx().content_rect().height(),
                     );
                     r.render_size = self.app.render_size;
-                    r.method = self.app.state.method.name().into();
+                    r.method = self.app.settings.method.name().into();
                     let mut v = r.frame_ms.clone();
                     v.sort_by(f64::total_cmp);
                     if !v.is_empty() {
@@ -517,8 +517,8 @@ impl eframe::App for MeasureDrag {
                     ui.ctx().content_rect().height(),
                 );
                 r.render_size = self.app.render_size;
-                r.method = self.app.state.method.name().into();
-                r.scene = self.app.state.scene.clone();
+                r.method = self.app.settings.method.name().into();
+                r.scene = self.app.settings.scene.clone();
                 let max = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
                 r.prepare_ms_max = max(&r.prepare_ms);
                 r.sphere_ms_max = max(&r.sphere_ms);

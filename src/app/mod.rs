@@ -26,7 +26,7 @@ pub mod scene_edit;
 pub mod sphere_view;
 pub mod stages;
 pub mod tonemap;
-mod ui;
+pub mod ui;
 pub mod viewport;
 
 use crate::bench::BenchReport;
@@ -130,9 +130,12 @@ struct ErrorTrace {
     generation: u64,
 }
 
-/// The workbench.
-pub struct WorkbenchApp {
-    pub state: Persisted,
+/// The workbench's state: the scene and its prepared context, the render, the picked point
+/// and its recording, the selection and edits, and the user's settings. The panes draw from
+/// it ([`ui::Panes`]); commands change it ([`AppState::run_command`]).
+pub struct AppState {
+    /// What the user set, kept between sessions.
+    pub settings: Persisted,
     ctx: Option<Arc<RenderContext>>,
     scene_error: Option<String>,
     pub orbit: OrbitCamera,
@@ -172,23 +175,21 @@ pub struct WorkbenchApp {
     pub editor: scene_edit::SceneEditor,
     /// Where the viewport was drawn in the last frame (points).
     pub viewport_rect: Option<egui::Rect>,
-    bench_job: Option<bench_job::BenchJob>,
-    bench_size: (u32, u32),
     /// The light whose polyhedron the structure view shows (index into the prepared lights).
     selected_light: Option<usize>,
-    pub light_view: light_view::LightView,
     /// Read silhouettes from the BSP trees (as the renderer does by default); off, every
     /// silhouette is computed at its point, and the recording then holds the contour pieces
     /// the exact silhouette's ray test rejected there.
     pub use_trees: bool,
-    env_panel: environment_panel::EnvironmentPanel,
+    /// An error from the last load of the environment's map (the environment pane shows it).
+    env_error: Option<String>,
     env_maps: environment_panel::MapCache,
 }
 
-impl WorkbenchApp {
+impl AppState {
     /// A workbench on `state.scene`; `repaint` wakes the UI when a frame is ready.
     pub fn new(state: Persisted, repaint: impl Fn() + Send + Sync + 'static) -> Self {
-        let mut app = WorkbenchApp {
+        let mut app = AppState {
             orbit: OrbitCamera {
                 target: glam::DVec3::ZERO,
                 distance: 5.0,
@@ -224,24 +225,21 @@ impl WorkbenchApp {
             lesson_capture: None,
             editor: Default::default(),
             viewport_rect: None,
-            bench_job: None,
-            bench_size: (160, 120),
             selected_light: None,
-            light_view: light_view::LightView::default(),
             use_trees: true,
-            env_panel: Default::default(),
+            env_error: None,
             env_maps: Default::default(),
-            state,
+            settings: state,
         };
-        app.tree = match app.state.layout.take() {
+        app.tree = match app.settings.layout.take() {
             Some(mut t) => {
                 layout::add_missing_panes(&mut t);
                 t
             }
-            None => app.state.preset.tree(),
+            None => app.settings.preset.tree(),
         };
-        let scene = app.state.scene.clone();
-        let orbit = app.state.orbit;
+        let scene = app.settings.scene.clone();
+        let orbit = app.settings.orbit;
         app.load_scene(&scene);
         if let Some(o) = orbit {
             app.orbit = o;
@@ -254,24 +252,12 @@ impl WorkbenchApp {
         Persisted {
             orbit: Some(self.orbit),
             layout: Some(self.tree.clone()),
-            ..self.state.clone()
+            ..self.settings.clone()
         }
     }
 
-    /// Creates the app inside eframe (restoring the persisted state).
-    pub fn from_creation_context(cc: &eframe::CreationContext<'_>) -> Self {
-        let state: Persisted = cc
-            .storage
-            .and_then(|s| eframe::get_value(s, eframe::APP_KEY))
-            .unwrap_or_default();
-        let ctx = cc.egui_ctx.clone();
-        let app = WorkbenchApp::new(state, move || ctx.request_repaint());
-        app.apply_theme(&cc.egui_ctx);
-        app
-    }
-
     fn apply_theme(&self, ctx: &egui::Context) {
-        ctx.set_visuals(if self.state.dark {
+        ctx.set_visuals(if self.settings.dark {
             egui::Visuals::dark()
         } else {
             egui::Visuals::light()
@@ -302,7 +288,10 @@ impl WorkbenchApp {
                 format!(", {} warnings", scene.warnings.len())
             }
         );
-        self.state.environment = self.state.environment.from_spec(scene.environment.as_ref());
+        self.settings.environment = self
+            .settings
+            .environment
+            .from_spec(scene.environment.as_ref());
         self.ctx = Some(self.context(Arc::new(scene)));
         self.scene_error = None;
         self.scene_generation += 1;
@@ -310,10 +299,10 @@ impl WorkbenchApp {
         self.inspector = None;
         self.monte_carlo = None;
         self.auto_pick = true;
-        self.state.recent.retain(|r| *r != name);
-        self.state.recent.insert(0, name.clone());
-        self.state.recent.truncate(8);
-        self.state.scene = name;
+        self.settings.recent.retain(|r| *r != name);
+        self.settings.recent.insert(0, name.clone());
+        self.settings.recent.truncate(8);
+        self.settings.scene = name;
     }
 
     /// The render context of `scene`, with or without its silhouette trees, lit by the
@@ -337,15 +326,15 @@ impl WorkbenchApp {
         Arc<crate::environment::EnvironmentLight>,
         crate::render::environment::EnvironmentSettings,
     )> {
-        match self.env_maps.light(&self.state.environment) {
+        match self.env_maps.light(&self.settings.environment) {
             Ok(light) => {
-                self.env_panel.error = None;
-                light.map(|l| (l, self.state.environment.settings()))
+                self.env_error = None;
+                light.map(|l| (l, self.settings.environment.settings()))
             }
             Err(e) => {
                 let msg = format!("environment: {e:#}");
                 self.status = msg.clone();
-                self.env_panel.error = Some(msg);
+                self.env_error = Some(msg);
                 None
             }
         }
@@ -355,7 +344,7 @@ impl WorkbenchApp {
     /// scene is copied with the new light, the progressive render restarts, and the picked
     /// pixel (if any) is picked again.
     pub fn set_environment(&mut self, choice: environment_panel::EnvironmentChoice) {
-        self.state.environment = choice;
+        self.settings.environment = choice;
         let Some(ctx) = self.ctx.clone() else {
             return;
         };
@@ -370,7 +359,7 @@ impl WorkbenchApp {
         self.scene_generation += 1;
         self.monte_carlo = None;
         if let Some(ins) = &self.inspector
-            && ins.probe.scene == self.state.scene
+            && ins.probe.scene == self.settings.scene
         {
             let (x, y) = ins.probe.pixel;
             // The same stage stays shown where the new recording has it.
@@ -483,13 +472,13 @@ impl WorkbenchApp {
         RenderSettings {
             width: self.render_size.0.max(1),
             height: self.render_size.1.max(1),
-            aa: self.state.aa.max(1),
-            method: self.state.method,
-            spp: self.state.spp.max(1),
+            aa: self.settings.aa.max(1),
+            method: self.settings.method,
+            spp: self.settings.spp.max(1),
             seed: 1,
             light_sampling: crate::stochastic::LightSampling::SolidAngle,
             collect_stats: matches!(
-                self.state.aov,
+                self.settings.aov,
                 Aov::OccludersKept | Aov::SilhouetteEdges | Aov::Cost
             ),
             exact_u: false,
@@ -508,14 +497,14 @@ impl WorkbenchApp {
         let camera = self.orbit.camera();
         let key = format!(
             "{}|{:?}|{:?}|{}",
-            self.scene_generation, camera, settings, self.state.passes
+            self.scene_generation, camera, settings, self.settings.passes
         );
         if self.requested.as_ref().is_some_and(|(_, k)| *k == key) {
             return;
         }
         let generation = self
             .worker
-            .request(ctx, camera, settings, self.state.passes.max(1));
+            .request(ctx, camera, settings, self.settings.passes.max(1));
         self.requested = Some((generation, key));
         self.trace.points.clear();
         self.trace.generation = generation;
@@ -536,7 +525,7 @@ impl WorkbenchApp {
                 layout::reveal(&mut self.tree, Pane::Plots);
             }
             Ok(Opened::Environment(p)) => {
-                let mut choice = self.state.environment.clone();
+                let mut choice = self.settings.environment.clone();
                 choice.map = environment_panel::MapChoice::File(p);
                 self.set_environment(choice);
             }
@@ -615,13 +604,6 @@ impl WorkbenchApp {
         self.pending_screenshot = Some((path, crop));
     }
 
-    fn environment_ui(&mut self, ui: &mut Ui) {
-        let mut choice = self.state.environment.clone();
-        if self.env_panel.ui(ui, &mut choice) {
-            self.set_environment(choice);
-        }
-    }
-
     /// Whether a lesson export is running.
     pub fn exporting_lesson(&self) -> bool {
         self.lesson_capture.is_some()
@@ -629,7 +611,7 @@ impl WorkbenchApp {
 
     /// Replaces the tiles by `preset`'s.
     pub fn set_preset(&mut self, preset: Preset) {
-        self.state.preset = preset;
+        self.settings.preset = preset;
         self.tree = preset.tree();
         self.maximised = None;
     }
@@ -652,6 +634,49 @@ impl WorkbenchApp {
     }
 }
 
+/// The workbench: its state and its panes. The panes draw from the state (and the picked
+/// point's recording in it) and change it through its methods and commands; each keeps only
+/// its own view state (the egui demo's panels, rerun's split of data and views).
+pub struct WorkbenchApp {
+    pub app: AppState,
+    pub panes: ui::Panes,
+}
+
+impl std::ops::Deref for WorkbenchApp {
+    type Target = AppState;
+    fn deref(&self) -> &AppState {
+        &self.app
+    }
+}
+
+impl std::ops::DerefMut for WorkbenchApp {
+    fn deref_mut(&mut self) -> &mut AppState {
+        &mut self.app
+    }
+}
+
+impl WorkbenchApp {
+    /// A workbench on `state.scene`; `repaint` wakes the UI when a frame is ready.
+    pub fn new(state: Persisted, repaint: impl Fn() + Send + Sync + 'static) -> Self {
+        WorkbenchApp {
+            app: AppState::new(state, repaint),
+            panes: ui::Panes::default(),
+        }
+    }
+
+    /// Creates the app inside eframe (restoring the persisted state).
+    pub fn from_creation_context(cc: &eframe::CreationContext<'_>) -> Self {
+        let state: Persisted = cc
+            .storage
+            .and_then(|s| eframe::get_value(s, eframe::APP_KEY))
+            .unwrap_or_default();
+        let ctx = cc.egui_ctx.clone();
+        let app = WorkbenchApp::new(state, move || ctx.request_repaint());
+        app.apply_theme(&cc.egui_ctx);
+        app
+    }
+}
+
 impl eframe::App for WorkbenchApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         self.frame_ui(ui);
@@ -663,7 +688,7 @@ impl eframe::App for WorkbenchApp {
 }
 
 /// A pane's content in a vertical scroll area (panes are as tall as their tile).
-fn scrolled(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui)) {
+pub(crate) fn scrolled(ui: &mut Ui, id: &str, add: impl FnOnce(&mut Ui)) {
     egui::ScrollArea::both()
         .id_salt(id)
         .auto_shrink([false, false])

@@ -2,7 +2,7 @@
 
 use super::super::*;
 
-impl WorkbenchApp {
+impl AppState {
     pub(in crate::app) fn open_dialog(&mut self) {
         if let Some(p) = rfd::FileDialog::new()
             .add_filter(
@@ -25,7 +25,7 @@ impl WorkbenchApp {
             .save_file()
         {
             self.status =
-                match files::save_image(&frame.frame.output.image, &p, self.state.exposure) {
+                match files::save_image(&frame.frame.output.image, &p, self.settings.exposure) {
                     Ok(()) => format!("wrote {}", p.display()),
                     Err(e) => format!("{e:#}"),
                 };

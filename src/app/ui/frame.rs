@@ -1,4 +1,6 @@
-//! The workbench's the frame: the panes' dispatch, the viewport and its texture, pending screenshots.
+//! One frame of the workbench: the bars, the tiles with each pane drawn by its own type
+//! ([`super::Panes`]), the help window; and the state's per-frame work (the viewport's texture,
+//! pending screenshots).
 
 use super::super::*;
 
@@ -73,87 +75,26 @@ impl WorkbenchApp {
         }
     }
 
-    /// Draws one pane of the tile tree.
+    /// Draws one pane of the tile tree: the pane's own type, over the app's state.
     pub fn pane_ui(&mut self, ui: &mut Ui, pane: Pane) {
-        let pick_first = "Click a pixel of the viewport to see its shading point here.";
+        let WorkbenchApp { app, panes } = self;
+        let view = panes.get(pane);
         match pane {
-            Pane::Viewport => self.viewport_ui(ui),
-            Pane::Sphere => match &self.inspector {
-                Some(ins) => {
-                    self.subject_rect = Some(ui.max_rect());
-                    ins.sphere_pane(ui, &mut self.state.sphere);
-                    self.sphere_rect = Some(ui.min_rect());
-                }
-                None => {
-                    ui.label(pick_first);
-                }
-            },
-            Pane::Hemisphere => match &self.inspector {
-                Some(ins) => {
-                    self.subject_rect = Some(ui.max_rect());
-                    ins.hemisphere_pane(ui, &mut self.state.sphere)
-                }
-                None => {
-                    ui.label(pick_first);
-                }
-            },
-            Pane::Planar => match &self.inspector {
-                Some(ins) => {
-                    self.subject_rect = Some(ui.max_rect());
-                    ins.planar_pane(ui)
-                }
-                None => {
-                    ui.label(pick_first);
-                }
-            },
+            // Drawn to the tile's size, or scrolled by their own widgets.
+            Pane::Viewport | Pane::Sphere | Pane::Hemisphere | Pane::Planar => view.ui(ui, app),
             // Text that wraps to the tile: scrolled vertically only.
             Pane::Stages => {
                 egui::ScrollArea::vertical()
                     .id_salt("stages_scroll")
                     .auto_shrink([false, false])
-                    .show(ui, |ui| self.stages_ui(ui));
+                    .show(ui, |ui| view.ui(ui, app));
             }
-            Pane::Numbers => scrolled(ui, "numbers_scroll", |ui| self.numbers_ui(ui)),
-            Pane::Settings => scrolled(ui, "settings_scroll", |ui| self.settings_ui(ui)),
-            Pane::Scene => scrolled(ui, "scene_scroll", |ui| self.scene_ui(ui)),
-            Pane::LightStructure => scrolled(ui, "light_scroll", |ui| self.light_structure_ui(ui)),
-            Pane::Plots => scrolled(ui, "plots_scroll", |ui| self.plots_ui(ui)),
-            Pane::Environment => scrolled(ui, "env_scroll", |ui| self.environment_ui(ui)),
+            _ => scrolled(ui, super::scroll_id(pane), |ui| view.ui(ui, app)),
         }
     }
+}
 
-    pub(in crate::app) fn viewport_ui(&mut self, ui: &mut Ui) {
-        // The image keeps its aspect in any tile: the largest rectangle of that aspect,
-        // centred, so that resizing a tile never stretches the camera.
-        let full = ui.available_size();
-        let aspect = self.state.aspect;
-        let avail = if aspect > 0.0 {
-            let w = full.x.min(full.y * aspect);
-            egui::vec2(w, w / aspect)
-        } else {
-            full
-        };
-        let pad = (full - avail) * 0.5;
-        ui.add_space(pad.y.max(0.0));
-        ui.horizontal(|ui| {
-            ui.add_space(pad.x.max(0.0));
-            self.viewport_image_ui(ui, avail);
-        });
-    }
-
-    /// The numbers of the picked point and the Monte Carlo check.
-    pub(in crate::app) fn numbers_ui(&mut self, ui: &mut Ui) {
-        let Some(ins) = &mut self.inspector else {
-            ui.label("Click a pixel to inspect its shading point, or open a debug dump.");
-            return;
-        };
-        ins.numbers_ui(ui, self.monte_carlo.as_ref());
-        ins.environment_ui(ui);
-        if ui.button("Monte Carlo check (65536 samples)").clicked() {
-            self.run_monte_carlo(65536);
-        }
-    }
-
+impl AppState {
     /// Uploads the newest frame (or re-maps the shown one after a display change).
     pub(in crate::app) fn update_texture(&mut self, ctx: &egui::Context) {
         let Some(frame) = self.worker.latest() else {
@@ -161,7 +102,7 @@ impl WorkbenchApp {
         };
         let display_key = format!(
             "{:?}|{}|{:?}",
-            self.state.aov, self.state.exposure, self.state.tonemap
+            self.settings.aov, self.settings.exposure, self.settings.tonemap
         );
         let key = (
             frame.generation,
@@ -173,9 +114,9 @@ impl WorkbenchApp {
             return;
         }
         let want = viewport::Display {
-            aov: self.state.aov,
-            exposure: self.state.exposure,
-            tonemap: self.state.tonemap,
+            aov: self.settings.aov,
+            exposure: self.settings.exposure,
+            tonemap: self.settings.tonemap,
         };
         *self
             .worker

@@ -2,7 +2,7 @@
 
 use super::super::*;
 
-impl WorkbenchApp {
+impl AppState {
     /// One frame of a lesson export (after the tiles are drawn).
     pub(in crate::app) fn advance_lesson_capture(&mut self, ctx: &egui::Context) {
         use lesson_export::CaptureAction;

@@ -1,10 +1,18 @@
-//! The workbench's the light-structure pane (the BSP of a non-convex light).
+//! The light-structure pane: a light's polyhedron with what the renderer recorded for it at
+//! the picked point (its contour, the BSP tree it looked the silhouette up in).
 
 use super::super::*;
+use super::PaneView;
 
-impl WorkbenchApp {
-    pub(in crate::app) fn light_structure_ui(&mut self, ui: &mut Ui) {
-        let Some(ctx) = &self.ctx else {
+/// Its own state: the structure view's orientation and layers.
+#[derive(Default)]
+pub struct LightStructurePane {
+    pub view: light_view::LightView,
+}
+
+impl PaneView for LightStructurePane {
+    fn ui(&mut self, ui: &mut Ui, app: &mut AppState) {
+        let Some(ctx) = &app.ctx else {
             return;
         };
         let names: Vec<String> = ctx
@@ -15,21 +23,21 @@ impl WorkbenchApp {
             .collect();
         egui::ComboBox::from_label("light")
             .selected_text(
-                self.selected_light
+                app.selected_light
                     .and_then(|l| names.get(l).cloned())
                     .unwrap_or_else(|| "none".into()),
             )
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut self.selected_light, None, "none");
+                ui.selectable_value(&mut app.selected_light, None, "none");
                 for (i, n) in names.iter().enumerate() {
-                    ui.selectable_value(&mut self.selected_light, Some(i), n);
+                    ui.selectable_value(&mut app.selected_light, Some(i), n);
                 }
             });
-        if let Some(l) = self.selected_light
+        if let Some(l) = app.selected_light
             && let Some(&(id, _)) = ctx.prepared.lights.get(l)
         {
             let obj = &ctx.prepared.objects[id as usize];
-            let probe = self.inspector.as_ref().map(|i| &i.probe);
+            let probe = app.inspector.as_ref().map(|i| &i.probe);
             let point = probe.and_then(|p| p.point).map(|p| p.position);
             // The light's record taken whole (a light taken face by face has no outline).
             let record = probe.and_then(|p| {
@@ -38,7 +46,7 @@ impl WorkbenchApp {
                     .iter()
                     .find(|r| r.light == l && r.piece.is_none())
             });
-            self.light_view.ui(ui, obj, point, record);
+            self.view.ui(ui, obj, point, record);
         }
     }
 }

@@ -2,7 +2,7 @@
 
 use super::super::*;
 
-impl WorkbenchApp {
+impl AppState {
     pub(in crate::app) fn menu_ui(&mut self, ui: &mut Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| {
@@ -17,7 +17,7 @@ impl WorkbenchApp {
                     }
                 });
                 ui.menu_button("Recent", |ui| {
-                    for r in self.state.recent.clone() {
+                    for r in self.settings.recent.clone() {
                         if ui.button(&r).clicked() {
                             self.load_scene(&r);
                         }
@@ -51,24 +51,24 @@ impl WorkbenchApp {
                     let mut s = self.settings();
                     s.spp *= passes;
                     let cmd = files::cli_command(
-                        &self.state.scene,
+                        &self.settings.scene,
                         &self.orbit.camera(),
                         &s,
-                        self.state.exposure,
+                        self.settings.exposure,
                     );
                     ui.ctx().copy_text(cmd.clone());
                     self.status = format!("copied: {cmd}");
                 }
             });
             ui.menu_button("View", |ui| {
-                if ui.checkbox(&mut self.state.dark, "dark theme").changed() {
+                if ui.checkbox(&mut self.settings.dark, "dark theme").changed() {
                     self.apply_theme(ui.ctx());
                 }
                 ui.separator();
                 ui.menu_button("Layout", |ui| {
                     for p in Preset::ALL {
                         if ui
-                            .selectable_label(self.state.preset == p, p.name())
+                            .selectable_label(self.settings.preset == p, p.name())
                             .clicked()
                         {
                             self.set_preset(p);

@@ -1,16 +1,95 @@
-//! The panes and bars of the workbench, one file each: each draws from the app's state and the
-//! picked point's recording (`impl WorkbenchApp` blocks, so that `mod.rs` keeps the state and
-//! its lifecycle).
+//! The panes and bars of the workbench, one file each. A pane is its own type
+//! ([`PaneView`]) holding only its own view state, drawn from the app's state and the picked
+//! point's recording; the bars (menu, status), dialogs, picking and the lesson capture are
+//! `impl AppState` blocks, so that `mod.rs` keeps the state and its lifecycle.
+//!
+//! A new pane: a variant of `layout::Pane` (its title, where the presets put it), a type here
+//! in its own file implementing [`PaneView`], and its field in [`Panes`].
 
 mod dialogs;
+mod environment;
 mod frame;
+mod hemisphere_pane;
 mod lesson_capture;
 mod light_structure;
 mod menu;
+mod numbers;
 mod picking;
+mod planar_pane;
 mod plots;
 mod scene;
 mod settings;
+mod sphere_pane;
 mod stages_pane;
 mod status;
 mod viewport_image;
+
+pub use environment::EnvironmentPane;
+pub use hemisphere_pane::HemispherePane;
+pub use light_structure::LightStructurePane;
+pub use numbers::NumbersPane;
+pub use planar_pane::PlanarPane;
+pub use plots::PlotsPane;
+pub use scene::ScenePane;
+pub use settings::SettingsPane;
+pub use sphere_pane::SpherePane;
+pub use stages_pane::StagesPane;
+pub use viewport_image::ViewportPane;
+
+use super::AppState;
+use super::layout::Pane;
+use egui::Ui;
+
+/// A pane of the workbench.
+pub trait PaneView {
+    /// Draws the pane from `app` (changing it through its methods and commands).
+    fn ui(&mut self, ui: &mut Ui, app: &mut AppState);
+}
+
+/// One of each pane, with its view state.
+#[derive(Default)]
+pub struct Panes {
+    pub viewport: ViewportPane,
+    pub sphere: SpherePane,
+    pub hemisphere: HemispherePane,
+    pub planar: PlanarPane,
+    pub stages: StagesPane,
+    pub numbers: NumbersPane,
+    pub settings: SettingsPane,
+    pub scene: ScenePane,
+    pub light_structure: LightStructurePane,
+    pub plots: PlotsPane,
+    pub environment: EnvironmentPane,
+}
+
+impl Panes {
+    /// The pane that draws `pane`.
+    pub fn get(&mut self, pane: Pane) -> &mut dyn PaneView {
+        match pane {
+            Pane::Viewport => &mut self.viewport,
+            Pane::Sphere => &mut self.sphere,
+            Pane::Hemisphere => &mut self.hemisphere,
+            Pane::Planar => &mut self.planar,
+            Pane::Stages => &mut self.stages,
+            Pane::Numbers => &mut self.numbers,
+            Pane::Settings => &mut self.settings,
+            Pane::Scene => &mut self.scene,
+            Pane::LightStructure => &mut self.light_structure,
+            Pane::Plots => &mut self.plots,
+            Pane::Environment => &mut self.environment,
+        }
+    }
+}
+
+/// The id of a scrolled pane's scroll area.
+fn scroll_id(pane: Pane) -> &'static str {
+    match pane {
+        Pane::Numbers => "numbers_scroll",
+        Pane::Settings => "settings_scroll",
+        Pane::Scene => "scene_scroll",
+        Pane::LightStructure => "light_scroll",
+        Pane::Plots => "plots_scroll",
+        Pane::Environment => "env_scroll",
+        Pane::Viewport | Pane::Sphere | Pane::Hemisphere | Pane::Planar | Pane::Stages => "pane",
+    }
+}

@@ -2,7 +2,7 @@
 
 use super::super::*;
 
-impl WorkbenchApp {
+impl AppState {
     /// Picks pixel (x, y) of the full-resolution image: the same primary hit and `shade` as
     /// the renderer, with the recorder on.
     pub fn pick(&mut self, x: f64, y: f64) {
@@ -12,15 +12,20 @@ impl WorkbenchApp {
         // What the pick records is the library's decision (`inspect::probe_method`), as for
         // `penumbra probe`; a stochastic method is said plainly, and its analytic stages shown.
         let s = self.settings();
-        let (method, correction, note) =
-            match probe_method(self.state.method, s.spp, s.seed, (x, y), self.render_size.0) {
-                Ok((m, c)) => (m, c, None),
-                Err(why) => (Method::Analytic, None, Some(why)),
-            };
+        let (method, correction, note) = match probe_method(
+            self.settings.method,
+            s.spp,
+            s.seed,
+            (x, y),
+            self.render_size.0,
+        ) {
+            Ok((m, c)) => (m, c, None),
+            Err(why) => (Method::Analytic, None, Some(why)),
+        };
         let cam = self.orbit.camera();
         match probe_corrected(
             &ctx,
-            &self.state.scene,
+            &self.settings.scene,
             &cam,
             self.render_size,
             (x, y),

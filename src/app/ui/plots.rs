@@ -1,13 +1,30 @@
-//! The workbench's the plots pane: run time against error (bench reports, a background bench) and the render's convergence.
+//! The plots pane: run time against error from a bench (run here or loaded), and the
+//! progressive render's error against a loaded reference over time.
 
 use super::super::*;
+use super::PaneView;
 
-impl WorkbenchApp {
-    pub(in crate::app) fn plots_ui(&mut self, ui: &mut Ui) {
+/// Its own state: a bench started from here, and the image size it runs at.
+pub struct PlotsPane {
+    bench_job: Option<bench_job::BenchJob>,
+    bench_size: (u32, u32),
+}
+
+impl Default for PlotsPane {
+    fn default() -> Self {
+        PlotsPane {
+            bench_job: None,
+            bench_size: (160, 120),
+        }
+    }
+}
+
+impl PaneView for PlotsPane {
+    fn ui(&mut self, ui: &mut Ui, app: &mut AppState) {
         use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
         ui.horizontal(|ui| {
             if ui.button("Load bench JSON or reference PFM…").clicked() {
-                self.run_command(Command::Open);
+                app.run_command(Command::Open);
             }
         });
         // penumbra bench on the current view, in the background.
@@ -25,12 +42,12 @@ impl WorkbenchApp {
                             .prefix("h "),
                     );
                     if ui.button("Run bench on this view").clicked()
-                        && let Some(ctx) = self.ctx.clone()
+                        && let Some(ctx) = app.ctx.clone()
                     {
                         self.bench_job = Some(bench_job::BenchJob::start(
                             ctx,
-                            self.state.scene.clone(),
-                            self.orbit.camera(),
+                            app.settings.scene.clone(),
+                            app.orbit.camera(),
                             self.bench_size.0,
                             self.bench_size.1,
                         ));
@@ -50,24 +67,24 @@ impl WorkbenchApp {
                             .request_repaint_after(std::time::Duration::from_millis(200));
                     }
                     Some(Ok((report, files))) => {
-                        self.status = format!(
+                        app.status = format!(
                             "bench done: {}",
                             files
                                 .first()
                                 .map(|f| f.display().to_string())
                                 .unwrap_or_default()
                         );
-                        self.bench = Some(report);
+                        app.bench = Some(report);
                         self.bench_job = None;
                     }
                     Some(Err(e)) => {
-                        self.status = format!("bench failed: {e}");
+                        app.status = format!("bench failed: {e}");
                         self.bench_job = None;
                     }
                 }
             }
         }
-        if let Some(r) = &self.bench {
+        if let Some(r) = &app.bench {
             ui.label(format!("{}: log10 time (s) against log10 RMSE", r.scene));
             Plot::new("bench_plot")
                 .legend(Legend::default())
@@ -103,9 +120,9 @@ impl WorkbenchApp {
                     }
                 });
         }
-        if self.trace.reference.is_some() {
+        if app.trace.reference.is_some() {
             ui.label("progressive render: RMSE against the loaded reference over time");
-            let pts: Vec<[f64; 2]> = self
+            let pts: Vec<[f64; 2]> = app
                 .trace
                 .points
                 .iter()

@@ -1,44 +1,49 @@
-//! The workbench's the scene pane: objects, trees, moving and saving.
+//! The scene pane: the scene's name, its objects (select, undo, redo, save) and its notes.
 
 use super::super::*;
+use super::PaneView;
 
-impl WorkbenchApp {
-    pub(in crate::app) fn scene_ui(&mut self, ui: &mut Ui) {
+/// Draws the scene and its edits from the app's state; no state of its own.
+#[derive(Default)]
+pub struct ScenePane;
+
+impl PaneView for ScenePane {
+    fn ui(&mut self, ui: &mut Ui, app: &mut AppState) {
         ui.heading("Scene");
-        ui.label(&self.state.scene);
-        if let Some(e) = &self.scene_error {
+        ui.label(&app.settings.scene);
+        if let Some(e) = &app.scene_error {
             ui.colored_label(Color32::LIGHT_RED, e);
         }
-        let mut use_trees = self.use_trees;
+        let mut use_trees = app.use_trees;
         ui.checkbox(&mut use_trees, "silhouettes from BSP trees")
             .on_hover_text(
                 "Off: every silhouette is computed at its point, and the sphere view can show \
                  the contour pieces the exact silhouette's ray test rejected there (a tree \
                  stores only the result).",
             );
-        if use_trees != self.use_trees {
-            self.set_use_trees(use_trees);
+        if use_trees != app.use_trees {
+            app.set_use_trees(use_trees);
         }
-        let Some(ctx) = self.ctx.clone() else {
+        let Some(ctx) = app.ctx.clone() else {
             return;
         };
         ui.horizontal(|ui| {
             if ui
-                .add_enabled(self.editor.can_undo(), egui::Button::new("undo"))
+                .add_enabled(app.editor.can_undo(), egui::Button::new("undo"))
                 .on_hover_text(Command::Undo.shortcut_text())
                 .clicked()
             {
-                self.run_command(Command::Undo);
+                app.run_command(Command::Undo);
             }
             if ui
-                .add_enabled(self.editor.can_redo(), egui::Button::new("redo"))
+                .add_enabled(app.editor.can_redo(), egui::Button::new("redo"))
                 .on_hover_text(Command::Redo.shortcut_text())
                 .clicked()
             {
-                self.run_command(Command::Redo);
+                app.run_command(Command::Redo);
             }
             if ui.button("Save scene…").clicked() {
-                self.save_scene_dialog();
+                app.save_scene_dialog();
             }
         });
         ui.small(
@@ -48,7 +53,7 @@ impl WorkbenchApp {
         egui::ScrollArea::vertical()
             .id_salt("objects")
             .max_height(260.0)
-            .show(ui, |ui| self.editor.list_ui(ui, &ctx));
+            .show(ui, |ui| app.editor.list_ui(ui, &ctx));
         for w in ctx.scene.warnings.iter().chain(&ctx.prepared.notes) {
             ui.small(w);
         }

@@ -1,11 +1,16 @@
-//! The workbench's the stages pane: the stepper over the picked point's recording.
+//! The stages pane: the stepper through the picked point's recorded stages, the lesson text
+//! of the current step, its details, and the lesson export.
 
 use super::super::*;
+use super::PaneView;
 
-impl WorkbenchApp {
-    /// The stepper through Alg. 1 with the lesson text of the current stage.
-    pub(in crate::app) fn stages_ui(&mut self, ui: &mut Ui) {
-        let Some(ins) = &mut self.inspector else {
+/// Draws the picked point's recording; the step shown lives in the inspector.
+#[derive(Default)]
+pub struct StagesPane;
+
+impl PaneView for StagesPane {
+    fn ui(&mut self, ui: &mut Ui, app: &mut AppState) {
+        let Some(ins) = &mut app.inspector else {
             ui.label("Click a pixel to inspect its shading point, or open a debug dump.");
             return;
         };
@@ -14,7 +19,7 @@ impl WorkbenchApp {
         ins.lesson_ui(ui);
         sphere_view::step_details_ui(ui, &ins.probe, ins.current());
         ui.separator();
-        match &self.lesson_capture {
+        match &app.lesson_capture {
             Some(c) => {
                 let (done, all) = c.progress();
                 ui.label(format!("exporting the lesson: {done} of {all} frames…"));
@@ -29,7 +34,7 @@ impl WorkbenchApp {
                     .clicked()
                     && let Some(dir) = rfd::FileDialog::new().pick_folder()
                 {
-                    self.export_lesson(dir);
+                    app.export_lesson(dir);
                 }
             }
         }

@@ -2,7 +2,7 @@
 
 use super::super::*;
 
-impl WorkbenchApp {
+impl AppState {
     pub(in crate::app) fn status_ui(&mut self, ui: &mut Ui) {
         ui.horizontal(|ui| {
             match self.worker.latest() {
@@ -10,7 +10,7 @@ impl WorkbenchApp {
                     let fr = &f.frame;
                     let (w, h) = (fr.output.image.width, fr.output.image.height);
                     let px = (w * h) as f64 * fr.passes as f64;
-                    let env = match (&fr.output.environment, &self.state.environment) {
+                    let env = match (&fr.output.environment, &self.settings.environment) {
                         (Some(_), c) => format!(" + environment {}", c.method.name()),
                         _ => String::new(),
                     };
