@@ -480,3 +480,30 @@ fn the_environment_panel_drives_the_render_and_the_picked_point() {
     assert_eq!(h.query_all_by_label("rays").count(), 1);
     assert!(h.state().settings.sphere.layers.rays);
 }
+
+/// The command palette (Ctrl+P) finds a command by the words of its name and runs the same
+/// command its shortcut runs; while it is open, plain keys go to it and not to the workbench.
+#[test]
+fn the_command_palette_runs_a_command_by_name() {
+    let mut h = harness(Persisted::default());
+    h.run_steps(2);
+    assert!(!h.state().palette_open() && !h.state().help_shown());
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::P);
+    h.run_steps(2);
+    assert!(h.state().palette_open());
+    // "R" would reset the camera, "P" play the stages: typed here, they are text.
+    h.event(Event::Text("this help".into()));
+    h.run_steps(2);
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
+    assert!(!h.state().palette_open(), "Enter runs the match and closes");
+    assert!(h.state().help_shown(), "the palette ran ToggleHelp");
+    // Esc closes it without running anything.
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::P);
+    h.run_steps(2);
+    assert!(h.state().palette_open());
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    assert!(!h.state().palette_open());
+    assert!(h.state().help_shown());
+}

@@ -22,11 +22,13 @@ pub enum Command {
     Open,
     Screenshot,
     ToggleHelp,
+    /// Every command by name, filtered as one types (rerun's and editors' palette).
+    CommandPalette,
 }
 
 impl Command {
     /// Every command, in the order a frame's key presses are carried out.
-    pub const ALL: [Command; 13] = [
+    pub const ALL: [Command; 14] = [
         Command::Undo,
         Command::Redo,
         Command::Restore,
@@ -40,6 +42,7 @@ impl Command {
         Command::Open,
         Command::Screenshot,
         Command::ToggleHelp,
+        Command::CommandPalette,
     ];
 
     /// What the command does, as the help and the menus say it.
@@ -58,6 +61,7 @@ impl Command {
             Command::Open => "open a scene, dump, bench report or reference",
             Command::Screenshot => "screenshot of the window",
             Command::ToggleHelp => "this help",
+            Command::CommandPalette => "find a command by name",
         }
     }
 
@@ -67,8 +71,8 @@ impl Command {
             Command::Undo => "Ctrl+Z",
             Command::Redo => "Ctrl+Y / Ctrl+Shift+Z",
             Command::Restore => "Esc",
-            Command::NextStage => "→ / Space",
-            Command::PreviousStage => "←",
+            Command::NextStage => "Right / Space",
+            Command::PreviousStage => "Left",
             Command::AllStages => "Home",
             Command::PlayStages => "P",
             Command::ResetCamera => "R",
@@ -77,6 +81,7 @@ impl Command {
             Command::Open => "Ctrl+O",
             Command::Screenshot => "F12",
             Command::ToggleHelp => "F1",
+            Command::CommandPalette => "Ctrl+P",
         }
     }
 
@@ -98,13 +103,14 @@ impl Command {
             Command::NextStage => i.key_pressed(Key::ArrowRight) || i.key_pressed(Key::Space),
             Command::PreviousStage => i.key_pressed(Key::ArrowLeft),
             Command::AllStages => i.key_pressed(Key::Home),
-            Command::PlayStages => i.key_pressed(Key::P),
+            Command::PlayStages => !ctrl && i.key_pressed(Key::P),
             Command::ResetCamera => i.key_pressed(Key::R),
             Command::SaveImage => ctrl && i.key_pressed(Key::S),
             Command::SaveDump => ctrl && i.key_pressed(Key::D),
             Command::Open => ctrl && i.key_pressed(Key::O),
             Command::Screenshot => i.key_pressed(Key::F12),
             Command::ToggleHelp => i.key_pressed(Key::F1),
+            Command::CommandPalette => ctrl && i.key_pressed(Key::P),
         }
     }
 
@@ -122,6 +128,20 @@ impl Command {
                 | Command::ResetCamera
         )
     }
+}
+
+/// The commands whose label contains every word of `query` (case-insensitive), in
+/// [`Command::ALL`]'s order; all of them for an empty query. The palette lists these.
+pub fn matching(query: &str) -> Vec<Command> {
+    let words: Vec<String> = query.split_whitespace().map(str::to_lowercase).collect();
+    Command::ALL
+        .into_iter()
+        .filter(|c| c != &Command::CommandPalette)
+        .filter(|c| {
+            let label = c.label().to_lowercase();
+            words.iter().all(|w| label.contains(w.as_str()))
+        })
+        .collect()
 }
 
 /// The help's rows: every command's shortcut and what it does, then the mouse.
@@ -143,7 +163,7 @@ mod tests {
     /// Each shortcut fires its own command and no other (a shared key would run two).
     #[test]
     fn each_shortcut_runs_exactly_its_command() {
-        let cases: [(Key, egui::Modifiers, Command); 14] = [
+        let cases: [(Key, egui::Modifiers, Command); 15] = [
             (Key::Z, egui::Modifiers::COMMAND, Command::Undo),
             (Key::Y, egui::Modifiers::COMMAND, Command::Redo),
             (
@@ -166,6 +186,7 @@ mod tests {
             (Key::D, egui::Modifiers::COMMAND, Command::SaveDump),
             (Key::O, egui::Modifiers::COMMAND, Command::Open),
             (Key::F12, egui::Modifiers::NONE, Command::Screenshot),
+            (Key::P, egui::Modifiers::COMMAND, Command::CommandPalette),
         ];
         for (key, modifiers, want) in cases {
             let ctx = egui::Context::default();
@@ -190,6 +211,11 @@ mod tests {
             out.textures_delta.clear();
             assert_eq!(fired, vec![want], "{key:?} with {modifiers:?}");
         }
+        // The palette finds a command by any words of its label.
+        assert_eq!(matching("SAVE dump"), vec![Command::SaveDump]);
+        assert_eq!(matching("stage").len(), 4);
+        assert_eq!(matching("").len(), Command::ALL.len() - 1);
+        assert!(matching("no such thing").is_empty());
         // Every command is in the help, with its shortcut.
         let rows: Vec<_> = help_rows().collect();
         for c in Command::ALL {

@@ -153,6 +153,8 @@ pub struct AppState {
     trace: ErrorTrace,
     pub status: String,
     show_help: bool,
+    /// The command palette, while it is open.
+    palette: Option<ui::CommandPalette>,
     /// The tiles.
     pub tree: egui_tiles::Tree<Pane>,
     /// A pane shown alone over the whole window (its tab's "maximise"; Esc restores).
@@ -213,6 +215,7 @@ impl AppState {
             trace: ErrorTrace::default(),
             status: String::new(),
             show_help: false,
+            palette: None,
             tree: Preset::Explore.tree(),
             maximised: None,
             shown_step: None,
@@ -554,7 +557,9 @@ impl AppState {
         }
         let typing = ctx.egui_wants_keyboard_input();
         for (c, pressed) in Command::ALL.into_iter().zip(pressed) {
-            if pressed && (!typing || c.while_typing()) {
+            // The open palette has the keyboard: only its own shortcut closes it.
+            let palette = self.palette.is_some() && c != Command::CommandPalette;
+            if pressed && !palette && (!typing || c.while_typing()) {
                 self.run_command(c);
             }
         }
@@ -596,12 +601,28 @@ impl AppState {
             Command::Open => self.open_dialog(),
             Command::Screenshot => self.screenshot_dialog(None),
             Command::ToggleHelp => self.show_help = !self.show_help,
+            Command::CommandPalette => {
+                self.palette = match self.palette {
+                    Some(_) => None,
+                    None => Some(ui::CommandPalette::default()),
+                }
+            }
         }
     }
 
     /// Requests a screenshot to `path` (of `crop` in points, or the whole window).
     pub fn screenshot_to(&mut self, path: PathBuf, crop: Option<egui::Rect>) {
         self.pending_screenshot = Some((path, crop));
+    }
+
+    /// Whether the help window is shown.
+    pub fn help_shown(&self) -> bool {
+        self.show_help
+    }
+
+    /// Whether the command palette is open.
+    pub fn palette_open(&self) -> bool {
+        self.palette.is_some()
     }
 
     /// Whether a lesson export is running.

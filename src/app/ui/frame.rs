@@ -66,6 +66,7 @@ impl WorkbenchApp {
                 ui.label("Drop a .toml/.obj scene, a debug dump or bench .json, or a reference .pfm on the window.");
             });
         }
+        self.palette_ui(&ctx);
         self.maybe_request();
         self.maybe_auto_pick();
         self.take_pending_screenshot(&ctx);

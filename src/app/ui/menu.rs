@@ -89,6 +89,13 @@ impl AppState {
                     }
                 });
                 ui.checkbox(&mut self.show_help, Command::ToggleHelp.menu_text("help"));
+                if ui
+                    .button(Command::CommandPalette.menu_text("Commands…"))
+                    .clicked()
+                {
+                    self.run_command(Command::CommandPalette);
+                    ui.close();
+                }
             });
         });
     }
