@@ -5,8 +5,9 @@
 //!     cargo run --release --example bsp_bench
 
 use glam::DVec3;
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::{
-    Polyhedron, Sidedness, SilhouetteBsp, SilhouetteScratch, SphericalPolygon, silhouette,
+    Sidedness, SilhouetteBsp, SilhouetteScratch, SphericalPolygon, silhouette,
 };
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
@@ -20,7 +21,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|");
     for row in TABLE_7_1.iter().filter(|r| r.convex) {
         let m = thesis_polyhedron(row.name).unwrap();
-        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let poly = IndexedPolyhedron::new(&m.positions, &m.faces);
         let (lo, hi) = (
             poly.center - DVec3::splat(6.0 * poly.radius),
             poly.center + DVec3::splat(6.0 * poly.radius),

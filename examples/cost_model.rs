@@ -6,10 +6,11 @@
 //!     cargo run --release --example cost_model
 use glam::DVec3;
 use penumbra::bench::realworld_scenes::{displaced_icosphere, twisted_ellipsoid};
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
 use penumbra::geometry::windowed_silhouette::{WindowScratch, exact_silhouette_in_window};
 use penumbra::geometry::{
-    ExactBspLimits, ExactSilhouetteBsp, Polyhedron, Sidedness, SilhouetteBsp, SilhouetteScratch,
+    ExactBspLimits, ExactSilhouetteBsp, Sidedness, SilhouetteBsp, SilhouetteScratch,
     SphericalPolygon, silhouette,
 };
 use penumbra::math::Frame;
@@ -19,7 +20,7 @@ use std::fmt::Write;
 use std::time::Instant;
 
 /// Query points: deterministic, in the box [-4, 4]³ and outside the mesh's bounding sphere.
-fn points(poly: &Polyhedron, n: usize) -> Vec<DVec3> {
+fn points(poly: &IndexedPolyhedron, n: usize) -> Vec<DVec3> {
     let mut s: u64 = 0x9e37_79b9_7f4a_7c15;
     let mut next = || {
         s = s
@@ -63,7 +64,7 @@ fn main() {
         .collect();
     let (mut fa, mut fb) = (Vec::new(), Vec::new());
     for (name, m) in &convex {
-        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let poly = IndexedPolyhedron::new(&m.positions, &m.faces);
         let pts = points(&poly, 20_000);
         let mut sc = SilhouetteScratch::default();
         let at = per_query(&pts, |x| {
@@ -130,7 +131,7 @@ fn main() {
     ];
     let (mut ea, mut eb) = (Vec::new(), Vec::new());
     for (name, m) in &nonconvex {
-        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let poly = IndexedPolyhedron::new(&m.positions, &m.faces);
         if poly.diagnostics.convex || !poly.diagnostics.closed_manifold {
             println!("{name}: skipped (convex or open)");
             continue;

@@ -7,18 +7,19 @@
 //!     cargo run --release --example edge_hierarchy_bench
 use glam::DVec3;
 use penumbra::bench::realworld_scenes::displaced_icosphere;
+use penumbra::geometry::IndexedPolyhedron;
+use penumbra::geometry::SphericalPolygon;
 use penumbra::geometry::edge_hierarchy::{
     BuildParams, ContourScratch, EdgeHierarchy, contour_edge_indices,
 };
 use penumbra::geometry::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
-use penumbra::geometry::{Polyhedron, SphericalPolygon};
 use penumbra::math::Frame;
 use std::fmt::Write;
 use std::sync::Arc;
 use std::time::Instant;
 
 /// Deterministic points at `dist` mesh radii from the mesh's centre (uniform directions).
-fn points(poly: &Polyhedron, dist: f64, n: usize) -> Vec<DVec3> {
+fn points(poly: &IndexedPolyhedron, dist: f64, n: usize) -> Vec<DVec3> {
     let mut s: u64 = 0x9e37_79b9_7f4a_7c15;
     let mut next = || {
         s = s
@@ -89,7 +90,7 @@ fn main() {
         if !only.is_empty() && !only.split(',').any(|o| o == name) {
             continue;
         }
-        let mut poly = Polyhedron::new(&m.positions, &m.faces);
+        let mut poly = IndexedPolyhedron::new(&m.positions, &m.faces);
         let params = BuildParams {
             leaf_edges: std::env::var("LEAF")
                 .ok()
@@ -100,7 +101,7 @@ fn main() {
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(1.0),
         };
-        poly.edge_hierarchy = Some(Arc::new(EdgeHierarchy::build_with(&poly, params)));
+        poly.index.edge_hierarchy = Some(Arc::new(EdgeHierarchy::build_with(&poly, params)));
         let t = Instant::now();
         let h = EdgeHierarchy::build_with(&poly, params);
         let build_ms = t.elapsed().as_secs_f64() * 1e3;
@@ -108,7 +109,8 @@ fn main() {
             "{name}: {} nodes, built in {build_ms:.2} ms, pays: {}, kept by Polyhedron::new: {}",
             h.node_count(),
             h.pays(&poly),
-            Polyhedron::new(&m.positions, &m.faces)
+            IndexedPolyhedron::new(&m.positions, &m.faces)
+                .index
                 .edge_hierarchy
                 .is_some()
         );

@@ -7,9 +7,10 @@
 //!     cargo run --release --example qi_bench
 use glam::DVec3;
 use penumbra::bench::realworld_scenes::displaced_icosphere;
+use penumbra::geometry::IndexedPolyhedron;
+use penumbra::geometry::SphericalPolygon;
 use penumbra::geometry::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
 use penumbra::geometry::windowed_silhouette::{WindowScratch, exact_silhouette_in_window};
-use penumbra::geometry::{Polyhedron, SphericalPolygon};
 use penumbra::math::Frame;
 use std::time::Instant;
 
@@ -61,16 +62,16 @@ fn main() {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes/bunny.obj");
         let scene = penumbra::scene::obj::load_obj(&path).expect("assets/meshes/bunny.obj");
         let m = &scene.objects[0].mesh;
-        Polyhedron::new(&m.positions, &m.faces)
+        IndexedPolyhedron::new(&m.positions, &m.faces)
     };
     // The real-world suite's blob (src/bench/realworld_scenes.rs), and a finer one.
     let blob = {
         let m = displaced_icosphere(DVec3::ZERO, 0.8, 3, 0.12);
-        Polyhedron::new(&m.positions, &m.faces)
+        IndexedPolyhedron::new(&m.positions, &m.faces)
     };
     let fine = {
         let m = displaced_icosphere(DVec3::ZERO, 0.8, 5, 0.12);
-        Polyhedron::new(&m.positions, &m.faces)
+        IndexedPolyhedron::new(&m.positions, &m.faces)
     };
     println!(
         "{:<34} {:>9} {:>9} {:>9} {:>9} {:>9}",

@@ -10,7 +10,7 @@
 //! here so that the LTC's fit does not enter the comparison with the reference.
 
 use glam::DVec3;
-use penumbra::geometry::Polyhedron;
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::reference::render_reference;
 use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
 use penumbra::scene::scene_file::load_scene;
@@ -66,7 +66,7 @@ fn blender_meshes_keep_their_topology_and_take_the_open_path() {
     ] {
         let scene = load(file);
         let m = mesh(&scene, object);
-        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let poly = IndexedPolyhedron::new(&m.positions, &m.faces);
         let d = poly.diagnostics;
         assert_eq!(d.nonmanifold_edges, 0, "{file}: {d:?}");
         assert!(!d.closed_manifold, "{file}: open");

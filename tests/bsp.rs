@@ -3,18 +3,19 @@
 //! on the fly at thousands of random points of every cell.
 
 use glam::DVec3;
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::{
-    Polyhedron, Sidedness, SilhouetteBsp, SilhouetteScratch, SphericalPolygon, silhouette,
+    Sidedness, SilhouetteBsp, SilhouetteScratch, SphericalPolygon, silhouette,
 };
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 
-fn polyhedron(name: &str) -> Polyhedron {
+fn polyhedron(name: &str) -> IndexedPolyhedron {
     let m = thesis_polyhedron(name).unwrap();
-    Polyhedron::new(&m.positions, &m.faces)
+    IndexedPolyhedron::new(&m.positions, &m.faces)
 }
 
-fn boxed(p: &Polyhedron, k: f64) -> (DVec3, DVec3) {
+fn boxed(p: &IndexedPolyhedron, k: f64) -> (DVec3, DVec3) {
     (
         p.center - DVec3::splat(k * p.radius),
         p.center + DVec3::splat(k * p.radius),
@@ -37,13 +38,13 @@ fn cells_of_the_cube_and_the_tetrahedron() {
         DVec3::new(-1.0, -1.0, 1.0),
     ];
     let faces = vec![vec![0, 1, 2], vec![0, 3, 1], vec![0, 2, 3], vec![1, 3, 2]];
-    let mut tet = Polyhedron::new(&v, &faces);
+    let mut tet = IndexedPolyhedron::new(&v, &faces);
     if tet.signed_volume() < 0.0 {
         let flipped: Vec<Vec<u32>> = faces
             .iter()
             .map(|f| f.iter().rev().copied().collect())
             .collect();
-        tet = Polyhedron::new(&v, &flipped);
+        tet = IndexedPolyhedron::new(&v, &flipped);
     }
     assert!(tet.diagnostics.convex);
     let (lo, hi) = boxed(&tet, 40.0);

@@ -4,11 +4,12 @@
 //! points) and the silhouette computed on the fly.
 
 use glam::DVec3;
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::bsp::LOOP_END;
 use penumbra::geometry::bsp_hoisted::loop_runs;
 use penumbra::geometry::{
-    ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, HoistedSilhouetteBsp, Polyhedron,
-    Sidedness, SilhouetteBsp, SilhouetteScratch, SphericalPolygon, exact_silhouette, silhouette,
+    ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, HoistedSilhouetteBsp, Sidedness,
+    SilhouetteBsp, SilhouetteScratch, SphericalPolygon, exact_silhouette, silhouette,
 };
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
@@ -37,7 +38,7 @@ fn hoisted_trees_give_the_leaf_stored_and_the_on_the_fly_silhouettes() {
     let mut exact_scratch = ExactSilhouetteScratch::default();
     for row in &TABLE_7_1 {
         let m = thesis_polyhedron(row.name).unwrap();
-        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let poly = IndexedPolyhedron::new(&m.positions, &m.faces);
         let (lo, hi) = (
             poly.center - DVec3::splat(3.0 * poly.radius),
             poly.center + DVec3::splat(3.0 * poly.radius),
@@ -158,7 +159,7 @@ fn hoisted_trees_give_the_leaf_stored_and_the_on_the_fly_silhouettes() {
 fn hoisting_never_stores_more_edges_than_the_leaves() {
     for row in TABLE_7_1.iter().filter(|r| r.convex) {
         let m = thesis_polyhedron(row.name).unwrap();
-        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let poly = IndexedPolyhedron::new(&m.positions, &m.faces);
         let r = 3.0 * poly.radius;
         let (t, _) = SilhouetteBsp::build_convex(&poly, poly.center - r, poly.center + r).unwrap();
         let h = HoistedSilhouetteBsp::from_convex(&t).unwrap();

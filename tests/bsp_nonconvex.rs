@@ -4,9 +4,9 @@
 
 use glam::DVec3;
 use penumbra::accel::{Ray, intersect_triangle};
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::{
-    ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, Polyhedron, SphericalPolygon,
-    exact_silhouette,
+    ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, SphericalPolygon, exact_silhouette,
 };
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::thesis_polyhedra::TABLE_7_1;
@@ -97,7 +97,7 @@ fn silhouette_points_pack_into_32_bits() {
 /// A voxel model exported face by face, as voxel editors write it: an L of `n`×`n`×`h` unit
 /// cubes with arms `arm` wide, every boundary face of every cube a quad of its own (so many
 /// vertices on few planes).
-fn voxel_l(n: i32, h: i32, arm: i32) -> Polyhedron {
+fn voxel_l(n: i32, h: i32, arm: i32) -> IndexedPolyhedron {
     let filled = |i: i32, j: i32, k: i32| {
         (0..n).contains(&i) && (0..n).contains(&j) && (0..h).contains(&k) && (i < arm || j < arm)
     };
@@ -134,7 +134,7 @@ fn voxel_l(n: i32, h: i32, arm: i32) -> Polyhedron {
             }
         }
     }
-    Polyhedron::new(&positions, &faces)
+    IndexedPolyhedron::new(&positions, &faces)
 }
 
 /// Past 256 vertices a tree codes its points by edge pairs (`PointCoding::EdgePairs`): a voxel

@@ -6,11 +6,12 @@
 
 use glam::DVec3;
 use penumbra::bench::realworld_scenes::displaced_icosphere;
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::edge_hierarchy::{
     ContourScratch, CoplanarFace, EdgeHierarchy, contour_edge_indices, coplanar_tolerance,
 };
 use penumbra::geometry::{
-    ExactSilhouetteScratch, Polyhedron, SphericalPolygon, contour_edges, exact_silhouette,
+    ExactSilhouetteScratch, SphericalPolygon, contour_edges, exact_silhouette,
 };
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::shapes::uv_ellipsoid;
@@ -19,23 +20,23 @@ use std::sync::Arc;
 
 use crate::silhouette_common::polyhedron;
 
-fn bunny() -> Polyhedron {
+fn bunny() -> IndexedPolyhedron {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes/bunny.obj");
     let scene = penumbra::scene::obj::load_obj(&path).expect("assets/meshes/bunny.obj");
     let m = &scene.objects[0].mesh;
-    Polyhedron::new(&m.positions, &m.faces)
+    IndexedPolyhedron::new(&m.positions, &m.faces)
 }
 
 /// `poly` with an edge hierarchy, whatever its size (small meshes are scanned otherwise).
-fn with_hierarchy(mut poly: Polyhedron) -> Polyhedron {
-    if poly.edge_hierarchy.is_none() {
-        poly.edge_hierarchy = Some(Arc::new(EdgeHierarchy::build(&poly)));
+fn with_hierarchy(mut poly: IndexedPolyhedron) -> IndexedPolyhedron {
+    if poly.index.edge_hierarchy.is_none() {
+        poly.index.edge_hierarchy = Some(Arc::new(EdgeHierarchy::build(&poly.mesh)));
     }
     poly
 }
 
 /// The meshes under test, with their hierarchies.
-fn meshes() -> Vec<(String, Polyhedron)> {
+fn meshes() -> Vec<(String, IndexedPolyhedron)> {
     let blob = displaced_icosphere(DVec3::new(0.3, -0.2, 0.1), 0.8, 3, 0.12);
     let mut open = blob.clone();
     // Opened: every seventh face removed, so that boundary edges are contour edges whenever
@@ -57,15 +58,15 @@ fn meshes() -> Vec<(String, Polyhedron)> {
         ("bunny".to_string(), bunny()),
         (
             "displaced icosphere".to_string(),
-            Polyhedron::new(&blob.positions, &blob.faces),
+            IndexedPolyhedron::new(&blob.positions, &blob.faces),
         ),
         (
             "opened icosphere".to_string(),
-            Polyhedron::new(&open.positions, &open.faces),
+            IndexedPolyhedron::new(&open.positions, &open.faces),
         ),
         (
             "uv sphere".to_string(),
-            Polyhedron::new(&sphere.positions, &sphere.faces),
+            IndexedPolyhedron::new(&sphere.positions, &sphere.faces),
         ),
     ];
     for row in TABLE_7_1 {
@@ -85,7 +86,7 @@ fn uniform_direction(rng: &mut Pcg32) -> DVec3 {
 
 /// A point off the plane of face `f` by `offset` times the mesh radius, near the face (a
 /// random point of the face's neighbourhood in the plane).
-fn off_face(poly: &Polyhedron, f: usize, offset: f64, rng: &mut Pcg32) -> DVec3 {
+fn off_face(poly: &IndexedPolyhedron, f: usize, offset: f64, rng: &mut Pcg32) -> DVec3 {
     let idx = poly.face(f);
     let q = idx
         .iter()
@@ -100,7 +101,7 @@ fn off_face(poly: &Polyhedron, f: usize, offset: f64, rng: &mut Pcg32) -> DVec3 
 }
 
 /// Points far, near, inside the bounding sphere and just off the faces' planes.
-fn points(poly: &Polyhedron, rng: &mut Pcg32, n: usize) -> Vec<DVec3> {
+fn points(poly: &IndexedPolyhedron, rng: &mut Pcg32, n: usize) -> Vec<DVec3> {
     let mut pts = Vec::with_capacity(n);
     let offsets = [1e-12, -1e-12, 1e-10, -1e-9, 2e-9, 1e-6, -1e-4, 1e-2];
     for k in 0..n {
@@ -229,7 +230,7 @@ fn the_skip_test_is_conservative_next_to_a_face_plane() {
     let mut rng = Pcg32::new(5, 5);
     let mut cand = Vec::new();
     for (name, poly) in meshes() {
-        let h = poly.edge_hierarchy.as_deref().unwrap();
+        let h = poly.index.edge_hierarchy.as_deref().unwrap();
         let step = (poly.face_count() / 300).max(1);
         for f in (0..poly.face_count()).step_by(step) {
             for offset in [0.0, 1e-12, -1e-12, 3e-13, -7e-13] {

@@ -123,7 +123,7 @@ fn the_swept_silhouette_of_a_scanned_mesh_is_the_all_pairs_one() {
     )))
     .unwrap();
     let m = &scene.objects[0].mesh;
-    let poly = penumbra::geometry::Polyhedron::new(&m.positions, &m.faces);
+    let poly = penumbra::geometry::IndexedPolyhedron::new(&m.positions, &m.faces);
     assert!(poly.diagnostics.closed_manifold && !poly.diagnostics.convex);
     let frame = Frame::from_z(DVec3::new(0.1, 1.0, 0.2).normalize());
     let mut rng = Pcg32::new(77, 1);

@@ -282,7 +282,7 @@ fn a_non_convex_cap_is_triangulated_inside_itself() {
         2 * 4 + 6,
         "two caps of 4 triangles, six sides"
     );
-    let poly = penumbra::geometry::Polyhedron::new(&m.positions, &m.faces);
+    let poly = penumbra::geometry::IndexedPolyhedron::new(&m.positions, &m.faces);
     assert!(poly.diagnostics.closed_manifold);
     let bvh = Bvh::build(&s);
     let hits = |x: f64, y: f64| {

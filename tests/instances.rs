@@ -4,9 +4,10 @@
 //! shared tree at random points is the one computed on the fly from the instance's own mesh.
 
 use glam::{DAffine3, DVec3};
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::{
-    ExactSilhouetteScratch, Polyhedron, Sidedness, SilhouetteScratch, SphericalPolygon,
-    exact_silhouette, silhouette,
+    ExactSilhouetteScratch, Sidedness, SilhouetteScratch, SphericalPolygon, exact_silhouette,
+    silhouette,
 };
 use penumbra::ltc::LtcTable;
 use penumbra::math::{Frame, Pcg32};
@@ -77,13 +78,13 @@ fn the_instances_scene_shares_one_tree_per_mesh() {
 #[test]
 fn instance_maps_are_affine_with_positive_determinant() {
     let m = penumbra::scene::thesis_polyhedra::thesis_polyhedron("bowl").unwrap();
-    let base = Polyhedron::new(&m.positions, &m.faces);
+    let base = IndexedPolyhedron::new(&m.positions, &m.faces);
     let t = DAffine3::from_translation(DVec3::new(1.0, -2.0, 0.5))
         * DAffine3::from_rotation_y(0.7)
         * DAffine3::from_rotation_x(-0.3)
         * DAffine3::from_scale(DVec3::new(1.3, 0.6, 2.0));
     let moved = m.transformed(&t);
-    let other = Polyhedron::new(&moved.positions, &moved.faces);
+    let other = IndexedPolyhedron::new(&moved.positions, &moved.faces);
     let found = instance_map(&base, &other).expect("an affine instance");
     for (p, q) in base.vertices.iter().zip(&other.vertices) {
         assert!((found.transform_point3(*p) - *q).length() < 1e-12);
@@ -91,10 +92,10 @@ fn instance_maps_are_affine_with_positive_determinant() {
     }
     // A mirror image: `transformed` reverses its faces, so they differ.
     let mirrored = m.transformed(&DAffine3::from_scale(DVec3::new(-1.0, 1.0, 1.0)));
-    let mirrored = Polyhedron::new(&mirrored.positions, &mirrored.faces);
+    let mirrored = IndexedPolyhedron::new(&mirrored.positions, &mirrored.faces);
     assert!(instance_map(&base, &mirrored).is_none());
     // The mirror image's positions with the original faces: an inside-out mesh, refused.
-    let inside_out = Polyhedron::new(
+    let inside_out = IndexedPolyhedron::new(
         &m.transformed(&DAffine3::from_scale(DVec3::new(-1.0, 1.0, 1.0)))
             .positions,
         &m.faces,
@@ -103,7 +104,7 @@ fn instance_maps_are_affine_with_positive_determinant() {
     // One vertex off by 1e-6 of the radius.
     let mut nudged = moved.clone();
     nudged.positions[5].y += 1e-6 * other.radius;
-    let nudged = Polyhedron::new(&nudged.positions, &nudged.faces);
+    let nudged = IndexedPolyhedron::new(&nudged.positions, &nudged.faces);
     assert!(instance_map(&base, &nudged).is_none());
 }
 

@@ -5,6 +5,7 @@
 
 use glam::DVec3;
 use penumbra::bench::realworld_scenes::{ExportedScene, blender_primitives, fig4_9g};
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::{
     ExactSilhouetteScratch, Polyhedron, Sidedness, SilhouetteScratch, SphericalPolygon,
     convex_stand_in, exact_silhouette, silhouette, solid_angle_bound,
@@ -38,7 +39,7 @@ fn exporter_meshes_that_were_convex_get_a_hull_within_the_bound() {
     for exported in [blender_primitives(), fig4_9g()] {
         let scene = load(&exported);
         for obj in &scene.objects {
-            let mesh = Polyhedron::new(&obj.mesh.positions, &obj.mesh.faces);
+            let mesh = IndexedPolyhedron::new(&obj.mesh.positions, &obj.mesh.faces);
             let stand_in = convex_stand_in(&mesh, obj.mesh.rounding);
             let meant_convex = !matches!(obj.name.as_str(), "ellipsoid" | "floor" | "Plane")
                 && obj.mesh.faces.len() > 1;
@@ -72,11 +73,12 @@ fn exporter_meshes_that_were_convex_get_a_hull_within_the_bound() {
                 ExactSilhouetteScratch::default(),
             );
             let (mut hp, mut ep) = (SphericalPolygon::new(), SphericalPolygon::new());
+            let hull = IndexedPolyhedron::from(s.hull.clone());
             for _ in 0..400 {
                 let dist = mesh.radius * (1.001 + 4.0 * rng.next_f64());
                 let x = mesh.center + rng.unit_vector() * dist;
                 let frame = Frame::from_z(rng.unit_vector());
-                silhouette(&s.hull, x, &frame, Sidedness::TwoSided, &mut hp, &mut hs);
+                silhouette(&hull, x, &frame, Sidedness::TwoSided, &mut hp, &mut hs);
                 if exact_silhouette(&mesh, x, &frame, &mut ep, &mut es).is_err() {
                     continue;
                 }

@@ -8,9 +8,10 @@
 //! contradict.
 
 use glam::DVec3;
+use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::{
-    ExactSilhouetteScratch, Polyhedron, SphericalPolygon, WindowScratch, count_ray_hits,
-    exact_silhouette, exact_silhouette_in_window,
+    ExactSilhouetteScratch, SphericalPolygon, WindowScratch, count_ray_hits, exact_silhouette,
+    exact_silhouette_in_window,
 };
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::thesis_polyhedra::TABLE_7_1;
@@ -18,16 +19,16 @@ use penumbra::scene::thesis_polyhedra::TABLE_7_1;
 use crate::silhouette_common;
 use silhouette_common::{is_inside, polyhedron, triangles};
 
-fn bunny() -> Polyhedron {
+fn bunny() -> IndexedPolyhedron {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes/bunny.obj");
     let scene = penumbra::scene::obj::load_obj(&path).expect("assets/meshes/bunny.obj");
     let m = &scene.objects[0].mesh;
-    Polyhedron::new(&m.positions, &m.faces)
+    IndexedPolyhedron::new(&m.positions, &m.faces)
 }
 
-fn blob() -> Polyhedron {
+fn blob() -> IndexedPolyhedron {
     let m = penumbra::bench::realworld_scenes::displaced_icosphere(DVec3::ZERO, 1.0, 3, 0.15);
-    Polyhedron::new(&m.positions, &m.faces)
+    IndexedPolyhedron::new(&m.positions, &m.faces)
 }
 
 /// The loops of `a` and `b`, vertex by vertex, bit for bit.
@@ -47,7 +48,7 @@ fn same_bits(a: &SphericalPolygon, b: &SphericalPolygon) -> bool {
 /// Points outside `poly`: around it (1.05 to 4 radii), close to it (within a tenth of a radius
 /// of its bounding sphere, and inside that sphere near vertices), far away (10 to 1000 radii),
 /// and just off vertices (1e-6 to 1e-3 radii).
-fn points(poly: &Polyhedron, n: usize, rng: &mut Pcg32) -> Vec<DVec3> {
+fn points(poly: &IndexedPolyhedron, n: usize, rng: &mut Pcg32) -> Vec<DVec3> {
     let tris = triangles(poly);
     let mut out = Vec::new();
     while out.len() < n {
@@ -88,7 +89,7 @@ struct Tally {
 
 /// At every point: the QI silhouette equals the per-piece one bit for bit (and both fail
 /// alike), with no call sent back to per-piece rays.
-fn compare_exact(name: &str, poly: &Polyhedron, pts: &[DVec3]) -> Tally {
+fn compare_exact(name: &str, poly: &IndexedPolyhedron, pts: &[DVec3]) -> Tally {
     let frame = Frame::from_z(DVec3::new(0.2, 0.9, -0.3).normalize());
     let mut qi = ExactSilhouetteScratch::default();
     qi.qi.measure = true;
@@ -295,7 +296,7 @@ fn windowed_qi_silhouettes_are_the_per_piece_ones_bit_for_bit() {
 
 /// The bunny with a cap cut off (every face with a vertex above `cut` of its height): an open
 /// mesh with one long boundary loop.
-fn cut_bunny(cut: f64) -> Polyhedron {
+fn cut_bunny(cut: f64) -> IndexedPolyhedron {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes/bunny.obj");
     let scene = penumbra::scene::obj::load_obj(&path).expect("assets/meshes/bunny.obj");
     let m = &scene.objects[0].mesh;
@@ -312,13 +313,13 @@ fn cut_bunny(cut: f64) -> Polyhedron {
         .filter(|f| f.iter().all(|&v| m.positions[v as usize].y <= limit))
         .cloned()
         .collect();
-    Polyhedron::new(&m.positions, &faces)
+    IndexedPolyhedron::new(&m.positions, &faces)
 }
 
 /// Blender's monkey as Blender's OBJ exporter wrote it (tests/data/blender): open, with
 /// eyes apart from the head. Its quads are bent by the file's rounding, so the exact paths
 /// take their fan triangles (`shading::FanMesh`), as here.
-fn suzanne() -> Polyhedron {
+fn suzanne() -> IndexedPolyhedron {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/blender/suzanne.obj");
     let scene = penumbra::scene::obj::load_obj(&path).expect("tests/data/blender/suzanne.obj");
@@ -333,7 +334,7 @@ fn suzanne() -> Polyhedron {
         .iter()
         .flat_map(|f| (1..f.len() - 1).map(move |k| vec![f[0], f[k], f[k + 1]]))
         .collect();
-    Polyhedron::new(&m.positions, &fan)
+    IndexedPolyhedron::new(&m.positions, &fan)
 }
 
 /// Open meshes (docs/silhouettes.md, "Open meshes"): a boundary edge steps the count by one
@@ -348,7 +349,10 @@ fn qi_on_open_meshes_is_the_per_piece_rays() {
     let (mut carried, mut carried_boundary) = (0u32, 0u32);
     for (name, poly) in [("cut bunny", cut_bunny(0.7)), ("suzanne", suzanne())] {
         assert!(poly.diagnostics.boundary_edges > 0, "{name} is open");
-        assert!(poly.vertex_faces.is_some(), "{name} has its vertex stars");
+        assert!(
+            poly.index.vertex_faces.is_some(),
+            "{name} has its vertex stars"
+        );
         let mut qi = ExactSilhouetteScratch::default();
         qi.qi.measure = true;
         let mut per = ExactSilhouetteScratch::default();

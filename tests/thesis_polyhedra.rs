@@ -4,16 +4,17 @@
 
 use glam::DVec3;
 use penumbra::accel::{Ray, intersect_triangle};
-use penumbra::geometry::{Polyhedron, kernel, star_centre};
+use penumbra::geometry::IndexedPolyhedron;
+use penumbra::geometry::{kernel, star_centre};
 use penumbra::math::Pcg32;
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 
-fn polyhedron(name: &str) -> Polyhedron {
+fn polyhedron(name: &str) -> IndexedPolyhedron {
     let m = thesis_polyhedron(name).unwrap();
-    Polyhedron::new(&m.positions, &m.faces)
+    IndexedPolyhedron::new(&m.positions, &m.faces)
 }
 
-fn triangles(p: &Polyhedron) -> Vec<[DVec3; 3]> {
+fn triangles(p: &IndexedPolyhedron) -> Vec<[DVec3; 3]> {
     p.fan_triangles().map(|(_, t)| t).collect()
 }
 

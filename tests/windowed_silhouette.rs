@@ -67,7 +67,7 @@ fn compare(scene: &Scene, points: &[ShadingPoint]) -> (f64, usize) {
     assert_eq!(occ.path(), MeshPath::ExactInWindow);
     let mut whole = windowed.clone();
     for o in &mut whole.objects {
-        o.poly.face_edges = None;
+        o.poly.index.face_edges = None;
     }
     let mut unshadowed = windowed.clone();
     unshadowed.occluders.clear();

@@ -11,8 +11,8 @@
 //!   and the size at the thesis' 20 bytes per node and 4 bytes per vertex / 8 per edge.
 
 use crate::geometry::{
-    ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Polyhedron, SilhouetteBsp,
-    SilhouetteTriangulation, TriangulationLimits, TriangulationStats,
+    ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, IndexedPolyhedron, Polyhedron,
+    SilhouetteBsp, SilhouetteTriangulation, TriangulationLimits, TriangulationStats,
 };
 use crate::math::Pcg32;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
@@ -392,7 +392,7 @@ pub fn run_polyhedra(
 
         progress(&format!("{}: building the tree", row.name));
         let m = thesis_polyhedron(row.name).ok_or("unknown polyhedron")?;
-        let poly = Polyhedron::new(&m.positions, &m.faces);
+        let poly = IndexedPolyhedron::new(&m.positions, &m.faces);
         let (lo, hi) = (
             poly.center - DVec3::splat(BOX_RADII * poly.radius),
             poly.center + DVec3::splat(BOX_RADII * poly.radius),

@@ -23,6 +23,7 @@ use super::convex_cell::{CellSide, ConvexCell};
 use super::exact_silhouette::{
     ExactSilhouetteScratch, PointCoding, SilhouettePoint, exact_silhouette, symbolic_loops,
 };
+use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::NO_FACE;
 use super::ray::Ray;
 use super::silhouette::is_front_facing;
@@ -93,7 +94,7 @@ impl Default for ExactBspLimits {
 }
 
 struct Builder<'a> {
-    poly: &'a Polyhedron,
+    poly: &'a IndexedPolyhedron,
     tree: ExactSilhouetteBsp,
     stats: ExactBspStats,
     tol: f64,
@@ -117,7 +118,7 @@ impl ExactSilhouetteBsp {
     /// Builds the tree of a closed mesh over the box `[lo, hi]`; `None` for an open mesh or
     /// when the limits are exceeded.
     pub fn build(
-        poly: &Polyhedron,
+        poly: &IndexedPolyhedron,
         lo: DVec3,
         hi: DVec3,
         limits: ExactBspLimits,

@@ -17,7 +17,8 @@
 
 use super::SphericalPolygon;
 use super::exact_silhouette::{Degenerate, SweepScratch, blocked_ray, candidate_pairs};
-use super::polyhedron::{NO_FACE, Polyhedron};
+use super::mesh_index::IndexedPolyhedron;
+use super::polyhedron::NO_FACE;
 use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
 use crate::math::Frame;
 use glam::DVec3;
@@ -270,7 +271,7 @@ impl ContourPieces {
     #[allow(clippy::too_many_arguments)]
     pub fn keep_visible(
         &mut self,
-        poly: &Polyhedron,
+        poly: &IndexedPolyhedron,
         x: DVec3,
         per_piece: bool,
         scan: bool,
@@ -279,7 +280,7 @@ impl ContourPieces {
         qi: &mut QiScratch,
     ) -> u32 {
         self.kept.clear();
-        if per_piece || poly.vertex_faces.is_none() || qi_disabled() {
+        if per_piece || poly.index.vertex_faces.is_none() || qi_disabled() {
             for (pi, p) in self.pieces.iter().enumerate() {
                 let mid = (p.from + p.to).normalize();
                 let faces = self.arcs[p.arc as usize].faces;

@@ -39,6 +39,7 @@
 //! mesh's image whichever way its face turns. [`EdgeHierarchy::candidates`] implements the test.
 
 use super::face_bvh::sphere_meets_cone;
+use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::{NO_FACE, Polyhedron};
 use glam::DVec3;
 
@@ -425,7 +426,7 @@ pub struct CoplanarFace;
 /// With `tol = Some(t)`, first `Err(CoplanarFace)` if any face plane lies within `t` of `x`
 /// (`t` at most [`coplanar_tolerance`] when the hierarchy is used).
 pub fn contour_edge_indices(
-    poly: &Polyhedron,
+    poly: &IndexedPolyhedron,
     x: DVec3,
     tol: Option<f64>,
     scratch: &mut ContourScratch,
@@ -437,7 +438,7 @@ pub fn contour_edge_indices(
     let is_contour = |e: &super::polyhedron::Edge| {
         e.faces[1] == NO_FACE || front(e.faces[0]) != front(e.faces[1])
     };
-    match poly.edge_hierarchy.as_deref() {
+    match poly.index.edge_hierarchy.as_deref() {
         Some(h) if !scratch.scan => {
             scratch.candidates.clear();
             scratch.stats = h.candidates(x, &mut scratch.candidates);

@@ -21,6 +21,7 @@
 use super::SphericalPolygon;
 use super::contour_pieces::{ArcPosition, ContourArc, ContourPieces, End};
 use super::edge_hierarchy::{ContourScratch, contour_edge_indices, coplanar_tolerance};
+use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::{NO_FACE, Polyhedron};
 use super::quantitative_invisibility::QiScratch;
 use super::ray::Ray;
@@ -158,7 +159,7 @@ const END_TOLERANCE: f64 = 1e-10;
 /// `out` (cleared first). A closed mesh must have `x` outside it; an open one must be an
 /// oriented manifold (no non-manifold edges).
 pub fn exact_silhouette(
-    poly: &Polyhedron,
+    poly: &IndexedPolyhedron,
     x: DVec3,
     frame: &Frame,
     out: &mut SphericalPolygon,
@@ -456,7 +457,7 @@ fn arc_position(e: &ContourArc, p: DVec3) -> ArcPosition {
 /// With `edge_on = Some(tol)`, the faces whose plane passes within `tol` of `x` are left out
 /// (seen edge-on from a point on the mesh: `windowed_silhouette`).
 pub(crate) fn blocked_ray(
-    poly: &Polyhedron,
+    poly: &IndexedPolyhedron,
     x: DVec3,
     dir: DVec3,
     skip: [u32; 2],
@@ -469,7 +470,7 @@ pub(crate) fn blocked_ray(
     let ray = PreparedRay::new(&Ray::new(x, dir));
     let hit_face =
         |f: usize| poly.face_planes[f].eval(x).abs() > tol && face_hit(poly, x, dir, &ray, skip, f);
-    match &poly.face_bvh {
+    match &poly.index.face_bvh {
         Some(bvh) => bvh.any(x, dir, |f| hit_face(f as usize)),
         None => (0..poly.face_count()).any(hit_face),
     }
@@ -478,12 +479,12 @@ pub(crate) fn blocked_ray(
 /// Does the ray from `x` along `dir` meet a face of `poly` other than `skip`, the two faces of
 /// the piece's edge? Hits before and beyond the edge both count: a piece with part of the mesh
 /// in front of it or directly behind it separates nothing from the background.
-fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) -> bool {
+fn blocked(poly: &IndexedPolyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) -> bool {
     let ray = PreparedRay::new(&Ray::new(x, dir));
     let hit_face = |f: usize| face_hit(poly, x, dir, &ray, skip, f);
     // The face hierarchy hands out the faces whose box the ray meets; the test of each is the
     // same as the scan's, so the answer is too.
-    match &poly.face_bvh {
+    match &poly.index.face_bvh {
         Some(bvh) if !scan => bvh.any(x, dir, |f| hit_face(f as usize)),
         _ => (0..poly.face_count()).any(hit_face),
     }
@@ -491,7 +492,13 @@ fn blocked(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) 
 
 /// How many faces of `poly` other than `skip` the ray from `x` along `dir` meets: the count
 /// `c` of quantitative invisibility, by the very test of [`blocked`] (which is `c > 0`).
-pub fn count_ray_hits(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan: bool) -> u32 {
+pub fn count_ray_hits(
+    poly: &IndexedPolyhedron,
+    x: DVec3,
+    dir: DVec3,
+    skip: [u32; 2],
+    scan: bool,
+) -> u32 {
     let ray = PreparedRay::new(&Ray::new(x, dir));
     count_faces(poly, x, dir, scan, |f| {
         face_hit(poly, x, dir, &ray, skip, f)
@@ -501,7 +508,7 @@ pub fn count_ray_hits(poly: &Polyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], s
 /// [`count_ray_hits`] through the face hierarchy; with `edge_on = Some(tol)` the faces whose
 /// plane passes within `tol` of `x` are left out, as [`blocked_ray`] leaves them.
 pub(crate) fn count_ray_hits_edge_on(
-    poly: &Polyhedron,
+    poly: &IndexedPolyhedron,
     x: DVec3,
     dir: DVec3,
     skip: [u32; 2],
@@ -520,13 +527,13 @@ pub(crate) fn count_ray_hits_edge_on(
 /// face hierarchy (whose leaves partition the faces: every face once, never stopping early)
 /// unless `scan`, else every face.
 fn count_faces(
-    poly: &Polyhedron,
+    poly: &IndexedPolyhedron,
     x: DVec3,
     dir: DVec3,
     scan: bool,
     hit: impl Fn(usize) -> bool,
 ) -> u32 {
-    match &poly.face_bvh {
+    match &poly.index.face_bvh {
         Some(bvh) if !scan => {
             let mut c = 0;
             bvh.any(x, dir, |f| {

@@ -16,6 +16,7 @@ pub mod exact_silhouette;
 pub mod face_bvh;
 pub mod horizon;
 pub mod kernel;
+pub mod mesh_index;
 pub mod near_convex;
 pub mod overlap;
 mod polygon_loops;
@@ -46,6 +47,7 @@ pub use exact_silhouette::{
 };
 pub use horizon::{HorizonScratch, clip_to_horizon};
 pub use kernel::{kernel, star_centre};
+pub use mesh_index::{IndexedPolyhedron, MeshIndex};
 pub use near_convex::{ConvexStandIn, convex_stand_in, solid_angle_bound};
 pub use overlap::{Overlap, classify as classify_overlap};
 pub use polygon_loops::PolygonLoops;

@@ -64,7 +64,9 @@ pub struct FeatureCounts {
 }
 
 /// A polygon mesh prepared for silhouette extraction: welded vertices, face planes (Newell
-/// normals), the edge list with face adjacency, a bounding sphere and diagnostics.
+/// normals), the edge list with face adjacency, a bounding sphere and diagnostics. The
+/// acceleration structures built over it are kept apart ([`super::MeshIndex`], together in
+/// [`super::IndexedPolyhedron`]).
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Polyhedron {
     pub vertices: Vec<DVec3>,
@@ -76,23 +78,6 @@ pub struct Polyhedron {
     pub center: DVec3,
     pub radius: f64,
     pub diagnostics: MeshDiagnostics,
-    /// The faces' boxes in a hierarchy, for meshes of at least
-    /// [`super::face_bvh::FACE_BVH_MIN_FACES`] faces (the exact silhouette's ray tests).
-    #[serde(skip)]
-    pub face_bvh: Option<std::sync::Arc<super::face_bvh::FaceBvh>>,
-    /// Each face's edges, with the hierarchy (the windowed silhouette walks from faces to edges).
-    #[serde(skip)]
-    pub face_edges: Option<std::sync::Arc<super::face_bvh::FaceEdges>>,
-    /// Adjacency for walking the contour of a large convex mesh (`silhouette_walk`).
-    #[serde(skip)]
-    pub contour_walk: Option<std::sync::Arc<super::silhouette_walk::ContourWalk>>,
-    /// The faces at each vertex, for closed manifold meshes (quantitative invisibility).
-    #[serde(skip)]
-    pub vertex_faces: Option<std::sync::Arc<super::quantitative_invisibility::VertexFaces>>,
-    /// Normal cones over the edges, for finding the contour edges of a large mesh without a
-    /// scan (`edge_hierarchy`); large convex meshes walk their contour instead.
-    #[serde(skip)]
-    pub edge_hierarchy: Option<std::sync::Arc<super::edge_hierarchy::EdgeHierarchy>>,
 }
 
 /// The plane of a face loop: Newell's normal (robust for a possibly non-planar polygon)
@@ -274,82 +259,13 @@ impl Polyhedron {
             center,
             radius,
             diagnostics,
-            face_bvh: None,
-            face_edges: None,
-            contour_walk: None,
-            vertex_faces: None,
-            edge_hierarchy: None,
         }
-        .with_face_bvh()
-        .with_contour_walk()
-        .with_vertex_faces()
-        .with_edge_hierarchy()
-    }
-
-    /// Builds [`Polyhedron::vertex_faces`] for a manifold mesh, closed or open (quantitative
-    /// invisibility needs the star of each vertex, and no edge with more than two faces).
-    fn with_vertex_faces(mut self) -> Self {
-        if self.diagnostics.nonmanifold_edges == 0 {
-            let faces = (0..self.face_count()).map(|f| self.face(f));
-            self.vertex_faces = Some(std::sync::Arc::new(
-                super::quantitative_invisibility::VertexFaces::build(self.vertices.len(), faces),
-            ));
-        }
-        self
-    }
-
-    /// Builds [`Polyhedron::edge_hierarchy`] for a mesh of at least
-    /// [`super::edge_hierarchy::EDGE_HIERARCHY_MIN_EDGES`] edges that does not walk its contour,
-    /// when it pays ([`super::edge_hierarchy::EdgeHierarchy::pays`]).
-    fn with_edge_hierarchy(mut self) -> Self {
-        if self.edges.len() >= super::edge_hierarchy::EDGE_HIERARCHY_MIN_EDGES
-            && self.contour_walk.is_none()
-        {
-            let h = super::edge_hierarchy::EdgeHierarchy::build(&self);
-            if h.pays(&self) {
-                self.edge_hierarchy = Some(std::sync::Arc::new(h));
-            }
-        }
-        self
-    }
-
-    /// Builds [`Polyhedron::contour_walk`] for a large convex mesh.
-    fn with_contour_walk(mut self) -> Self {
-        self.contour_walk =
-            super::silhouette_walk::ContourWalk::new(&self).map(std::sync::Arc::new);
-        self
-    }
-
-    /// Builds [`Polyhedron::face_bvh`] when the mesh is large enough for it to pay.
-    fn with_face_bvh(mut self) -> Self {
-        if self.face_count() >= super::face_bvh::FACE_BVH_MIN_FACES {
-            let boxes: Vec<(DVec3, DVec3)> = (0..self.face_count())
-                .map(|f| {
-                    self.face(f).iter().fold(
-                        (DVec3::INFINITY, DVec3::NEG_INFINITY),
-                        |(a, b), &v| {
-                            let p = self.vertices[v as usize];
-                            (a.min(p), b.max(p))
-                        },
-                    )
-                })
-                .collect();
-            self.face_bvh = Some(std::sync::Arc::new(super::face_bvh::FaceBvh::build(&boxes)));
-            let faces = self.edges.iter().map(|e| e.faces);
-            self.face_edges = Some(std::sync::Arc::new(super::face_bvh::FaceEdges::build(
-                self.face_count(),
-                faces,
-            )));
-        }
-        self
     }
 
     /// This mesh with its vertices moved to `positions` (the positions it was built from,
     /// moved rigidly or by another affine map of positive determinant): the topology (edges,
-    /// faces at each vertex, the contour walk's adjacency, each face's edges) is kept, the
-    /// geometry (face planes, bounds, diagnostics, the faces' hierarchy, the edges' normal
-    /// cones where the mesh had them) computed again exactly as [`Polyhedron::new`] computes
-    /// it. `None` when the positions do not weld to as many vertices, a face loses its area or
+    /// faces) is kept, the geometry (face planes, bounds, diagnostics) computed again exactly
+    /// as [`Polyhedron::new`] computes it. `None` when the positions do not weld to as many vertices, a face loses its area or
     /// the diagnostics change: build the mesh anew then.
     pub fn moved(&self, positions: &[DVec3]) -> Option<Polyhedron> {
         let mut weld: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
@@ -410,7 +326,7 @@ impl Polyhedron {
         if diagnostics != d {
             return None;
         }
-        let mut moved = Polyhedron {
+        Some(Polyhedron {
             vertices,
             face_indices: self.face_indices.clone(),
             face_starts: self.face_starts.clone(),
@@ -419,22 +335,7 @@ impl Polyhedron {
             center,
             radius,
             diagnostics,
-            face_bvh: None,
-            face_edges: None,
-            contour_walk: self.contour_walk.clone(),
-            vertex_faces: self.vertex_faces.clone(),
-            edge_hierarchy: None,
-        }
-        .with_face_bvh();
-        if self.face_edges.is_some() {
-            moved.face_edges = self.face_edges.clone();
-        }
-        // The hierarchy's cones are geometry; whether it pays is kept from the mesh's build
-        // (a rigid motion keeps its shape), so a mesh that keeps the scan does not try again.
-        if self.edge_hierarchy.is_some() {
-            moved = moved.with_edge_hierarchy();
-        }
-        Some(moved)
+        })
     }
 
     #[inline]

@@ -25,6 +25,7 @@
 //! that comes out negative, or two routes that give one piece two counts, send the whole call
 //! back to one ray per piece.
 
+use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::{NO_FACE, Polyhedron};
 use super::triangle::is_degenerate;
 use glam::DVec3;
@@ -297,7 +298,7 @@ impl QiScratch {
     /// piece order; returns the rays cast. The one step 4 of both silhouette computations.
     pub(crate) fn solve_kept(
         &mut self,
-        poly: &Polyhedron,
+        poly: &IndexedPolyhedron,
         x: DVec3,
         crossings: &[DVec3],
         edge_on: Option<f64>,
@@ -307,7 +308,7 @@ impl QiScratch {
             |f: u32| edge_on.is_some_and(|t| poly.face_planes[f as usize].eval(x).abs() <= t);
         self.solve(
             poly,
-            poly.vertex_faces.as_deref(),
+            poly.index.vertex_faces.as_deref(),
             x,
             crossings,
             absent,
@@ -328,7 +329,7 @@ impl QiScratch {
     /// of the vertex rule too; an edge's own faces name [`NO_FACE`] in their place.
     pub(crate) fn solve(
         &mut self,
-        poly: &Polyhedron,
+        poly: &IndexedPolyhedron,
         star: Option<&VertexFaces>,
         x: DVec3,
         crossings: &[DVec3],

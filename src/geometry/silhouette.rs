@@ -8,6 +8,7 @@
 //! and independent of any projection.
 
 use super::SphericalPolygon;
+use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::{NO_FACE, Plane, Polyhedron};
 use super::silhouette_walk::{WalkScratch, walk_silhouette};
 use crate::math::Frame;
@@ -65,7 +66,7 @@ pub enum Sidedness {
 /// in `frame` and projected to the unit sphere. Writes positively oriented loops into `out`
 /// (cleared first). Vertices that coincide with `x` are dropped (they subtend no solid angle).
 pub fn silhouette(
-    poly: &Polyhedron,
+    poly: &IndexedPolyhedron,
     x: DVec3,
     frame: &Frame,
     sidedness: Sidedness,
@@ -73,7 +74,7 @@ pub fn silhouette(
     scratch: &mut SilhouetteScratch,
 ) {
     // A large convex mesh: walk the contour instead of scanning it (the same loop).
-    if let Some(walk) = &poly.contour_walk
+    if let Some(walk) = &poly.index.contour_walk
         && walk_silhouette(poly, walk, x, frame, out, &mut scratch.walk)
     {
         return;
@@ -267,7 +268,7 @@ mod tests {
 
     #[test]
     fn cube_silhouette_is_one_positive_loop_with_the_right_solid_angle() {
-        let poly = cube();
+        let poly = IndexedPolyhedron::from(cube());
         let mut scratch = SilhouetteScratch::default();
         let mut out = SphericalPolygon::new();
         let mut rng = Pcg32::new(3, 9);
@@ -307,7 +308,7 @@ mod tests {
             DVec3::new(1.0, 1.0, 0.0),
             DVec3::new(-1.0, 1.0, 0.0),
         ];
-        let quad = Polyhedron::new(&p, &[vec![0, 1, 2, 3]]); // front = +z
+        let quad = IndexedPolyhedron::new(&p, &[vec![0, 1, 2, 3]]); // front = +z
         let mut scratch = SilhouetteScratch::default();
         let mut out = SphericalPolygon::new();
         let frame = Frame::from_z(DVec3::Z);
@@ -330,7 +331,7 @@ mod tests {
 
     #[test]
     fn point_on_a_face_plane_sees_no_silhouette_of_a_convex_body_from_inside_its_face() {
-        let poly = cube();
+        let poly = IndexedPolyhedron::from(cube());
         let mut scratch = SilhouetteScratch::default();
         let mut out = SphericalPolygon::new();
         // A point on the +z face: no face is strictly front-facing.

@@ -267,7 +267,7 @@ pub fn walk_silhouette(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Sidedness, SilhouetteScratch, silhouette};
+    use crate::geometry::{IndexedPolyhedron, Sidedness, SilhouetteScratch, silhouette};
     use crate::math::Pcg32;
     use crate::scene::shapes::{icosphere, uv_ellipsoid};
 
@@ -293,10 +293,10 @@ mod tests {
         ];
         let (mut walked, mut fell_back) = (0, 0);
         for m in &meshes {
-            let poly = Polyhedron::new(&m.positions, &m.faces);
-            assert!(poly.contour_walk.is_some());
+            let poly = IndexedPolyhedron::new(&m.positions, &m.faces);
+            assert!(poly.index.contour_walk.is_some());
             let mut scan_only = poly.clone();
-            scan_only.contour_walk = None;
+            scan_only.index.contour_walk = None;
             let (mut a, mut b) = (SphericalPolygon::new(), SphericalPolygon::new());
             let (mut sa, mut sb) = (SilhouetteScratch::default(), SilhouetteScratch::default());
             let mut ws = WalkScratch::default();
@@ -326,7 +326,7 @@ mod tests {
                 let mut c = SphericalPolygon::new();
                 if walk_silhouette(
                     &poly,
-                    poly.contour_walk.as_ref().unwrap(),
+                    poly.index.contour_walk.as_ref().unwrap(),
                     x,
                     &frame,
                     &mut c,

@@ -35,7 +35,8 @@
 use super::SphericalPolygon;
 use super::contour_pieces::{ArcPosition, ContourArc, ContourPieces, End};
 use super::exact_silhouette::blocked_ray;
-use super::polyhedron::{NO_FACE, Polyhedron};
+use super::mesh_index::IndexedPolyhedron;
+use super::polyhedron::NO_FACE;
 use super::quantitative_invisibility::QiScratch;
 use super::silhouette::is_front_facing;
 use crate::math::Frame;
@@ -101,7 +102,7 @@ pub struct WindowStats {
 /// on the horizon, so this is done only with `W'` strictly above the horizon, where no arc on
 /// the horizon can reach.
 pub fn exact_silhouette_in_window(
-    poly: &Polyhedron,
+    poly: &IndexedPolyhedron,
     x: DVec3,
     frame: &Frame,
     window: &[DVec3],
@@ -110,8 +111,8 @@ pub fn exact_silhouette_in_window(
     scratch: &mut WindowScratch,
 ) -> Option<WindowStats> {
     out.clear();
-    let bvh = poly.face_bvh.as_ref()?;
-    let face_edges = poly.face_edges.as_ref()?;
+    let bvh = poly.index.face_bvh.as_ref()?;
+    let face_edges = poly.index.face_edges.as_ref()?;
     let m = window.len();
     if !(3..=MAX_WINDOW_CORNERS).contains(&m) {
         return None;
@@ -150,7 +151,7 @@ pub fn exact_silhouette_in_window(
     //    that may meet the cone (both skip tests at once); without one, the edges of the faces
     //    whose boxes meet the cone.
     scratch.candidates.clear();
-    if let Some(h) = poly.edge_hierarchy.as_deref() {
+    if let Some(h) = poly.index.edge_hierarchy.as_deref() {
         h.candidates_in_cone(x, centre, cos_cone, sin_cone, &mut scratch.candidates);
     } else {
         // One stamp per call: marks left by other meshes are older, so the buffer is shared

@@ -767,13 +767,13 @@ pub(super) fn subtract_occluder<R: Recorder>(
     // The faces that can overlap the light: those the face hierarchy finds in a cone around
     // its polygon (all of them for small meshes), in index order as the scan visits them.
     scratch.face_list.clear();
-    let cone = match (&faces.face_bvh, scratch.light_clip.loop_count()) {
+    let cone = match (&faces.index.face_bvh, scratch.light_clip.loop_count()) {
         (Some(_), 1) if piece.is_some() => {
             window_cone(scratch.light_clip.loop_at(0), frame, &mut scratch.cone_buf)
         }
         _ => None,
     };
-    match (cone, &faces.face_bvh) {
+    match (cone, &faces.index.face_bvh) {
         (Some((axis, cos, sin)), Some(bvh)) => {
             let list = &mut scratch.face_list;
             bvh.for_each_in_cone(sp.position, axis, cos, sin, |f| list.push(f));

@@ -20,9 +20,10 @@ use super::tree_cache::{CachedTree, TreeCache, tree_key};
 use super::tree_library::{LibraryEntry, TreeLibrary};
 use crate::geometry::bsp::face_planes_exceed;
 use crate::geometry::{
-    EDGE_PAIRS_MAX_EDGES, ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp, Plane,
-    PointCoding, Polyhedron, SilhouetteBsp, SilhouetteTree, SilhouetteTriangulation,
-    TriangulationLimits, convex_stand_in, separating_plane, solid_angle_bound, star_centre,
+    EDGE_PAIRS_MAX_EDGES, ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp,
+    IndexedPolyhedron, Plane, PointCoding, Polyhedron, SilhouetteBsp, SilhouetteTree,
+    SilhouetteTriangulation, TriangulationLimits, convex_stand_in, separating_plane,
+    solid_angle_bound, star_centre,
 };
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
@@ -36,7 +37,7 @@ pub struct PreparedObject {
     /// Index of the object in the scene.
     pub object: u32,
     pub name: String,
-    pub poly: Polyhedron,
+    pub poly: IndexedPolyhedron,
     /// Takes the silhouette path (convex closed or flat); otherwise per face.
     pub simple: bool,
     /// Precomputed silhouettes of a convex mesh over the scene's bounds (001 Sect. 5.1), in
@@ -77,7 +78,7 @@ pub struct PreparedObject {
 /// difference cannot take; a triangle's never does.
 #[derive(Clone, Debug)]
 pub struct FanMesh {
-    pub poly: Arc<Polyhedron>,
+    pub poly: Arc<IndexedPolyhedron>,
     /// The face of the mesh each triangle comes from.
     pub face_of: Vec<u32>,
 }
@@ -111,7 +112,7 @@ impl FanMesh {
                 face_of.push(f as u32);
             }
         }
-        let fan = Polyhedron::new(&mesh.positions, &faces);
+        let fan = IndexedPolyhedron::new(&mesh.positions, &faces);
         (fan.face_count() == face_of.len()).then(|| FanMesh {
             poly: Arc::new(fan),
             face_of,
@@ -123,7 +124,7 @@ impl FanMesh {
 #[derive(Clone, Debug)]
 pub struct StandIn {
     /// The mesh itself: the face-by-face paths (the per-triangle method) go over its faces.
-    pub mesh: Arc<Polyhedron>,
+    pub mesh: Arc<IndexedPolyhedron>,
     /// Every point of the hull is within this distance of the mesh.
     pub deviation: f64,
     /// The farthest a vertex of the mesh lies outside the plane of one of its faces.
@@ -137,7 +138,7 @@ impl StandIn {
     /// The polyhedron to prepare for `mesh`: its convex hull when the mesh is convex up to
     /// `rounding` (with the stand-in's record), else the mesh itself. The one place that
     /// decides it, for a first preparation and after a move alike.
-    pub fn of(mesh: Polyhedron, rounding: f64) -> (Polyhedron, Option<StandIn>) {
+    pub fn of(mesh: IndexedPolyhedron, rounding: f64) -> (IndexedPolyhedron, Option<StandIn>) {
         match convex_stand_in(&mesh, rounding) {
             Some(s) => {
                 let stand_in = StandIn {
@@ -147,7 +148,7 @@ impl StandIn {
                     deviation: s.deviation,
                     outside: s.outside,
                 };
-                (s.hull, Some(stand_in))
+                (s.hull.into(), Some(stand_in))
             }
             None => (mesh, None),
         }
@@ -275,13 +276,16 @@ impl PreparedObject {
             (true, _, false) => MeshPath::ConvexAtPoint,
             (false, true, true) => MeshPath::ExactTree,
             (false, true, false)
-                if self.poly.face_count() >= WINDOWED_MIN_FACES && self.poly.face_bvh.is_some() =>
+                if self.poly.face_count() >= WINDOWED_MIN_FACES
+                    && self.poly.index.face_bvh.is_some() =>
             {
                 MeshPath::ExactInWindow
             }
             (false, true, false) => MeshPath::ExactAtPoint,
             (false, false, _) if self.poly.diagnostics.nonmanifold_edges == 0 => {
-                if self.poly.face_count() >= WINDOWED_MIN_FACES && self.poly.face_bvh.is_some() {
+                if self.poly.face_count() >= WINDOWED_MIN_FACES
+                    && self.poly.index.face_bvh.is_some()
+                {
                     MeshPath::OpenInWindow
                 } else {
                     MeshPath::OpenAtPoint
@@ -293,14 +297,14 @@ impl PreparedObject {
 
     /// The mesh's own faces, also when a hull stands in for it on the silhouette path.
     #[inline]
-    pub fn faces(&self) -> &Polyhedron {
+    pub fn faces(&self) -> &IndexedPolyhedron {
         self.stand_in.as_ref().map_or(&self.poly, |s| &s.mesh)
     }
 
     /// What the face-by-face paths subtract and integrate one by one: the mesh's triangles as
     /// rays see them when some face is bent ([`FanMesh`]), else its faces.
     #[inline]
-    pub fn face_pieces(&self) -> &Polyhedron {
+    pub fn face_pieces(&self) -> &IndexedPolyhedron {
         self.fan.as_ref().map_or_else(|| self.faces(), |f| &f.poly)
     }
 
@@ -458,7 +462,7 @@ pub struct MeshTrees {
 /// tree of face planes, a closed non-convex mesh's exact-silhouette tree, each within its size
 /// limit, and the triangulations when `triangulate` and the exact tree exists.
 pub fn build_mesh_trees(
-    poly: &Polyhedron,
+    poly: &IndexedPolyhedron,
     (lo, hi): (DVec3, DVec3),
     triangulate: bool,
     (max_cells, max_leaves): (usize, usize),
@@ -620,7 +624,7 @@ fn build_silhouette_trees(
                 convex: d.convex,
                 light,
                 windowed: base.poly.face_count() >= WINDOWED_MIN_FACES
-                    && base.poly.face_bvh.is_some(),
+                    && base.poly.index.face_bvh.is_some(),
                 environment: options.environment,
             };
             let limit = if d.convex { limits.0 } else { limits.1 };
@@ -806,7 +810,7 @@ impl PreparedScene {
             if !is_light && !obj.flags.occluder {
                 continue;
             }
-            let mesh = Polyhedron::new(&obj.mesh.positions, &obj.mesh.faces);
+            let mesh = IndexedPolyhedron::new(&obj.mesh.positions, &obj.mesh.faces);
             if mesh.face_count() == 0 {
                 notes.push(format!(
                     "object '{}' has no usable face and is ignored",
@@ -1107,7 +1111,7 @@ impl PreparedScene {
         let mesh = old
             .faces()
             .moved(&obj.mesh.positions)
-            .unwrap_or_else(|| Polyhedron::new(&obj.mesh.positions, &obj.mesh.faces));
+            .unwrap_or_else(|| IndexedPolyhedron::new(&obj.mesh.positions, &obj.mesh.faces));
         if mesh.face_count() == 0 {
             return Err(format!(
                 "object '{}' has no usable face after the move",
@@ -1150,7 +1154,7 @@ impl PreparedScene {
                                 mesh: Arc::new(mesh),
                                 ..s.clone()
                             });
-                            Polyhedron::new(&vertices, &faces)
+                            IndexedPolyhedron::new(&vertices, &faces)
                         }
                     };
                     let back = m.inverse();

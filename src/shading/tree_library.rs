@@ -10,7 +10,7 @@
 //! tree does, so borrowing a tree changes where a silhouette is read from, never what it is.
 
 use super::prepared::{MeshTrees, PreparedObject, build_mesh_trees, instance_map};
-use crate::geometry::{Polyhedron, star_centre};
+use crate::geometry::{IndexedPolyhedron, Polyhedron, star_centre};
 use crate::scene::Mesh;
 use glam::{DAffine3, DVec3};
 use rayon::prelude::*;
@@ -44,7 +44,7 @@ impl TreeLibrary {
         let entries = meshes
             .par_iter()
             .map(|m| {
-                let poly = Polyhedron::new(&m.positions, &m.faces);
+                let poly = IndexedPolyhedron::new(&m.positions, &m.faces);
                 let d = poly.diagnostics;
                 let star = (!d.convex && d.closed_manifold)
                     .then(|| star_centre(&poly))
@@ -52,7 +52,7 @@ impl TreeLibrary {
                 let triangulate = !d.convex && d.closed_manifold && star.is_none();
                 let trees = build_mesh_trees(&poly, bounds, triangulate, limits, usize::MAX, None);
                 LibraryEntry {
-                    poly,
+                    poly: poly.mesh,
                     trees,
                     star_centre: star,
                 }

@@ -4,18 +4,19 @@
 
 use glam::DVec3;
 use penumbra::accel::{Ray, intersect_triangle};
-use penumbra::geometry::{Polyhedron, SphericalPolygon};
+use penumbra::geometry::IndexedPolyhedron;
+use penumbra::geometry::SphericalPolygon;
 use penumbra::scene::thesis_polyhedra::thesis_polyhedron;
 use std::f64::consts::PI;
 
 /// A polyhedron of 001 Table 7.1 by name.
-pub fn polyhedron(name: &str) -> Polyhedron {
+pub fn polyhedron(name: &str) -> IndexedPolyhedron {
     let m = thesis_polyhedron(name).unwrap();
-    Polyhedron::new(&m.positions, &m.faces)
+    IndexedPolyhedron::new(&m.positions, &m.faces)
 }
 
 /// The mesh as triangles (its convex faces fanned).
-pub fn triangles(p: &Polyhedron) -> Vec<[DVec3; 3]> {
+pub fn triangles(p: &IndexedPolyhedron) -> Vec<[DVec3; 3]> {
     p.fan_triangles().map(|(_, t)| t).collect()
 }
 

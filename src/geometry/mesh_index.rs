@@ -1,0 +1,137 @@
+//! The acceleration structures built over a [`Polyhedron`], kept apart from the mesh itself:
+//! each is built from the mesh alone, when the mesh is large enough for it to pay, and read
+//! by the silhouette stages that need it. [`IndexedPolyhedron`] is a mesh with its index, what
+//! those stages take.
+
+use super::edge_hierarchy::{EDGE_HIERARCHY_MIN_EDGES, EdgeHierarchy};
+use super::face_bvh::{FACE_BVH_MIN_FACES, FaceBvh, FaceEdges};
+use super::polyhedron::Polyhedron;
+use super::quantitative_invisibility::VertexFaces;
+use super::silhouette_walk::ContourWalk;
+use glam::DVec3;
+use std::sync::Arc;
+
+/// What is built over a mesh to answer the silhouette stages' questions fast. Each is `None`
+/// where it does not pay or does not apply; every stage then scans instead, with the same
+/// answer.
+#[derive(Clone, Debug, Default)]
+pub struct MeshIndex {
+    /// The faces' boxes in a hierarchy, for meshes of at least [`FACE_BVH_MIN_FACES`] faces
+    /// (the exact silhouette's ray tests, the windowed silhouette's cone query).
+    pub face_bvh: Option<Arc<FaceBvh>>,
+    /// Each face's edges, with the hierarchy (the windowed silhouette walks from faces to edges).
+    pub face_edges: Option<Arc<FaceEdges>>,
+    /// Adjacency for walking the contour of a large convex mesh (`silhouette_walk`).
+    pub contour_walk: Option<Arc<ContourWalk>>,
+    /// The faces at each vertex, for manifold meshes, closed or open (quantitative
+    /// invisibility needs the star of each vertex, and no edge with more than two faces).
+    pub vertex_faces: Option<Arc<VertexFaces>>,
+    /// Normal cones over the edges, for finding the contour edges of a large mesh without a
+    /// scan (`edge_hierarchy`); large convex meshes walk their contour instead.
+    pub edge_hierarchy: Option<Arc<EdgeHierarchy>>,
+}
+
+impl MeshIndex {
+    /// Everything that pays for `poly`.
+    pub fn build(poly: &Polyhedron) -> Self {
+        let (face_bvh, face_edges) = face_hierarchy(poly);
+        let contour_walk = ContourWalk::new(poly).map(Arc::new);
+        let vertex_faces = (poly.diagnostics.nonmanifold_edges == 0).then(|| {
+            let faces = (0..poly.face_count()).map(|f| poly.face(f));
+            Arc::new(VertexFaces::build(poly.vertices.len(), faces))
+        });
+        let edge_hierarchy = (poly.edges.len() >= EDGE_HIERARCHY_MIN_EDGES
+            && contour_walk.is_none())
+        .then(|| EdgeHierarchy::build(poly))
+        .filter(|h| h.pays(poly))
+        .map(Arc::new);
+        MeshIndex {
+            face_bvh,
+            face_edges,
+            contour_walk,
+            vertex_faces,
+            edge_hierarchy,
+        }
+    }
+
+    /// The index of `moved`, the mesh this index was built for with its vertices moved
+    /// ([`Polyhedron::moved`]): the topology (faces at each vertex, the contour walk's
+    /// adjacency, each face's edges) is kept, the geometry (the faces' hierarchy, the edges'
+    /// normal cones) built again. The cones are tried again only where the first build kept
+    /// them, so a mesh that keeps the scan does not try again.
+    pub fn moved(&self, moved: &Polyhedron) -> Self {
+        let (face_bvh, face_edges) = face_hierarchy(moved);
+        MeshIndex {
+            face_bvh,
+            face_edges: self.face_edges.clone().or(face_edges),
+            contour_walk: self.contour_walk.clone(),
+            vertex_faces: self.vertex_faces.clone(),
+            edge_hierarchy: self
+                .edge_hierarchy
+                .as_ref()
+                .map(|_| EdgeHierarchy::build(moved))
+                .filter(|h| h.pays(moved))
+                .map(Arc::new),
+        }
+    }
+}
+
+/// The faces' hierarchy and each face's edges, for a mesh of at least [`FACE_BVH_MIN_FACES`]
+/// faces.
+fn face_hierarchy(poly: &Polyhedron) -> (Option<Arc<FaceBvh>>, Option<Arc<FaceEdges>>) {
+    if poly.face_count() < FACE_BVH_MIN_FACES {
+        return (None, None);
+    }
+    let boxes: Vec<(DVec3, DVec3)> = (0..poly.face_count())
+        .map(|f| {
+            poly.face(f)
+                .iter()
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), &v| {
+                    let p = poly.vertices[v as usize];
+                    (a.min(p), b.max(p))
+                })
+        })
+        .collect();
+    let faces = poly.edges.iter().map(|e| e.faces);
+    (
+        Some(Arc::new(FaceBvh::build(&boxes))),
+        Some(Arc::new(FaceEdges::build(poly.face_count(), faces))),
+    )
+}
+
+/// A mesh with the index built over it: what the silhouette stages take. It reads as its mesh
+/// (`Deref`), so that the stages that need no index take it as a [`Polyhedron`].
+#[derive(Clone, Debug)]
+pub struct IndexedPolyhedron {
+    pub mesh: Polyhedron,
+    pub index: MeshIndex,
+}
+
+impl IndexedPolyhedron {
+    /// The mesh of `vertices` and `faces` ([`Polyhedron::new`]) with its index.
+    pub fn new(vertices: &[DVec3], faces: &[Vec<u32>]) -> Self {
+        Self::from(Polyhedron::new(vertices, faces))
+    }
+
+    /// This mesh with its vertices moved to `positions` ([`Polyhedron::moved`]), its index
+    /// moved with it ([`MeshIndex::moved`]).
+    pub fn moved(&self, positions: &[DVec3]) -> Option<Self> {
+        let mesh = self.mesh.moved(positions)?;
+        let index = self.index.moved(&mesh);
+        Some(IndexedPolyhedron { mesh, index })
+    }
+}
+
+impl From<Polyhedron> for IndexedPolyhedron {
+    fn from(mesh: Polyhedron) -> Self {
+        let index = MeshIndex::build(&mesh);
+        IndexedPolyhedron { mesh, index }
+    }
+}
+
+impl std::ops::Deref for IndexedPolyhedron {
+    type Target = Polyhedron;
+    fn deref(&self) -> &Polyhedron {
+        &self.mesh
+    }
+}
