@@ -115,15 +115,22 @@ struct Builder<'a> {
 const PLANE_GRID_NORMAL: f64 = 1e-5;
 
 impl ExactSilhouetteBsp {
-    /// Builds the tree of a closed mesh over the box `[lo, hi]`; `None` for an open mesh or
-    /// when the limits are exceeded.
+    /// Builds the tree of a manifold mesh, closed or open, over the box `[lo, hi]`; `None` for
+    /// a mesh with non-manifold edges or when the limits are exceeded.
+    ///
+    /// An open mesh's outline is made of pieces of its contour edges and of its boundary
+    /// edges (docs/silhouettes.md, "Open meshes"). Inside a cell of the face planes every face
+    /// keeps its side, so the contour edges are fixed there, and the boundary edges always
+    /// are: the endpoint planes of their pairs (stage 2) cut the cell where crossings appear
+    /// or vanish, exactly as for a closed mesh. An open mesh has no inside, so no leaf is left
+    /// to the on-the-fly path for that reason.
     pub fn build(
         poly: &IndexedPolyhedron,
         lo: DVec3,
         hi: DVec3,
         limits: ExactBspLimits,
     ) -> Option<(Self, ExactBspStats)> {
-        if !poly.diagnostics.closed_manifold {
+        if poly.diagnostics.nonmanifold_edges != 0 {
             return None;
         }
         let coding = PointCoding::for_mesh(poly)?;
@@ -391,13 +398,15 @@ impl Builder<'_> {
     /// sign of `e+g₁` at x is the side of g₁ relative to the plane of e's arc seen from x.
     fn endpoint_planes(&self, c: DVec3) -> Vec<[Option<Plane>; 4]> {
         let poly = self.poly;
+        // The contour edges, and every boundary edge of an open mesh (whichever way its one
+        // face turns: `exact_silhouette` takes them all).
         let contour: Vec<[u32; 2]> = poly
             .edges
             .iter()
             .filter(|e| {
-                let f0 = is_front_facing(poly, e.faces[0] as usize, c);
-                let f1 = e.faces[1] != NO_FACE && is_front_facing(poly, e.faces[1] as usize, c);
-                f0 != f1
+                e.faces[1] == NO_FACE
+                    || is_front_facing(poly, e.faces[0] as usize, c)
+                        != is_front_facing(poly, e.faces[1] as usize, c)
             })
             .map(|e| e.v)
             .collect();
@@ -409,10 +418,30 @@ impl Builder<'_> {
                 .try_normalize()
                 .map(|n| Plane { n, d: n.dot(a) })
         };
+        let boundary = |e: &[u32; 2]| {
+            poly.edges
+                .iter()
+                .any(|b| b.faces[1] == NO_FACE && (b.v == *e || b.v == [e[1], e[0]]))
+        };
         let mut out = Vec::new();
         for (i, e) in contour.iter().enumerate() {
             for g in &contour[i + 1..] {
                 if e.iter().any(|a| g.contains(a)) {
+                    // Two outline edges at one vertex, one of them a boundary edge: which
+                    // one's image lies on which side of the other's at the vertex (and so which
+                    // one the outline follows there) changes where they look collinear, on the
+                    // plane through both. On a closed mesh the faces' sides decide it.
+                    if boundary(e) || boundary(g) {
+                        let shared = if g.contains(&e[0]) { e[0] } else { e[1] };
+                        let other =
+                            |edge: &[u32; 2]| if edge[0] == shared { edge[1] } else { edge[0] };
+                        let (a, b, c) = (v(shared), v(other(e)), v(other(g)));
+                        let p = (b - a)
+                            .cross(c - a)
+                            .try_normalize()
+                            .map(|n| Plane { n, d: n.dot(a) });
+                        out.push([p; 4]);
+                    }
                     continue;
                 }
                 out.push([
@@ -473,7 +502,7 @@ impl Builder<'_> {
         }
         let me = self.tree.nodes.len() as u32;
         let c = cell.centroid();
-        if inside(self.poly, c) {
+        if self.poly.diagnostics.closed_manifold && inside(self.poly, c) {
             // Inside the solid: never shaded.
             self.stats.leaves += 1;
             self.tree.nodes.push(BspNode::Leaf {
@@ -539,10 +568,29 @@ impl Builder<'_> {
                 corners.push(p);
             }
         }
-        let mut from_leaf = SphericalPolygon::new();
         // A few corners suffice to catch a structure that changes inside the cell (the
-        // validation's cost bounds the build's).
-        for p in corners.into_iter().take(self.limits.validation_corners) {
+        // validation's cost bounds the build's). An open mesh's outline also changes where
+        // the images of three outline edges meet at one point (a curved surface of x that no
+        // plane of the tree follows) more often, at its boundary's folds: its cells are
+        // validated at every corner, and at the middle of every face and every edge of the
+        // cell too.
+        let open = !self.poly.diagnostics.closed_manifold;
+        let count = if open {
+            corners.len()
+        } else {
+            self.limits.validation_corners
+        };
+        let mut points: Vec<DVec3> = corners.into_iter().take(count).collect();
+        if open {
+            for f in &cell.faces {
+                points.push(f.iter().sum::<DVec3>() / f.len() as f64);
+                for k in 0..f.len() {
+                    points.push(0.5 * (f[k] + f[(k + 1) % f.len()]));
+                }
+            }
+        }
+        let mut from_leaf = SphericalPolygon::new();
+        for p in points {
             let q = c + (p - c) * 0.9;
             if exact_silhouette(self.poly, q, &frame, &mut self.sph, &mut self.scratch).is_err() {
                 continue;

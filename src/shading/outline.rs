@@ -132,6 +132,7 @@ impl PreparedObject {
             path @ (MeshPath::ExactTree
             | MeshPath::ExactAtPoint
             | MeshPath::ExactInWindow
+            | MeshPath::OpenTree
             | MeshPath::OpenAtPoint
             | MeshPath::OpenInWindow)
                 if !on_it && (role == Role::Occluder || !path.is_open()) =>
@@ -147,6 +148,7 @@ impl PreparedObject {
             MeshPath::ExactTree
             | MeshPath::ExactAtPoint
             | MeshPath::ExactInWindow
+            | MeshPath::OpenTree
             | MeshPath::OpenAtPoint
             | MeshPath::OpenInWindow
             | MeshPath::PerFace => Outline::Faces,

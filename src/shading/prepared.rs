@@ -205,6 +205,9 @@ pub enum MeshPath {
     /// As `OpenAtPoint` for a large mesh (at least [`WINDOWED_MIN_FACES`] faces): as an
     /// occluder, only the part of its outline inside the light's polygon is computed.
     OpenInWindow,
+    /// As `OpenAtPoint`, the outline read from its tree (the exact-silhouette tree, whose
+    /// leaves hold the outline of contour and boundary edges, 001 Sect. 5.2).
+    OpenTree,
     /// Non-manifold: face by face.
     PerFace,
 }
@@ -217,7 +220,10 @@ impl MeshPath {
 
     /// An open mesh: as a light, face by face.
     pub fn is_open(self) -> bool {
-        matches!(self, MeshPath::OpenAtPoint | MeshPath::OpenInWindow)
+        matches!(
+            self,
+            MeshPath::OpenAtPoint | MeshPath::OpenInWindow | MeshPath::OpenTree
+        )
     }
 
     /// A few words for a table.
@@ -232,6 +238,7 @@ impl MeshPath {
             MeshPath::ExactInWindow => "non-convex, large (exact, windowed)",
             MeshPath::OpenAtPoint => "open (exact outline)",
             MeshPath::OpenInWindow => "open, large (exact outline, windowed)",
+            MeshPath::OpenTree => "open, BSP (exact outline)",
             MeshPath::PerFace => "non-manifold (per face)",
         }
     }
@@ -260,6 +267,10 @@ impl MeshPath {
                  computed at each point, only inside each light's polygon; as a light, face by \
                  face"
             }
+            MeshPath::OpenTree => {
+                "open: as an occluder, the exact outline of contour and boundary edges from its \
+                 BSP tree; as a light, face by face"
+            }
             MeshPath::PerFace => "non-manifold: face by face",
         }
     }
@@ -282,6 +293,9 @@ impl PreparedObject {
                 MeshPath::ExactInWindow
             }
             (false, true, false) => MeshPath::ExactAtPoint,
+            (false, false, true) if self.poly.diagnostics.nonmanifold_edges == 0 => {
+                MeshPath::OpenTree
+            }
             (false, false, _) if self.poly.diagnostics.nonmanifold_edges == 0 => {
                 if self.poly.face_count() >= WINDOWED_MIN_FACES
                     && self.poly.index.face_bvh.is_some()
@@ -385,14 +399,16 @@ pub fn instance_map(base: &Polyhedron, other: &Polyhedron) -> Option<DAffine3> {
 }
 
 /// Groups of objects that share one tree: the first member's frame is the tree's; every other
-/// member gets its `to_tree` map. Only objects that can have a tree (convex or closed) are
-/// grouped; with `share` false every such object is its own group.
+/// member gets its `to_tree` map. Only objects that can have a tree (convex, or manifold:
+/// closed or open) are grouped; with `share` false every such object is its own group.
 fn instance_groups(objects: &mut [PreparedObject], share: bool) -> Vec<Vec<u32>> {
     let mut groups: Vec<Vec<u32>> = Vec::new();
     for i in 0..objects.len() {
         objects[i].to_tree = None;
         let d = objects[i].poly.diagnostics;
-        if !d.convex && !d.closed_manifold {
+        // Convex, closed, or open but manifold and not flat (a flat mesh chains its outline).
+        let open_tree = d.nonmanifold_edges == 0 && !d.planar;
+        if !d.convex && !d.closed_manifold && !open_tree {
             continue;
         }
         let found = share
@@ -850,7 +866,7 @@ impl PreparedScene {
                      face by face where that is degenerate)"
                 } else if d.nonmanifold_edges == 0 {
                     "as an occluder it takes the exact outline of its contour and boundary edges \
-                     (computed at the point; face by face where that is degenerate), as a light \
+                     (read from a BSP tree, else computed at the point; face by face where that is degenerate), as a light \
                      it is handled face by face"
                 } else {
                     "it is handled face by face"
