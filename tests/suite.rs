@@ -24,6 +24,7 @@ mod environment_probe;
 mod environment_render;
 mod exact_silhouette;
 mod exporter_precision;
+mod figure_svg;
 mod gltf_loading;
 mod image_io;
 mod instances;

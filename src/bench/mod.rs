@@ -30,5 +30,5 @@ pub mod table;
 
 pub use equal_time::{EqualTimeRow, ErrorMetric, Estimate, Target, equal_time};
 pub use fit::{LineFit, fit_line, fit_log_log};
-pub use plot::{Chart, Series, render_chart, save_chart_png};
+pub use plot::{Chart, Series, render_chart, save_chart_png, save_chart_svg};
 pub use table::{BenchReport, BenchRow, ReferenceInfo, SpeedRatios, write_csv, write_json};

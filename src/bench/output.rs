@@ -2,7 +2,7 @@
 //! Markdown tables printed by the CLI and quoted in `docs/benchmarks.md`.
 
 use super::equal_time::{ErrorMetric, Estimate, LogLadder, error_vs_time_chart};
-use super::plot::{Chart, Series, save_chart_png};
+use super::plot::{Chart, Series, save_chart_png, save_chart_svg};
 use super::runner::BenchImage;
 use super::scaling::ScalingReport;
 use super::table::{BenchReport, write_csv, write_json};
@@ -245,8 +245,20 @@ pub fn time_vs_rmse_chart(report: &BenchReport) -> Chart {
     chart
 }
 
-/// Writes `bench.csv`, `bench.json`, `equal_time.md`, `time_vs_rmse.png` and one PNG per
-/// method of the equal-time strip into `dir`.
+/// Writes `chart` as `dir/STEM.png` and `dir/STEM.svg`, 900×600 (one description, two back
+/// ends: `figure::plot::chart_figure`), and lists both in `files`.
+fn save_chart(chart: &Chart, dir: &Path, stem: &str, files: &mut Vec<PathBuf>) -> Result<()> {
+    let png = dir.join(format!("{stem}.png"));
+    save_chart_png(chart, 900, 600, &png)?;
+    files.push(png);
+    let svg = dir.join(format!("{stem}.svg"));
+    save_chart_svg(chart, 900, 600, &svg)?;
+    files.push(svg);
+    Ok(())
+}
+
+/// Writes `bench.csv`, `bench.json`, `equal_time.md`, `time_vs_rmse.png` and `.svg`, and one
+/// PNG per method of the equal-time strip into `dir`.
 pub fn write_bench_files(
     report: &BenchReport,
     strip: &[BenchImage],
@@ -264,9 +276,7 @@ pub fn write_bench_files(
     let md = dir.join("equal_time.md");
     std::fs::write(&md, equal_time_markdown(report)).with_context(|| md.display().to_string())?;
     files.push(md);
-    let png = dir.join("time_vs_rmse.png");
-    save_chart_png(&time_vs_rmse_chart(report), 900, 600, &png)?;
-    files.push(png);
+    save_chart(&time_vs_rmse_chart(report), dir, "time_vs_rmse", &mut files)?;
     for img in strip {
         let name = match img.spp {
             Some(n) => format!("strip_{}_{n}spp.png", img.label),
@@ -373,9 +383,7 @@ pub fn write_scaling_files(report: &ScalingReport, dir: &Path) -> Result<Vec<Pat
             series("fig5_occluders", "analytic", false),
         ],
     };
-    let p = dir.join("fig5_scaling.png");
-    save_chart_png(&fig5, 900, 600, &p)?;
-    files.push(p);
+    save_chart(&fig5, dir, "fig5_scaling", &mut files)?;
     let fig7 = Chart {
         title: "000 Fig. 7: subdivided icosahedral light, silhouette vs naive per face".into(),
         x_label: "light vertices".into(),
@@ -387,8 +395,6 @@ pub fn write_scaling_files(report: &ScalingReport, dir: &Path) -> Result<Vec<Pat
             series("fig7", "per-triangle", true),
         ],
     };
-    let p = dir.join("fig7_scaling.png");
-    save_chart_png(&fig7, 900, 600, &p)?;
-    files.push(p);
+    save_chart(&fig7, dir, "fig7_scaling", &mut files)?;
     Ok(files)
 }

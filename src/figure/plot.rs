@@ -1,5 +1,5 @@
-//! Scatter and line charts as PNG, drawn with tiny-skia and the stroke font of
-//! [`font`](mod@super::font).
+//! Scatter and line charts, described once as a [`Figure`] ([`chart_figure`]) and drawn from
+//! it as PNG (tiny-skia and the stroke font of [`font`](mod@super::font)) or written as SVG.
 //!
 //! A chart has a white background, a frame, ticks at nice values with grid lines and labels
 //! (1-2-5 steps on a linear axis; decades subdivided at 2 and 5 on a log axis), axis labels, a
@@ -11,11 +11,11 @@
 //! infinite, or that is not positive on a log axis. A connected series breaks its line at a
 //! skipped point rather than jumping over it.
 
+use super::description::{Figure, Item, Shape, Subpath};
 use super::font::{self, Align, TextStyle};
+use super::{raster, svg};
 use std::path::Path;
-use tiny_skia::{
-    Color, FillRule, LineCap, LineJoin, Mask, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform,
-};
+use tiny_skia::Pixmap;
 
 /// One set of points of a chart.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -332,7 +332,7 @@ pub struct ChartLayout {
 }
 
 /// Largest image side [`render_chart`] draws.
-pub const MAX_SIDE: u32 = 16384;
+pub use super::raster::MAX_SIDE;
 
 impl ChartLayout {
     /// Axes from the placeable points, then the margins their labels need. The size is clamped
@@ -424,97 +424,75 @@ impl ChartLayout {
     }
 }
 
-fn paint(color: [u8; 3]) -> Paint<'static> {
-    let mut p = Paint::default();
-    p.set_color_rgba8(color[0], color[1], color[2], 255);
-    p.anti_alias = true;
-    p
-}
-
-fn stroke(width: f32) -> Stroke {
-    Stroke {
-        width,
-        line_cap: LineCap::Butt,
-        line_join: LineJoin::Round,
-        ..Stroke::default()
-    }
-}
-
-fn line(pm: &mut Pixmap, a: (f32, f32), b: (f32, f32), color: [u8; 3], width: f32) {
-    let mut pb = PathBuilder::new();
-    pb.move_to(a.0, a.1);
-    pb.line_to(b.0, b.1);
-    if let Some(path) = pb.finish() {
-        pm.stroke_path(
-            &path,
-            &paint(color),
-            &stroke(width),
-            Transform::identity(),
-            None,
-        );
-    }
-}
-
-fn draw_marker(pm: &mut Pixmap, marker: Marker, color: [u8; 3], (x, y): (f32, f32)) {
+/// The shape of `marker` at `(x, y)`, and whether it is filled (else stroked 2 px wide).
+fn marker_shape(marker: Marker, (x, y): (f32, f32)) -> (Shape, bool) {
     let r = MARKER_R;
-    let mut pb = PathBuilder::new();
-    let polygon = |pb: &mut PathBuilder, pts: &[(f32, f32)]| {
-        pb.move_to(x + pts[0].0, y + pts[0].1);
-        for p in &pts[1..] {
-            pb.line_to(x + p.0, y + p.1);
-        }
-        pb.close();
+    let polygon = |pts: &[(f32, f32)]| {
+        Shape::Path(vec![Subpath {
+            points: pts.iter().map(|p| (x + p.0, y + p.1)).collect(),
+            closed: true,
+        }])
     };
-    let filled = match marker {
-        Marker::Circle => {
-            pb.push_circle(x, y, r);
-            true
-        }
+    let strokes = |segments: [[(f32, f32); 2]; 2]| {
+        Shape::Path(
+            segments
+                .iter()
+                .map(|s| Subpath {
+                    points: s.to_vec(),
+                    closed: false,
+                })
+                .collect(),
+        )
+    };
+    match marker {
+        Marker::Circle => (
+            Shape::Circle {
+                centre: (x, y),
+                radius: r,
+            },
+            true,
+        ),
         Marker::Square => {
             let h = 0.9 * r;
-            polygon(&mut pb, &[(-h, -h), (h, -h), (h, h), (-h, h)]);
-            true
+            (polygon(&[(-h, -h), (h, -h), (h, h), (-h, h)]), true)
         }
         Marker::TriangleUp => {
             let h = 1.15 * r;
-            polygon(&mut pb, &[(0.0, -h), (h, 0.75 * h), (-h, 0.75 * h)]);
-            true
+            (polygon(&[(0.0, -h), (h, 0.75 * h), (-h, 0.75 * h)]), true)
         }
         Marker::TriangleDown => {
             let h = 1.15 * r;
-            polygon(&mut pb, &[(0.0, h), (h, -0.75 * h), (-h, -0.75 * h)]);
-            true
+            (polygon(&[(0.0, h), (h, -0.75 * h), (-h, -0.75 * h)]), true)
         }
         Marker::Diamond => {
             let h = 1.25 * r;
-            polygon(&mut pb, &[(0.0, -h), (h, 0.0), (0.0, h), (-h, 0.0)]);
-            true
+            (polygon(&[(0.0, -h), (h, 0.0), (0.0, h), (-h, 0.0)]), true)
         }
         Marker::Cross => {
             let h = r;
-            pb.move_to(x - h, y - h);
-            pb.line_to(x + h, y + h);
-            pb.move_to(x - h, y + h);
-            pb.line_to(x + h, y - h);
-            false
+            (
+                strokes([
+                    [(x - h, y - h), (x + h, y + h)],
+                    [(x - h, y + h), (x + h, y - h)],
+                ]),
+                false,
+            )
         }
         Marker::Plus => {
             let h = 1.2 * r;
-            pb.move_to(x - h, y);
-            pb.line_to(x + h, y);
-            pb.move_to(x, y - h);
-            pb.line_to(x, y + h);
-            false
+            (
+                strokes([[(x - h, y), (x + h, y)], [(x, y - h), (x, y + h)]]),
+                false,
+            )
         }
-    };
-    let Some(path) = pb.finish() else {
-        return;
-    };
-    let p = paint(color);
-    if filled {
-        pm.fill_path(&path, &p, FillRule::Winding, Transform::identity(), None);
-    } else {
-        pm.stroke_path(&path, &p, &stroke(2.0), Transform::identity(), None);
+    }
+}
+
+/// Adds `marker` at `at` to `fig`.
+fn add_marker(fig: &mut Figure, marker: Marker, color: [u8; 3], at: (f32, f32)) {
+    match marker_shape(marker, at) {
+        (shape, true) => fig.fill(shape, color),
+        (shape, false) => fig.stroke(shape, color, 2.0),
     }
 }
 
@@ -541,11 +519,11 @@ fn thin_labels(mut labels: Vec<Placed>, gap: f32) -> Vec<Placed> {
     kept
 }
 
-/// Draws `chart` on a `width`×`height` image (each side clamped to 1..=[`MAX_SIDE`]).
-pub fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
+/// `chart` as a figure of `width`×`height` pixels (each side clamped to 1..=[`MAX_SIDE`]): the
+/// one description the PNG ([`render_chart`]) and the SVG ([`chart_svg`]) are drawn from.
+pub fn chart_figure(chart: &Chart, width: u32, height: u32) -> Figure {
     let lay = ChartLayout::new(chart, width, height);
-    let mut pm = Pixmap::new(lay.width, lay.height).expect("a size within tiny-skia's limits");
-    pm.fill(Color::WHITE);
+    let mut fig = Figure::new(lay.width, lay.height, [255; 3]);
     let p = lay.plot;
     let crisp = |v: f32| v.floor() + 0.5;
 
@@ -557,9 +535,13 @@ pub fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
         };
         let px = crisp(px);
         let grid = if t.major { [200; 3] } else { [232; 3] };
-        line(&mut pm, (px, p.top), (px, p.bottom), grid, 1.0);
+        fig.stroke(Shape::segment((px, p.top), (px, p.bottom)), grid, 1.0);
         let len = if t.major { TICK } else { 0.6 * TICK };
-        line(&mut pm, (px, p.bottom), (px, p.bottom + len), [60; 3], 1.0);
+        fig.stroke(
+            Shape::segment((px, p.bottom), (px, p.bottom + len)),
+            [60; 3],
+            1.0,
+        );
         if let Some(text) = &t.label {
             x_labels.push(Placed {
                 at: px,
@@ -576,9 +558,13 @@ pub fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
         };
         let py = crisp(py);
         let grid = if t.major { [200; 3] } else { [232; 3] };
-        line(&mut pm, (p.left, py), (p.right, py), grid, 1.0);
+        fig.stroke(Shape::segment((p.left, py), (p.right, py)), grid, 1.0);
         let len = if t.major { TICK } else { 0.6 * TICK };
-        line(&mut pm, (p.left - len, py), (p.left, py), [60; 3], 1.0);
+        fig.stroke(
+            Shape::segment((p.left - len, py), (p.left, py)),
+            [60; 3],
+            1.0,
+        );
         if let Some(text) = &t.label {
             y_labels.push(Placed {
                 at: py,
@@ -591,56 +577,36 @@ pub fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
     let style = TextStyle::new(LABEL, TEXT);
     let x_base = p.bottom + TICK + GAP + font::cap_height(LABEL);
     for l in thin_labels(x_labels, 6.0) {
-        font::draw_text(&mut pm, &l.text, l.at, x_base, &style.align(Align::Center));
+        fig.text(&l.text, (l.at, x_base), style.align(Align::Center));
     }
     for l in thin_labels(y_labels, 4.0) {
         let y = l.at + 0.5 * font::cap_height(LABEL);
-        font::draw_text(
-            &mut pm,
-            &l.text,
-            p.left - TICK - GAP,
-            y,
-            &style.align(Align::Right),
-        );
+        fig.text(&l.text, (p.left - TICK - GAP, y), style.align(Align::Right));
     }
 
     // Frame.
-    if let Some(rect) = Rect::from_ltrb(p.left, p.top, p.right, p.bottom) {
-        let path = PathBuilder::from_rect(rect);
-        pm.stroke_path(
-            &path,
-            &paint([60; 3]),
-            &stroke(1.0),
-            Transform::identity(),
-            None,
-        );
-    }
+    let plot_rect = [p.left, p.top, p.right, p.bottom];
+    fig.stroke(Shape::rect(plot_rect), [60; 3], 1.0);
 
     // Axis labels and title.
     let descent = 2.0 * LABEL / font::EM;
     if !chart.x_label.is_empty() {
         let y = lay.height as f32 - PAD - descent;
         let st = style.align(Align::Center);
-        font::draw_text(&mut pm, &chart.x_label, 0.5 * (p.left + p.right), y, &st);
+        fig.text(&chart.x_label, (0.5 * (p.left + p.right), y), st);
     }
     if !chart.y_label.is_empty() {
         let st = style.align(Align::Center).rotate(-90.0);
         let x = PAD + font::cap_height(LABEL);
-        font::draw_text(&mut pm, &chart.y_label, x, 0.5 * (p.top + p.bottom), &st);
+        fig.text(&chart.y_label, (x, 0.5 * (p.top + p.bottom)), st);
     }
     if !chart.title.is_empty() {
         let st = TextStyle::new(TITLE, TEXT).align(Align::Center).weight(1.5);
         let y = PAD + font::cap_height(TITLE);
-        font::draw_text(&mut pm, &chart.title, 0.5 * (p.left + p.right), y, &st);
+        fig.text(&chart.title, (0.5 * (p.left + p.right), y), st);
     }
 
     // Series: all lines (clipped to the plot area), then all markers on top.
-    let mut clip = Mask::new(lay.width, lay.height);
-    if let (Some(clip), Some(rect)) = (&mut clip, Rect::from_ltrb(p.left, p.top, p.right, p.bottom))
-    {
-        let path = PathBuilder::from_rect(rect);
-        clip.fill_path(&path, FillRule::Winding, false, Transform::identity());
-    }
     let pixels: Vec<Vec<Option<(f32, f32)>>> = chart
         .series
         .iter()
@@ -650,54 +616,46 @@ pub fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
         if !s.connect {
             continue;
         }
-        let mut pb = PathBuilder::new();
+        // A point that cannot be placed breaks the line.
+        let mut subpaths: Vec<Subpath> = Vec::new();
         let mut pen_down = false;
         for q in pts {
             match (q, pen_down) {
-                (Some((x, y)), false) => pb.move_to(*x, *y),
-                (Some((x, y)), true) => pb.line_to(*x, *y),
+                (Some(q), false) => subpaths.push(Subpath {
+                    points: vec![*q],
+                    closed: false,
+                }),
+                (Some(q), true) => {
+                    if let Some(last) = subpaths.last_mut() {
+                        last.points.push(*q);
+                    }
+                }
                 (None, _) => {}
             }
             pen_down = q.is_some();
         }
-        if let Some(path) = pb.finish() {
-            let color = series_style(i).0;
-            let st = stroke(1.6);
-            pm.stroke_path(
-                &path,
-                &paint(color),
-                &st,
-                Transform::identity(),
-                clip.as_ref(),
-            );
+        subpaths.retain(|s| s.points.len() > 1);
+        if !subpaths.is_empty() {
+            fig.items.push(Item::Stroke {
+                shape: Shape::Path(subpaths),
+                color: series_style(i).0,
+                width: 1.6,
+                clip: Some(plot_rect),
+            });
         }
     }
     for (i, pts) in pixels.iter().enumerate() {
         let (color, marker) = series_style(i);
         for q in pts.iter().flatten() {
-            draw_marker(&mut pm, marker, color, *q);
+            add_marker(&mut fig, marker, color, *q);
         }
     }
 
     // Legend.
-    if let Some(box_) = lay.legend
-        && let Some(rect) = Rect::from_ltrb(box_.left, box_.top, box_.right, box_.bottom)
-    {
-        let path = PathBuilder::from_rect(rect);
-        pm.fill_path(
-            &path,
-            &paint([255; 3]),
-            FillRule::Winding,
-            Transform::identity(),
-            None,
-        );
-        pm.stroke_path(
-            &path,
-            &paint([160; 3]),
-            &stroke(1.0),
-            Transform::identity(),
-            None,
-        );
+    if let Some(box_) = lay.legend {
+        let rect = [box_.left, box_.top, box_.right, box_.bottom];
+        fig.fill(Shape::rect(rect), [255; 3]);
+        fig.stroke(Shape::rect(rect), [160; 3], 1.0);
         let named = chart
             .series
             .iter()
@@ -708,14 +666,35 @@ pub fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
             let mid = box_.top + GAP + (row as f32 + 0.5) * LEGEND_ROW;
             let x0 = box_.left + GAP;
             if s.connect {
-                line(&mut pm, (x0, mid), (x0 + LEGEND_SAMPLE, mid), color, 1.6);
+                fig.stroke(
+                    Shape::segment((x0, mid), (x0 + LEGEND_SAMPLE, mid)),
+                    color,
+                    1.6,
+                );
             }
-            draw_marker(&mut pm, marker, color, (x0 + 0.5 * LEGEND_SAMPLE, mid));
+            add_marker(&mut fig, marker, color, (x0 + 0.5 * LEGEND_SAMPLE, mid));
             let y = mid + 0.5 * font::cap_height(LABEL);
-            font::draw_text(&mut pm, &s.name, x0 + LEGEND_SAMPLE + GAP, y, &style);
+            fig.text(&s.name, (x0 + LEGEND_SAMPLE + GAP, y), style);
         }
     }
-    pm
+    fig
+}
+
+/// Draws `chart` on a `width`×`height` image (each side clamped to 1..=[`MAX_SIDE`]).
+pub fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
+    raster::render(&chart_figure(chart, width, height))
+}
+
+/// `chart` as an SVG document of `width`×`height` pixels.
+pub fn chart_svg(chart: &Chart, width: u32, height: u32) -> String {
+    svg::to_svg(&chart_figure(chart, width, height))
+}
+
+/// Writes `chart` as SVG.
+pub fn save_chart_svg(chart: &Chart, width: u32, height: u32, path: &Path) -> anyhow::Result<()> {
+    use anyhow::Context;
+    std::fs::write(path, chart_svg(chart, width, height))
+        .with_context(|| format!("{}: writing SVG", path.display()))
 }
 
 /// Renders `chart` and writes it as an 8-bit RGBA PNG.
@@ -993,7 +972,7 @@ mod tests {
             "RMSE vs time (s): 1e-4, 2.5%",
         ];
         let mut small = Pixmap::new(200, 16 * lines.len() as u32 + 4).unwrap();
-        small.fill(Color::WHITE);
+        small.fill(tiny_skia::Color::WHITE);
         for (i, l) in lines.iter().enumerate() {
             let y = 14.0 + 16.0 * i as f32;
             font::draw_text(&mut small, l, 3.0, y, &TextStyle::new(LABEL, TEXT));
