@@ -17,6 +17,8 @@
 //!   denoise[U_N]` with a noise-driven joint-bilateral filter.
 //! * [`inspect`]: one pixel under the microscope: the recorded stages and per-light numbers
 //!   (the debug dump).
+//! * [`views`]: the debugger's views as figures (plain data from a recording), for the
+//!   command line's `penumbra figure`.
 //! * [`reference`]: brute-force ray-cast estimates used as independent oracles.
 //! * [`stochastic`]: solid-angle and BRDF sampling with MIS, and the estimators of 003.
 //! * [`stress`]: random and adversarial shading configurations.
@@ -42,3 +44,4 @@ pub mod scene;
 pub mod shading;
 pub mod stochastic;
 pub mod stress;
+pub mod views;

@@ -181,3 +181,82 @@ fn the_cache_command_shows_trims_and_clears_only_its_files() {
     assert!(text(&o.stderr).contains("PENUMBRA_CACHE_MAX"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `penumbra figure` (issue 28): the projected plane of a set difference, live and from the
+/// debug dump `probe` wrote of the same pixel, is the same figure; as SVG it parses, with the
+/// light's, the occluder's and the visible region as translucent fills; a set difference the
+/// recording does not have, or an unknown view, is a one-line error.
+#[test]
+fn figure_of_a_set_difference_live_and_from_a_dump() {
+    let dir = temp("figure");
+    let dump = dir.join("p.json");
+    let probe = [
+        "probe", "default", "--size", "320x240", "--pixel", "150,170", "--json",
+    ];
+    let o = penumbra(&[&probe[..], &[dump.to_str().unwrap()]].concat(), &dir);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let live = dir.join("live.svg");
+    let o = penumbra(
+        &[
+            "figure",
+            "default",
+            "--size",
+            "320x240",
+            "--pixel",
+            "150,170",
+            "--difference",
+            "1",
+            "--out",
+            live.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let replayed = dir.join("dump.svg");
+    let o = penumbra(
+        &[
+            "figure",
+            dump.to_str().unwrap(),
+            "--difference",
+            "1",
+            "--out",
+            replayed.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let (a, b) = (
+        std::fs::read_to_string(&live).unwrap(),
+        std::fs::read_to_string(&replayed).unwrap(),
+    );
+    assert_eq!(a, b, "the dump replays the live figure");
+    usvg::Tree::from_str(&a, &usvg::Options::default()).expect("the SVG parses");
+    // Three translucent regions and three legend swatches.
+    assert_eq!(a.matches("fill-opacity").count(), 6, "{a}");
+    let png = dir.join("dump.png");
+    let o = penumbra(
+        &[
+            "figure",
+            dump.to_str().unwrap(),
+            "--out",
+            png.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(o.status.success() && png.is_file(), "{}", text(&o.stderr));
+    for (args, want) in [
+        (
+            vec!["--difference", "99"],
+            "set difference(s) at this point",
+        ),
+        (vec!["--view", "sphere"], "not available as a figure yet"),
+    ] {
+        let o = penumbra(
+            &[&["figure", dump.to_str().unwrap()][..], &args[..]].concat(),
+            &dir,
+        );
+        let err = text(&o.stderr);
+        assert!(!o.status.success() && err.contains(want), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+}

@@ -8,41 +8,20 @@ use super::stages::GhPhase;
 use crate::geometry::PlanarPolygon;
 use crate::geometry::set_difference::{GreinerHormannSteps, Operand, Transition};
 use crate::shading::SetDifferenceRecord;
+use crate::views::{self, warp};
 use egui::{Color32, Ui};
 use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoint, PlotPoints, Points, Text};
 use glam::DVec3;
 
-/// Where a homogeneous point (x, y, w), w ≥ 0, is drawn: the plane point q = (x/w, y/w)
-/// compressed radially to q / (1 + |q|), i.e. (x, y) / (w + |(x, y)|). The whole plane fits in
-/// the unit disk, points at infinity (horizon vertices, w = 0) land on its rim, and the map is
-/// one-to-one, so crossings, containment and orientation read exactly as in the plane.
-fn warp(p: DVec3) -> [f64; 2] {
-    let d = p.x.hypot(p.y);
-    let den = p.z.abs() + d;
-    if den > 0.0 {
-        [p.x / den, p.y / den]
-    } else {
-        [0.0, 0.0]
-    }
-}
-
-/// Points along the segment a→b of the plane (a projective segment: the convex combination of
-/// the homogeneous vectors), warped; `a` included.
+/// Points along the segment a→b of the plane, warped ([`views::warp`]); `a` included.
 fn segment(a: DVec3, b: DVec3, out: &mut Vec<[f64; 2]>) {
-    let n = 24;
-    for i in 0..n {
-        let t = i as f64 / n as f64;
-        out.push(warp(a * (1.0 - t) + b * t));
-    }
+    out.extend(views::warped_loop(&[a, b]).into_iter().take(24));
 }
 
 fn loop_lines(poly: &PlanarPolygon, name: &str, colour: Color32, width: f32) -> Vec<Line<'static>> {
     poly.loops()
         .map(|lp| {
-            let mut pts = Vec::new();
-            for k in 0..lp.len() {
-                segment(lp[k], lp[(k + 1) % lp.len()], &mut pts);
-            }
+            let mut pts = views::warped_loop(lp);
             if let Some(&first) = pts.first() {
                 pts.push(first);
             }

@@ -126,6 +126,30 @@ pub(crate) enum Command {
         #[arg(long, default_value = "out/probe.json")]
         json: PathBuf,
     },
+    /// A view of one pixel's recorded stages as a figure (SVG or PNG): live, as `probe` records
+    /// it, or from a debug dump given in place of the scene. So far the projected plane of one
+    /// set difference (`--view plane`). `--out` names the figure: .svg or .png.
+    #[command(mut_arg("out", |a| a.default_value("out/figure.svg")
+        .help("The figure: .svg or .png")))]
+    Figure {
+        #[command(flatten)]
+        render: RenderArgs,
+        /// Pixel position X,Y (not needed with a dump).
+        #[arg(long, value_parser = parse_vec2, allow_hyphen_values = true)]
+        pixel: Option<(f64, f64)>,
+        /// The view: plane (the projected plane of a set difference).
+        #[arg(long, default_value = "plane")]
+        view: String,
+        /// Which set difference of the recording (0: the first), in recording order.
+        #[arg(long, default_value_t = 0)]
+        difference: usize,
+        /// print (light background, greyscale-safe) or screen (dark).
+        #[arg(long, default_value = "print")]
+        style: String,
+        /// Side of the figure in pixels (SVG user units).
+        #[arg(long, default_value_t = 800)]
+        figure_size: u32,
+    },
     /// Run time against error: a reference, then every method across a ladder of budgets;
     /// writes CSV, JSON, an equal-time table and a log–log chart. With --scaling, run time
     /// against light and occluder vertices (000 Figs. 5 and 7).

@@ -5,6 +5,7 @@ pub(crate) mod bench;
 pub(crate) mod cache;
 pub(crate) mod edit;
 pub(crate) mod environment;
+pub(crate) mod figure;
 pub(crate) mod ltc;
 pub(crate) mod probe;
 pub(crate) mod render;

@@ -15,6 +15,25 @@ pub(crate) fn probe(
     gh_steps: bool,
     json: &Path,
 ) -> Result<()> {
+    let dump = probe_dump(args, pixel, gh_steps)?;
+    if let Some(dir) = json.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
+    }
+    std::fs::write(json, serde_json::to_string_pretty(&dump)?)
+        .with_context(|| format!("{}", json.display()))?;
+    report(&dump, pixel);
+    say!("wrote {}", json.display());
+    Ok(())
+}
+
+/// The recording of one shading point, as `penumbra render` with the same arguments computes
+/// it there, with its Monte Carlo check: the debug dump (`probe`, `figure`).
+pub(crate) fn probe_dump(
+    args: &RenderArgs,
+    pixel: (f64, f64),
+    gh_steps: bool,
+) -> Result<penumbra::inspect::Probe> {
     let mut scene = load_scene(&args.scene)?;
     // The environment exactly as `render` resolves and attaches it (the same --env options).
     resolve_environment(&mut scene, args)?;
@@ -50,12 +69,11 @@ pub(crate) fn probe(
             &ctx, &sp, &m, 65536, args.seed,
         ));
     }
-    if let Some(dir) = json.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("{}: cannot create directory", dir.display()))?;
-    }
-    std::fs::write(json, serde_json::to_string_pretty(&dump)?)
-        .with_context(|| format!("{}", json.display()))?;
+    Ok(dump)
+}
+
+/// The dump's numbers on standard output.
+fn report(dump: &penumbra::inspect::Probe, pixel: (f64, f64)) {
     say!("radiance {} at pixel {pixel:?}", dump.radiance);
     for l in &dump.lights {
         say!(
@@ -120,6 +138,4 @@ pub(crate) fn probe(
                 .count()
         );
     }
-    say!("wrote {}", json.display());
-    Ok(())
 }

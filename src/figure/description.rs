@@ -46,8 +46,12 @@ pub enum Item {
         /// Drawn only inside this rectangle.
         clip: Option<Rect>,
     },
-    /// The shape's inside (nonzero winding).
-    Fill { shape: Shape, color: Rgb },
+    /// The shape's inside (nonzero winding), `opacity` 1 for opaque.
+    Fill {
+        shape: Shape,
+        color: Rgb,
+        opacity: f32,
+    },
     /// A label with its baseline through `at` ([`super::font::draw_text`]'s anchor).
     Text {
         text: String,
@@ -95,7 +99,16 @@ impl Figure {
     }
 
     pub fn fill(&mut self, shape: Shape, color: Rgb) {
-        self.items.push(Item::Fill { shape, color });
+        self.translucent(shape, color, 1.0);
+    }
+
+    /// A fill of `opacity` (0 to 1): regions that overlap show through each other.
+    pub fn translucent(&mut self, shape: Shape, color: Rgb, opacity: f32) {
+        self.items.push(Item::Fill {
+            shape,
+            color,
+            opacity,
+        });
     }
 
     pub fn text(&mut self, text: &str, at: (f32, f32), style: TextStyle) {

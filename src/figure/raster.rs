@@ -52,15 +52,20 @@ pub fn render(figure: &Figure) -> Pixmap {
                     mask.as_ref(),
                 );
             }
-            Item::Fill { shape, color } => {
+            Item::Fill {
+                shape,
+                color,
+                opacity,
+            } => {
                 if let Some(path) = path_of(shape) {
-                    pm.fill_path(
-                        &path,
-                        &paint(*color),
-                        FillRule::Winding,
-                        Transform::identity(),
-                        None,
+                    let mut p = paint(*color);
+                    p.set_color_rgba8(
+                        color[0],
+                        color[1],
+                        color[2],
+                        (opacity.clamp(0.0, 1.0) * 255.0).round() as u8,
                     );
+                    pm.fill_path(&path, &p, FillRule::Winding, Transform::identity(), None);
                 }
             }
             Item::Text { text, at, style } => font::draw_text(&mut pm, text, at.0, at.1, style),

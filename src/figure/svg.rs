@@ -61,10 +61,19 @@ pub fn to_svg(figure: &Figure) -> String {
                     num(*width)
                 );
             }
-            Item::Fill { shape, color } => {
+            Item::Fill {
+                shape,
+                color,
+                opacity,
+            } => {
+                let opacity = if *opacity < 1.0 {
+                    format!(r#" fill-opacity="{}""#, num(opacity.clamp(0.0, 1.0)))
+                } else {
+                    String::new()
+                };
                 let _ = writeln!(
                     out,
-                    r#"<{} fill="{}" fill-rule="nonzero" stroke="none"/>"#,
+                    r#"<{} fill="{}"{opacity} fill-rule="nonzero" stroke="none"/>"#,
                     element(shape),
                     colour(*color)
                 );

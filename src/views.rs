@@ -1,0 +1,195 @@
+//! The debugger's views as figures ([`crate::figure::Figure`]): plain data built from a
+//! recording only (a probe, live or read from a dump), so that the command line, and later a
+//! Python module, draw what the workbench shows without a window. One function per view.
+//!
+//! So far: the projected plane of one set difference (000 Alg. 1 line 12).
+
+use crate::figure::font::{self, Align, TextStyle};
+use crate::figure::{Figure, Item, Shape, Subpath};
+use crate::geometry::PlanarPolygon;
+use crate::shading::SetDifferenceRecord;
+use glam::DVec3;
+
+/// Colours for a screen (dark background) or for print (light background, and colours that
+/// stay apart in greyscale: the light's region light, the occluder's dark, the answer mid-dark
+/// and outlined).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    Screen,
+    Print,
+}
+
+impl Style {
+    pub fn from_name(name: &str) -> Option<Style> {
+        match name {
+            "screen" => Some(Style::Screen),
+            "print" => Some(Style::Print),
+            _ => None,
+        }
+    }
+
+    fn background(self) -> [u8; 3] {
+        match self {
+            Style::Screen => [24, 24, 28],
+            Style::Print => [255, 255, 255],
+        }
+    }
+
+    fn ink(self) -> [u8; 3] {
+        match self {
+            Style::Screen => [220, 220, 220],
+            Style::Print => [30, 30, 30],
+        }
+    }
+
+    fn faint(self) -> [u8; 3] {
+        match self {
+            Style::Screen => [80, 80, 88],
+            Style::Print => [190, 190, 190],
+        }
+    }
+}
+
+/// The light's region (the subject of the difference): yellow, light in greyscale.
+pub const LIGHT: [u8; 3] = [240, 200, 40];
+/// The occluder's region (the clip): vermillion, dark in greyscale.
+pub const OCCLUDER: [u8; 3] = [200, 60, 20];
+/// What the point sees of the light (the answer): bluish green, outlined.
+pub const VISIBLE: [u8; 3] = [0, 150, 110];
+
+/// Where a homogeneous point (x, y, w), w ≥ 0, of the projection plane is drawn: the plane
+/// point q = (x/w, y/w) compressed radially to q / (1 + |q|), i.e. (x, y) / (w + |(x, y)|). The
+/// whole plane fits in the unit disk, points at infinity (horizon vertices, w = 0) land on its
+/// rim, and the map is one-to-one, so crossings, containment and orientation read exactly as
+/// in the plane.
+pub fn warp(p: DVec3) -> [f64; 2] {
+    let d = p.x.hypot(p.y);
+    let den = p.z.abs() + d;
+    if den > 0.0 {
+        [p.x / den, p.y / den]
+    } else {
+        [0.0, 0.0]
+    }
+}
+
+/// The warped loop of a polygon: each projective edge a→b (the convex combination of the
+/// homogeneous vectors) sampled at 24 points, so that edges through infinity bend as they do
+/// in the disk.
+pub fn warped_loop(lp: &[DVec3]) -> Vec<[f64; 2]> {
+    let n = 24;
+    let mut out = Vec::with_capacity(n * lp.len());
+    for k in 0..lp.len() {
+        let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
+        for i in 0..n {
+            let t = i as f64 / n as f64;
+            out.push(warp(a * (1.0 - t) + b * t));
+        }
+    }
+    out
+}
+
+/// The projected plane of one recorded set difference, `size` pixels square: the light's
+/// region before it, the occluder's, and what is left (the visible region, the answer),
+/// translucent so that overlaps show, with a legend and a title naming the occluder. The
+/// plane is drawn in the warped disk of [`warp`] (its rim is the horizon), framed on the
+/// light's and the occluder's regions.
+pub fn plane_figure(sd: &SetDifferenceRecord, occluder: &str, size: u32, style: Style) -> Figure {
+    let size = size.clamp(64, 8192);
+    let mut fig = Figure::new(size, size, style.background());
+    let s = size as f32;
+    // The plot area under the title and legend; framed on the light's region and the
+    // occluder's (the region of interest), not on the whole disk.
+    let plot = [0.04 * s, 0.14 * s, 0.96 * s, 0.96 * s];
+    let warped = |poly: &PlanarPolygon| -> Vec<Vec<[f64; 2]>> {
+        poly.loops()
+            .filter(|lp| lp.len() >= 3)
+            .map(warped_loop)
+            .collect()
+    };
+    let (before, clip, after) = (warped(&sd.before), warped(&sd.clip), warped(&sd.after));
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for q in before.iter().chain(&clip).flatten() {
+        for k in 0..2 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    if !(lo[0] <= hi[0] && lo[1] <= hi[1]) {
+        (lo, hi) = ([-1.0; 2], [1.0; 2]);
+    }
+    let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-9) * 1.15;
+    let side = (plot[2] - plot[0]).min(plot[3] - plot[1]);
+    let scale = side as f64 / extent;
+    let centre = (0.5 * (plot[0] + plot[2]), 0.5 * (plot[1] + plot[3]));
+    let to_px = |q: [f64; 2]| {
+        (
+            centre.0 + ((q[0] - mid[0]) * scale) as f32,
+            centre.1 - ((q[1] - mid[1]) * scale) as f32,
+        )
+    };
+    let shape = |loops: &[Vec<[f64; 2]>]| {
+        Shape::Path(
+            loops
+                .iter()
+                .map(|lp| Subpath {
+                    points: lp.iter().copied().map(to_px).collect(),
+                    closed: true,
+                })
+                .collect(),
+        )
+    };
+    // The horizon (the disk's rim) and the axes, where they cross the frame.
+    let origin = to_px([0.0, 0.0]);
+    let r = scale as f32;
+    let guides = [
+        Shape::Circle {
+            centre: origin,
+            radius: r,
+        },
+        Shape::segment((origin.0 - r, origin.1), (origin.0 + r, origin.1)),
+        Shape::segment((origin.0, origin.1 - r), (origin.0, origin.1 + r)),
+    ];
+    for g in guides {
+        fig.items.push(Item::Stroke {
+            shape: g,
+            color: style.faint(),
+            width: 1.0,
+            clip: Some(plot),
+        });
+    }
+    fig.stroke(Shape::rect(plot), style.faint(), 1.0);
+    // Regions: the light, the occluder over it, the visible part over both.
+    fig.translucent(shape(&before), LIGHT, 0.35);
+    fig.translucent(shape(&clip), OCCLUDER, 0.35);
+    fig.translucent(shape(&after), VISIBLE, 0.55);
+    fig.stroke(shape(&before), LIGHT, 1.5);
+    fig.stroke(shape(&clip), OCCLUDER, 1.5);
+    fig.stroke(shape(&after), VISIBLE, 2.5);
+    // Title (shrunk to fit) and legend.
+    let title = format!("light minus occluder {occluder}: what the point sees");
+    let mut size_t = 0.03 * s;
+    while size_t > 6.0 && font::text_width(&title, size_t) > 0.92 * s {
+        size_t *= 0.9;
+    }
+    fig.text(
+        &title,
+        (0.5 * s, 0.05 * s),
+        TextStyle::new(size_t, style.ink()).align(Align::Center),
+    );
+    let entries = [
+        (LIGHT, 0.35, "light (before)"),
+        (OCCLUDER, 0.35, "occluder"),
+        (VISIBLE, 0.55, "visible (after)"),
+    ];
+    let small = TextStyle::new(0.024 * s, style.ink());
+    for (k, (colour, opacity, label)) in entries.iter().enumerate() {
+        let x = 0.04 * s + k as f32 * 0.32 * s;
+        let y = 0.1 * s;
+        let swatch = [x, y - 0.02 * s, x + 0.03 * s, y + 0.005 * s];
+        fig.translucent(Shape::rect(swatch), *colour, *opacity);
+        fig.stroke(Shape::rect(swatch), *colour, 1.0);
+        fig.text(label, (x + 0.04 * s, y), small);
+    }
+    fig
+}
