@@ -223,7 +223,7 @@ impl ExactSilhouetteBsp {
     /// The loops (ranges of `points`) of the leaf of `x`; `None` outside the box or in a leaf
     /// left to the on-the-fly path.
     #[inline]
-    fn leaf_loops(&self, x: DVec3) -> Option<&[[u32; 2]]> {
+    pub(super) fn leaf_ranges(&self, x: DVec3) -> Option<&[[u32; 2]]> {
         if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
             return None;
         }
@@ -243,7 +243,7 @@ impl ExactSilhouetteBsp {
         x: DVec3,
     ) -> Option<impl Iterator<Item = SilhouettePoint> + 'a> {
         Some(
-            self.leaf_loops(x)?
+            self.leaf_ranges(x)?
                 .iter()
                 .flat_map(|lp| self.points[lp[0] as usize..lp[1] as usize].iter())
                 .map(move |&p| self.coding.unpack(p, poly)),
@@ -274,7 +274,7 @@ impl ExactSilhouetteBsp {
         frame: &Frame,
         out: &mut SphericalPolygon,
     ) -> bool {
-        let Some(loops) = self.leaf_loops(tree_x) else {
+        let Some(loops) = self.leaf_ranges(tree_x) else {
             return false;
         };
         out.clear();

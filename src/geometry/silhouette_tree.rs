@@ -5,9 +5,9 @@
 //! lookup went through with the same calls, so that neither needs to know which layout a mesh
 //! has.
 
-use super::bsp::{BspNode, BspPath, LOOP_END, SilhouetteBsp, bsp_leaf};
+use super::bsp::{BspNode, BspPath, LOOP_END, SilhouetteBsp};
 use super::bsp_hoisted::{HoistedKind, HoistedSilhouetteBsp, loop_runs};
-use super::bsp_nonconvex::{ExactSilhouetteBsp, ON_THE_FLY};
+use super::bsp_nonconvex::ExactSilhouetteBsp;
 use super::bsp_sections::PlaneSection;
 use super::convex_cell::ConvexCell;
 use super::exact_silhouette::SilhouettePoint;
@@ -157,10 +157,6 @@ pub trait SilhouetteTree: Send + Sync {
     }
 }
 
-fn outside(x: DVec3, lo: DVec3, hi: DVec3) -> bool {
-    x.cmplt(lo).any() || x.cmpgt(hi).any()
-}
-
 fn leaf_node(node: BspNode) -> TreeNode {
     match node {
         BspNode::Inner { plane, back, front } => TreeNode::Inner { plane, back, front },
@@ -168,38 +164,58 @@ fn leaf_node(node: BspNode) -> TreeNode {
     }
 }
 
-impl SilhouetteTree for SilhouetteBsp {
-    fn kind(&self) -> TreeKind {
-        TreeKind::Convex
-    }
-    fn planes(&self) -> &[Plane] {
-        &self.planes
-    }
-    fn node_count(&self) -> usize {
-        self.nodes.len()
-    }
-    fn node(&self, n: usize) -> TreeNode {
-        leaf_node(self.nodes[n])
-    }
-    fn bounds(&self) -> (DVec3, DVec3) {
-        (self.lo, self.hi)
-    }
-    fn stored_bytes(&self) -> usize {
-        SilhouetteBsp::stored_bytes(self)
-    }
-    #[inline]
-    fn silhouette_at(
-        &self,
-        poly: &Polyhedron,
-        x: DVec3,
-        tree_x: DVec3,
-        frame: &Frame,
-        out: &mut SphericalPolygon,
-        _buf: &mut Vec<[u32; 2]>,
-    ) -> bool {
-        SilhouetteBsp::silhouette_at(self, poly, x, tree_x, frame, out)
-    }
-    fn leaf_loops(&self, _poly: &Polyhedron, tree_x: DVec3) -> Option<Vec<Vec<SilhouettePoint>>> {
+/// The trait for a layout whose leaves store their loops (`BspNode`s, inherent
+/// `stored_bytes`, `silhouette_at` and `point_loops`).
+macro_rules! leaf_stored_tree {
+    ($layout:ty, $kind:expr) => {
+        impl SilhouetteTree for $layout {
+            fn kind(&self) -> TreeKind {
+                $kind
+            }
+            fn planes(&self) -> &[Plane] {
+                &self.planes
+            }
+            fn node_count(&self) -> usize {
+                self.nodes.len()
+            }
+            fn node(&self, n: usize) -> TreeNode {
+                leaf_node(self.nodes[n])
+            }
+            fn bounds(&self) -> (DVec3, DVec3) {
+                (self.lo, self.hi)
+            }
+            fn stored_bytes(&self) -> usize {
+                <$layout>::stored_bytes(self)
+            }
+            #[inline]
+            fn silhouette_at(
+                &self,
+                poly: &Polyhedron,
+                x: DVec3,
+                tree_x: DVec3,
+                frame: &Frame,
+                out: &mut SphericalPolygon,
+                _buf: &mut Vec<[u32; 2]>,
+            ) -> bool {
+                <$layout>::silhouette_at(self, poly, x, tree_x, frame, out)
+            }
+            fn leaf_loops(
+                &self,
+                poly: &Polyhedron,
+                tree_x: DVec3,
+            ) -> Option<Vec<Vec<SilhouettePoint>>> {
+                self.point_loops(poly, tree_x)
+            }
+        }
+    };
+}
+
+leaf_stored_tree!(SilhouetteBsp, TreeKind::Convex);
+leaf_stored_tree!(ExactSilhouetteBsp, TreeKind::Exact);
+
+impl SilhouetteBsp {
+    /// The loops of the leaf of `tree_x`, as points (vertices).
+    fn point_loops(&self, _poly: &Polyhedron, tree_x: DVec3) -> Option<Vec<Vec<SilhouettePoint>>> {
         let data = self.lookup(tree_x)?;
         Some(
             data.split(|&v| v == LOOP_END)
@@ -210,51 +226,11 @@ impl SilhouetteTree for SilhouetteBsp {
     }
 }
 
-impl SilhouetteTree for ExactSilhouetteBsp {
-    fn kind(&self) -> TreeKind {
-        TreeKind::Exact
-    }
-    fn planes(&self) -> &[Plane] {
-        &self.planes
-    }
-    fn node_count(&self) -> usize {
-        self.nodes.len()
-    }
-    fn node(&self, n: usize) -> TreeNode {
-        leaf_node(self.nodes[n])
-    }
-    fn bounds(&self) -> (DVec3, DVec3) {
-        (self.lo, self.hi)
-    }
-    fn stored_bytes(&self) -> usize {
-        ExactSilhouetteBsp::stored_bytes(self)
-    }
-    #[inline]
-    fn silhouette_at(
-        &self,
-        poly: &Polyhedron,
-        x: DVec3,
-        tree_x: DVec3,
-        frame: &Frame,
-        out: &mut SphericalPolygon,
-        _buf: &mut Vec<[u32; 2]>,
-    ) -> bool {
-        ExactSilhouetteBsp::silhouette_at(self, poly, x, tree_x, frame, out)
-    }
-    fn leaf_loops(&self, poly: &Polyhedron, tree_x: DVec3) -> Option<Vec<Vec<SilhouettePoint>>> {
-        if outside(tree_x, self.lo, self.hi) || self.nodes.is_empty() {
-            return None;
-        }
-        let BspNode::Leaf { first, count } =
-            self.nodes[bsp_leaf(&self.nodes, &self.planes, tree_x)]
-        else {
-            return None;
-        };
-        if count == ON_THE_FLY {
-            return None;
-        }
+impl ExactSilhouetteBsp {
+    /// The loops of the leaf of `tree_x` (`None` outside the box or in an on-the-fly leaf).
+    fn point_loops(&self, poly: &Polyhedron, tree_x: DVec3) -> Option<Vec<Vec<SilhouettePoint>>> {
         Some(
-            self.loops[first as usize..(first + count) as usize]
+            self.leaf_ranges(tree_x)?
                 .iter()
                 .map(|lp| {
                     self.points[lp[0] as usize..lp[1] as usize]
