@@ -61,53 +61,60 @@ fn recorded_stages_reproduce_the_rendered_pixels() {
     assert!(checked > 50);
 }
 
+/// Calls `f` with the analytic recording of the centre of every pixel of a 16×12 image of the
+/// `fig4` scene, as the renderer computes it.
+fn for_each_fig4_recording(mut f: impl FnMut(&StageRecording)) {
+    let scene = scene_file::load_embedded("fig4").unwrap();
+    let ctx = RenderContext::new(&scene);
+    let basis = scene.camera.unwrap().basis().unwrap();
+    let (w, h) = (16, 12);
+    let mut scratch = ShadingScratch::default();
+    for y in 0..h {
+        for x in 0..w {
+            let ray = subpixel_rays(&basis, x, y, 1, w, h).next().unwrap();
+            let mut rec = StageRecording::new(false);
+            ctx.radiance(&ray, Method::Analytic, &mut scratch, &mut rec);
+            f(&rec);
+        }
+    }
+}
+
 /// The recorded edge terms of each lobe are the terms of the integral the stage computed: for
 /// the diffuse lobe (the identity LTC) they sum to the recorded form factor, and each one is
 /// the edge integral of its arc (000 Eq. 9) evaluated independently here.
 #[test]
 fn recorded_edge_terms_sum_to_the_recorded_integral() {
     use penumbra::ltc::edge_integral;
-    let scene = scene_file::load_embedded("fig4").unwrap();
-    let ctx = RenderContext::new(&scene);
-    let cam = scene.camera.unwrap();
-    let basis = cam.basis().unwrap();
-    let (w, h) = (16, 12);
-    let mut scratch = ShadingScratch::default();
     let mut checked = 0;
-    for y in 0..h {
-        for x in 0..w {
-            let ray = subpixel_rays(&basis, x, y, 1, w, h).next().unwrap();
-            let mut rec = StageRecording::new(false);
-            ctx.radiance(&ray, Method::Analytic, &mut scratch, &mut rec);
-            for l in &rec.lights {
-                assert_eq!(l.lobes.len(), l.lobe_edge_terms.len());
-                for ((lobe, _, clipped, integral), (lobe2, terms)) in
-                    l.lobes.iter().zip(&l.lobe_edge_terms)
-                {
-                    assert_eq!(lobe, lobe2);
-                    for (lp, t) in clipped.loops().zip(terms) {
-                        if lp.len() < 3 {
-                            assert!(t.is_empty());
-                            continue;
-                        }
-                        assert_eq!(t.len(), lp.len());
-                        for k in 0..lp.len() {
-                            let e = edge_integral(lp[k], lp[(k + 1) % lp.len()]) / TAU;
-                            assert!((t[k] - e).abs() <= 1e-15, "{} vs {e}", t[k]);
-                        }
+    for_each_fig4_recording(|rec| {
+        for l in &rec.lights {
+            assert_eq!(l.lobes.len(), l.lobe_edge_terms.len());
+            for ((lobe, _, clipped, integral), (lobe2, terms)) in
+                l.lobes.iter().zip(&l.lobe_edge_terms)
+            {
+                assert_eq!(lobe, lobe2);
+                for (lp, t) in clipped.loops().zip(terms) {
+                    if lp.len() < 3 {
+                        assert!(t.is_empty());
+                        continue;
                     }
-                    if *lobe == Lobe::Diffuse {
-                        let sum: f64 = terms.iter().flatten().sum();
-                        assert!(
-                            (sum.max(0.0) - integral).abs() <= 1e-12,
-                            "{sum} vs {integral}"
-                        );
-                        checked += (*integral > 0.0) as usize;
+                    assert_eq!(t.len(), lp.len());
+                    for k in 0..lp.len() {
+                        let e = edge_integral(lp[k], lp[(k + 1) % lp.len()]) / TAU;
+                        assert!((t[k] - e).abs() <= 1e-15, "{} vs {e}", t[k]);
                     }
+                }
+                if *lobe == Lobe::Diffuse {
+                    let sum: f64 = terms.iter().flatten().sum();
+                    assert!(
+                        (sum.max(0.0) - integral).abs() <= 1e-12,
+                        "{sum} vs {integral}"
+                    );
+                    checked += (*integral > 0.0) as usize;
                 }
             }
         }
-    }
+    });
     assert!(checked > 50, "{checked} lit diffuse lobes checked");
 }
 
@@ -116,48 +123,37 @@ fn recorded_edge_terms_sum_to_the_recorded_integral() {
 /// of the recorded silhouette loops is one of the recorded edges, with the same orientation.
 #[test]
 fn recorded_contour_edges_chain_into_the_recorded_silhouette() {
-    let scene = scene_file::load_embedded("fig4").unwrap();
-    let ctx = RenderContext::new(&scene);
-    let cam = scene.camera.unwrap();
-    let basis = cam.basis().unwrap();
-    let (w, h) = (16, 12);
-    let mut scratch = ShadingScratch::default();
     let mut checked = 0;
-    for y in 0..h {
-        for x in 0..w {
-            let ray = subpixel_rays(&basis, x, y, 1, w, h).next().unwrap();
-            let mut rec = StageRecording::new(false);
-            ctx.radiance(&ray, Method::Analytic, &mut scratch, &mut rec);
-            // A light below the tangent plane is not looked at (no stage is recorded for it).
-            for l in rec
-                .lights
+    for_each_fig4_recording(|rec| {
+        // A light below the tangent plane is not looked at (no stage is recorded for it).
+        for l in rec
+            .lights
+            .iter()
+            .filter(|l| l.piece.is_none() && !l.polygons.is_empty())
+        {
+            let (_, edges) = l.contours.iter().find(|(o, _)| o.is_none()).unwrap();
+            let (_, sil) = l
+                .polygons
                 .iter()
-                .filter(|l| l.piece.is_none() && !l.polygons.is_empty())
-            {
-                let (_, edges) = l.contours.iter().find(|(o, _)| o.is_none()).unwrap();
-                let (_, sil) = l
-                    .polygons
-                    .iter()
-                    .find(|(s, _)| *s == Stage::Silhouette)
-                    .unwrap();
-                let verts: usize = sil.loops().map(|lp| lp.len()).sum();
-                assert_eq!(edges.len(), verts);
-                // Each silhouette arc (v_k, v_k+1) is one recorded contour edge.
-                for lp in sil.loops() {
-                    for k in 0..lp.len() {
-                        let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
-                        assert!(
-                            edges.iter().any(
-                                |[p, q]| (*p - a).length() < 1e-12 && (*q - b).length() < 1e-12
-                            ),
-                            "silhouette arc {a} → {b} is not a contour edge"
-                        );
-                    }
+                .find(|(s, _)| *s == Stage::Silhouette)
+                .unwrap();
+            let verts: usize = sil.loops().map(|lp| lp.len()).sum();
+            assert_eq!(edges.len(), verts);
+            // Each silhouette arc (v_k, v_k+1) is one recorded contour edge.
+            for lp in sil.loops() {
+                for k in 0..lp.len() {
+                    let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
+                    assert!(
+                        edges
+                            .iter()
+                            .any(|[p, q]| (*p - a).length() < 1e-12 && (*q - b).length() < 1e-12),
+                        "silhouette arc {a} → {b} is not a contour edge"
+                    );
                 }
-                checked += 1;
             }
+            checked += 1;
         }
-    }
+    });
     assert!(checked > 100, "{checked} light records checked");
 }
 
