@@ -6,7 +6,7 @@ use egui::{Event, PointerButton, Pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use penumbra::app::layout::{self, Pane};
-use penumbra::app::stages::StepKind;
+use penumbra::views::stages::StepKind;
 use penumbra::app::{Persisted, WorkbenchApp};
 use penumbra::inspect::probe;
 use penumbra::shading::Method;

@@ -4,9 +4,9 @@
 
 use super::planar_view::planar_ui;
 use super::sphere_view::SphereView;
-use super::stages::{GhPhase, Step, StepKind, steps};
 use crate::inspect::{MonteCarloEstimate, Probe};
 use crate::shading::{EnvironmentSide, RayOutcome, SetDifferenceRecord};
+use crate::views::stages::{GhPhase, Step, StepKind, steps};
 use egui::{RichText, Ui};
 
 /// The picked point and where the stepper stands.

@@ -189,35 +189,38 @@ impl AutoScreenshot {
         let (Some(step), Some(ins)) = (&self.step, &mut self.app.inspector) else {
             return;
         };
-        let find =
-            |f: &dyn Fn(&stages::StepKind) -> bool| ins.steps.iter().position(|s| f(&s.kind));
+        let find = |f: &dyn Fn(&crate::views::stages::StepKind) -> bool| {
+            ins.steps.iter().position(|s| f(&s.kind))
+        };
         ins.step = match step.as_str() {
             "gh" => find(&|k| {
                 matches!(
                     k,
-                    stages::StepKind::SetDifference {
-                        phase: Some(stages::GhPhase::Traversal),
+                    crate::views::stages::StepKind::SetDifference {
+                        phase: Some(crate::views::stages::GhPhase::Traversal),
                         ..
                     }
                 )
             })
-            .or_else(|| find(&|k| matches!(k, stages::StepKind::SetDifference { .. }))),
+            .or_else(|| {
+                find(&|k| matches!(k, crate::views::stages::StepKind::SetDifference { .. }))
+            }),
             "labels" => find(&|k| {
                 matches!(
                     k,
-                    stages::StepKind::SetDifference {
-                        phase: Some(stages::GhPhase::Labels),
+                    crate::views::stages::StepKind::SetDifference {
+                        phase: Some(crate::views::stages::GhPhase::Labels),
                         ..
                     }
                 )
             }),
-            "visible" => find(&|k| *k == stages::StepKind::Visible),
-            "ltc" => find(&|k| matches!(k, stages::StepKind::LtcClipped { .. })),
+            "visible" => find(&|k| *k == crate::views::stages::StepKind::Visible),
+            "ltc" => find(&|k| matches!(k, crate::views::stages::StepKind::LtcClipped { .. })),
             n if n.starts_with("silhouette:") => {
                 let name = &n["silhouette:".len()..];
                 let light = ins.probe.lights.iter().find(|l| l.name == name);
                 ins.steps.iter().position(|s| {
-                    s.kind == stages::StepKind::LightSilhouette
+                    s.kind == crate::views::stages::StepKind::LightSilhouette
                         && light
                             .is_some_and(|l| ins.probe.recording.lights[s.record].light == l.light)
                 })

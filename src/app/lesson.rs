@@ -5,10 +5,10 @@
 //! Plain data, no egui: the Stages pane draws it, the frame export writes it, the tests check
 //! that every stage has its text and every `{name}` a number.
 
-use super::stages::{GhPhase, Step, StepKind};
 use crate::geometry::PolygonLoops;
 use crate::inspect::Probe;
 use crate::shading::{Lobe, Stage};
+use crate::views::stages::{GhPhase, Step, StepKind};
 use std::sync::OnceLock;
 
 const PAGE: &str = include_str!("../../docs/analytic-pipeline.md");

@@ -24,7 +24,7 @@ pub mod panes;
 pub mod planar_view;
 pub mod scene_edit;
 pub mod sphere_view;
-pub mod stages;
+
 pub mod tonemap;
 pub mod ui;
 pub mod viewport;

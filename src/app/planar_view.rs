@@ -4,10 +4,10 @@
 //! points at infinity (horizon vertices, w = 0) are drawn far out along their direction.
 
 use super::sphere_view::colours;
-use super::stages::GhPhase;
 use crate::geometry::PlanarPolygon;
 use crate::geometry::set_difference::{GreinerHormannSteps, Operand, Transition};
 use crate::shading::SetDifferenceRecord;
+use crate::views::stages::GhPhase;
 use crate::views::{self, warp};
 use egui::{Color32, Ui};
 use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoint, PlotPoints, Points, Text};

@@ -3,10 +3,10 @@
 //! and the flat hemisphere seen from above (orthographic: the area a polygon covers there is
 //! its diffuse form factor, Nusselt's analogue). Everything is in the shading frame (z = n).
 
-use super::stages::{Step, StepKind};
 use super::tonemap::{ToneMap, tonemap};
 use crate::inspect::{Probe, sky_grid_direction};
 use crate::shading::{EnvironmentSide, LightRecord, RayOutcome, Stage};
+use crate::views::stages::{Step, StepKind};
 use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Ui, Vec2};
 use glam::DVec3;
 

@@ -43,6 +43,8 @@ pub enum Item {
         shape: Shape,
         color: Rgb,
         width: f32,
+        /// 1 for opaque; less for what is faded (earlier stages, the far side of a sphere).
+        opacity: f32,
         /// Drawn only inside this rectangle.
         clip: Option<Rect>,
     },
@@ -90,10 +92,16 @@ impl Figure {
     }
 
     pub fn stroke(&mut self, shape: Shape, color: Rgb, width: f32) {
+        self.faded_stroke(shape, color, width, 1.0);
+    }
+
+    /// A stroke of `opacity` (0 to 1).
+    pub fn faded_stroke(&mut self, shape: Shape, color: Rgb, width: f32, opacity: f32) {
         self.items.push(Item::Stroke {
             shape,
             color,
             width,
+            opacity,
             clip: None,
         });
     }

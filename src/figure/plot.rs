@@ -640,6 +640,7 @@ pub fn chart_figure(chart: &Chart, width: u32, height: u32) -> Figure {
                 shape: Shape::Path(subpaths),
                 color: series_style(i).0,
                 width: 1.6,
+                opacity: 1.0,
                 clip: Some(plot_rect),
             });
         }

@@ -26,6 +26,7 @@ pub fn render(figure: &Figure) -> Pixmap {
                 shape,
                 color,
                 width,
+                opacity,
                 clip,
             } => {
                 let Some(path) = path_of(shape) else {
@@ -44,13 +45,9 @@ pub fn render(figure: &Figure) -> Pixmap {
                     line_join: LineJoin::Round,
                     ..Stroke::default()
                 };
-                pm.stroke_path(
-                    &path,
-                    &paint(*color),
-                    &stroke,
-                    Transform::identity(),
-                    mask.as_ref(),
-                );
+                let mut p = paint(*color);
+                p.set_color_rgba8(color[0], color[1], color[2], alpha(*opacity));
+                pm.stroke_path(&path, &p, &stroke, Transform::identity(), mask.as_ref());
             }
             Item::Fill {
                 shape,
@@ -59,12 +56,7 @@ pub fn render(figure: &Figure) -> Pixmap {
             } => {
                 if let Some(path) = path_of(shape) {
                     let mut p = paint(*color);
-                    p.set_color_rgba8(
-                        color[0],
-                        color[1],
-                        color[2],
-                        (opacity.clamp(0.0, 1.0) * 255.0).round() as u8,
-                    );
+                    p.set_color_rgba8(color[0], color[1], color[2], alpha(*opacity));
                     pm.fill_path(&path, &p, FillRule::Winding, Transform::identity(), None);
                 }
             }
@@ -72,6 +64,11 @@ pub fn render(figure: &Figure) -> Pixmap {
         }
     }
     pm
+}
+
+/// An opacity (0 to 1) as an 8-bit alpha.
+fn alpha(opacity: f32) -> u8 {
+    (opacity.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
 fn paint(color: Rgb) -> Paint<'static> {

@@ -47,15 +47,21 @@ pub fn to_svg(figure: &Figure) -> String {
                 shape,
                 color,
                 width,
+                opacity,
                 clip,
             } => {
                 let clip = clip
                     .and_then(|c| clips.iter().position(|d| *d == c))
                     .map(|k| format!(r#" clip-path="url(#clip{k})""#))
                     .unwrap_or_default();
+                let opacity = if *opacity < 1.0 {
+                    format!(r#" stroke-opacity="{}""#, num(opacity.clamp(0.0, 1.0)))
+                } else {
+                    String::new()
+                };
                 let _ = writeln!(
                     out,
-                    r#"<{} fill="none" stroke="{}" stroke-width="{}" stroke-linecap="butt" stroke-linejoin="round"{clip}/>"#,
+                    r#"<{} fill="none" stroke="{}" stroke-width="{}"{opacity} stroke-linecap="butt" stroke-linejoin="round"{clip}/>"#,
                     element(shape),
                     colour(*color),
                     num(*width)
