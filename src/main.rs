@@ -95,22 +95,7 @@ fn run() -> Result<()> {
             gh_steps,
             json,
         }) => cli::probe::probe(&render, pixel, gh_steps, &json),
-        Some(Command::Figure {
-            render,
-            pixel,
-            view,
-            difference,
-            style,
-            figure_size,
-        }) => cli::figure::figure(
-            &render,
-            pixel,
-            &view,
-            difference,
-            &style,
-            figure_size,
-            &render.out,
-        ),
+        Some(Command::Figure { render, figure }) => cli::figure::figure(&render, &figure),
         Some(Command::Cache { clear, trim, json }) => {
             cli::cache::cache(clear, trim, json.as_deref())
         }

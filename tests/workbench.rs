@@ -6,10 +6,10 @@ use egui::{Event, PointerButton, Pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use penumbra::app::layout::{self, Pane};
-use penumbra::views::stages::StepKind;
 use penumbra::app::{Persisted, WorkbenchApp};
 use penumbra::inspect::probe;
 use penumbra::shading::Method;
+use penumbra::views::stages::StepKind;
 use std::time::{Duration, Instant};
 
 pub(crate) fn harness(state: Persisted) -> Harness<'static, WorkbenchApp> {

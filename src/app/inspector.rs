@@ -6,7 +6,7 @@ use super::planar_view::planar_ui;
 use super::sphere_view::SphereView;
 use crate::inspect::{MonteCarloEstimate, Probe};
 use crate::shading::{EnvironmentSide, RayOutcome, SetDifferenceRecord};
-use crate::views::stages::{GhPhase, Step, StepKind, steps};
+use crate::views::stages::{GhPhase, Step, StepKind, plane_subject, probe_steps};
 use egui::{RichText, Ui};
 
 /// The picked point and where the stepper stands.
@@ -22,18 +22,7 @@ pub struct Inspector {
 
 impl Inspector {
     pub fn new(probe: Probe) -> Self {
-        let names = &probe.occluder_names;
-        let lights = &probe.lights;
-        let steps = steps(
-            &probe.recording,
-            |i| {
-                lights
-                    .iter()
-                    .find(|l| l.light == i)
-                    .map_or_else(|| i.to_string(), |l| l.name.clone())
-            },
-            |i| names.get(i).cloned().unwrap_or_else(|| format!("#{i}")),
-        );
+        let steps = probe_steps(&probe);
         Inspector {
             probe,
             steps,
@@ -398,22 +387,7 @@ impl Inspector {
     /// The set difference the planar view shows: the current step's, else the last one at
     /// or before the current step, else the first one recorded; with the GH phase stepped.
     fn planar_subject(&self) -> Option<(&SetDifferenceRecord, Option<GhPhase>)> {
-        let rec = &self.probe.recording.lights;
-        let at = |record: usize, k: usize| rec.get(record).and_then(|r| r.set_differences.get(k));
-        let upto = self.step.unwrap_or(self.steps.len().saturating_sub(1));
-        for s in self.steps[..(upto + 1).min(self.steps.len())].iter().rev() {
-            if let StepKind::SetDifference { k, phase } = s.kind {
-                let phase = if Some(s) == self.current() {
-                    phase
-                } else {
-                    None
-                };
-                return at(s.record, k).map(|sd| (sd, phase));
-            }
-        }
-        rec.iter()
-            .find_map(|r| r.set_differences.first())
-            .map(|sd| (sd, None))
+        plane_subject(&self.probe, &self.steps, self.step)
     }
 
     /// Whether the current step is a set difference (the planar view is then the one to see).

@@ -134,21 +134,8 @@ pub(crate) enum Command {
     Figure {
         #[command(flatten)]
         render: RenderArgs,
-        /// Pixel position X,Y (not needed with a dump).
-        #[arg(long, value_parser = parse_vec2, allow_hyphen_values = true)]
-        pixel: Option<(f64, f64)>,
-        /// The view: plane (the projected plane of a set difference).
-        #[arg(long, default_value = "plane")]
-        view: String,
-        /// Which set difference of the recording (0: the first), in recording order.
-        #[arg(long, default_value_t = 0)]
-        difference: usize,
-        /// print (light background, greyscale-safe) or screen (dark).
-        #[arg(long, default_value = "print")]
-        style: String,
-        /// Side of the figure in pixels (SVG user units).
-        #[arg(long, default_value_t = 800)]
-        figure_size: u32,
+        #[command(flatten)]
+        figure: FigureArgs,
     },
     /// Run time against error: a reference, then every method across a ladder of budgets;
     /// writes CSV, JSON, an equal-time table and a log–log chart. With --scaling, run time
@@ -400,4 +387,39 @@ pub(crate) fn parse_rows(s: &str) -> Result<(usize, usize), String> {
         a.trim().parse().map_err(|e| format!("{e}"))?,
         b.trim().parse().map_err(|e| format!("{e}"))?,
     ))
+}
+
+/// What `penumbra figure` draws and how.
+#[derive(clap::Args, Debug, Clone)]
+pub struct FigureArgs {
+    /// Pixel position X,Y, or "auto" for the penumbra point the workbench picks on its own
+    /// (`inspect::interesting_pixel`). Not needed with a dump.
+    #[arg(long, default_value = "auto", allow_hyphen_values = true)]
+    pub pixel: String,
+    /// The view: sphere (3-D, framed on the lights), hemisphere (the Nusselt disk), plane
+    /// (the projected plane of a set difference), light or bsp (the light's polyhedron and its
+    /// tree), environment (the environment's terms, cones and rays on the sphere).
+    #[arg(long, default_value = "sphere")]
+    pub view: String,
+    /// The stage, numbered as the workbench's stepper numbers it (1 to N; "stage i/N"); every
+    /// stage when left out.
+    #[arg(long)]
+    pub stage: Option<usize>,
+    /// Which set difference of the recording the plane view shows (0: the first), when no
+    /// --stage names one.
+    #[arg(long, default_value_t = 0)]
+    pub difference: usize,
+    /// print (light background, greyscale-safe) or screen (dark).
+    #[arg(long, default_value = "print")]
+    pub style: String,
+    /// Side of the figure in pixels (SVG user units; PDF points).
+    #[arg(long, default_value_t = 800)]
+    pub figure_size: u32,
+    /// The sphere camera as YAW,PITCH[,ZOOM] (degrees; zoom 1 shows the whole sphere) in
+    /// place of the framing on the lights.
+    #[arg(long, allow_hyphen_values = true)]
+    pub orbit: Option<String>,
+    /// The hemisphere magnified to what is drawn.
+    #[arg(long)]
+    pub fit: bool,
 }

@@ -1,75 +1,147 @@
-//! `penumbra figure`: a view of one pixel's recording as a figure (`views`), written as SVG or
-//! PNG from the one description.
+//! `penumbra figure`: a view of one pixel's recording as a figure (`views`), written as SVG,
+//! PDF or PNG from the one description.
 
 use super::args::*;
 use super::probe::probe_dump;
 use anyhow::{Context, Result, bail};
+use penumbra::figure::Figure;
 use penumbra::inspect::Probe;
-use penumbra::views::{self, Style};
+use penumbra::views::sphere::{Layers, drawing, region_of_interest};
+use penumbra::views::stages::{StepKind, plane_subject, probe_steps};
+use penumbra::views::{self, SphereCamera, Style};
 use std::path::Path;
 
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn figure(
-    args: &RenderArgs,
-    pixel: Option<(f64, f64)>,
-    view: &str,
-    difference: usize,
-    style: &str,
-    size: u32,
-    out: &Path,
-) -> Result<()> {
-    let style = Style::from_name(style)
-        .with_context(|| format!("--style {style}: expected print or screen"))?;
+pub(crate) fn figure(args: &RenderArgs, f: &FigureArgs) -> Result<()> {
+    let style = Style::from_name(&f.style)
+        .with_context(|| format!("--style {}: expected print or screen", f.style))?;
+    let out = &args.out;
+    let format = out.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if !["svg", "pdf", "png"].contains(&format) {
+        bail!(
+            "{}: the figure is written as .svg, .pdf or .png",
+            out.display()
+        );
+    }
+    let orbit = f.orbit.as_deref().map(parse_orbit).transpose()?;
     // A debug dump in place of the scene: the same figure from the recording.
     let dump_path = Path::new(&args.scene);
-    let dump: Probe = if args.scene.ends_with(".json") && dump_path.is_file() {
+    let probe: Probe = if args.scene.ends_with(".json") && dump_path.is_file() {
         let text = std::fs::read_to_string(dump_path)
             .with_context(|| format!("{}: cannot read", dump_path.display()))?;
         Probe::from_json(&text, &args.scene).map_err(anyhow::Error::msg)?
     } else {
-        let pixel = pixel.context("--pixel X,Y is needed to probe a scene")?;
-        probe_dump(args, pixel, false)?
+        let pixel = match f.pixel.as_str() {
+            "auto" => None,
+            p => Some(parse_vec2(p).map_err(|e| anyhow::anyhow!("--pixel {p}: {e}"))?),
+        };
+        probe_dump(args, pixel, f.view == "plane")?
     };
-    let figure = match view {
-        "plane" => {
-            let all: Vec<_> = dump
-                .recording
-                .lights
-                .iter()
-                .flat_map(|l| &l.set_differences)
-                .collect();
-            let Some(sd) = all.get(difference) else {
-                bail!(
-                    "--difference {difference}: the recording has {} set difference(s) at this \
-                     point (pick a pixel in a penumbra)",
-                    all.len()
-                );
-            };
-            let name = dump
-                .occluder_names
-                .get(sd.occluder)
-                .cloned()
-                .unwrap_or_else(|| format!("#{}", sd.occluder));
-            views::plane_figure(sd, &name, size, style)
-        }
-        other => bail!(
-            "--view {other}: not available as a figure yet (available: plane); the workbench \
-             shows every view"
-        ),
-    };
+    let figure = view_figure(&probe, f, style, orbit)?;
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create directory", dir.display()))?;
     }
-    match out.extension().and_then(|e| e.to_str()) {
-        Some("svg") => std::fs::write(out, penumbra::figure::svg::to_svg(&figure))
-            .with_context(|| format!("{}: writing SVG", out.display()))?,
-        Some("png") => {
-            penumbra::figure::plot::save_pixmap_png(&penumbra::figure::raster::render(&figure), out)
-                .with_context(|| format!("{}: writing PNG", out.display()))?
-        }
-        _ => bail!("{}: the figure is written as .svg or .png", out.display()),
-    }
-    say!("wrote {}", out.display());
+    penumbra::figure::save(&figure, out)?;
+    say!(
+        "wrote {} ({} view of pixel {:?})",
+        out.display(),
+        f.view,
+        probe.pixel
+    );
     Ok(())
+}
+
+/// `--orbit YAW,PITCH[,ZOOM]` (degrees).
+fn parse_orbit(s: &str) -> Result<SphereCamera> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| anyhow::anyhow!("--orbit {s}: expected YAW,PITCH[,ZOOM] in degrees"))?;
+    match v[..] {
+        [yaw, pitch] | [yaw, pitch, _] if v.iter().all(|x| x.is_finite()) => Ok(SphereCamera {
+            yaw: yaw.to_radians(),
+            pitch: pitch.to_radians().clamp(-1.5, 1.5),
+            zoom: v.get(2).copied().unwrap_or(1.0).clamp(0.1, 100.0),
+        }),
+        _ => bail!("--orbit {s}: expected YAW,PITCH[,ZOOM] in degrees"),
+    }
+}
+
+/// The figure of `f.view` at `f.stage` of the probe's recording.
+fn view_figure(
+    probe: &Probe,
+    f: &FigureArgs,
+    style: Style,
+    orbit: Option<SphereCamera>,
+) -> Result<Figure> {
+    let steps = probe_steps(probe);
+    let current = match f.stage {
+        None => None,
+        Some(n) if (1..=steps.len()).contains(&n) => Some(n - 1),
+        Some(n) => bail!(
+            "--stage {n}: the recording at this point has {} stages (1 to {})",
+            steps.len(),
+            steps.len()
+        ),
+    };
+    let step = current.map(|i| &steps[i]);
+    Ok(match f.view.as_str() {
+        "sphere" | "hemisphere" | "environment" => {
+            let layers = if f.view == "environment" {
+                if probe.environment.is_none() {
+                    bail!("--view environment: the scene has no environment light (give --env)");
+                }
+                Layers::environment_only()
+            } else {
+                Layers::default()
+            };
+            let d = drawing(probe, step, &layers);
+            if f.view == "hemisphere" {
+                views::hemisphere_figure(&d, f.fit, f.figure_size, style)
+            } else {
+                let camera =
+                    orbit.unwrap_or_else(|| SphereCamera::framed(&region_of_interest(probe)));
+                views::sphere_figure(&d, &camera, f.figure_size, style)
+            }
+        }
+        "plane" => {
+            let sd = if current
+                .is_some_and(|i| matches!(steps[i].kind, StepKind::SetDifference { .. }))
+            {
+                plane_subject(probe, &steps, current).map(|(sd, _)| sd)
+            } else {
+                let all: Vec<_> = probe
+                    .recording
+                    .lights
+                    .iter()
+                    .flat_map(|l| &l.set_differences)
+                    .collect();
+                all.get(f.difference).copied()
+            };
+            let Some(sd) = sd else {
+                bail!(
+                    "--view plane: no set difference {} at this point (the recording has {}; \
+                     pick a pixel in a penumbra)",
+                    f.difference,
+                    probe
+                        .recording
+                        .lights
+                        .iter()
+                        .map(|l| l.set_differences.len())
+                        .sum::<usize>()
+                );
+            };
+            let name = probe
+                .occluder_names
+                .get(sd.occluder)
+                .cloned()
+                .unwrap_or_else(|| format!("#{}", sd.occluder));
+            views::plane_figure(sd, &name, f.figure_size, style)
+        }
+        other => bail!(
+            "--view {other}: expected sphere, hemisphere, plane or environment (the light \
+             structure is drawn by the workbench only so far)"
+        ),
+    })
 }

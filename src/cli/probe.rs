@@ -15,7 +15,7 @@ pub(crate) fn probe(
     gh_steps: bool,
     json: &Path,
 ) -> Result<()> {
-    let dump = probe_dump(args, pixel, gh_steps)?;
+    let dump = probe_dump(args, Some(pixel), gh_steps)?;
     if let Some(dir) = json.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create directory", dir.display()))?;
@@ -28,10 +28,11 @@ pub(crate) fn probe(
 }
 
 /// The recording of one shading point, as `penumbra render` with the same arguments computes
-/// it there, with its Monte Carlo check: the debug dump (`probe`, `figure`).
+/// it there, with its Monte Carlo check: the debug dump (`probe`, `figure`). Without a pixel,
+/// the penumbra pixel the workbench picks on its own (`inspect::interesting_pixel`).
 pub(crate) fn probe_dump(
     args: &RenderArgs,
-    pixel: (f64, f64),
+    pixel: Option<(f64, f64)>,
     gh_steps: bool,
 ) -> Result<penumbra::inspect::Probe> {
     let mut scene = load_scene(&args.scene)?;
@@ -43,6 +44,11 @@ pub(crate) fn probe_dump(
     let mut ctx = RenderContext::for_render(&scene, &settings(args));
     ctx.prepared.ltc = ltc_table(&args.ltc_table)?;
     attach_environment(&mut ctx, &scene, args)?;
+    let pixel = match pixel {
+        Some(p) => p,
+        None => penumbra::inspect::interesting_pixel(&ctx, &cam, args.size, 24)
+            .context("--pixel auto: no pixel of the image is lit by a light (give --pixel X,Y)")?,
+    };
     // analytic-exact: the analytic stages plus the LTC's correction, sampled as the first
     // pass of an `--aa 1` render with the same --spp and --seed samples this pixel.
     let (method, correction) = penumbra::inspect::probe_method(

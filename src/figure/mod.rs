@@ -1,12 +1,32 @@
 //! Figures as plain data and their back ends: a figure description ([`description`]), drawn
 //! into pixmaps ([`raster`], labels in the vector font of [`font`]) or written as SVG
-//! ([`svg`]); and charts built as such descriptions ([`plot`]). Below every layer that draws a
+//! ([`svg`]) or PDF ([`pdf`]); and charts built as such descriptions ([`plot`]). Below every layer that draws a
 //! chart or a heat map (the benchmark, the LTC error map).
 
 pub mod description;
 pub mod font;
+pub mod pdf;
 pub mod plot;
 pub mod raster;
 pub mod svg;
 
-pub use description::{Figure, Item, Shape, Subpath};
+pub use description::{Figure, Item, Rect, Rgb, Shape, Subpath};
+
+/// Writes `figure` to `path` as SVG, PDF or PNG, by the path's extension; an error names the
+/// file.
+pub fn save(figure: &Figure, path: &std::path::Path) -> anyhow::Result<()> {
+    use anyhow::Context;
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    match ext.to_ascii_lowercase().as_str() {
+        "svg" => std::fs::write(path, svg::to_svg(figure)),
+        "pdf" => std::fs::write(path, pdf::to_pdf(figure)),
+        "png" => {
+            plot::save_pixmap_png(&raster::render(figure), path).map_err(std::io::Error::other)
+        }
+        _ => anyhow::bail!(
+            "{}: a figure is written as .svg, .pdf or .png",
+            path.display()
+        ),
+    }
+    .with_context(|| format!("{}: cannot write the figure", path.display()))
+}

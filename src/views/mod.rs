@@ -5,10 +5,14 @@
 //! - [`stages`]: the stepper's numbering of a recording (000 Alg. 1, stage by stage).
 //! - [`plane`]: the projected plane of one set difference (000 Alg. 1 line 12).
 
+pub mod labels;
 pub mod plane;
+pub mod sphere;
+pub mod sphere_figure;
 pub mod stages;
 
 pub use plane::{plane_figure, warp, warped_loop};
+pub use sphere_figure::{SphereCamera, hemisphere_figure, sphere_figure};
 
 /// Colours for a screen (dark background) or for print (light background, and colours that
 /// stay apart in greyscale: the light's region light, the occluder's dark, the answer mid-dark
@@ -39,6 +43,16 @@ impl Style {
         match self {
             Style::Screen => [220, 220, 220],
             Style::Print => [30, 30, 30],
+        }
+    }
+
+    /// A layer's colour as drawn on this style's background: unchanged on screen; in print,
+    /// colours too light to read on white (contour edges, escaped rays) darkened.
+    pub fn on_background(self, c: [u8; 3]) -> [u8; 3] {
+        let luma = 0.2126 * c[0] as f32 + 0.7152 * c[1] as f32 + 0.0722 * c[2] as f32;
+        match self {
+            Style::Print if luma > 200.0 => c.map(|v| (v as f32 * 0.45) as u8),
+            _ => c,
         }
     }
 

@@ -1,7 +1,8 @@
 //! The stages of 000 Alg. 1 at one shading point, as a flat list to step through: built from
 //! the recording the renderer's own `shade` call produced (never recomputed here).
 
-use crate::shading::{Lobe, StageRecording};
+use crate::inspect::Probe;
+use crate::shading::{Lobe, SetDifferenceRecord, StageRecording};
 
 /// The three Greiner–Hormann phases, stepped one by one inside a set difference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -164,6 +165,49 @@ pub fn steps(
         push(StepKind::Integral, "integral (line 16)".into());
     }
     out
+}
+
+/// The steps of a probe's recording, lights and occluders named as the probe names them: the
+/// numbering the workbench's stepper shows and `penumbra figure --stage` takes.
+pub fn probe_steps(probe: &Probe) -> Vec<Step> {
+    let names = &probe.occluder_names;
+    let lights = &probe.lights;
+    steps(
+        &probe.recording,
+        |i| {
+            lights
+                .iter()
+                .find(|l| l.light == i)
+                .map_or_else(|| i.to_string(), |l| l.name.clone())
+        },
+        |i| names.get(i).cloned().unwrap_or_else(|| format!("#{i}")),
+    )
+}
+
+/// The set difference the projected plane shows at step `current` (every stage: `None`): the
+/// last one at or before it, with the GH phase when the step is that phase; else the
+/// recording's first.
+pub fn plane_subject<'a>(
+    probe: &'a Probe,
+    steps: &[Step],
+    current: Option<usize>,
+) -> Option<(&'a SetDifferenceRecord, Option<GhPhase>)> {
+    let rec = &probe.recording.lights;
+    let at = |record: usize, k: usize| rec.get(record).and_then(|r| r.set_differences.get(k));
+    let upto = current.unwrap_or(steps.len().saturating_sub(1));
+    for (i, s) in steps[..(upto + 1).min(steps.len())]
+        .iter()
+        .enumerate()
+        .rev()
+    {
+        if let StepKind::SetDifference { k, phase } = s.kind {
+            let phase = if Some(i) == current { phase } else { None };
+            return at(s.record, k).map(|sd| (sd, phase));
+        }
+    }
+    rec.iter()
+        .find_map(|r| r.set_differences.first())
+        .map(|sd| (sd, None))
 }
 
 #[cfg(test)]

@@ -1,0 +1,716 @@
+//! What the unit sphere at a picked point shows, as plain data read from the recording (the
+//! data half of the sphere and hemisphere views; [`super::sphere_figure`] draws it): the
+//! regions (light, occluders, visible polygon) as spherical polygons to fill, the curves on
+//! the sphere (contour edges, polygon outlines, cones), point markers (apparent
+//! intersections, rays), the shading frame's directions and the environment's radiance.
+//! Everything is in the shading frame (z = n). Nothing here recomputes a stage.
+
+use super::stages::{Step, StepKind};
+use crate::figure::Rgb;
+use crate::inspect::{Probe, sky_grid_direction};
+use crate::shading::{EnvironmentSide, LightRecord, RayOutcome, Stage};
+use glam::DVec3;
+
+/// Which recorded polygons are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Layers {
+    /// Contour edges (001 Eq. 4.2) of the light and the occluders, each drawn on its own.
+    #[serde(default = "yes")]
+    pub contours: bool,
+    pub light_silhouette: bool,
+    pub light_clipped: bool,
+    pub occluders: bool,
+    pub visible: bool,
+    pub ltc: bool,
+    pub directions: bool,
+    /// Labels at the corners of the current stage's polygons.
+    #[serde(default = "yes")]
+    pub vertex_labels: bool,
+    /// The environment map's radiance as the sphere's background.
+    #[serde(default = "yes")]
+    pub environment: bool,
+    /// The exact method's union terms (static and dynamic).
+    #[serde(default = "yes")]
+    pub env_terms: bool,
+    /// `rt`'s cones (Eq. 4 and merged) and rays.
+    #[serde(default = "yes")]
+    pub cones: bool,
+    #[serde(default = "yes")]
+    pub rays: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl Default for Layers {
+    fn default() -> Self {
+        Layers {
+            contours: true,
+            light_silhouette: true,
+            light_clipped: true,
+            occluders: true,
+            visible: true,
+            ltc: false,
+            directions: true,
+            vertex_labels: true,
+            environment: true,
+            env_terms: true,
+            cones: true,
+            rays: true,
+        }
+    }
+}
+
+impl Layers {
+    /// Only the environment's layers (the environment view): the map, the union terms, the
+    /// cones and the rays, with the shading frame's directions.
+    pub fn environment_only() -> Layers {
+        Layers {
+            contours: false,
+            light_silhouette: false,
+            light_clipped: false,
+            occluders: false,
+            visible: false,
+            ltc: false,
+            vertex_labels: false,
+            ..Layers::default()
+        }
+    }
+}
+
+/// Colours of the layers (also the legend's and the planar view's). The light, occluder and
+/// visible colours are [`super::LIGHT`], [`super::OCCLUDER`] and [`super::VISIBLE`], the one
+/// scheme of every view.
+pub mod colours {
+    use crate::figure::Rgb;
+    pub const CONTOUR: Rgb = [235, 235, 245];
+    pub const REJECTED: Rgb = [150, 70, 70];
+    pub const CROSSING: Rgb = [255, 90, 220];
+    pub const LIGHT: Rgb = super::super::LIGHT;
+    pub const LIGHT_CLIPPED: Rgb = [250, 140, 30];
+    pub const OCCLUDER: Rgb = super::super::OCCLUDER;
+    pub const OCCLUDER_CLIPPED: Rgb = [160, 30, 90];
+    pub const VISIBLE: Rgb = super::super::VISIBLE;
+    pub const LTC: Rgb = [170, 90, 230];
+    pub const NORMAL: Rgb = [80, 150, 255];
+    pub const VIEW: Rgb = [200, 200, 200];
+    pub const MIRROR: Rgb = [120, 220, 220];
+    pub const STATIC_TERM: Rgb = [110, 150, 255];
+    pub const DYNAMIC_TERM: Rgb = [255, 90, 40];
+    pub const CONE: Rgb = [190, 190, 130];
+    pub const MERGED_CONE: Rgb = [255, 225, 0];
+    pub const RAY_CULLED: Rgb = [90, 90, 90];
+    pub const RAY_ESCAPED: Rgb = [235, 235, 235];
+    pub const RAY_STATIC: Rgb = [60, 110, 255];
+    pub const RAY_DYNAMIC: Rgb = [255, 30, 30];
+}
+
+/// How a curve is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveKind {
+    /// A polyline on the sphere (arcs sampled densely enough for print).
+    Line,
+    /// Each point a small circle of fixed size on screen (apparent intersections: they must
+    /// stay visible on a small sphere, where a circle on the sphere would shrink to nothing).
+    Marker,
+    /// Each point a small filled dot (rays).
+    Dot,
+}
+
+/// A polyline (or markers) on the sphere with how to draw it.
+#[derive(Clone, Debug)]
+pub struct Curve {
+    pub points: Vec<DVec3>,
+    pub colour: Rgb,
+    /// 1, or less once a later stage is shown (earlier polygons fade).
+    pub opacity: f32,
+    pub width: f32,
+    pub closed: bool,
+    pub kind: CurveKind,
+    /// What it is, in words (the hover text).
+    pub label: String,
+    /// Its entry in the legend.
+    pub legend: &'static str,
+    /// Corners of the polygon drawn (not the arc points between them), labelled with `tag`
+    /// and their index; empty for curves whose corners are not labelled.
+    pub vertices: Vec<DVec3>,
+    pub tag: &'static str,
+}
+
+/// A region on the sphere to fill: the loops of one recorded polygon (holes negatively
+/// oriented, as every stage keeps them), translucent so that overlaps show.
+#[derive(Clone, Debug)]
+pub struct Region {
+    pub loops: Vec<Vec<DVec3>>,
+    pub colour: Rgb,
+    pub opacity: f32,
+    pub legend: &'static str,
+}
+
+/// A shading-frame direction drawn as an arrow from the centre.
+#[derive(Clone, Debug)]
+pub struct Arrow {
+    pub dir: DVec3,
+    pub colour: Rgb,
+    pub name: &'static str,
+}
+
+/// The environment's radiance on the probe's coarse grid, tone-mapped.
+#[derive(Clone, Debug)]
+pub struct Sky {
+    pub rows: u32,
+    pub cols: u32,
+    /// Row-major display colours, tone-mapped (Reinhard) so that the grid's mean radiance is
+    /// mid-grey.
+    pub colours: Vec<Rgb>,
+}
+
+impl Sky {
+    /// The cell's corners (direction, counter-clockwise in the grid) and its centre.
+    pub fn cell(&self, r: u32, c: u32) -> ([DVec3; 4], DVec3) {
+        let (rf, cf) = (r as f64, c as f64);
+        let d = |a: f64, b: f64| sky_grid_direction(self.rows, self.cols, a, b);
+        (
+            [
+                d(rf, cf),
+                d(rf + 1.0, cf),
+                d(rf + 1.0, cf + 1.0),
+                d(rf, cf + 1.0),
+            ],
+            d(rf + 0.5, cf + 0.5),
+        )
+    }
+}
+
+/// Everything the sphere shows at one step (or at every step, without one).
+#[derive(Clone, Debug, Default)]
+pub struct Drawing {
+    pub regions: Vec<Region>,
+    pub curves: Vec<Curve>,
+    pub arrows: Vec<Arrow>,
+    pub sky: Option<Sky>,
+}
+
+/// Points along the great-circle arc from `a` to `b` (unit vectors), `a` included, `b` not:
+/// one every 0.04 rad (2.3°), dense enough that a polyline reads as the arc in print.
+pub fn arc(a: DVec3, b: DVec3, out: &mut Vec<DVec3>) {
+    let theta = a.cross(b).length().atan2(a.dot(b));
+    let n = ((theta / 0.04).ceil() as usize).clamp(1, 200);
+    let s = theta.sin();
+    for i in 0..n {
+        let t = i as f64 / n as f64;
+        let p = if s.abs() < 1e-9 {
+            a.lerp(b, t)
+        } else {
+            (a * ((1.0 - t) * theta).sin() + b * (t * theta).sin()) / s
+        };
+        out.push(p.normalize_or_zero());
+    }
+}
+
+/// A closed loop of unit vectors sampled along its great-circle edges.
+pub fn arc_loop(vertices: &[DVec3]) -> Vec<DVec3> {
+    let mut points = Vec::new();
+    for k in 0..vertices.len() {
+        arc(vertices[k], vertices[(k + 1) % vertices.len()], &mut points);
+    }
+    points
+}
+
+/// Style of one polygon's outline: colour, opacity, width, hover label, legend entry and
+/// corner tag.
+struct Outline<'a> {
+    colour: Rgb,
+    opacity: f32,
+    width: f32,
+    label: &'a str,
+    legend: &'static str,
+    tag: &'static str,
+}
+
+fn push_outlines(loops: &[Vec<DVec3>], o: Outline, out: &mut Vec<Curve>) {
+    for v in loops.iter().filter(|l| l.len() >= 2) {
+        out.push(Curve {
+            points: arc_loop(v),
+            colour: o.colour,
+            opacity: o.opacity,
+            width: o.width,
+            closed: true,
+            kind: CurveKind::Line,
+            label: o.label.into(),
+            legend: o.legend,
+            vertices: if o.tag.is_empty() {
+                Vec::new()
+            } else {
+                v.clone()
+            },
+            tag: o.tag,
+        });
+    }
+}
+
+fn unit_loops(poly: &crate::geometry::PolygonLoops) -> Vec<Vec<DVec3>> {
+    poly.loops()
+        .map(|l| l.iter().map(|p| p.normalize_or_zero()).collect())
+        .collect()
+}
+
+/// An open polyline (an edge or an arc piece), `a` to `b`.
+fn edge_curve(a: DVec3, b: DVec3, colour: Rgb, opacity: f32, width: f32) -> Curve {
+    let mut points = Vec::new();
+    arc(a, b, &mut points);
+    points.push(b);
+    Curve {
+        points,
+        colour,
+        opacity,
+        width,
+        closed: false,
+        kind: CurveKind::Line,
+        label: String::new(),
+        legend: "",
+        vertices: Vec::new(),
+        tag: "",
+    }
+}
+
+/// How far through a light record's stages a step is, to draw everything up to it.
+fn rank(k: &StepKind) -> u8 {
+    match k {
+        StepKind::LightSilhouette => 0,
+        StepKind::LightClipped => 1,
+        StepKind::Culling => 2,
+        StepKind::OccluderSilhouette { .. } | StepKind::OccluderClipped { .. } => 3,
+        StepKind::SetDifference { .. } => 4,
+        StepKind::Visible => 5,
+        StepKind::LtcTransformed { .. } | StepKind::LtcClipped { .. } => 6,
+        StepKind::Integral => 7,
+    }
+}
+
+/// Opacity of what an earlier stage drew once the visible polygon is shown.
+const FADED: f32 = 0.35;
+
+/// What the step (or everything, without a step) shows of one light record.
+fn light_record(
+    rec: &LightRecord,
+    step: Option<&Step>,
+    layers: &Layers,
+    occluder_name: &dyn Fn(usize) -> String,
+    out: &mut Drawing,
+) {
+    let upto = step.map_or(7, |s| rank(&s.kind));
+    if layers.contours {
+        // The light's contour with its silhouette; an occluder's from its first step on. They
+        // are drawn edge by edge, as the stage sees them, before they are chained into loops.
+        for (who, edges) in &rec.contours {
+            let (from, label) = match who {
+                None => (0, "light contour edge".to_string()),
+                Some(oi) => (3, format!("occluder {} contour edge", occluder_name(*oi))),
+            };
+            if upto < from {
+                continue;
+            }
+            let opacity = if upto >= 5 || (who.is_none() && upto >= 3) {
+                0.3
+            } else {
+                1.0
+            };
+            for [a, b] in edges {
+                let mut c = edge_curve(*a, *b, colours::CONTOUR, opacity, 1.0);
+                c.label = label.clone();
+                c.legend = "contour edge";
+                out.curves.push(c);
+            }
+        }
+        // Exact silhouettes of non-convex meshes: the contour pieces the ray test rejected
+        // (dim red) and the apparent intersections where pieces were cut.
+        for ex in &rec.exact {
+            let from = if ex.occluder.is_some() { 3 } else { 0 };
+            if upto < from {
+                continue;
+            }
+            let who = match ex.occluder {
+                None => "light".to_string(),
+                Some(oi) => format!("occluder {}", occluder_name(oi)),
+            };
+            for [a, b] in &ex.rejected {
+                let mut c = edge_curve(*a, *b, colours::REJECTED, 1.0, 1.5);
+                c.label = format!("{who}: contour piece rejected by the ray test");
+                c.legend = "rejected contour piece";
+                out.curves.push(c);
+            }
+            let source = if ex.from_tree {
+                "from the BSP tree"
+            } else {
+                "on the fly"
+            };
+            if !ex.crossings.is_empty() {
+                out.curves.push(Curve {
+                    points: ex.crossings.clone(),
+                    colour: colours::CROSSING,
+                    opacity: 1.0,
+                    width: 1.5,
+                    closed: false,
+                    kind: CurveKind::Marker,
+                    label: format!("{who}: apparent intersection (Eq. 4.4), silhouette {source}"),
+                    legend: "apparent intersection",
+                    vertices: Vec::new(),
+                    tag: "",
+                });
+            }
+        }
+    }
+    for (stage, poly) in &rec.polygons {
+        let (show, colour, width, name, r, fill) = match stage {
+            Stage::Silhouette => (
+                layers.light_silhouette,
+                colours::LIGHT,
+                1.5,
+                "light silhouette",
+                0,
+                0.4,
+            ),
+            Stage::HorizonClipped => (
+                layers.light_clipped,
+                colours::LIGHT_CLIPPED,
+                2.0,
+                "light, clipped",
+                1,
+                0.0,
+            ),
+            Stage::Visible => (
+                layers.visible,
+                colours::VISIBLE,
+                3.0,
+                "visible polygon",
+                5,
+                0.6,
+            ),
+            _ => continue,
+        };
+        if !show || r > upto {
+            continue;
+        }
+        // Once the visible polygon is shown, the earlier light polygons fade.
+        let opacity = if upto >= 5 && r < 5 { FADED } else { 1.0 };
+        // The corners of the current stage's polygon are labelled (l: light, v: visible).
+        let tag = match (r == upto || (step.is_none() && r == 5), r) {
+            (false, _) => "",
+            (true, 5) => "v",
+            (true, _) => "l",
+        };
+        let loops = unit_loops(poly);
+        if fill > 0.0 {
+            out.regions.push(Region {
+                loops: loops.clone(),
+                colour,
+                // Regions fade less than outlines: the light's region stays the ground the
+                // visible polygon is read against.
+                opacity: fill * opacity.max(0.7),
+                legend: name,
+            });
+        }
+        let o = Outline {
+            colour,
+            opacity,
+            width,
+            label: name,
+            legend: name,
+            tag,
+        };
+        push_outlines(&loops, o, &mut out.curves);
+    }
+    if layers.occluders && upto >= 3 {
+        for (k, (oi, _, stage, poly)) in rec.occluder_polygons.iter().enumerate() {
+            // At an occluder step, only that occluder's polygons so far.
+            if let Some(
+                StepKind::OccluderSilhouette { k: cur } | StepKind::OccluderClipped { k: cur },
+            ) = step.map(|s| s.kind)
+                && k > cur
+            {
+                continue;
+            }
+            let (colour, width, legend, fill) = match stage {
+                Stage::Silhouette => (colours::OCCLUDER, 1.5, "occluder silhouette", 0.0),
+                _ => (colours::OCCLUDER_CLIPPED, 2.0, "occluder, clipped", 0.3),
+            };
+            let opacity = if upto >= 5 { FADED } else { 1.0 };
+            let tag = if (3..=4).contains(&upto) { "o" } else { "" };
+            let loops = unit_loops(poly);
+            if fill > 0.0 {
+                out.regions.push(Region {
+                    loops: loops.clone(),
+                    colour: colours::OCCLUDER,
+                    opacity: fill * opacity.max(0.7),
+                    legend: "occluder",
+                });
+            }
+            let label = format!("occluder {}", occluder_name(*oi));
+            let o = Outline {
+                colour,
+                opacity,
+                width,
+                label: &label,
+                legend,
+                tag,
+            };
+            push_outlines(&loops, o, &mut out.curves);
+        }
+    }
+    if layers.ltc && upto >= 6 {
+        for (lobe, transformed, clipped, integral) in &rec.lobes {
+            let name = format!("{lobe:?} lobe, LTC space (integral {integral:.5})");
+            let faint = Outline {
+                colour: colours::LTC,
+                opacity: 0.5,
+                width: 1.5,
+                label: &name,
+                legend: "LTC space",
+                tag: "",
+            };
+            push_outlines(&unit_loops(transformed), faint, &mut out.curves);
+            let o = Outline {
+                colour: colours::LTC,
+                opacity: 1.0,
+                width: 2.5,
+                label: &name,
+                legend: "LTC space",
+                tag: "t",
+            };
+            push_outlines(&unit_loops(clipped), o, &mut out.curves);
+        }
+    }
+}
+
+/// The environment's layers at the picked point: the exact method's union terms, `rt`'s cones
+/// and rays, as curves on the sphere (shading frame).
+fn environment(
+    probe: &Probe,
+    layers: &Layers,
+    occluder_name: &dyn Fn(usize) -> String,
+    out: &mut Drawing,
+) {
+    let rec = &probe.recording.environment;
+    let terms = match &probe.environment {
+        Some(e) if rec.terms.is_empty() => &e.exact_terms,
+        _ => &rec.terms,
+    };
+    if layers.env_terms {
+        for t in terms {
+            let (colour, legend, side) = match t.side {
+                EnvironmentSide::Static => {
+                    (colours::STATIC_TERM, "static term S_k - S_<k", "static")
+                }
+                EnvironmentSide::Dynamic => (
+                    colours::DYNAMIC_TERM,
+                    "dynamic term D_i - S - D_<i",
+                    "dynamic",
+                ),
+            };
+            let v = t.integral;
+            let name = format!(
+                "{side} term of {}: integral of L cos = ({:.5}, {:.5}, {:.5})",
+                occluder_name(t.occluder),
+                v.x,
+                v.y,
+                v.z
+            );
+            let o = Outline {
+                colour,
+                opacity: 1.0,
+                width: 2.0,
+                label: &name,
+                legend,
+                tag: "",
+            };
+            push_outlines(&unit_loops(&t.polygon), o, &mut out.curves);
+        }
+    }
+    if layers.cones {
+        let circle = |c: &crate::environment::Cone| -> Vec<DVec3> {
+            let a = c.axis.normalize_or_zero();
+            let u = a.any_orthonormal_vector();
+            let v = a.cross(u);
+            let (s, co) = c.half_angle.min(std::f64::consts::PI).sin_cos();
+            (0..96)
+                .map(|k| {
+                    let t = k as f64 / 96.0 * std::f64::consts::TAU;
+                    (a * co + (u * t.cos() + v * t.sin()) * s).normalize_or_zero()
+                })
+                .collect()
+        };
+        let cones = rec.cones.iter().map(|c| (c, false));
+        let merged = rec.merged_cones.iter().map(|c| (c, true));
+        for (i, (c, is_merged)) in cones.chain(merged).enumerate() {
+            let (colour, width, legend, what) = if is_merged {
+                (
+                    colours::MERGED_CONE,
+                    2.0,
+                    "merged cone (Alg. 1)",
+                    "merged cone (Alg. 1)",
+                )
+            } else {
+                (colours::CONE, 1.0, "cone (Eq. 4)", "cone (002 Eq. 4)")
+            };
+            out.curves.push(Curve {
+                points: circle(c),
+                colour,
+                opacity: 1.0,
+                width,
+                closed: true,
+                kind: CurveKind::Line,
+                label: format!(
+                    "{what} {i}: half-angle {:.2} deg, h = {:.3}",
+                    c.half_angle.to_degrees(),
+                    c.height
+                ),
+                legend,
+                vertices: Vec::new(),
+                tag: "",
+            });
+        }
+    }
+    if layers.rays {
+        for outcome in [
+            RayOutcome::Culled,
+            RayOutcome::Escaped,
+            RayOutcome::Static,
+            RayOutcome::Dynamic,
+        ] {
+            let points: Vec<DVec3> = rec
+                .rays
+                .iter()
+                .filter(|r| r.outcome == outcome)
+                .map(|r| r.dir)
+                .collect();
+            if points.is_empty() {
+                continue;
+            }
+            // Culled rays smaller: the traced ones are what the eye should find.
+            let (colour, legend, width) = match outcome {
+                RayOutcome::Culled => (colours::RAY_CULLED, "ray culled", 0.6),
+                RayOutcome::Escaped => (colours::RAY_ESCAPED, "ray traced, escaped", 1.4),
+                RayOutcome::Static => (colours::RAY_STATIC, "ray traced, hit static", 1.4),
+                RayOutcome::Dynamic => (colours::RAY_DYNAMIC, "ray traced, hit dynamic", 1.4),
+            };
+            out.curves.push(Curve {
+                points,
+                colour,
+                opacity: 1.0,
+                width,
+                closed: false,
+                kind: CurveKind::Dot,
+                label: legend.to_string(),
+                legend,
+                vertices: Vec::new(),
+                tag: "",
+            });
+        }
+    }
+    if layers.environment
+        && let Some(env) = &probe.environment
+    {
+        out.sky = sky(env);
+    }
+}
+
+/// The map's radiance on the probe's grid, Reinhard tone-mapped at an exposure that puts the
+/// mean luminance at mid-grey; `None` when the probe has no grid.
+fn sky(env: &crate::inspect::EnvironmentProbe) -> Option<Sky> {
+    let (rows, cols) = (env.sky_rows, env.sky_cols);
+    if rows == 0 || env.sky.len() != (rows * cols) as usize {
+        return None;
+    }
+    let mean = env
+        .sky
+        .iter()
+        .map(|c| crate::environment::luminance(*c))
+        .sum::<f64>()
+        / env.sky.len() as f64;
+    let scale = if mean > 0.0 { 1.0 / mean } else { 1.0 };
+    let encode = |v: f64| {
+        let x = if v.is_finite() {
+            (v * scale).max(0.0)
+        } else {
+            0.0
+        };
+        (crate::raster::io::srgb_oetf(x / (1.0 + x)) * 255.0)
+            .round()
+            .clamp(0.0, 255.0) as u8
+    };
+    Some(Sky {
+        rows,
+        cols,
+        colours: env
+            .sky
+            .iter()
+            .map(|c| [encode(c.x), encode(c.y), encode(c.z)])
+            .collect(),
+    })
+}
+
+/// Everything the sphere shows of `probe` at `step` (every stage without one), with `layers`.
+pub fn drawing(probe: &Probe, step: Option<&Step>, layers: &Layers) -> Drawing {
+    let names = |i: usize| {
+        probe
+            .occluder_names
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("#{i}"))
+    };
+    let mut out = Drawing::default();
+    for (r, rec) in probe.recording.lights.iter().enumerate() {
+        match step {
+            Some(s) if s.record != r => continue,
+            _ => light_record(rec, step, layers, &names, &mut out),
+        }
+    }
+    // The environment's layers do not belong to a light's stages: shown at every step.
+    if probe.environment.is_some() {
+        environment(probe, layers, &names, &mut out);
+    }
+    if layers.directions {
+        out.arrows.push(Arrow {
+            dir: DVec3::Z,
+            colour: colours::NORMAL,
+            name: "normal n",
+        });
+        if let Some(sp) = probe.point {
+            let to_local = |w: DVec3| {
+                DVec3::new(
+                    w.dot(probe.frame_x),
+                    w.dot(probe.frame_y),
+                    w.dot(probe.frame_z),
+                )
+            };
+            let v = to_local(sp.view);
+            out.arrows.push(Arrow {
+                dir: v,
+                colour: colours::VIEW,
+                name: "view v",
+            });
+            out.arrows.push(Arrow {
+                dir: DVec3::new(-v.x, -v.y, v.z),
+                colour: colours::MIRROR,
+                name: "mirror r",
+            });
+        }
+    }
+    out
+}
+
+/// The directions the default sphere camera frames: the corners of every light's silhouette
+/// in the recording (whatever the step, so that the camera holds still while stepping).
+pub fn region_of_interest(probe: &Probe) -> Vec<DVec3> {
+    probe
+        .recording
+        .lights
+        .iter()
+        .flat_map(|rec| &rec.polygons)
+        .filter(|(stage, _)| *stage == Stage::Silhouette)
+        .flat_map(|(_, poly)| poly.vertices().iter().map(|p| p.normalize_or_zero()))
+        .filter(|p| *p != DVec3::ZERO)
+        .collect()
+}

@@ -1,0 +1,528 @@
+//! The sphere and hemisphere views as figures: a [`Drawing`] (what the recording shows)
+//! projected orthographically, seen from outside the sphere (the 3-D view, framed on the
+//! lights by default) or from above the normal (the hemisphere, where the area a region covers
+//! is its form factor: Nusselt's analogue). Regions are clipped exactly to the half of the
+//! sphere facing the eye ([`clip_to_horizon`] in the eye's frame) before they are filled, so
+//! that a region reaching behind the sphere does not fold over itself.
+
+use super::Style;
+use super::labels::{LabelPlacer, Placement};
+use super::sphere::{CurveKind, Drawing, arc_loop};
+use crate::figure::font::TextStyle;
+use crate::figure::{Figure, Rect, Rgb, Shape, Subpath};
+use crate::geometry::{HorizonScratch, SphericalPolygon, clip_to_horizon};
+use glam::DVec3;
+
+/// An orthographic camera around the unit sphere.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SphereCamera {
+    /// Azimuth and elevation of the eye (radians, shading frame).
+    pub yaw: f32,
+    pub pitch: f32,
+    /// Magnification about the sphere's centre (1: the whole sphere fills 90 % of the side).
+    pub zoom: f32,
+}
+
+impl Default for SphereCamera {
+    /// The oblique view of the whole sphere.
+    fn default() -> Self {
+        SphereCamera {
+            yaw: -1.2,
+            pitch: 0.45,
+            zoom: 1.0,
+        }
+    }
+}
+
+/// Largest magnification of the framed camera: a light a few degrees across still shows the
+/// horizon's curve and the normal for context (the hemisphere view's "fit" shows detail).
+pub const MAX_FRAMING_ZOOM: f32 = 8.0;
+
+impl SphereCamera {
+    /// (right, up, toward the eye).
+    pub fn basis(&self) -> (DVec3, DVec3, DVec3) {
+        let (yaw, pitch) = (self.yaw as f64, self.pitch as f64);
+        let e = DVec3::new(
+            pitch.cos() * yaw.cos(),
+            pitch.cos() * yaw.sin(),
+            pitch.sin(),
+        );
+        let right = DVec3::Z.cross(e).try_normalize().unwrap_or(DVec3::X);
+        (right, e.cross(right), e)
+    }
+
+    /// The camera framed on `directions` (the region of interest, [`super::sphere::
+    /// region_of_interest`]): looking at their mean direction, magnified until they fill about
+    /// two thirds of the side (at most [`MAX_FRAMING_ZOOM`]). The default camera without any.
+    pub fn framed(directions: &[DVec3]) -> SphereCamera {
+        let Some(mean) = directions.iter().copied().sum::<DVec3>().try_normalize() else {
+            return SphereCamera::default();
+        };
+        // Slightly above the mean, so that the horizon (a line through the picture when seen
+        // edge on) reads as an ellipse and the normal as an arrow.
+        let pitch = (mean.z.clamp(-1.0, 1.0).asin() as f32 + 0.15).min(1.5);
+        let yaw = mean.y.atan2(mean.x) as f32;
+        let mut cam = SphereCamera {
+            yaw,
+            pitch,
+            zoom: 1.0,
+        };
+        let (right, up, eye) = cam.basis();
+        let extent = directions
+            .iter()
+            .map(|p| {
+                if p.dot(eye) < 0.0 {
+                    1.0
+                } else {
+                    p.dot(right).abs().max(p.dot(up).abs())
+                }
+            })
+            .fold(0.0, f64::max) as f32;
+        cam.zoom = (0.667 / extent.max(1e-6)).clamp(1.0, MAX_FRAMING_ZOOM);
+        cam
+    }
+}
+
+/// How directions land on the figure: orthographic along `eye`, `scale` pixels per unit,
+/// `offset` (in units of the picture plane) at `centre`.
+struct Projection {
+    right: DVec3,
+    up: DVec3,
+    eye: DVec3,
+    centre: (f32, f32),
+    offset: (f64, f64),
+    scale: f64,
+}
+
+impl Projection {
+    fn px(&self, x: f64, y: f64) -> (f32, f32) {
+        (
+            self.centre.0 + ((x - self.offset.0) * self.scale) as f32,
+            self.centre.1 - ((y - self.offset.1) * self.scale) as f32,
+        )
+    }
+
+    fn project(&self, p: DVec3) -> (f32, f32) {
+        self.px(p.dot(self.right), p.dot(self.up))
+    }
+
+    fn front(&self, p: DVec3) -> bool {
+        p.dot(self.eye) >= 0.0
+    }
+
+    /// The region's loops clipped to the half of the sphere facing the eye, sampled along
+    /// their arcs and projected.
+    fn front_region(&self, loops: &[Vec<DVec3>], scratch: &mut HorizonScratch) -> Shape {
+        let mut input = SphericalPolygon::new();
+        for lp in loops.iter().filter(|l| l.len() >= 3) {
+            input.push_loop(
+                lp.iter()
+                    .map(|p| DVec3::new(p.dot(self.right), p.dot(self.up), p.dot(self.eye))),
+            );
+        }
+        let mut clipped = SphericalPolygon::new();
+        clip_to_horizon(&input, &mut clipped, scratch);
+        Shape::Path(
+            clipped
+                .loops()
+                .map(|lp| Subpath {
+                    points: arc_loop(lp).iter().map(|q| self.px(q.x, q.y)).collect(),
+                    closed: true,
+                })
+                .collect(),
+        )
+    }
+}
+
+/// The 3-D sphere, `size` pixels square, seen through `camera`.
+pub fn sphere_figure(d: &Drawing, camera: &SphereCamera, size: u32, style: Style) -> Figure {
+    let size = size.clamp(64, 8192);
+    let s = size as f32;
+    let (right, up, eye) = camera.basis();
+    let scale = 0.45 * s as f64 * camera.zoom as f64;
+    let proj = Projection {
+        right,
+        up,
+        eye,
+        centre: (0.5 * s, 0.5 * s),
+        offset: (0.0, 0.0),
+        scale,
+    };
+    let mut fig = Figure::new(size, size, style.background());
+    sky(&mut fig, d, &proj, false);
+    fig.stroke(
+        Shape::Circle {
+            centre: proj.centre,
+            radius: scale as f32,
+        },
+        style.faint(),
+        1.0,
+    );
+    // The horizon: the great circle z = 0.
+    let horizon: Vec<DVec3> = (0..256)
+        .map(|k| {
+            let a = k as f64 / 256.0 * std::f64::consts::TAU;
+            DVec3::new(a.cos(), a.sin(), 0.0)
+        })
+        .collect();
+    polyline(
+        &mut fig,
+        &proj,
+        &horizon,
+        true,
+        style.ink(),
+        1.0,
+        1.0,
+        false,
+    );
+    draw(&mut fig, d, &proj, style, true, None);
+    fig
+}
+
+/// The hemisphere seen from above the normal, `size` pixels square: the whole disk, or with
+/// `fit` the box of what is drawn above the horizon (a magnification noted in the corner).
+pub fn hemisphere_figure(d: &Drawing, fit: bool, size: u32, style: Style) -> Figure {
+    let size = size.clamp(64, 8192);
+    let s = size as f32;
+    let (offset, half) = match fit.then(|| fit_box(d)).flatten() {
+        Some((lo, hi)) => (
+            (0.5 * (lo.0 + hi.0), 0.5 * (lo.1 + hi.1)),
+            ((hi.0 - lo.0).max(hi.1 - lo.1) * 0.6).max(1e-4),
+        ),
+        None => ((0.0, 0.0), 1.0),
+    };
+    let scale = 0.45 * s as f64 / half;
+    let proj = Projection {
+        right: DVec3::X,
+        up: DVec3::Y,
+        eye: DVec3::Z,
+        centre: (0.5 * s, 0.5 * s),
+        offset,
+        scale,
+    };
+    let mut fig = Figure::new(size, size, style.background());
+    sky(&mut fig, d, &proj, true);
+    fig.stroke(
+        Shape::Circle {
+            centre: proj.px(0.0, 0.0),
+            radius: scale as f32,
+        },
+        style.ink(),
+        1.0,
+    );
+    let zoom_note = fit.then(|| format!("x{:.1}", 1.0 / half));
+    draw(&mut fig, d, &proj, style, false, zoom_note);
+    fig
+}
+
+/// The box (in the flat view's x, y) of every curve point and region corner above the horizon.
+fn fit_box(d: &Drawing) -> Option<((f64, f64), (f64, f64))> {
+    let curves = d.curves.iter().flat_map(|c| &c.points);
+    let regions = d.regions.iter().flat_map(|r| r.loops.iter().flatten());
+    let mut pts = curves.chain(regions).filter(|p| p.z >= 0.0);
+    let first = pts.next()?;
+    let init = ((first.x, first.y), (first.x, first.y));
+    Some(pts.fold(init, |(lo, hi), p| {
+        (
+            (lo.0.min(p.x), lo.1.min(p.y)),
+            (hi.0.max(p.x), hi.1.max(p.y)),
+        )
+    }))
+}
+
+/// The environment's radiance as filled cells under everything else: cells facing the eye
+/// (above the horizon only on the hemisphere), dimmed so that the curves stay legible, and
+/// dimmer below the horizon.
+fn sky(fig: &mut Figure, d: &Drawing, proj: &Projection, hemisphere_only: bool) {
+    let Some(sky) = &d.sky else {
+        return;
+    };
+    for r in 0..sky.rows {
+        for c in 0..sky.cols {
+            let (corners, centre) = sky.cell(r, c);
+            if !proj.front(centre) || (hemisphere_only && centre.z < 0.0) {
+                continue;
+            }
+            let dim = if centre.z < 0.0 { 0.25 } else { 0.7 };
+            let colour = sky.colours[(r * sky.cols + c) as usize].map(|v| (v as f32 * dim) as u8);
+            fig.fill(
+                Shape::Path(vec![Subpath {
+                    points: corners.iter().map(|p| proj.project(*p)).collect(),
+                    closed: true,
+                }]),
+                colour,
+            );
+        }
+    }
+}
+
+/// Strokes a polyline on the sphere: solid where it faces the eye, thin and faint behind;
+/// `arrows` puts an arrowhead about every third of a closed curve (its orientation).
+#[allow(clippy::too_many_arguments)]
+fn polyline(
+    fig: &mut Figure,
+    proj: &Projection,
+    pts: &[DVec3],
+    closed: bool,
+    colour: Rgb,
+    width: f32,
+    opacity: f32,
+    arrows: bool,
+) {
+    let n = pts.len();
+    if n < 2 {
+        return;
+    }
+    let segs = if closed { n } else { n - 1 };
+    // Runs of segments on one side, each one subpath.
+    let mut runs: Vec<(bool, Vec<(f32, f32)>)> = Vec::new();
+    for k in 0..segs {
+        let (a, b) = (pts[k], pts[(k + 1) % n]);
+        let front = proj.front(a) && proj.front(b);
+        let (pa, pb) = (proj.project(a), proj.project(b));
+        match runs.last_mut() {
+            Some((f, run)) if *f == front => run.push(pb),
+            _ => runs.push((front, vec![pa, pb])),
+        }
+        if arrows && front && k % (n / 3).max(1) == n / 6 {
+            let (dx, dy) = (pb.0 - pa.0, pb.1 - pa.1);
+            let len = dx.hypot(dy);
+            if len > 1e-6 {
+                let (ux, uy) = (dx / len, dy / len);
+                let tip = pb;
+                let head = vec![
+                    tip,
+                    (tip.0 - 8.0 * ux - 4.0 * uy, tip.1 - 8.0 * uy + 4.0 * ux),
+                    (tip.0 - 8.0 * ux + 4.0 * uy, tip.1 - 8.0 * uy - 4.0 * ux),
+                ];
+                fig.translucent(
+                    Shape::Path(vec![Subpath {
+                        points: head,
+                        closed: true,
+                    }]),
+                    colour,
+                    opacity,
+                );
+            }
+        }
+    }
+    for front in [false, true] {
+        let subpaths: Vec<Subpath> = runs
+            .iter()
+            .filter(|(f, _)| *f == front)
+            .map(|(_, points)| Subpath {
+                points: points.clone(),
+                closed: false,
+            })
+            .collect();
+        if subpaths.is_empty() {
+            continue;
+        }
+        let (w, o) = if front {
+            (width, opacity)
+        } else {
+            (0.6 * width, 0.25 * opacity)
+        };
+        fig.faded_stroke(Shape::Path(subpaths), colour, w, o);
+    }
+}
+
+/// Pixel size of labels in a figure `side` pixels square.
+fn label_size(side: f32) -> f32 {
+    (side * 0.02).clamp(10.0, 22.0)
+}
+
+/// Draws the drawing's regions, curves, arrows, labels and legend through `proj`. `arrows_3d`
+/// draws the frame's directions as arrows from the centre (else as dots where they pierce the
+/// disk); `note` goes in the top right corner.
+fn draw(
+    fig: &mut Figure,
+    d: &Drawing,
+    proj: &Projection,
+    style: Style,
+    arrows_3d: bool,
+    note: Option<String>,
+) {
+    let s = fig.width as f32;
+    let ink = |c: Rgb| style.on_background(c);
+    let mut scratch = HorizonScratch::default();
+    for r in &d.regions {
+        let shape = proj.front_region(&r.loops, &mut scratch);
+        fig.translucent(shape, ink(r.colour), r.opacity);
+    }
+    for cv in &d.curves {
+        let colour = ink(cv.colour);
+        match cv.kind {
+            CurveKind::Line => polyline(
+                fig, proj, &cv.points, cv.closed, colour, cv.width, cv.opacity, cv.closed,
+            ),
+            CurveKind::Marker | CurveKind::Dot => {
+                for &p in &cv.points {
+                    let o = if proj.front(p) { 1.0 } else { 0.25 } * cv.opacity;
+                    let circle = |radius| Shape::Circle {
+                        centre: proj.project(p),
+                        radius,
+                    };
+                    if cv.kind == CurveKind::Dot {
+                        fig.translucent(circle(1.0 + cv.width), colour, o);
+                    } else {
+                        fig.faded_stroke(circle(4.5), colour, cv.width, o);
+                    }
+                }
+            }
+        }
+    }
+    // The legend first: labels keep out of it.
+    let size = label_size(s);
+    let mut placer = LabelPlacer::new([0.0, 0.0, s, s]);
+    if let Some(box_) = legend(fig, d, style, size) {
+        placer.block(box_);
+    }
+    if let Some(note) = note {
+        let st = TextStyle::new(size, style.ink()).align(crate::figure::font::Align::Right);
+        fig.text(&note, (s - 6.0, 6.0 + size), st);
+        placer.block([s - 80.0, 0.0, s, 12.0 + size]);
+    }
+    let centre = proj.project(DVec3::ZERO);
+    for a in &d.arrows {
+        let tip = proj.project(a.dir);
+        let front = proj.front(a.dir) || !arrows_3d;
+        let o = if front { 1.0 } else { 0.3 };
+        let colour = ink(a.colour);
+        if arrows_3d {
+            fig.faded_stroke(Shape::segment(centre, tip), colour, 2.0, o);
+        } else if a.dir.z < 0.0 {
+            continue;
+        }
+        fig.translucent(
+            Shape::Circle {
+                centre: tip,
+                radius: 3.0,
+            },
+            colour,
+            o,
+        );
+        if let Some(Placement { at, .. }) = placer.place(a.name, tip, size, 4.0) {
+            fig.text(a.name, at, TextStyle::new(size, colour));
+        }
+    }
+    // Vertex labels of the current stage's polygons, where the view is large enough to read
+    // them: the tag and the corner's index in its loop (v0, v1, ... of the visible polygon).
+    if s < 260.0 {
+        return;
+    }
+    let small = 0.9 * size;
+    for cv in d.curves.iter().filter(|c| !c.tag.is_empty()) {
+        let colour = ink(cv.colour);
+        // Corners closer than a label's height share one label ("v2,3"): separate labels
+        // could not sit beside them without hiding each other.
+        let mut groups: Vec<((f32, f32), Vec<usize>)> = Vec::new();
+        for (i, &p) in cv.vertices.iter().enumerate() {
+            let q = proj.project(p);
+            if !proj.front(p) || q.0 < 0.0 || q.1 < 0.0 || q.0 > s || q.1 > s {
+                continue;
+            }
+            fig.fill(
+                Shape::Circle {
+                    centre: q,
+                    radius: 2.5,
+                },
+                colour,
+            );
+            let near = |a: (f32, f32)| (a.0 - q.0).hypot(a.1 - q.1) < small;
+            match groups.iter_mut().find(|(a, _)| near(*a)) {
+                Some((_, members)) => members.push(i),
+                None => groups.push((q, vec![i])),
+            }
+        }
+        for (q, members) in groups {
+            let list: Vec<String> = members.iter().map(|i| i.to_string()).collect();
+            let text = format!("{}{}", cv.tag, list.join(","));
+            if let Some(pl) = placer.place(&text, q, small, 3.0) {
+                if pl.far {
+                    let end = (pl.at.0, pl.at.1 - 0.3 * small);
+                    fig.faded_stroke(Shape::segment(q, end), colour, 0.8, 0.6);
+                }
+                fig.text(&text, pl.at, TextStyle::new(small, colour));
+            }
+        }
+    }
+}
+
+/// The legend in the top left corner: one entry per kind drawn (regions by their fill, curves
+/// by their stroke), over a veil so that curves behind do not garble it. Returns its box.
+fn legend(fig: &mut Figure, d: &Drawing, style: Style, size: f32) -> Option<Rect> {
+    enum Swatch {
+        Fill(f32),
+        Line(f32),
+        Marker(f32),
+        Dot,
+    }
+    let mut entries: Vec<(&str, Rgb, Swatch)> = Vec::new();
+    for r in &d.regions {
+        if !entries.iter().any(|e| e.0 == r.legend) {
+            entries.push((r.legend, r.colour, Swatch::Fill(r.opacity.max(0.3))));
+        }
+    }
+    for c in &d.curves {
+        if c.legend.is_empty() || entries.iter().any(|e| e.0 == c.legend) {
+            continue;
+        }
+        let sw = match c.kind {
+            CurveKind::Line => Swatch::Line(c.width.max(2.0)),
+            CurveKind::Marker => Swatch::Marker(c.width),
+            CurveKind::Dot => Swatch::Dot,
+        };
+        entries.push((c.legend, c.colour, sw));
+    }
+    if entries.is_empty() {
+        return None;
+    }
+    let line = 1.35 * size;
+    let widest = entries
+        .iter()
+        .map(|e| crate::figure::font::text_width(e.0, size))
+        .fold(0.0, f32::max);
+    let (x0, y0) = (4.0, 4.0);
+    let box_ = [
+        x0,
+        y0,
+        x0 + 2.6 * size + widest + 6.0,
+        y0 + entries.len() as f32 * line + 6.0,
+    ];
+    fig.translucent(Shape::rect(box_), style.background(), 0.8);
+    for (k, (name, colour, sw)) in entries.into_iter().enumerate() {
+        let colour = style.on_background(colour);
+        let y = y0 + 3.0 + (k as f32 + 0.5) * line;
+        let a = (x0 + 4.0, y);
+        let b = (x0 + 4.0 + 1.6 * size, y);
+        match sw {
+            Swatch::Fill(o) => {
+                let r = [a.0, y - 0.4 * size, b.0, y + 0.4 * size];
+                fig.translucent(Shape::rect(r), colour, o);
+            }
+            Swatch::Line(w) => fig.stroke(Shape::segment(a, b), colour, w),
+            Swatch::Marker(w) => fig.stroke(
+                Shape::Circle {
+                    centre: (0.5 * (a.0 + b.0), y),
+                    radius: 4.0,
+                },
+                colour,
+                w,
+            ),
+            Swatch::Dot => fig.fill(
+                Shape::Circle {
+                    centre: (0.5 * (a.0 + b.0), y),
+                    radius: 3.0,
+                },
+                colour,
+            ),
+        }
+        fig.text(
+            name,
+            (b.0 + 0.6 * size, y + 0.35 * size),
+            TextStyle::new(size, style.ink()),
+        );
+    }
+    Some(box_)
+}
