@@ -2,11 +2,12 @@
 //! view of the set differences. Everything shown comes from the [`Probe`] (the renderer's own
 //! recording), so a loaded debug dump replays without the scene.
 
-use super::planar_view::planar_ui;
+use super::figure_painter::{self, FigureRect};
 use super::sphere_view::SphereView;
 use crate::inspect::{MonteCarloEstimate, Probe};
 use crate::shading::{EnvironmentSide, RayOutcome, SetDifferenceRecord};
 use crate::views::stages::{GhPhase, Step, StepKind, plane_subject, probe_steps};
+use crate::views::{Style, plane_figure};
 use egui::{RichText, Ui};
 
 /// The picked point and where the stepper stands.
@@ -434,8 +435,19 @@ impl Inspector {
             .get(sd.occluder)
             .cloned()
             .unwrap_or_default();
-        let w = ui.available_width();
-        planar_ui(ui, sd, &name, phase, w);
+        ui.small(
+            "The projection plane, compressed radially (q -> q/(1+|q|)): the rim is the horizon.",
+        );
+        let style = if ui.visuals().dark_mode {
+            Style::Screen
+        } else {
+            Style::Print
+        };
+        let avail = ui.available_size();
+        let side = avail.x.min(avail.y).max(160.0);
+        let (rect, _) = ui.allocate_exact_size(egui::Vec2::splat(side), egui::Sense::hover());
+        let fig = plane_figure(sd, &name, phase, side.round() as u32, style);
+        figure_painter::paint(ui.painter(), &fig, FigureRect::fit(&fig, rect));
     }
 }
 

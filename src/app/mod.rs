@@ -11,6 +11,7 @@
 pub mod bench_job;
 pub mod command;
 pub mod environment_panel;
+pub mod figure_painter;
 pub mod files;
 pub mod gizmo;
 pub mod inspector;
@@ -21,7 +22,6 @@ pub mod lesson_export;
 pub mod light_view;
 pub mod orbit;
 pub mod panes;
-pub mod planar_view;
 pub mod scene_edit;
 pub mod sphere_view;
 

@@ -34,7 +34,8 @@ pub(crate) fn figure(args: &RenderArgs, f: &FigureArgs) -> Result<()> {
             "auto" => None,
             p => Some(parse_vec2(p).map_err(|e| anyhow::anyhow!("--pixel {p}: {e}"))?),
         };
-        probe_dump(args, pixel, f.view == "plane")?
+        // With the GH steps, as the workbench records a pick: the stage numbers are its.
+        probe_dump(args, pixel, true)?
     };
     let figure = view_figure(&probe, f, style, orbit)?;
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -79,11 +80,19 @@ fn view_figure(
     let current = match f.stage {
         None => None,
         Some(n) if (1..=steps.len()).contains(&n) => Some(n - 1),
-        Some(n) => bail!(
-            "--stage {n}: the recording at this point has {} stages (1 to {})",
-            steps.len(),
-            steps.len()
-        ),
+        Some(n) => {
+            let list: Vec<String> = steps
+                .iter()
+                .enumerate()
+                .map(|(i, s)| format!("  {:>3}  {}", i + 1, s.label))
+                .collect();
+            bail!(
+                "--stage {n}: the recording at this point has {} stages, numbered as the \
+                 workbench's stepper numbers them:\n{}",
+                steps.len(),
+                list.join("\n")
+            )
+        }
     };
     let step = current.map(|i| &steps[i]);
     Ok(match f.view.as_str() {
@@ -106,10 +115,13 @@ fn view_figure(
             }
         }
         "plane" => {
-            let sd = if current
+            let (sd, phase) = if current
                 .is_some_and(|i| matches!(steps[i].kind, StepKind::SetDifference { .. }))
             {
-                plane_subject(probe, &steps, current).map(|(sd, _)| sd)
+                match plane_subject(probe, &steps, current) {
+                    Some((sd, phase)) => (Some(sd), phase),
+                    None => (None, None),
+                }
             } else {
                 let all: Vec<_> = probe
                     .recording
@@ -117,7 +129,7 @@ fn view_figure(
                     .iter()
                     .flat_map(|l| &l.set_differences)
                     .collect();
-                all.get(f.difference).copied()
+                (all.get(f.difference).copied(), None)
             };
             let Some(sd) = sd else {
                 bail!(
@@ -137,7 +149,7 @@ fn view_figure(
                 .get(sd.occluder)
                 .cloned()
                 .unwrap_or_else(|| format!("#{}", sd.occluder));
-            views::plane_figure(sd, &name, f.figure_size, style)
+            views::plane_figure(sd, &name, phase, f.figure_size, style)
         }
         other => bail!(
             "--view {other}: expected sphere, hemisphere, plane or environment (the light \

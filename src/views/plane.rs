@@ -1,10 +1,14 @@
 //! The projected plane of one set difference (000 Alg. 1 line 12): the light's region, the
 //! occluder's and what is left, in the plane the occluder was projected to.
 
+use super::labels::LabelPlacer;
+use super::sphere::colours;
+use super::stages::GhPhase;
 use super::{LIGHT, OCCLUDER, Style, VISIBLE};
 use crate::figure::font::{self, Align, TextStyle};
 use crate::figure::{Figure, Item, Shape, Subpath};
 use crate::geometry::PlanarPolygon;
+use crate::geometry::set_difference::{Operand, Transition};
 use crate::shading::SetDifferenceRecord;
 use glam::DVec3;
 
@@ -43,8 +47,16 @@ pub fn warped_loop(lp: &[DVec3]) -> Vec<[f64; 2]> {
 /// region before it, the occluder's, and what is left (the visible region, the answer),
 /// translucent so that overlaps show, with a legend and a title naming the occluder. The
 /// plane is drawn in the warped disk of [`warp`] (its rim is the horizon), framed on the
-/// light's and the occluder's regions.
-pub fn plane_figure(sd: &SetDifferenceRecord, occluder: &str, size: u32, style: Style) -> Figure {
+/// light's and the occluder's regions. With a Greiner–Hormann `phase` (when the recording
+/// kept the steps): the intersections found (phase 1), the entry and exit labels (phase 2), or
+/// the traversal's output edges in order (phase 3); the answer is shown from phase 3 on.
+pub fn plane_figure(
+    sd: &SetDifferenceRecord,
+    occluder: &str,
+    phase: Option<GhPhase>,
+    size: u32,
+    style: Style,
+) -> Figure {
     let size = size.clamp(64, 8192);
     let mut fig = Figure::new(size, size, style.background());
     let s = size as f32;
@@ -112,14 +124,128 @@ pub fn plane_figure(sd: &SetDifferenceRecord, occluder: &str, size: u32, style: 
     }
     fig.stroke(Shape::rect(plot), style.faint(), 1.0);
     // Regions: the light, the occluder over it, the visible part over both.
+    let show_result = phase.is_none() || phase == Some(GhPhase::Traversal);
     fig.translucent(shape(&before), LIGHT, 0.35);
     fig.translucent(shape(&clip), OCCLUDER, 0.35);
-    fig.translucent(shape(&after), VISIBLE, 0.55);
+    if show_result {
+        fig.translucent(shape(&after), VISIBLE, 0.55);
+    }
     fig.stroke(shape(&before), LIGHT, 1.5);
     fig.stroke(shape(&clip), OCCLUDER, 1.5);
-    fig.stroke(shape(&after), VISIBLE, 2.5);
+    if show_result {
+        fig.stroke(shape(&after), VISIBLE, 2.5);
+    }
+    // The phase's marks, labelled without overlap (the legend and title kept clear).
+    let small = 0.022 * s;
+    let mut placer = LabelPlacer::new([0.0, 0.0, s, s]);
+    placer.block([0.0, 0.0, s, 0.13 * s]);
+    let ink = style.ink();
+    let mut label = |fig: &mut Figure, text: &str, at: (f32, f32), colour: [u8; 3]| {
+        if let Some(p) = placer.place(text, at, small, 4.0) {
+            fig.text(text, p.at, TextStyle::new(small, colour));
+        }
+    };
+    let px = |p: DVec3| to_px(warp(p));
+    match (phase, &sd.steps) {
+        (Some(GhPhase::Intersections), Some(st)) => {
+            for (k, i) in st.intersections.iter().enumerate() {
+                let q = px(i.position);
+                fig.stroke(
+                    Shape::Circle {
+                        centre: q,
+                        radius: 5.0,
+                    },
+                    ink,
+                    1.5,
+                );
+                label(&mut fig, &format!("{k}: {:?}", i.kind), q, ink);
+            }
+        }
+        (Some(GhPhase::Labels), Some(st)) => {
+            for l in &st.labels {
+                let q = px(l.position);
+                // Up triangle: entry; down: exit; diamond: no transition.
+                let (colour, pts) = match l.transition {
+                    Some(Transition::Entry) => (
+                        VISIBLE,
+                        vec![
+                            (q.0, q.1 - 6.0),
+                            (q.0 + 6.0, q.1 + 5.0),
+                            (q.0 - 6.0, q.1 + 5.0),
+                        ],
+                    ),
+                    Some(Transition::Exit) => (
+                        OCCLUDER,
+                        vec![
+                            (q.0, q.1 + 6.0),
+                            (q.0 + 6.0, q.1 - 5.0),
+                            (q.0 - 6.0, q.1 - 5.0),
+                        ],
+                    ),
+                    None => (
+                        style.faint(),
+                        vec![
+                            (q.0, q.1 - 6.0),
+                            (q.0 + 6.0, q.1),
+                            (q.0, q.1 + 6.0),
+                            (q.0 - 6.0, q.1),
+                        ],
+                    ),
+                };
+                fig.fill(
+                    Shape::Path(vec![Subpath {
+                        points: pts,
+                        closed: true,
+                    }]),
+                    colour,
+                );
+                let side = match l.operand {
+                    Operand::Subject => "S",
+                    Operand::Clip => "C",
+                };
+                label(
+                    &mut fig,
+                    &format!("{side}{}: {:?}", l.edge, l.label),
+                    q,
+                    ink,
+                );
+            }
+        }
+        (Some(GhPhase::Traversal), Some(st)) => {
+            for (k, lp) in st.traversal.iter().enumerate() {
+                for (j, step) in lp.steps.iter().enumerate() {
+                    let colour = match step.operand {
+                        Operand::Subject => colours::LIGHT,
+                        Operand::Clip => colours::OCCLUDER_CLIPPED,
+                    };
+                    let pts: Vec<(f32, f32)> = warped_loop(&[step.from, step.to])
+                        .into_iter()
+                        .take(25)
+                        .map(to_px)
+                        .chain(std::iter::once(px(step.to)))
+                        .collect();
+                    let mid = pts[pts.len() / 2];
+                    fig.stroke(
+                        Shape::Path(vec![Subpath {
+                            points: pts,
+                            closed: false,
+                        }]),
+                        colour,
+                        4.0,
+                    );
+                    label(&mut fig, &format!("{k}.{j}"), mid, ink);
+                }
+            }
+        }
+        _ => {}
+    }
     // Title (shrunk to fit) and legend.
-    let title = format!("light minus occluder {occluder}: what the point sees");
+    let title = match phase {
+        None => format!("light minus occluder {occluder}: what the point sees"),
+        Some(GhPhase::Intersections) => format!("minus {occluder}, GH phase 1: intersections"),
+        Some(GhPhase::Labels) => format!("minus {occluder}, GH phase 2: entry and exit labels"),
+        Some(GhPhase::Traversal) => format!("minus {occluder}, GH phase 3: traversal"),
+    };
     let mut size_t = 0.03 * s;
     while size_t > 6.0 && font::text_width(&title, size_t) > 0.92 * s {
         size_t *= 0.9;

@@ -671,6 +671,12 @@ pub fn drawing(probe: &Probe, step: Option<&Step>, layers: &Layers) -> Drawing {
     if probe.environment.is_some() {
         environment(probe, layers, &names, &mut out);
     }
+    if !layers.vertex_labels {
+        for c in &mut out.curves {
+            c.tag = "";
+            c.vertices.clear();
+        }
+    }
     if layers.directions {
         out.arrows.push(Arrow {
             dir: DVec3::Z,

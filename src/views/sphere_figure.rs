@@ -85,7 +85,7 @@ impl SphereCamera {
 
 /// How directions land on the figure: orthographic along `eye`, `scale` pixels per unit,
 /// `offset` (in units of the picture plane) at `centre`.
-struct Projection {
+pub struct Projection {
     right: DVec3,
     up: DVec3,
     eye: DVec3,
@@ -102,11 +102,13 @@ impl Projection {
         )
     }
 
-    fn project(&self, p: DVec3) -> (f32, f32) {
+    /// Where the direction `p` is drawn (figure pixels).
+    pub fn project(&self, p: DVec3) -> (f32, f32) {
         self.px(p.dot(self.right), p.dot(self.up))
     }
 
-    fn front(&self, p: DVec3) -> bool {
+    /// Whether `p` faces the eye (is drawn solid).
+    pub fn front(&self, p: DVec3) -> bool {
         p.dot(self.eye) >= 0.0
     }
 
@@ -134,20 +136,25 @@ impl Projection {
     }
 }
 
-/// The 3-D sphere, `size` pixels square, seen through `camera`.
-pub fn sphere_figure(d: &Drawing, camera: &SphereCamera, size: u32, style: Style) -> Figure {
-    let size = size.clamp(64, 8192);
-    let s = size as f32;
+/// The projection of the 3-D sphere's figure, `size` pixels square.
+pub fn sphere_projection(camera: &SphereCamera, size: u32) -> Projection {
+    let s = size.clamp(64, 8192) as f32;
     let (right, up, eye) = camera.basis();
-    let scale = 0.45 * s as f64 * camera.zoom as f64;
-    let proj = Projection {
+    Projection {
         right,
         up,
         eye,
         centre: (0.5 * s, 0.5 * s),
         offset: (0.0, 0.0),
-        scale,
-    };
+        scale: 0.45 * s as f64 * camera.zoom as f64,
+    }
+}
+
+/// The 3-D sphere, `size` pixels square, seen through `camera`.
+pub fn sphere_figure(d: &Drawing, camera: &SphereCamera, size: u32, style: Style) -> Figure {
+    let size = size.clamp(64, 8192);
+    let proj = sphere_projection(camera, size);
+    let scale = proj.scale;
     let mut fig = Figure::new(size, size, style.background());
     sky(&mut fig, d, &proj, false);
     fig.stroke(
@@ -179,11 +186,10 @@ pub fn sphere_figure(d: &Drawing, camera: &SphereCamera, size: u32, style: Style
     fig
 }
 
-/// The hemisphere seen from above the normal, `size` pixels square: the whole disk, or with
-/// `fit` the box of what is drawn above the horizon (a magnification noted in the corner).
-pub fn hemisphere_figure(d: &Drawing, fit: bool, size: u32, style: Style) -> Figure {
-    let size = size.clamp(64, 8192);
-    let s = size as f32;
+/// The projection of the hemisphere's figure of `d`, `size` pixels square: the whole disk, or
+/// with `fit` the box of what is drawn above the horizon.
+pub fn hemisphere_projection(d: &Drawing, fit: bool, size: u32) -> Projection {
+    let s = size.clamp(64, 8192) as f32;
     let (offset, half) = match fit.then(|| fit_box(d)).flatten() {
         Some((lo, hi)) => (
             (0.5 * (lo.0 + hi.0), 0.5 * (lo.1 + hi.1)),
@@ -191,15 +197,22 @@ pub fn hemisphere_figure(d: &Drawing, fit: bool, size: u32, style: Style) -> Fig
         ),
         None => ((0.0, 0.0), 1.0),
     };
-    let scale = 0.45 * s as f64 / half;
-    let proj = Projection {
+    Projection {
         right: DVec3::X,
         up: DVec3::Y,
         eye: DVec3::Z,
         centre: (0.5 * s, 0.5 * s),
         offset,
-        scale,
-    };
+        scale: 0.45 * s as f64 / half,
+    }
+}
+
+/// The hemisphere seen from above the normal, `size` pixels square: the whole disk, or with
+/// `fit` the box of what is drawn above the horizon (its magnification noted in the corner).
+pub fn hemisphere_figure(d: &Drawing, fit: bool, size: u32, style: Style) -> Figure {
+    let size = size.clamp(64, 8192);
+    let proj = hemisphere_projection(d, fit, size);
+    let (scale, half) = (proj.scale, 0.45 * size as f64 / proj.scale);
     let mut fig = Figure::new(size, size, style.background());
     sky(&mut fig, d, &proj, true);
     fig.stroke(
@@ -329,7 +342,7 @@ fn polyline(
 
 /// Pixel size of labels in a figure `side` pixels square.
 fn label_size(side: f32) -> f32 {
-    (side * 0.02).clamp(10.0, 22.0)
+    (side * 0.024).clamp(12.0, 24.0)
 }
 
 /// Draws the drawing's regions, curves, arrows, labels and legend through `proj`. `arrows_3d`

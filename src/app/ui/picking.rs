@@ -42,6 +42,8 @@ impl AppState {
                     self.status = format!("{}; {why}: the analytic stages are shown", self.status);
                 }
                 self.inspector = Some(Inspector::new(p));
+                // A new point: the sphere frames its lights again.
+                self.settings.sphere.camera = None;
                 self.monte_carlo = None;
             }
             Err(e) => self.status = format!("pick failed: {e}"),
