@@ -37,7 +37,10 @@ pub(crate) fn figure(args: &RenderArgs, f: &FigureArgs) -> Result<()> {
         // With the GH steps, as the workbench records a pick: the stage numbers are its.
         probe_dump(args, pixel, true)?
     };
-    let figure = view_figure(&probe, f, style, orbit)?;
+    let figure = match f.view.as_str() {
+        "light" | "bsp" => light_view_figure(args, &probe, f, style, orbit)?,
+        _ => view_figure(&probe, f, style, orbit)?,
+    };
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create directory", dir.display()))?;
@@ -151,9 +154,69 @@ fn view_figure(
                 .unwrap_or_else(|| format!("#{}", sd.occluder));
             views::plane_figure(sd, &name, phase, f.figure_size, style)
         }
-        other => bail!(
-            "--view {other}: expected sphere, hemisphere, plane or environment (the light \
-             structure is drawn by the workbench only so far)"
-        ),
+        other => {
+            bail!("--view {other}: expected sphere, hemisphere, plane, light, bsp or environment")
+        }
     })
+}
+
+/// The light structure (`--view light`) or its BSP tree's planes (`--view bsp`) of the light
+/// of the stage (the first light recorded without --stage). The light's mesh and tree come
+/// from the scene, prepared as `penumbra render` prepares it (a dump names its scene); what
+/// is drawn on them comes from the recording.
+fn light_view_figure(
+    args: &RenderArgs,
+    probe: &Probe,
+    f: &FigureArgs,
+    style: Style,
+    orbit: Option<SphereCamera>,
+) -> Result<Figure> {
+    use penumbra::views::light::{LightCamera, light_figure};
+    let steps = probe_steps(probe);
+    let record = match f.stage {
+        Some(n) => {
+            steps
+                .get(n.wrapping_sub(1))
+                .with_context(|| format!("--stage {n}: the recording has {} stages", steps.len()))?
+                .record
+        }
+        None => 0,
+    };
+    let light = probe
+        .recording
+        .lights
+        .get(record)
+        .map(|r| r.light)
+        .context("the recording at this point has no light")?;
+    let scene_name = if args.scene.ends_with(".json") {
+        probe.scene.clone()
+    } else {
+        args.scene.clone()
+    };
+    let mut scene = super::render::load_scene(&scene_name)
+        .with_context(|| format!("the light's mesh comes from the scene '{scene_name}'"))?;
+    super::environment::resolve_environment(&mut scene, args)?;
+    let ctx = penumbra::render::RenderContext::for_render(&scene, &super::render::settings(args));
+    let &(id, _) = ctx
+        .prepared
+        .lights
+        .get(light)
+        .with_context(|| format!("scene '{scene_name}' has no light {light}"))?;
+    let obj = &ctx.prepared.objects[id as usize];
+    let rec = probe
+        .recording
+        .lights
+        .iter()
+        .find(|r| r.light == light && r.piece.is_none());
+    let mut camera = LightCamera::default();
+    if let Some(o) = orbit {
+        (camera.yaw, camera.pitch, camera.zoom) = (o.yaw, o.pitch, o.zoom);
+    }
+    if f.view == "bsp" {
+        camera.levels = 2;
+    } else {
+        camera.path_planes = false;
+    }
+    let point = probe.point.map(|p| p.position);
+    Ok(light_figure(obj, point, rec, &camera, f.figure_size, style).0)
 }

@@ -6,6 +6,7 @@
 //! - [`plane`]: the projected plane of one set difference (000 Alg. 1 line 12).
 
 pub mod labels;
+pub mod light;
 pub mod plane;
 pub mod sphere;
 pub mod sphere_figure;
