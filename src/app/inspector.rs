@@ -425,16 +425,10 @@ impl Inspector {
 
     /// The set difference in the occluder's projection plane, phase by phase.
     pub fn planar_pane(&self, ui: &mut Ui) {
-        let Some((sd, phase)) = self.planar_subject() else {
+        if self.planar_subject().is_none() {
             ui.label("No occluder is subtracted at this point (Alg. 1 line 12 does not run).");
             return;
-        };
-        let name = self
-            .probe
-            .occluder_names
-            .get(sd.occluder)
-            .cloned()
-            .unwrap_or_default();
+        }
         ui.small(
             "The projection plane, compressed radially (q -> q/(1+|q|)): the rim is the horizon.",
         );
@@ -446,8 +440,22 @@ impl Inspector {
         let avail = ui.available_size();
         let side = avail.x.min(avail.y).max(160.0);
         let (rect, _) = ui.allocate_exact_size(egui::Vec2::splat(side), egui::Sense::hover());
-        let fig = plane_figure(sd, &name, phase, side.round() as u32, style);
-        figure_painter::paint(ui.painter(), &fig, FigureRect::fit(&fig, rect));
+        if let Some(fig) = self.plane_figure(side.round() as u32, style) {
+            figure_painter::paint(ui.painter(), &fig, FigureRect::fit(&fig, rect));
+        }
+    }
+
+    /// The projected plane of the set difference at the current step (the last one before
+    /// it, or the first), `side` pixels square; `None` when no occluder is subtracted.
+    pub fn plane_figure(&self, side: u32, style: Style) -> Option<crate::figure::Figure> {
+        let (sd, phase) = self.planar_subject()?;
+        let name = self
+            .probe
+            .occluder_names
+            .get(sd.occluder)
+            .cloned()
+            .unwrap_or_default();
+        Some(plane_figure(sd, &name, phase, side, style))
     }
 }
 

@@ -11,6 +11,7 @@
 pub mod bench_job;
 pub mod command;
 pub mod environment_panel;
+pub mod figure_export;
 pub mod figure_painter;
 pub mod files;
 pub mod gizmo;
@@ -173,6 +174,10 @@ pub struct AppState {
     subject_rect: Option<egui::Rect>,
     /// A lesson being exported, frame by frame.
     lesson_capture: Option<lesson_export::LessonCapture>,
+    /// Figures are exported in the print style (else as on screen).
+    pub figure_print: bool,
+    /// Export ▸ Figure chosen this frame: its dialog opens once the menu has closed.
+    pending_figure: Option<figure_export::FigureView>,
     /// The selected object, its handles and the edit history.
     pub editor: scene_edit::SceneEditor,
     /// Where the viewport was drawn in the last frame (points).
@@ -226,6 +231,8 @@ impl AppState {
             sphere_rect: None,
             subject_rect: None,
             lesson_capture: None,
+            figure_print: true,
+            pending_figure: None,
             editor: Default::default(),
             viewport_rect: None,
             selected_light: None,

@@ -24,6 +24,9 @@ impl WorkbenchApp {
         self.update_texture(&ctx);
 
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui));
+        if let Some(view) = self.app.pending_figure.take() {
+            self.export_figure_dialog(view);
+        }
         egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
         self.follow_step();
         egui::CentralPanel::default().show(ui, |ui| match self.maximised {

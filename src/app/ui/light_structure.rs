@@ -33,20 +33,35 @@ impl PaneView for LightStructurePane {
                     ui.selectable_value(&mut app.selected_light, Some(i), n);
                 }
             });
-        if let Some(l) = app.selected_light
-            && let Some(&(id, _)) = ctx.prepared.lights.get(l)
-        {
-            let obj = &ctx.prepared.objects[id as usize];
-            let probe = app.inspector.as_ref().map(|i| &i.probe);
-            let point = probe.and_then(|p| p.point).map(|p| p.position);
-            // The light's record taken whole (a light taken face by face has no outline).
-            let record = probe.and_then(|p| {
-                p.recording
-                    .lights
-                    .iter()
-                    .find(|r| r.light == l && r.piece.is_none())
-            });
+        if let Some((obj, point, record)) = app.light_subject() {
             self.view.ui(ui, obj, point, record);
         }
     }
 }
+
+impl AppState {
+    /// The light the structure pane shows: its prepared object, the picked point and the
+    /// light's record there taken whole (a light taken face by face has no outline).
+    pub fn light_subject(&self) -> Option<LightSubject<'_>> {
+        let ctx = self.ctx.as_ref()?;
+        let l = self.selected_light?;
+        let &(id, _) = ctx.prepared.lights.get(l)?;
+        let obj = &ctx.prepared.objects[id as usize];
+        let probe = self.inspector.as_ref().map(|i| &i.probe);
+        let point = probe.and_then(|p| p.point).map(|p| p.position);
+        let record = probe.and_then(|p| {
+            p.recording
+                .lights
+                .iter()
+                .find(|r| r.light == l && r.piece.is_none())
+        });
+        Some((obj, point, record))
+    }
+}
+
+/// A light's prepared object, the picked point, and the light's record there.
+pub type LightSubject<'a> = (
+    &'a crate::shading::PreparedObject,
+    Option<glam::DVec3>,
+    Option<&'a crate::shading::LightRecord>,
+);

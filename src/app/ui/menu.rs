@@ -60,6 +60,34 @@ impl AppState {
                     self.status = format!("copied: {cmd}");
                 }
             });
+            ui.menu_button("Export", |ui| {
+                ui.menu_button("Figure", |ui| {
+                    for v in figure_export::FigureView::ALL {
+                        if ui.button(format!("{}…", v.title())).clicked() {
+                            self.pending_figure = Some(v);
+                            ui.close();
+                        }
+                    }
+                    ui.separator();
+                    ui.checkbox(
+                        &mut self.figure_print,
+                        "print style (light, greyscale-safe)",
+                    );
+                    ui.label(RichText::new("SVG, PDF or PNG by the file's extension").small());
+                });
+                if ui
+                    .button(Command::SaveImage.menu_text("Rendered image…"))
+                    .clicked()
+                {
+                    self.run_command(Command::SaveImage);
+                }
+                if ui
+                    .button(Command::SaveDump.menu_text("Debug dump of the point…"))
+                    .clicked()
+                {
+                    self.run_command(Command::SaveDump);
+                }
+            });
             ui.menu_button("View", |ui| {
                 if ui.checkbox(&mut self.settings.dark, "dark theme").changed() {
                     self.apply_theme(ui.ctx());

@@ -1,0 +1,158 @@
+//! Export ▸ Figure: the figure a pane shows, written as SVG, PDF or PNG (`figure::save`) from
+//! the same description the pane paints, at a print size and, by default, in the print style.
+//! `penumbra figure` writes the same figures from the command line.
+
+use super::WorkbenchApp;
+use super::layout::Pane;
+use super::sphere_view::SphereFigure;
+use crate::figure::Figure;
+use crate::views::Style;
+use crate::views::sphere::{Layers, drawing};
+use std::path::Path;
+
+/// A pane whose picture is a figure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FigureView {
+    Sphere,
+    Hemisphere,
+    Plane,
+    LightStructure,
+    Environment,
+    BenchChart,
+}
+
+impl FigureView {
+    pub const ALL: [FigureView; 6] = [
+        FigureView::Sphere,
+        FigureView::Hemisphere,
+        FigureView::Plane,
+        FigureView::LightStructure,
+        FigureView::Environment,
+        FigureView::BenchChart,
+    ];
+
+    /// The menu's words, and `penumbra figure --view`'s name for the same figure.
+    pub fn title(self) -> &'static str {
+        match self {
+            FigureView::Sphere => "the unit sphere",
+            FigureView::Hemisphere => "the hemisphere",
+            FigureView::Plane => "the projected plane",
+            FigureView::LightStructure => "the light structure",
+            FigureView::Environment => "the environment on the sphere",
+            FigureView::BenchChart => "the bench chart",
+        }
+    }
+
+    /// The pane that shows it.
+    pub fn pane(self) -> Pane {
+        match self {
+            FigureView::Sphere => Pane::Sphere,
+            FigureView::Hemisphere => Pane::Hemisphere,
+            FigureView::Plane => Pane::Planar,
+            FigureView::LightStructure => Pane::LightStructure,
+            FigureView::Environment => Pane::Environment,
+            FigureView::BenchChart => Pane::Plots,
+        }
+    }
+
+    /// The file name offered.
+    pub fn file_stem(self) -> &'static str {
+        match self {
+            FigureView::Sphere => "sphere",
+            FigureView::Hemisphere => "hemisphere",
+            FigureView::Plane => "plane",
+            FigureView::LightStructure => "light",
+            FigureView::Environment => "environment",
+            FigureView::BenchChart => "time_vs_rmse",
+        }
+    }
+}
+
+/// Side of an exported figure in pixels (SVG user units, PDF points).
+pub const EXPORT_SIDE: u32 = 800;
+
+impl WorkbenchApp {
+    /// The figure `view` shows now, `side` pixels square (the chart `side` wide), or why there
+    /// is none (nothing picked, no set difference at the point, no light selected...).
+    pub fn view_figure(&self, view: FigureView, side: u32, style: Style) -> Result<Figure, String> {
+        let pick_first = || "pick a point first".to_string();
+        let ins = self.inspector.as_ref();
+        match view {
+            FigureView::Sphere | FigureView::Hemisphere => {
+                let ins = ins.ok_or_else(pick_first)?;
+                let which = if view == FigureView::Sphere {
+                    SphereFigure::Sphere
+                } else {
+                    SphereFigure::Hemisphere
+                };
+                Ok(self
+                    .settings
+                    .sphere
+                    .figure(which, &ins.probe, ins.current(), side, style))
+            }
+            FigureView::Environment => {
+                let ins = ins.ok_or_else(pick_first)?;
+                if ins.probe.environment.is_none() {
+                    return Err("the scene has no environment light".into());
+                }
+                let d = drawing(&ins.probe, ins.current(), &Layers::environment_only());
+                let camera = self.settings.sphere.camera_for(&ins.probe);
+                Ok(crate::views::sphere_figure(&d, &camera, side, style))
+            }
+            FigureView::Plane => ins
+                .ok_or_else(pick_first)?
+                .plane_figure(side, style)
+                .ok_or_else(|| "no occluder is subtracted at this point".into()),
+            FigureView::LightStructure => {
+                let (obj, point, record) = self
+                    .app
+                    .light_subject()
+                    .ok_or("select a light in the light structure pane")?;
+                Ok(self
+                    .panes
+                    .light_structure
+                    .view
+                    .figure(obj, point, record, side, style)
+                    .0)
+            }
+            FigureView::BenchChart => {
+                let report = self.bench.as_ref().ok_or("run or open a bench first")?;
+                let chart = crate::bench::output::time_vs_rmse_chart(report);
+                Ok(crate::figure::plot::chart_figure(
+                    &chart,
+                    side,
+                    side * 5 / 8,
+                ))
+            }
+        }
+    }
+
+    /// Writes the figure of `view` to `path` (.svg, .pdf or .png) in the export style.
+    pub fn export_figure(&mut self, view: FigureView, path: &Path) -> Result<(), String> {
+        let style = if self.figure_print {
+            Style::Print
+        } else {
+            Style::Screen
+        };
+        let fig = self.view_figure(view, EXPORT_SIDE, style)?;
+        crate::figure::save(&fig, path).map_err(|e| format!("{e:#}"))?;
+        self.status = format!("wrote {} ({})", path.display(), view.title());
+        Ok(())
+    }
+
+    /// Asks where to write the figure of `view`, then writes it.
+    pub(in crate::app) fn export_figure_dialog(&mut self, view: FigureView) {
+        let Some(path) = rfd::FileDialog::new()
+            .set_file_name(format!("{}.svg", view.file_stem()))
+            .add_filter("SVG", &["svg"])
+            .add_filter("PDF", &["pdf"])
+            .add_filter("PNG", &["png"])
+            .save_file()
+        else {
+            return;
+        };
+        if let Err(e) = self.export_figure(view, &path) {
+            self.status = format!("figure not written: {e}");
+        }
+    }
+}
