@@ -187,76 +187,112 @@ fn the_cache_command_shows_trims_and_clears_only_its_files() {
 /// light's, the occluder's and the visible region as translucent fills; a set difference the
 /// recording does not have, or an unknown view, is a one-line error.
 #[test]
-fn figure_of_a_set_difference_live_and_from_a_dump() {
+fn figures_of_every_view_live_and_from_a_dump() {
     let dir = temp("figure");
     let dump = dir.join("p.json");
+    let at = ["--size", "320x240", "--pixel", "150,170"];
     let probe = [
-        "probe", "default", "--size", "320x240", "--pixel", "150,170", "--json",
-    ];
+        &["probe", "default", "--gh-steps"][..],
+        &at[..],
+        &["--json"],
+    ]
+    .concat();
     let o = penumbra(&[&probe[..], &[dump.to_str().unwrap()]].concat(), &dir);
     assert!(o.status.success(), "{}", text(&o.stderr));
-    let live = dir.join("live.svg");
-    let o = penumbra(
-        &[
-            "figure",
-            "default",
-            "--size",
-            "320x240",
-            "--pixel",
-            "150,170",
-            "--difference",
-            "1",
-            "--out",
-            live.to_str().unwrap(),
-        ],
-        &dir,
-    );
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let replayed = dir.join("dump.svg");
-    let o = penumbra(
-        &[
-            "figure",
-            dump.to_str().unwrap(),
-            "--difference",
-            "1",
-            "--out",
-            replayed.to_str().unwrap(),
-        ],
-        &dir,
-    );
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let (a, b) = (
-        std::fs::read_to_string(&live).unwrap(),
-        std::fs::read_to_string(&replayed).unwrap(),
-    );
-    assert_eq!(a, b, "the dump replays the live figure");
-    usvg::Tree::from_str(&a, &usvg::Options::default()).expect("the SVG parses");
-    // Three translucent regions and three legend swatches.
-    assert_eq!(a.matches("fill-opacity").count(), 6, "{a}");
-    let png = dir.join("dump.png");
-    let o = penumbra(
-        &[
-            "figure",
-            dump.to_str().unwrap(),
-            "--out",
-            png.to_str().unwrap(),
-        ],
-        &dir,
-    );
-    assert!(o.status.success() && png.is_file(), "{}", text(&o.stderr));
-    for (args, want) in [
-        (
-            vec!["--difference", "99"],
-            "set difference(s) at this point",
-        ),
-        (vec!["--view", "sphere"], "not available as a figure yet"),
-    ] {
+    let dump = dump.to_str().unwrap();
+    // Each view, live and from the dump: the same SVG, which parses.
+    for (k, (view, extra)) in [
+        ("sphere", vec![]),
+        ("hemisphere", vec!["--fit"]),
+        ("plane", vec!["--difference", "1"]),
+        ("plane", vec!["--stage", "7"]),
+        ("plane", vec!["--stage", "8"]),
+        ("light", vec![]),
+        ("bsp", vec!["--orbit", "30,20,1.5"]),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let live = dir.join(format!("{k}_{view}_live.svg"));
+        let replayed = dir.join(format!("{k}_{view}_dump.svg"));
+        let args = [&["--view", view][..], &extra[..]].concat();
         let o = penumbra(
-            &[&["figure", dump.to_str().unwrap()][..], &args[..]].concat(),
+            &[
+                &["figure", "default"][..],
+                &at[..],
+                &args[..],
+                &["--out", live.to_str().unwrap()],
+            ]
+            .concat(),
             &dir,
         );
+        assert!(o.status.success(), "{view}: {}", text(&o.stderr));
+        let o = penumbra(
+            &[
+                &["figure", dump][..],
+                &args[..],
+                &["--out", replayed.to_str().unwrap()],
+            ]
+            .concat(),
+            &dir,
+        );
+        assert!(o.status.success(), "{view}: {}", text(&o.stderr));
+        let (a, b) = (
+            std::fs::read_to_string(&live).unwrap(),
+            std::fs::read_to_string(&replayed).unwrap(),
+        );
+        assert_eq!(a, b, "{view} {extra:?}: the dump replays the live figure");
+        usvg::Tree::from_str(&a, &usvg::Options::default()).expect("the SVG parses");
+        // The same figure as PDF and PNG.
+        for ext in ["pdf", "png"] {
+            let f = dir.join(format!("{k}_{view}.{ext}"));
+            let o = penumbra(
+                &[
+                    &["figure", dump][..],
+                    &args[..],
+                    &["--out", f.to_str().unwrap()],
+                ]
+                .concat(),
+                &dir,
+            );
+            let len = std::fs::metadata(&f).map_or(0, |m| m.len());
+            assert!(
+                o.status.success() && len > 1000,
+                "{view} {ext}: {}",
+                text(&o.stderr)
+            );
+        }
+    }
+    // The stepper's stages 7 and 8 at this point: the first set difference's GH phases 1
+    // (intersections, circled) and 2 (entry and exit labels).
+    let phase1 = std::fs::read_to_string(dir.join("3_plane_live.svg")).unwrap();
+    let phase2 = std::fs::read_to_string(dir.join("4_plane_live.svg")).unwrap();
+    assert!(
+        phase1.contains("GH phase 1") && phase1.contains("<circle"),
+        "{phase1}"
+    );
+    assert!(
+        phase2.contains("GH phase 2") && phase2.contains(", entry"),
+        "{phase2}"
+    );
+    for (args, want) in [
+        (
+            vec!["--view", "plane", "--difference", "99"],
+            "no set difference 99",
+        ),
+        (vec!["--view", "cube"], "--view cube: expected"),
+        (vec!["--view", "environment"], "no environment light"),
+        (vec!["--out", "x.gif"], "written as .svg, .pdf or .png"),
+        (vec!["--orbit", "1"], "YAW,PITCH"),
+    ] {
+        let args = [&["figure", dump][..], &args[..]].concat();
+        let o = penumbra(&args, &dir);
         let err = text(&o.stderr);
-        assert!(!o.status.success() && err.contains(want), "{err}");
+        assert!(!o.status.success() && err.contains(want), "{args:?}: {err}");
         assert_eq!(err.trim().lines().count(), 1, "{err}");
     }
+    // A stage out of range lists the stepper's stages.
+    let o = penumbra(&["figure", dump, "--stage", "999"], &dir);
+    let err = text(&o.stderr);
+    assert!(!o.status.success() && err.contains("    1  light"), "{err}");
 }

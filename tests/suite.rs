@@ -25,6 +25,7 @@ mod environment_render;
 mod exact_silhouette;
 mod exporter_precision;
 mod figure_svg;
+mod figure_views;
 mod gltf_loading;
 mod image_io;
 mod instances;

@@ -126,9 +126,10 @@ pub(crate) enum Command {
         #[arg(long, default_value = "out/probe.json")]
         json: PathBuf,
     },
-    /// A view of one pixel's recorded stages as a figure (SVG or PNG): live, as `probe` records
-    /// it, or from a debug dump given in place of the scene. So far the projected plane of one
-    /// set difference (`--view plane`). `--out` names the figure: .svg or .png.
+    /// A view of one pixel's recorded stages as a figure (SVG, PDF or PNG): live, as `probe
+    /// --gh-steps` records it, or from a debug dump given in place of the scene. The views are
+    /// the workbench's (`--view`), at the stepper's stage `--stage`. `--out` names the figure:
+    /// .svg, .pdf or .png.
     #[command(mut_arg("out", |a| a.default_value("out/figure.svg")
         .help("The figure: .svg or .png")))]
     Figure {

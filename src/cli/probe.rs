@@ -46,8 +46,16 @@ pub(crate) fn probe_dump(
     attach_environment(&mut ctx, &scene, args)?;
     let pixel = match pixel {
         Some(p) => p,
-        None => penumbra::inspect::interesting_pixel(&ctx, &cam, args.size, 24)
-            .context("--pixel auto: no pixel of the image is lit by a light (give --pixel X,Y)")?,
+        None => match penumbra::inspect::interesting_pixel(&ctx, &cam, args.size, 24) {
+            Some(p) => p,
+            // Lit by the environment alone: the image's centre.
+            None if ctx.environment.is_some() => {
+                (0.5 * args.size.0 as f64, 0.5 * args.size.1 as f64)
+            }
+            None => anyhow::bail!(
+                "--pixel auto: no pixel of the image is lit by a light (give --pixel X,Y)"
+            ),
+        },
     };
     // analytic-exact: the analytic stages plus the LTC's correction, sampled as the first
     // pass of an `--aa 1` render with the same --spp and --seed samples this pixel.

@@ -203,12 +203,13 @@ pub fn plane_figure(
                     Operand::Subject => "S",
                     Operand::Clip => "C",
                 };
-                label(
-                    &mut fig,
-                    &format!("{side}{}: {:?}", l.edge, l.label),
-                    q,
-                    ink,
-                );
+                let transition = match l.transition {
+                    Some(Transition::Entry) => ", entry",
+                    Some(Transition::Exit) => ", exit",
+                    None => "",
+                };
+                let text = format!("{side}{}: {:?}{transition}", l.edge, l.label);
+                label(&mut fig, &text, q, ink);
             }
         }
         (Some(GhPhase::Traversal), Some(st)) => {

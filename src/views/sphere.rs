@@ -500,12 +500,14 @@ fn environment(
     if layers.env_terms {
         for t in terms {
             let (colour, legend, side) = match t.side {
-                EnvironmentSide::Static => {
-                    (colours::STATIC_TERM, "static term S_k - S_<k", "static")
-                }
+                EnvironmentSide::Static => (
+                    colours::STATIC_TERM,
+                    "static term (S_k minus the earlier S)",
+                    "static",
+                ),
                 EnvironmentSide::Dynamic => (
                     colours::DYNAMIC_TERM,
-                    "dynamic term D_i - S - D_<i",
+                    "dynamic term (D_i minus S and the earlier D)",
                     "dynamic",
                 ),
             };
@@ -517,6 +519,13 @@ fn environment(
                 v.y,
                 v.z
             );
+            let loops = unit_loops(&t.polygon);
+            out.regions.push(Region {
+                loops: loops.clone(),
+                colour,
+                opacity: 0.3,
+                legend,
+            });
             let o = Outline {
                 colour,
                 opacity: 1.0,
@@ -525,7 +534,7 @@ fn environment(
                 legend,
                 tag: "",
             };
-            push_outlines(&unit_loops(&t.polygon), o, &mut out.curves);
+            push_outlines(&loops, o, &mut out.curves);
         }
     }
     if layers.cones {
@@ -708,15 +717,29 @@ pub fn drawing(probe: &Probe, step: Option<&Step>, layers: &Layers) -> Drawing {
 }
 
 /// The directions the default sphere camera frames: the corners of every light's silhouette
-/// in the recording (whatever the step, so that the camera holds still while stepping).
+/// in the recording (whatever the step, so that the camera holds still while stepping); at a
+/// point lit by the environment alone, the corners of its union terms (the occluders' shapes).
 pub fn region_of_interest(probe: &Probe) -> Vec<DVec3> {
-    probe
+    let unit = |p: &DVec3| p.normalize_or_zero();
+    let mut out: Vec<DVec3> = probe
         .recording
         .lights
         .iter()
         .flat_map(|rec| &rec.polygons)
         .filter(|(stage, _)| *stage == Stage::Silhouette)
-        .flat_map(|(_, poly)| poly.vertices().iter().map(|p| p.normalize_or_zero()))
-        .filter(|p| *p != DVec3::ZERO)
-        .collect()
+        .flat_map(|(_, poly)| poly.vertices().iter().map(unit))
+        .collect();
+    if out.is_empty() {
+        let rec = &probe.recording.environment;
+        let terms = match &probe.environment {
+            Some(e) if rec.terms.is_empty() => &e.exact_terms,
+            _ => &rec.terms,
+        };
+        out = terms
+            .iter()
+            .flat_map(|t| t.polygon.vertices().iter().map(unit))
+            .collect();
+    }
+    out.retain(|p| *p != DVec3::ZERO);
+    out
 }

@@ -258,9 +258,23 @@ fn sky(fig: &mut Figure, d: &Drawing, proj: &Projection, hemisphere_only: bool) 
             }
             let dim = if centre.z < 0.0 { 0.25 } else { 0.7 };
             let colour = sky.colours[(r * sky.cols + c) as usize].map(|v| (v as f32 * dim) as u8);
+            // Each cell grown by half a pixel about its centre: anti-aliased neighbours would
+            // otherwise leave the background showing along every seam.
+            let pts: Vec<(f32, f32)> = corners.iter().map(|p| proj.project(*p)).collect();
+            let c = pts
+                .iter()
+                .fold((0.0, 0.0), |a, p| (a.0 + 0.25 * p.0, a.1 + 0.25 * p.1));
+            let grown = pts
+                .iter()
+                .map(|p| {
+                    let (dx, dy) = (p.0 - c.0, p.1 - c.1);
+                    let len = dx.hypot(dy).max(1e-6);
+                    (p.0 + 0.5 * dx / len, p.1 + 0.5 * dy / len)
+                })
+                .collect();
             fig.fill(
                 Shape::Path(vec![Subpath {
-                    points: corners.iter().map(|p| proj.project(*p)).collect(),
+                    points: grown,
                     closed: true,
                 }]),
                 colour,
