@@ -36,7 +36,7 @@ fn chart() -> Chart {
 
 /// The figure's items but its labels (SVG text is drawn with a font a headless test may not
 /// have; the stroke font draws the PNG's).
-fn shapes_only(fig: &Figure) -> Figure {
+pub(crate) fn shapes_only(fig: &Figure) -> Figure {
     Figure {
         items: fig
             .items
@@ -49,7 +49,7 @@ fn shapes_only(fig: &Figure) -> Figure {
 }
 
 /// `figure`'s SVG drawn by resvg, as straight RGBA bytes.
-fn resvg_pixels(figure: &Figure) -> Vec<u8> {
+pub(crate) fn resvg_pixels(figure: &Figure) -> Vec<u8> {
     let text = svg::to_svg(figure);
     let tree = usvg::Tree::from_str(&text, &usvg::Options::default()).expect("the SVG parses");
     let mut pm = resvg::tiny_skia::Pixmap::new(figure.width, figure.height).unwrap();
@@ -79,7 +79,7 @@ fn raster_pixels(figure: &Figure) -> Vec<u8> {
 }
 
 /// The fraction of pixels where some channel differs by more than 48 of 255.
-fn differing(a: &[u8], b: &[u8]) -> f64 {
+pub(crate) fn differing(a: &[u8], b: &[u8]) -> f64 {
     let n = a.len() / 4;
     let bad = a
         .chunks(4)

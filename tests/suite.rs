@@ -24,6 +24,8 @@ mod environment_probe;
 mod environment_render;
 mod exact_silhouette;
 mod exporter_precision;
+#[cfg(feature = "gui")]
+mod figure_egui;
 mod figure_svg;
 mod figure_views;
 mod gltf_loading;
