@@ -57,7 +57,7 @@ fn egui_paints_what_the_svg_shows() {
     let pixel = interesting_pixel(&ctx, &cam, size, 24).expect("a penumbra pixel");
     let p = probe(&ctx, "fig4", &cam, size, pixel, Method::Analytic, true).unwrap();
     let d = drawing(&p, None, &Layers::default());
-    let camera = SphereCamera::framed(&region_of_interest(&p));
+    let camera = SphereCamera::framed(&region_of_interest(&p, None));
     let fig = shapes_only(&views::sphere_figure(&d, &camera, 320, Style::Print));
     let ours = egui_pixels(&fig);
     let theirs = resvg_pixels(&fig);

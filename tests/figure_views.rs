@@ -107,7 +107,7 @@ fn every_view_at_every_stage_parses_and_no_labels_overlap() {
             continue;
         };
         let steps = probe_steps(&p);
-        let camera = SphereCamera::framed(&region_of_interest(&p));
+        let camera = SphereCamera::framed(&region_of_interest(&p, None));
         let stages = std::iter::once(None).chain((0..steps.len()).map(Some));
         for current in stages {
             let step = current.map(|i| &steps[i]);
@@ -160,7 +160,7 @@ fn the_sphere_is_framed_on_every_light() {
         let Some(p) = auto_probe(name) else {
             continue;
         };
-        let camera = SphereCamera::framed(&region_of_interest(&p));
+        let camera = SphereCamera::framed(&region_of_interest(&p, None));
         let (right, up, eye) = camera.basis();
         let size = 800.0;
         let scale = 0.45 * size * camera.zoom as f64;

@@ -96,7 +96,7 @@ impl WorkbenchApp {
                     return Err("the scene has no environment light".into());
                 }
                 let d = drawing(&ins.probe, ins.current(), &Layers::environment_only());
-                let camera = self.settings.sphere.camera_for(&ins.probe);
+                let camera = self.settings.sphere.camera_for(&ins.probe, ins.current());
                 Ok(crate::views::sphere_figure(&d, &camera, side, style))
             }
             FigureView::Plane => ins

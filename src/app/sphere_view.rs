@@ -41,9 +41,9 @@ pub enum SphereFigure {
 
 impl SphereView {
     /// The camera the 3-D sphere is drawn with for `probe`.
-    pub fn camera_for(&self, probe: &Probe) -> SphereCamera {
+    pub fn camera_for(&self, probe: &Probe, step: Option<&Step>) -> SphereCamera {
         self.camera
-            .unwrap_or_else(|| SphereCamera::framed(&region_of_interest(probe)))
+            .unwrap_or_else(|| SphereCamera::framed(&region_of_interest(probe, step)))
     }
 
     /// The figure a pane shows (also what Export ▸ Figure writes), `side` pixels square.
@@ -56,19 +56,19 @@ impl SphereView {
         style: Style,
     ) -> crate::figure::Figure {
         let d = drawing(probe, step, &self.layers);
-        self.figure_of(which, &d, probe, side, style)
+        self.figure_of(which, &d, &self.camera_for(probe, step), side, style)
     }
 
     fn figure_of(
         &self,
         which: SphereFigure,
         d: &Drawing,
-        probe: &Probe,
+        camera: &SphereCamera,
         side: u32,
         style: Style,
     ) -> crate::figure::Figure {
         match which {
-            SphereFigure::Sphere => views::sphere_figure(d, &self.camera_for(probe), side, style),
+            SphereFigure::Sphere => views::sphere_figure(d, camera, side, style),
             SphereFigure::Hemisphere => views::hemisphere_figure(d, self.fit, side, style),
         }
     }
@@ -99,7 +99,7 @@ impl SphereView {
     /// zoom, double-click to frame the lights again).
     pub fn sphere_ui(&mut self, ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
         let (resp, painter) = canvas(ui, "unit sphere (drag to rotate)", Sense::click_and_drag());
-        let mut camera = self.camera_for(probe);
+        let mut camera = self.camera_for(probe, step);
         if resp.dragged() {
             let d = resp.drag_delta();
             camera.yaw -= d.x * 0.01;
@@ -144,14 +144,15 @@ impl SphereView {
             Style::Print
         };
         let d = drawing(probe, step, &self.layers);
-        let fig = self.figure_of(which, &d, probe, side, style);
+        let camera = self.camera_for(probe, step);
+        let fig = self.figure_of(which, &d, &camera, side, style);
         let at = FigureRect::fit(&fig, rect);
         figure_painter::paint(painter, &fig, at);
         self.hovered = None;
         if let Some(pos) = resp.hover_pos() {
             let project = match which {
                 SphereFigure::Sphere => {
-                    views::sphere_figure::sphere_projection(&self.camera_for(probe), side)
+                    views::sphere_figure::sphere_projection(&self.camera_for(probe, step), side)
                 }
                 SphereFigure::Hemisphere => {
                     views::sphere_figure::hemisphere_projection(&d, self.fit, side)

@@ -423,4 +423,8 @@ pub struct FigureArgs {
     /// The hemisphere magnified to what is drawn.
     #[arg(long)]
     pub fit: bool,
+    /// The light the light and bsp views show (by object name); the light of --stage, or the
+    /// first light recorded, when left out.
+    #[arg(long)]
+    pub light: Option<String>,
 }

@@ -113,7 +113,7 @@ fn view_figure(
                 views::hemisphere_figure(&d, f.fit, f.figure_size, style)
             } else {
                 let camera =
-                    orbit.unwrap_or_else(|| SphereCamera::framed(&region_of_interest(probe)));
+                    orbit.unwrap_or_else(|| SphereCamera::framed(&region_of_interest(probe, step)));
                 views::sphere_figure(&d, &camera, f.figure_size, style)
             }
         }
@@ -173,21 +173,36 @@ fn light_view_figure(
 ) -> Result<Figure> {
     use penumbra::views::light::{LightCamera, light_figure};
     let steps = probe_steps(probe);
-    let record = match f.stage {
-        Some(n) => {
-            steps
-                .get(n.wrapping_sub(1))
-                .with_context(|| format!("--stage {n}: the recording has {} stages", steps.len()))?
-                .record
+    let light = match (&f.light, f.stage) {
+        (Some(name), _) => probe
+            .lights
+            .iter()
+            .find(|l| &l.name == name)
+            .map(|l| l.light)
+            .with_context(|| {
+                let names: Vec<&str> = probe.lights.iter().map(|l| l.name.as_str()).collect();
+                format!("--light {name}: the lights are {}", names.join(", "))
+            })?,
+        (None, stage) => {
+            let record = match stage {
+                Some(n) => {
+                    steps
+                        .get(n.wrapping_sub(1))
+                        .with_context(|| {
+                            format!("--stage {n}: the recording has {} stages", steps.len())
+                        })?
+                        .record
+                }
+                None => 0,
+            };
+            probe
+                .recording
+                .lights
+                .get(record)
+                .map(|r| r.light)
+                .context("the recording at this point has no light")?
         }
-        None => 0,
     };
-    let light = probe
-        .recording
-        .lights
-        .get(record)
-        .map(|r| r.light)
-        .context("the recording at this point has no light")?;
     let scene_name = if args.scene.ends_with(".json") {
         probe.scene.clone()
     } else {

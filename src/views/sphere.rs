@@ -716,16 +716,19 @@ pub fn drawing(probe: &Probe, step: Option<&Step>, layers: &Layers) -> Drawing {
     out
 }
 
-/// The directions the default sphere camera frames: the corners of every light's silhouette
-/// in the recording (whatever the step, so that the camera holds still while stepping); at a
-/// point lit by the environment alone, the corners of its union terms (the occluders' shapes).
-pub fn region_of_interest(probe: &Probe) -> Vec<DVec3> {
+/// The directions the default sphere camera frames: the corners of the silhouette of the
+/// step's light (every light's without a step), so that the camera holds still while stepping
+/// through one light's stages; at a point lit by the environment alone, the corners of its
+/// union terms (the occluders' shapes).
+pub fn region_of_interest(probe: &Probe, step: Option<&Step>) -> Vec<DVec3> {
     let unit = |p: &DVec3| p.normalize_or_zero();
     let mut out: Vec<DVec3> = probe
         .recording
         .lights
         .iter()
-        .flat_map(|rec| &rec.polygons)
+        .enumerate()
+        .filter(|(r, _)| step.is_none_or(|s| s.record == *r))
+        .flat_map(|(_, rec)| &rec.polygons)
         .filter(|(stage, _)| *stage == Stage::Silhouette)
         .flat_map(|(_, poly)| poly.vertices().iter().map(unit))
         .collect();

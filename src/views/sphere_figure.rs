@@ -399,16 +399,55 @@ fn draw(
             }
         }
     }
-    // The legend first: labels keep out of it.
+    // The legend first, in the corner that hides least of the regions and labelled corners;
+    // labels keep out of it.
     let size = label_size(s);
     let mut placer = LabelPlacer::new([0.0, 0.0, s, s]);
-    if let Some(box_) = legend(fig, d, style, size) {
+    let note_box = [s - 80.0, 0.0, s, 12.0 + size];
+    let mut busy: Vec<Rect> = Vec::new();
+    let mut bound = |pts: &mut dyn Iterator<Item = (f32, f32)>| {
+        let init = [
+            f32::INFINITY,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        let b = pts.fold(init, |b, q| {
+            [b[0].min(q.0), b[1].min(q.1), b[2].max(q.0), b[3].max(q.1)]
+        });
+        if b[0] <= b[2] {
+            busy.push(b);
+        }
+    };
+    for r in &d.regions {
+        bound(
+            &mut r
+                .loops
+                .iter()
+                .flatten()
+                .filter(|p| proj.front(**p))
+                .map(|p| proj.project(*p)),
+        );
+    }
+    for c in d.curves.iter().filter(|c| !c.tag.is_empty()) {
+        bound(
+            &mut c
+                .vertices
+                .iter()
+                .filter(|p| proj.front(**p))
+                .map(|p| proj.project(*p)),
+        );
+    }
+    if note.is_some() {
+        busy.push(note_box);
+    }
+    if let Some(box_) = legend(fig, d, style, size, &busy) {
         placer.block(box_);
     }
     if let Some(note) = note {
         let st = TextStyle::new(size, style.ink()).align(crate::figure::font::Align::Right);
         fig.text(&note, (s - 6.0, 6.0 + size), st);
-        placer.block([s - 80.0, 0.0, s, 12.0 + size]);
+        placer.block(note_box);
     }
     let centre = proj.project(DVec3::ZERO);
     for a in &d.arrows {
@@ -478,7 +517,7 @@ fn draw(
 
 /// The legend in the top left corner: one entry per kind drawn (regions by their fill, curves
 /// by their stroke), over a veil so that curves behind do not garble it. Returns its box.
-fn legend(fig: &mut Figure, d: &Drawing, style: Style, size: f32) -> Option<Rect> {
+fn legend(fig: &mut Figure, d: &Drawing, style: Style, size: f32, busy: &[Rect]) -> Option<Rect> {
     enum Swatch {
         Fill(f32),
         Line(f32),
@@ -510,13 +549,32 @@ fn legend(fig: &mut Figure, d: &Drawing, style: Style, size: f32) -> Option<Rect
         .iter()
         .map(|e| crate::figure::font::text_width(e.0, size))
         .fold(0.0, f32::max);
-    let (x0, y0) = (4.0, 4.0);
-    let box_ = [
-        x0,
-        y0,
-        x0 + 2.6 * size + widest + 6.0,
-        y0 + entries.len() as f32 * line + 6.0,
+    let (w, h) = (2.6 * size + widest + 6.0, entries.len() as f32 * line + 6.0);
+    let (fw, fh) = (fig.width as f32, fig.height as f32);
+    // The corner whose box covers least of the busy areas (top left on a tie).
+    let covered = |b: &Rect| -> f32 {
+        busy.iter()
+            .map(|a| {
+                let x = (a[2].min(b[2]) - a[0].max(b[0])).max(0.0);
+                let y = (a[3].min(b[3]) - a[1].max(b[1])).max(0.0);
+                x * y
+            })
+            .sum()
+    };
+    let corners = [
+        (4.0, 4.0),
+        (fw - 4.0 - w, 4.0),
+        (4.0, fh - 4.0 - h),
+        (fw - 4.0 - w, fh - 4.0 - h),
     ];
+    let (x0, y0) = corners
+        .into_iter()
+        .map(|(x, y)| ((x, y), covered(&[x, y, x + w, y + h])))
+        .fold(((4.0, 4.0), f32::INFINITY), |best, c| {
+            if c.1 < best.1 { c } else { best }
+        })
+        .0;
+    let box_ = [x0, y0, x0 + w, y0 + h];
     fig.translucent(Shape::rect(box_), style.background(), 0.8);
     for (k, (name, colour, sw)) in entries.into_iter().enumerate() {
         let colour = style.on_background(colour);
