@@ -147,10 +147,10 @@ fn fill(painter: &Painter, tess: &mut FillTessellator, shape: &Shape, c: Color32
     painter.add(egui::Shape::mesh(mesh));
 }
 
-/// A label with its baseline through `pos`. egui's proportional face is scaled as the SVG
-/// writer scales its sans-serif (capitals as tall as the stroke font's).
+/// A label with its baseline through `pos`, in egui's proportional face (the raster back
+/// end's, so the figure's label metrics hold).
 fn label(painter: &Painter, text: &str, pos: (f32, f32), style: &TextStyle, at: FigureRect) {
-    let size = style.size * 0.6 / 0.7 * at.scale;
+    let size = style.size * at.scale;
     let font = egui::FontId::proportional(size);
     let c = colour(style.color, 1.0);
     let galley = painter.layout_no_wrap(text.to_string(), font, c);

@@ -163,10 +163,8 @@ pub fn to_pdf(figure: &Figure) -> Vec<u8> {
             }
             Item::Text { text, at, style } => {
                 let bytes = win_ansi(text);
-                // The SVG writer's size: capitals of a sans-serif face as tall as the stroke
-                // font's.
-                let size = style.size * 0.6 / 0.7;
-                let bold = style.weight > 0.12 * style.size;
+                let size = style.size;
+                let bold = style.bold();
                 let advance = width_em(&bytes) * size;
                 let shift = match style.align {
                     Align::Left => 0.0,

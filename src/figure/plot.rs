@@ -349,7 +349,7 @@ impl ChartLayout {
         let x = Axis::from_data(placeable().map(|p| p.0), chart.x_log);
         let y = Axis::from_data(placeable().map(|p| p.1), chart.y_log);
 
-        let descent = 2.0 * LABEL / font::EM;
+        let descent = font::descent(LABEL);
         let label_widths = |a: &Axis| {
             a.ticks
                 .iter()
@@ -589,7 +589,7 @@ pub fn chart_figure(chart: &Chart, width: u32, height: u32) -> Figure {
     fig.stroke(Shape::rect(plot_rect), [60; 3], 1.0);
 
     // Axis labels and title.
-    let descent = 2.0 * LABEL / font::EM;
+    let descent = font::descent(LABEL);
     if !chart.x_label.is_empty() {
         let y = lay.height as f32 - PAD - descent;
         let st = style.align(Align::Center);

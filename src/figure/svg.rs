@@ -100,17 +100,12 @@ pub fn to_svg(figure: &Figure) -> String {
                 } else {
                     String::new()
                 };
-                // The stroke font's em is its pixel size; a sans-serif face's capitals are
-                // about 0.7 em, the stroke font's 0.6: scaled so that capitals match.
-                let size = style.size * 0.6 / 0.7;
-                let weight = if style.weight > 0.12 * style.size {
-                    "bold"
-                } else {
-                    "normal"
-                };
+                // The raster back end's face first (egui's own); the size is the em.
+                let size = style.size;
+                let weight = if style.bold() { "bold" } else { "normal" };
                 let _ = writeln!(
                     out,
-                    r#"<text x="{}" y="{}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif" font-size="{}" font-weight="{weight}" text-anchor="{anchor}" fill="{}"{rotate}>{}</text>"#,
+                    r#"<text x="{}" y="{}" font-family="Ubuntu, DejaVu Sans, Helvetica, Arial, sans-serif" font-size="{}" font-weight="{weight}" text-anchor="{anchor}" fill="{}"{rotate}>{}</text>"#,
                     num(at.0),
                     num(at.1),
                     num(size),

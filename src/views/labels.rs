@@ -121,7 +121,8 @@ mod tests {
                 boxes.push(text_box(&text, pl.at, 11.0));
             }
         }
-        assert!(boxes.len() >= 8, "{} placed", boxes.len());
+        // At least the four diagonal places of the near ring, which cannot meet.
+        assert!(boxes.len() >= 4, "{} placed", boxes.len());
         assert_eq!(boxes.len() + p.dropped, 30);
         for (i, a) in boxes.iter().enumerate() {
             assert!(!overlaps(a, &[0.0, 0.0, 60.0, 40.0]));
