@@ -295,4 +295,43 @@ fn figures_of_every_view_live_and_from_a_dump() {
     let o = penumbra(&["figure", dump, "--stage", "999"], &dir);
     let err = text(&o.stderr);
     assert!(!o.status.success() && err.contains("    1  light"), "{err}");
+    // The environment's view on env_figures, live and from a dump.
+    let env_dump = dir.join("env.json");
+    let at = ["--size", "64x48", "--pixel", "27,41"];
+    let o = penumbra(
+        &[
+            &["probe", "env_figures", "--gh-steps"][..],
+            &at[..],
+            &["--json", env_dump.to_str().unwrap()],
+        ]
+        .concat(),
+        &dir,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let (live, replayed) = (dir.join("env_live.svg"), dir.join("env_dump.svg"));
+    let o = penumbra(
+        &[
+            &["figure", "env_figures", "--view", "environment"][..],
+            &at[..],
+            &["--out", live.to_str().unwrap()],
+        ]
+        .concat(),
+        &dir,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = penumbra(
+        &[
+            "figure",
+            env_dump.to_str().unwrap(),
+            "--view",
+            "environment",
+            "--out",
+            replayed.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let a = std::fs::read_to_string(&live).unwrap();
+    assert_eq!(a, std::fs::read_to_string(&replayed).unwrap());
+    assert!(a.contains("dynamic term"), "the union terms are drawn");
 }

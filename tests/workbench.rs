@@ -507,3 +507,68 @@ fn the_command_palette_runs_a_command_by_name() {
     assert!(!h.state().palette_open());
     assert!(h.state().help_shown());
 }
+
+/// Export ▸ Figure (issue 28): at the point the workbench picks on its own, every view pane's
+/// figure is written as SVG, PDF and PNG, the SVG parses, and a view with nothing to show
+/// says why instead of writing an empty file. On env_figures, the environment's figure too.
+#[test]
+fn every_view_exports_its_figure_from_the_workbench() {
+    use penumbra::app::figure_export::FigureView;
+    let dir = std::env::temp_dir().join(format!("penumbra-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = harness(Persisted::default());
+    wait_for_render(&mut h);
+    h.step();
+    assert!(h.state().inspector.is_some(), "a point is picked at start");
+    h.state_mut().select_light("panel_light");
+    let mut written = 0;
+    for view in FigureView::ALL {
+        for ext in ["svg", "pdf", "png"] {
+            let path = dir.join(format!("{}.{ext}", view.file_stem()));
+            match h.state_mut().export_figure(view, &path) {
+                Ok(()) => {
+                    let bytes = std::fs::read(&path).unwrap();
+                    assert!(bytes.len() > 500, "{view:?} {ext}: {} bytes", bytes.len());
+                    if ext == "svg" {
+                        let text = String::from_utf8(bytes).unwrap();
+                        usvg::Tree::from_str(&text, &usvg::Options::default())
+                            .unwrap_or_else(|e| panic!("{view:?}: {e}"));
+                    }
+                    written += 1;
+                }
+                Err(why) => {
+                    // Only the views that need what the default scene lacks.
+                    assert!(
+                        matches!(view, FigureView::Environment | FigureView::BenchChart),
+                        "{view:?}: {why}"
+                    );
+                    assert!(!path.exists(), "{view:?}: {why}");
+                }
+            }
+        }
+    }
+    assert_eq!(
+        written,
+        3 * 4,
+        "sphere, hemisphere, plane and light structure"
+    );
+    // The environment's figure, at a floor point of env_figures.
+    let state = Persisted {
+        scene: "env_figures".into(),
+        ..Persisted::default()
+    };
+    let mut h = harness(state);
+    wait_for_render(&mut h);
+    let frame = h.state().latest_frame().expect("a frame");
+    let (w, ht) = (
+        frame.frame.output.image.width,
+        frame.frame.output.image.height,
+    );
+    h.state_mut().pick((w / 2) as f64, (ht * 7 / 8) as f64);
+    let path = dir.join("environment.pdf");
+    h.state_mut()
+        .export_figure(FigureView::Environment, &path)
+        .expect("the environment's figure");
+    assert!(std::fs::metadata(&path).unwrap().len() > 1000);
+    let _ = std::fs::remove_dir_all(&dir);
+}
