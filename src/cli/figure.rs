@@ -72,15 +72,13 @@ fn parse_orbit(s: &str) -> Result<SphereCamera> {
     }
 }
 
-/// The figure of `f.view` at `f.stage` of the probe's recording.
-fn view_figure(
-    probe: &Probe,
-    f: &FigureArgs,
-    style: Style,
-    orbit: Option<SphereCamera>,
-) -> Result<Figure> {
-    let steps = probe_steps(probe);
-    let current = match f.stage {
+/// `--stage N` (the stepper's 1 to M) as an index into `steps`; out of range, an error that
+/// lists every stage with its label.
+fn current_stage(
+    steps: &[penumbra::views::stages::Step],
+    stage: Option<usize>,
+) -> Result<Option<usize>> {
+    Ok(match stage {
         None => None,
         Some(n) if (1..=steps.len()).contains(&n) => Some(n - 1),
         Some(n) => {
@@ -96,7 +94,18 @@ fn view_figure(
                 list.join("\n")
             )
         }
-    };
+    })
+}
+
+/// The figure of `f.view` at `f.stage` of the probe's recording.
+fn view_figure(
+    probe: &Probe,
+    f: &FigureArgs,
+    style: Style,
+    orbit: Option<SphereCamera>,
+) -> Result<Figure> {
+    let steps = probe_steps(probe);
+    let current = current_stage(&steps, f.stage)?;
     let step = current.map(|i| &steps[i]);
     Ok(match f.view.as_str() {
         "sphere" | "hemisphere" | "environment" => {
@@ -184,17 +193,7 @@ fn light_view_figure(
                 format!("--light {name}: the lights are {}", names.join(", "))
             })?,
         (None, stage) => {
-            let record = match stage {
-                Some(n) => {
-                    steps
-                        .get(n.wrapping_sub(1))
-                        .with_context(|| {
-                            format!("--stage {n}: the recording has {} stages", steps.len())
-                        })?
-                        .record
-                }
-                None => 0,
-            };
+            let record = current_stage(&steps, stage)?.map_or(0, |i| steps[i].record);
             probe
                 .recording
                 .lights

@@ -58,13 +58,9 @@ impl SphereCamera {
         let Some(mean) = directions.iter().copied().sum::<DVec3>().try_normalize() else {
             return SphereCamera::default();
         };
-        // Slightly above the mean, so that the horizon (a line through the picture when seen
-        // edge on) reads as an ellipse and the normal as an arrow.
-        let pitch = (mean.z.clamp(-1.0, 1.0).asin() as f32 + 0.15).min(1.5);
-        let yaw = mean.y.atan2(mean.x) as f32;
         let mut cam = SphereCamera {
-            yaw,
-            pitch,
+            yaw: mean.y.atan2(mean.x) as f32,
+            pitch: mean.z.clamp(-1.0, 1.0).asin() as f32,
             zoom: 1.0,
         };
         let (right, up, eye) = cam.basis();
@@ -79,6 +75,10 @@ impl SphereCamera {
             })
             .fold(0.0, f64::max) as f32;
         cam.zoom = (0.667 / extent.max(1e-6)).clamp(1.0, MAX_FRAMING_ZOOM);
+        // Slightly above the mean, so that the horizon (a line through the picture when seen
+        // edge on) reads as an ellipse and the normal as an arrow; by less when magnified,
+        // where the same angle would push the light out of the middle.
+        cam.pitch = (cam.pitch + 0.15 / cam.zoom).min(1.5);
         cam
     }
 }

@@ -75,18 +75,7 @@ impl AppState {
                     );
                     ui.label(RichText::new("SVG, PDF or PNG by the file's extension").small());
                 });
-                if ui
-                    .button(Command::SaveImage.menu_text("Rendered image…"))
-                    .clicked()
-                {
-                    self.run_command(Command::SaveImage);
-                }
-                if ui
-                    .button(Command::SaveDump.menu_text("Debug dump of the point…"))
-                    .clicked()
-                {
-                    self.run_command(Command::SaveDump);
-                }
+                ui.label(RichText::new("the rendered image and the debug dump: File").small());
             });
             ui.menu_button("View", |ui| {
                 if ui.checkbox(&mut self.settings.dark, "dark theme").changed() {
