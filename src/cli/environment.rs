@@ -1,56 +1,44 @@
-//! `--env*`: the environment the command line asks for, merged with the scene's by the
-//! library (`scene::environment_spec::EnvironmentOverrides`).
+//! `--env*`: the environment the command line asks for, as the library's request options
+//! (`render::request::EnvironmentOptions`, merged with the scene's by the library).
 
 use super::args::*;
-use anyhow::Result;
-use penumbra::environment::EnvironmentLight;
-use penumbra::render::RenderContext;
-use penumbra::render::environment::EnvironmentSettings;
-use penumbra::scene::Scene;
+use penumbra::render::request::EnvironmentOptions;
 use penumbra::scene::environment_spec::EnvironmentOverrides;
 
-/// Puts the environment `args` ask for into `scene.environment` (the command line overrides
-/// the scene file's `[environment]`; `--env none` removes it), so that the scene is prepared
-/// knowing it has one.
-pub(crate) fn resolve_environment(scene: &mut Scene, args: &RenderArgs) -> Result<()> {
+/// The environment options of `args`.
+pub(crate) fn environment_options(args: &RenderArgs) -> EnvironmentOptions {
     let e = &args.env;
-    let overrides = EnvironmentOverrides {
-        map: e.env.clone(),
-        rotate_deg: e.env_rotate,
-        scale: e.env_scale,
-        method: e.env_method,
-        spp: args.spp,
-    };
-    scene.environment = overrides
-        .apply(scene.environment.as_ref())
-        .map_err(anyhow::Error::msg)?;
-    Ok(())
+    EnvironmentOptions {
+        overrides: EnvironmentOverrides {
+            map: e.env.clone(),
+            rotate_deg: e.env_rotate,
+            scale: e.env_scale,
+            method: e.env_method,
+            spp: args.spp,
+        },
+        no_filter: e.env_no_filter,
+        max_cones: e.env_max_cones,
+        static_term: e.env_static,
+    }
 }
 
-/// Loads the scene's environment (after [`resolve_environment`]) and attaches it to `ctx`.
-/// GGX lobes get no environment light (002 is diffuse): said once here.
-pub(crate) fn attach_environment(
-    ctx: &mut RenderContext,
-    scene: &Scene,
+/// Loads `args.scene` with the environment `args` ask for resolved into it, and prepares it
+/// for `args`' settings (`render::request::prepare`), printing the library's notes.
+pub(crate) fn prepared_scene(
     args: &RenderArgs,
-) -> Result<Option<EnvironmentSettings>> {
-    let Some(spec) = &scene.environment else {
-        return Ok(None);
-    };
-    let light = EnvironmentLight::load(spec)?;
-    let mut settings = EnvironmentSettings::for_spec(spec, args.seed);
-    if args.env.env_no_filter {
-        settings.filter = false;
+) -> anyhow::Result<(
+    penumbra::scene::Scene,
+    penumbra::render::request::PreparedRender,
+)> {
+    use penumbra::render::request;
+    let mut scene = super::render::load_scene(&args.scene)?;
+    let env = environment_options(args);
+    request::resolve_environment(&mut scene, &env).map_err(anyhow::Error::msg)?;
+    let ltc = super::ltc::ltc_table(&args.ltc_table)?;
+    let prepared = request::prepare(&scene, &super::render::settings(args), &env, ltc)
+        .map_err(anyhow::Error::msg)?;
+    for n in &prepared.notes {
+        eprintln!("note: {n}");
     }
-    settings.max_cones = args.env.env_max_cones;
-    if let Some(t) = args.env.env_static {
-        settings.static_term = t;
-    }
-    if scene.objects.iter().any(|o| o.material.has_specular()) {
-        eprintln!(
-            "note: the environment lights the diffuse lobe only (002 is diffuse); GGX lobes see the area lights alone"
-        );
-    }
-    ctx.set_environment(std::sync::Arc::new(light), settings);
-    Ok(Some(settings))
+    Ok((scene, prepared))
 }

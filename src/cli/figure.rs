@@ -207,10 +207,14 @@ fn light_view_figure(
     } else {
         args.scene.clone()
     };
-    let mut scene = super::render::load_scene(&scene_name)
+    // Prepared as `penumbra render` prepares it, the scene a dump names in place of the dump.
+    let scene_args = RenderArgs {
+        scene: scene_name.clone(),
+        ..args.clone()
+    };
+    let (_, prepared) = super::environment::prepared_scene(&scene_args)
         .with_context(|| format!("the light's mesh comes from the scene '{scene_name}'"))?;
-    super::environment::resolve_environment(&mut scene, args)?;
-    let ctx = penumbra::render::RenderContext::for_render(&scene, &super::render::settings(args));
+    let ctx = prepared.ctx;
     let &(id, _) = ctx
         .prepared
         .lights

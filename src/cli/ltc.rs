@@ -6,23 +6,7 @@ use std::path::Path;
 /// `--ltc-table`: `embedded`, `published` or a table file, optionally followed by `+renorm`
 /// (horizon renormalisation). Tables other than the embedded ones live for the whole run.
 pub(crate) fn ltc_table(spec: &str) -> Result<&'static penumbra::ltc::LtcTable> {
-    use penumbra::ltc::LtcTable;
-    let (name, renorm) = match spec.strip_suffix("+renorm") {
-        Some(n) => (n, true),
-        None => (spec, false),
-    };
-    let base: &'static LtcTable = match name {
-        "embedded" => LtcTable::embedded(),
-        "published" => penumbra::ltc::published::published(),
-        path => Box::leak(Box::new(
-            LtcTable::load(path).with_context(|| format!("LTC table {path}"))?,
-        )),
-    };
-    Ok(if renorm {
-        Box::leak(Box::new(base.horizon_renormalized()))
-    } else {
-        base
-    })
+    penumbra::render::request::ltc_table(spec).map_err(anyhow::Error::msg)
 }
 
 /// `penumbra ltc-error`: the polygon-integral error map of `tables` (and of LTCs fitted at

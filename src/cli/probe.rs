@@ -1,11 +1,9 @@
 //! `penumbra probe`: one pixel's stages as the JSON debug dump.
 
 use super::args::*;
-use super::environment::{attach_environment, resolve_environment};
-use super::ltc::ltc_table;
-use super::render::{camera, load_scene, settings};
+use super::environment::prepared_scene;
+use super::render::camera;
 use anyhow::{Context, Result};
-use penumbra::render::RenderContext;
 use std::path::Path;
 
 /// Writes the debug dump of one shading point (`penumbra probe`).
@@ -35,15 +33,11 @@ pub(crate) fn probe_dump(
     pixel: Option<(f64, f64)>,
     gh_steps: bool,
 ) -> Result<penumbra::inspect::Probe> {
-    let mut scene = load_scene(&args.scene)?;
-    // The environment exactly as `render` resolves and attaches it (the same --env options).
-    resolve_environment(&mut scene, args)?;
+    // Prepared as `penumbra render` prepares the same image (the same environment, LTC table
+    // and settings), so that the probe records what that render computes at this pixel.
+    let (scene, prepared) = prepared_scene(args)?;
     let cam = camera(&args.camera, &scene)?;
-    // Prepared as `penumbra render` prepares the same image, so that the probe records what
-    // that render computes at this pixel.
-    let mut ctx = RenderContext::for_render(&scene, &settings(args));
-    ctx.prepared.ltc = ltc_table(&args.ltc_table)?;
-    attach_environment(&mut ctx, &scene, args)?;
+    let ctx = prepared.ctx;
     let pixel = match pixel {
         Some(p) => p,
         None => match penumbra::inspect::interesting_pixel(&ctx, &cam, args.size, 24) {

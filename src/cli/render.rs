@@ -1,8 +1,7 @@
 //! `penumbra render`, `reference` and `compare`: images of a scene, and their comparison.
 
 use super::args::*;
-use super::environment::{attach_environment, resolve_environment};
-use super::ltc::ltc_table;
+use super::environment::prepared_scene;
 use anyhow::{Context, Result, bail};
 use glam::DVec3;
 use penumbra::render::{Image, RenderContext, RenderSettings, image_io};
@@ -83,16 +82,10 @@ pub(crate) fn settings(args: &RenderArgs) -> RenderSettings {
 }
 
 pub(crate) fn render(args: &RenderArgs) -> Result<()> {
-    let mut scene = load_scene(&args.scene)?;
-    resolve_environment(&mut scene, args)?;
+    let (scene, prepared) = prepared_scene(args)?;
     let cam = camera(&args.camera, &scene)?;
     let settings = settings(args);
-    let mut ctx = RenderContext::for_render(&scene, &settings);
-    ctx.prepared.ltc = ltc_table(&args.ltc_table)?;
-    for n in &ctx.prepared.notes {
-        eprintln!("note: {n}");
-    }
-    let env = attach_environment(&mut ctx, &scene, args)?;
+    let (ctx, env) = (prepared.ctx, prepared.environment);
     let out = ctx
         .render_full(&cam, &settings, None)
         .map_err(anyhow::Error::msg)?;

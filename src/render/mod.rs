@@ -3,6 +3,7 @@
 pub mod compare;
 pub mod environment;
 pub mod progressive;
+pub mod request;
 pub mod stochastic;
 
 // Images and their files are a base layer (`raster`), shared with the denoisers and the
