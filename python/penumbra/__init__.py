@@ -1,0 +1,9 @@
+"""penumbra: analytic soft shadows from polyhedral area lights, from Python.
+
+Scenes load from an embedded name or a file, render to numpy arrays equal bit for bit to
+``penumbra render``'s PFM, and compare as ``penumbra compare`` does.
+"""
+
+from ._penumbra import Camera, Scene, compare, load_scene, scenes
+
+__all__ = ["Camera", "Scene", "compare", "load_scene", "scenes"]

@@ -1,0 +1,268 @@
+//! penumbra from Python: the library without its window (default features off), behind a
+//! small PyO3 module. Each function prepares and renders through the same library calls as
+//! the command line (`render::request`), so that equal settings give equal images bit for bit.
+//! Errors are Python exceptions carrying the library's message (file and line where it has
+//! them); long renders release the interpreter.
+
+use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
+use penumbra::render::request::{self, EnvironmentOptions};
+use penumbra::render::{RenderMethod, RenderSettings};
+use penumbra::scene::environment_spec::EnvironmentOverrides;
+use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
+use pyo3::prelude::*;
+
+fn value_error(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// A method by the name `penumbra render --method` takes.
+fn method_by_name(name: &str) -> PyResult<RenderMethod> {
+    use clap::ValueEnum;
+    RenderMethod::value_variants()
+        .iter()
+        .copied()
+        .find(|m| m.name() == name)
+        .ok_or_else(|| {
+            let names: Vec<&str> = RenderMethod::value_variants()
+                .iter()
+                .map(|m| m.name())
+                .collect();
+            value_error(format!(
+                "method {name:?}: expected one of {}",
+                names.join(", ")
+            ))
+        })
+}
+
+/// A camera: eye, target, up (world units) and the vertical field of view (degrees).
+#[pyclass(module = "penumbra", get_all, set_all)]
+#[derive(Clone)]
+struct Camera {
+    eye: (f64, f64, f64),
+    target: (f64, f64, f64),
+    up: (f64, f64, f64),
+    fov_deg: f64,
+}
+
+#[pymethods]
+impl Camera {
+    #[new]
+    #[pyo3(signature = (eye, target, up=(0.0, 1.0, 0.0), fov_deg=45.0))]
+    fn new(
+        eye: (f64, f64, f64),
+        target: (f64, f64, f64),
+        up: (f64, f64, f64),
+        fov_deg: f64,
+    ) -> Self {
+        Camera {
+            eye,
+            target,
+            up,
+            fov_deg,
+        }
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Camera(eye={:?}, target={:?}, up={:?}, fov_deg={})",
+            self.eye, self.target, self.up, self.fov_deg
+        )
+    }
+}
+
+fn to_dvec3(v: (f64, f64, f64)) -> glam::DVec3 {
+    glam::DVec3::new(v.0, v.1, v.2)
+}
+
+fn from_dvec3(v: glam::DVec3) -> (f64, f64, f64) {
+    (v.x, v.y, v.z)
+}
+
+/// A scene: its objects, its camera and its environment, loaded once; renders leave it as
+/// it is, so two scenes (or two renders of one) live side by side.
+#[pyclass(module = "penumbra")]
+struct Scene {
+    name: String,
+    scene: penumbra::scene::Scene,
+    /// The camera renders use: the scene's own until set (`aspect` follows the scene's).
+    camera: Option<penumbra::scene::Camera>,
+}
+
+#[pymethods]
+impl Scene {
+    /// The names of the scene's objects, in file order.
+    #[getter]
+    fn objects(&self) -> Vec<String> {
+        self.scene.objects.iter().map(|o| o.name.clone()).collect()
+    }
+
+    /// The camera renders use (None if the scene has none and none was set).
+    #[getter]
+    fn get_camera(&self) -> Option<Camera> {
+        self.camera.map(|c| Camera {
+            eye: from_dvec3(c.eye),
+            target: from_dvec3(c.target),
+            up: from_dvec3(c.up),
+            fov_deg: c.fov_deg,
+        })
+    }
+
+    #[setter]
+    fn set_camera(&mut self, cam: Camera) -> PyResult<()> {
+        let c = penumbra::scene::Camera {
+            eye: to_dvec3(cam.eye),
+            target: to_dvec3(cam.target),
+            up: to_dvec3(cam.up),
+            fov_deg: cam.fov_deg,
+            // A field of view given by hand is vertical, as `--fov` is.
+            aspect: None,
+        };
+        c.basis().map_err(value_error)?;
+        self.camera = Some(c);
+        Ok(())
+    }
+
+    /// Renders the scene: a float32 array of shape (h, w, 3), linear radiance, equal bit for
+    /// bit to the PFM `penumbra render` writes with the same settings.
+    #[pyo3(signature = (method="analytic", size=(320, 240), aa=1, spp=None, seed=1, env=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        method: &str,
+        size: (u32, u32),
+        aa: u32,
+        spp: Option<u32>,
+        seed: u64,
+        env: Option<String>,
+    ) -> PyResult<Bound<'py, PyArray3<f32>>> {
+        let method = method_by_name(method)?;
+        if size.0 == 0 || size.1 == 0 || aa == 0 {
+            return Err(value_error(format!(
+                "size {size:?} and aa {aa} must be positive"
+            )));
+        }
+        let camera = self.camera.ok_or_else(|| {
+            value_error(format!(
+                "{}: the scene has no camera: set scene.camera",
+                self.name
+            ))
+        })?;
+        let settings = RenderSettings {
+            width: size.0,
+            height: size.1,
+            aa,
+            method,
+            spp: spp.unwrap_or(16),
+            seed,
+            light_sampling: Default::default(),
+            collect_stats: false,
+            exact_u: false,
+        };
+        let options = EnvironmentOptions {
+            overrides: EnvironmentOverrides {
+                map: env,
+                spp,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let mut scene = self.scene.clone();
+        // The long part without the interpreter: other Python threads run meanwhile.
+        let rgb = py.detach(move || -> Result<Vec<f32>, String> {
+            request::resolve_environment(&mut scene, &options)?;
+            let ltc = request::ltc_table("embedded")?;
+            let prepared = request::prepare(&scene, &settings, &options, ltc)?;
+            let out = prepared.ctx.render_full(&camera, &settings, None)?;
+            Ok(out.image.to_rgb32().into_iter().flatten().collect())
+        });
+        let rgb = rgb.map_err(value_error)?;
+        let (w, h) = (size.0 as usize, size.1 as usize);
+        let array = numpy::ndarray::Array3::from_shape_vec((h, w, 3), rgb).map_err(value_error)?;
+        Ok(array.into_pyarray(py))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene({:?}, {} objects)",
+            self.name,
+            self.scene.objects.len()
+        )
+    }
+}
+
+/// Loads a scene: an embedded scene's name (see `penumbra scenes`) or an OBJ, glTF or TOML
+/// scene file. Malformed files raise ValueError naming the file and line; a missing file
+/// raises FileNotFoundError.
+#[pyfunction]
+fn load_scene(name_or_path: &str) -> PyResult<Scene> {
+    use penumbra::scene::scene_file;
+    let scene = scene_file::load_scene_by_name(name_or_path).map_err(|e| {
+        let missing = !std::path::Path::new(name_or_path).exists()
+            && !scene_file::embedded_scene_names().contains(&name_or_path);
+        if missing {
+            PyFileNotFoundError::new_err(e.to_string())
+        } else {
+            value_error(e)
+        }
+    })?;
+    Ok(Scene {
+        name: name_or_path.to_string(),
+        camera: scene.camera,
+        scene,
+    })
+}
+
+/// The names of the embedded scenes.
+#[pyfunction]
+fn scenes() -> Vec<&'static str> {
+    penumbra::scene::scene_file::embedded_scene_names().to_vec()
+}
+
+/// The error metrics of `penumbra compare` between two (h, w, 3) images.
+#[pyfunction]
+#[pyo3(signature = (image, reference, stderr=None))]
+fn compare(
+    py: Python<'_>,
+    image: PyReadonlyArray3<'_, f32>,
+    reference: PyReadonlyArray3<'_, f32>,
+    stderr: Option<PyReadonlyArray3<'_, f32>>,
+) -> PyResult<Py<PyAny>> {
+    let pixels = |a: &PyReadonlyArray3<'_, f32>| -> PyResult<(Vec<usize>, Vec<[f32; 3]>)> {
+        let shape = a.as_array().shape().to_vec();
+        if shape.len() != 3 || shape[2] != 3 {
+            return Err(value_error(format!(
+                "expected an (h, w, 3) array, got {shape:?}"
+            )));
+        }
+        let v: Vec<f32> = a.as_array().iter().copied().collect();
+        Ok((shape, v.chunks(3).map(|c| [c[0], c[1], c[2]]).collect()))
+    };
+    let (sa, a) = pixels(&image)?;
+    let (sb, b) = pixels(&reference)?;
+    if sa != sb {
+        return Err(value_error(format!(
+            "image is {sa:?} but reference is {sb:?}"
+        )));
+    }
+    let s = stderr.as_ref().map(pixels).transpose()?;
+    let stats = penumbra::render::compare::compare(&a, &b, s.as_ref().map(|s| &s.1[..]));
+    // As `penumbra compare` prints it: its JSON, read back as a dict.
+    let json = serde_json_string(&stats)?;
+    let module = py.import("json")?;
+    Ok(module.call_method1("loads", (json,))?.unbind())
+}
+
+fn serde_json_string<T: serde::Serialize>(v: &T) -> PyResult<String> {
+    serde_json::to_string(v).map_err(value_error)
+}
+
+#[pymodule]
+fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Scene>()?;
+    m.add_class::<Camera>()?;
+    m.add_function(wrap_pyfunction!(load_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(scenes, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
+    Ok(())
+}

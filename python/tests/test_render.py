@@ -1,0 +1,128 @@
+"""penumbra from Python against the command line (issue 29): the same images bit for bit,
+the same comparison metrics, errors as exceptions, and two scenes rendering at once.
+
+The command line is ``PENUMBRA_CLI`` or ``target/release/penumbra`` of this repository.
+"""
+
+import json
+import os
+import pathlib
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import penumbra
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+CLI = os.environ.get("PENUMBRA_CLI", str(ROOT / "target" / "release" / "penumbra"))
+
+METHODS = [
+    "analytic",
+    "per-triangle",
+    "unshadowed",
+    "mc",
+    "control-variate",
+    "ratio",
+    "ratio-gray",
+    "ratio-denoised",
+    "ratio-bilateral",
+    "reference",
+    "analytic-exact",
+]
+
+
+def read_pfm(path):
+    """A PFM (colour, little-endian) as an (h, w, 3) float32 array, top row first."""
+    with open(path, "rb") as f:
+        assert f.readline().strip() == b"PF"
+        w, h = (int(v) for v in f.readline().split())
+        scale = float(f.readline())
+        assert scale < 0, "little-endian"
+        data = np.frombuffer(f.read(), dtype="<f4", count=w * h * 3)
+    return data.reshape(h, w, 3)[::-1]
+
+
+def cli(*args, cwd):
+    return subprocess.run([CLI, *args], cwd=cwd, capture_output=True, text=True, check=True)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_render_equals_the_cli_bit_for_bit(method, tmp_path):
+    scene = penumbra.load_scene("default")
+    ours = scene.render(method=method, size=(32, 24), spp=4, seed=3)
+    assert ours.dtype == np.float32 and ours.shape == (24, 32, 3)
+    cli(
+        "render", "default", "--size", "32x24", "--method", method, "--spp", "4",
+        "--seed", "3", "--out", str(tmp_path / "x.png"), cwd=tmp_path,
+    )
+    theirs = read_pfm(tmp_path / "x.pfm")
+    assert np.array_equal(ours.view(np.uint32), theirs.view(np.uint32)), method
+
+
+def test_an_environment_render_equals_the_cli(tmp_path):
+    scene = penumbra.load_scene("env_figures")
+    ours = scene.render(size=(32, 24))
+    cli("render", "env_figures", "--size", "32x24", "--out", str(tmp_path / "e.png"), cwd=tmp_path)
+    assert np.array_equal(ours, read_pfm(tmp_path / "e.pfm"))
+
+
+def test_compare_gives_the_cli_metrics(tmp_path):
+    scene = penumbra.load_scene("default")
+    image = scene.render(method="mc", size=(32, 24), spp=2)
+    reference = scene.render(size=(32, 24))
+    ours = penumbra.compare(image, reference)
+    for name, img in [("a", image), ("b", reference)]:
+        h, w, _ = img.shape
+        with open(tmp_path / f"{name}.pfm", "wb") as f:
+            f.write(b"PF\n%d %d\n-1.0\n" % (w, h))
+            f.write(np.ascontiguousarray(img[::-1], dtype="<f4").tobytes())
+    out = cli("compare", "a.pfm", "b.pfm", cwd=tmp_path).stdout
+    assert ours == json.loads(out)
+    assert ours["rmse"] > 0
+    assert penumbra.compare(reference, reference)["rmse"] == 0
+
+
+def test_errors_are_exceptions_with_the_message(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no_such_scene.obj"):
+        penumbra.load_scene(str(tmp_path / "no_such_scene.obj"))
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+    with pytest.raises(ValueError, match=r"bad\.obj"):
+        penumbra.load_scene(str(bad))
+    scene = penumbra.load_scene("default")
+    with pytest.raises(ValueError, match="method"):
+        scene.render(method="magic")
+    with pytest.raises(ValueError, match="positive"):
+        scene.render(size=(0, 10))
+    with pytest.raises(ValueError, match="camera"):
+        scene.camera = penumbra.Camera((0, 0, 0), (0, 0, 0))
+
+
+def test_two_scenes_render_at_once_as_they_do_alone():
+    names = ["default", "fig4"]
+    alone = {n: penumbra.load_scene(n).render(size=(48, 36)) for n in names}
+    together = {}
+
+    def run(name):
+        together[name] = penumbra.load_scene(name).render(size=(48, 36))
+
+    threads = [threading.Thread(target=run, args=(n,)) for n in names]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for n in names:
+        assert np.array_equal(alone[n], together[n]), n
+
+
+def test_scenes_objects_and_camera():
+    assert "default" in penumbra.scenes()
+    scene = penumbra.load_scene("default")
+    assert "seat" in scene.objects
+    cam = scene.camera
+    assert cam is not None and cam.fov_deg > 0
+    moved = penumbra.Camera(cam.eye, cam.target, cam.up, cam.fov_deg * 0.5)
+    scene.camera = moved
+    assert scene.camera.fov_deg == pytest.approx(cam.fov_deg * 0.5)
