@@ -478,6 +478,31 @@ fn fill_environment_probe(
     }
 }
 
+/// The debug dump of one pixel, as `penumbra probe` writes it: the recording of the shading
+/// point `ctx` (prepared as the same render prepares it) computes there for `settings`
+/// (method, samples, seed, size), with a Monte Carlo check of 65,536 samples. `analytic-exact`
+/// records the analytic stages plus the LTC's correction, sampled as the first pass of an
+/// `--aa 1` render with the same samples and seed samples this pixel.
+pub fn debug_dump(
+    ctx: &RenderContext,
+    scene_name: &str,
+    camera: &Camera,
+    settings: &crate::render::RenderSettings,
+    pixel: (f64, f64),
+    gh_steps: bool,
+) -> Result<Probe, String> {
+    let size = (settings.width, settings.height);
+    let (method, correction) =
+        probe_method(settings.method, settings.spp, settings.seed, pixel, size.0)?;
+    let mut dump = probe_corrected(
+        ctx, scene_name, camera, size, pixel, method, correction, gh_steps,
+    )?;
+    if let (Some(sp), Some(m)) = (dump.point, dump.material.clone()) {
+        dump.monte_carlo = Some(monte_carlo(ctx, &sp, &m, 65536, settings.seed));
+    }
+    Ok(dump)
+}
+
 /// The `mc` method's estimator at the probed point with `samples` samples: an independent
 /// check of the analytic value, with its standard error.
 pub fn monte_carlo(

@@ -280,7 +280,7 @@ fn figures_of_every_view_live_and_from_a_dump() {
             vec!["--view", "plane", "--difference", "99"],
             "no set difference 99",
         ),
-        (vec!["--view", "cube"], "--view cube: expected"),
+        (vec!["--view", "cube"], "view cube: expected"),
         (vec!["--view", "environment"], "no environment light"),
         (vec!["--out", "x.gif"], "written as .svg, .pdf or .png"),
         (vec!["--orbit", "1"], "YAW,PITCH"),

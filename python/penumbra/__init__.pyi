@@ -34,6 +34,49 @@ class Scene:
     ) -> npt.NDArray[np.float32]:
         """A float32 (h, w, 3) image, equal bit for bit to `penumbra render`'s PFM."""
 
+    def probe(
+        self,
+        x: float,
+        y: float,
+        method: str = "analytic",
+        size: Tuple[int, int] = (320, 240),
+        spp: Optional[int] = None,
+        seed: int = 1,
+        env: Optional[str] = None,
+    ) -> Recording:
+        """The recording of the shading point at pixel (x, y), equal to `penumbra probe --gh-steps`'s dump."""
+
+class Figure:
+    """A figure: shown inline by notebooks (SVG), written as SVG, PDF or PNG."""
+
+    @property
+    def size(self) -> Tuple[int, int]: ...
+    def svg(self) -> str: ...
+    def _repr_svg_(self) -> str: ...
+    def save(self, path: str) -> None:
+        """Writes the figure as SVG, PDF or PNG, by the path's extension."""
+
+class Recording:
+    """The recording of one shading point."""
+
+    @property
+    def stages(self) -> list[str]:
+        """The stages as the workbench's stepper labels them (stage N is stages[N - 1])."""
+    @property
+    def radiance(self) -> Vec3: ...
+    def to_json(self) -> str:
+        """The debug dump, as `penumbra probe` writes it."""
+    def figure(
+        self,
+        view: str = "sphere",
+        stage: Optional[int] = None,
+        style: str = "print",
+        size: int = 800,
+        difference: int = 0,
+        fit: bool = False,
+    ) -> Figure:
+        """A view (sphere, hemisphere, plane, environment) at the stepper's stage N."""
+
 def load_scene(name_or_path: str) -> Scene:
     """An embedded scene by name, or an OBJ, glTF or TOML scene file."""
 

@@ -8,7 +8,7 @@ use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
 use penumbra::render::request::{self, EnvironmentOptions};
 use penumbra::render::{RenderMethod, RenderSettings};
 use penumbra::scene::environment_spec::EnvironmentOverrides;
-use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
+use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -136,37 +136,8 @@ impl Scene {
         seed: u64,
         env: Option<String>,
     ) -> PyResult<Bound<'py, PyArray3<f32>>> {
-        let method = method_by_name(method)?;
-        if size.0 == 0 || size.1 == 0 || aa == 0 {
-            return Err(value_error(format!(
-                "size {size:?} and aa {aa} must be positive"
-            )));
-        }
-        let camera = self.camera.ok_or_else(|| {
-            value_error(format!(
-                "{}: the scene has no camera: set scene.camera",
-                self.name
-            ))
-        })?;
-        let settings = RenderSettings {
-            width: size.0,
-            height: size.1,
-            aa,
-            method,
-            spp: spp.unwrap_or(16),
-            seed,
-            light_sampling: Default::default(),
-            collect_stats: false,
-            exact_u: false,
-        };
-        let options = EnvironmentOptions {
-            overrides: EnvironmentOverrides {
-                map: env,
-                spp,
-                ..Default::default()
-            },
-            ..Default::default()
-        };
+        let (settings, options) = request_of(method, size, aa, spp, seed, env)?;
+        let camera = self.camera_or_error()?;
         let mut scene = self.scene.clone();
         // The long part without the interpreter: other Python threads run meanwhile.
         let rgb = py.detach(move || -> Result<Vec<f32>, String> {
@@ -182,12 +153,187 @@ impl Scene {
         Ok(array.into_pyarray(py))
     }
 
+    /// The recording of the shading point at pixel (x, y) of an image of `size`, as
+    /// `penumbra probe --gh-steps` writes it (equal to its JSON dump): every stage of the
+    /// analytic pipeline there, with a Monte Carlo check.
+    #[pyo3(signature = (x, y, method="analytic", size=(320, 240), spp=None, seed=1, env=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn probe(
+        &self,
+        py: Python<'_>,
+        x: f64,
+        y: f64,
+        method: &str,
+        size: (u32, u32),
+        spp: Option<u32>,
+        seed: u64,
+        env: Option<String>,
+    ) -> PyResult<Recording> {
+        let (settings, options) = request_of(method, size, 1, spp, seed, env)?;
+        let camera = self.camera_or_error()?;
+        let mut scene = self.scene.clone();
+        let name = self.name.clone();
+        let probe = py.detach(move || -> Result<penumbra::inspect::Probe, String> {
+            request::resolve_environment(&mut scene, &options)?;
+            let ltc = request::ltc_table("embedded")?;
+            let prepared = request::prepare(&scene, &settings, &options, ltc)?;
+            penumbra::inspect::debug_dump(&prepared.ctx, &name, &camera, &settings, (x, y), true)
+        });
+        Ok(Recording {
+            probe: probe.map_err(value_error)?,
+        })
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Scene({:?}, {} objects)",
             self.name,
             self.scene.objects.len()
         )
+    }
+}
+
+impl Scene {
+    fn camera_or_error(&self) -> PyResult<penumbra::scene::Camera> {
+        self.camera.ok_or_else(|| {
+            value_error(format!(
+                "{}: the scene has no camera: set scene.camera",
+                self.name
+            ))
+        })
+    }
+}
+
+/// The settings and environment options of a render or probe, checked.
+fn request_of(
+    method: &str,
+    size: (u32, u32),
+    aa: u32,
+    spp: Option<u32>,
+    seed: u64,
+    env: Option<String>,
+) -> PyResult<(RenderSettings, EnvironmentOptions)> {
+    let method = method_by_name(method)?;
+    if size.0 == 0 || size.1 == 0 || aa == 0 {
+        return Err(value_error(format!(
+            "size {size:?} and aa {aa} must be positive"
+        )));
+    }
+    let settings = RenderSettings {
+        width: size.0,
+        height: size.1,
+        aa,
+        method,
+        spp: spp.unwrap_or(16),
+        seed,
+        light_sampling: Default::default(),
+        collect_stats: false,
+        exact_u: false,
+    };
+    let options = EnvironmentOptions {
+        overrides: EnvironmentOverrides {
+            map: env,
+            spp,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    Ok((settings, options))
+}
+
+/// The recording of one shading point: its stages in the workbench stepper's order, its
+/// numbers, and its views as figures.
+#[pyclass(module = "penumbra")]
+struct Recording {
+    probe: penumbra::inspect::Probe,
+}
+
+#[pymethods]
+impl Recording {
+    /// The stages, as the stepper labels them (stage N of `figure` is `stages[N - 1]`).
+    #[getter]
+    fn stages(&self) -> Vec<String> {
+        penumbra::views::stages::probe_steps(&self.probe)
+            .into_iter()
+            .map(|s| s.label)
+            .collect()
+    }
+
+    /// The pixel's radiance (r, g, b).
+    #[getter]
+    fn radiance(&self) -> (f64, f64, f64) {
+        from_dvec3(self.probe.radiance)
+    }
+
+    /// The debug dump as JSON text, as `penumbra probe` writes it.
+    fn to_json(&self) -> PyResult<String> {
+        serde_json::to_string_pretty(&self.probe).map_err(value_error)
+    }
+
+    /// A view of the recording as a figure: `view` is sphere, hemisphere, plane or
+    /// environment; `stage` the stepper's number (1 to len(stages); every stage by default).
+    #[pyo3(signature = (view="sphere", stage=None, style="print", size=800, difference=0, fit=false))]
+    fn figure(
+        &self,
+        view: &str,
+        stage: Option<usize>,
+        style: &str,
+        size: u32,
+        difference: usize,
+        fit: bool,
+    ) -> PyResult<Figure> {
+        let style = penumbra::views::Style::from_name(style)
+            .ok_or_else(|| value_error(format!("style {style:?}: expected print or screen")))?;
+        let request = penumbra::views::FigureRequest {
+            view: view.to_string(),
+            stage,
+            difference,
+            style,
+            size,
+            orbit: None,
+            fit,
+        };
+        let figure =
+            penumbra::views::recording_figure(&self.probe, &request).map_err(value_error)?;
+        Ok(Figure { figure })
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Recording(pixel={:?}, {} stages)",
+            self.probe.pixel,
+            self.stages().len()
+        )
+    }
+}
+
+/// A figure: shown inline by notebooks (SVG), written as SVG, PDF or PNG.
+#[pyclass(module = "penumbra")]
+struct Figure {
+    figure: penumbra::figure::Figure,
+}
+
+#[pymethods]
+impl Figure {
+    /// The figure as an SVG document.
+    fn svg(&self) -> String {
+        penumbra::figure::svg::to_svg(&self.figure)
+    }
+
+    fn _repr_svg_(&self) -> String {
+        self.svg()
+    }
+
+    /// Writes the figure as SVG, PDF or PNG, by the path's extension.
+    fn save(&self, path: std::path::PathBuf) -> PyResult<()> {
+        penumbra::figure::save(&self.figure, &path)
+            .map_err(|e| PyOSError::new_err(format!("{e:#}")))
+    }
+
+    /// (width, height) in pixels.
+    #[getter]
+    fn size(&self) -> (u32, u32) {
+        (self.figure.width, self.figure.height)
     }
 }
 
@@ -261,6 +407,8 @@ fn serde_json_string<T: serde::Serialize>(v: &T) -> PyResult<String> {
 fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Scene>()?;
     m.add_class::<Camera>()?;
+    m.add_class::<Recording>()?;
+    m.add_class::<Figure>()?;
     m.add_function(wrap_pyfunction!(load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scenes, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;

@@ -126,3 +126,31 @@ def test_scenes_objects_and_camera():
     moved = penumbra.Camera(cam.eye, cam.target, cam.up, cam.fov_deg * 0.5)
     scene.camera = moved
     assert scene.camera.fov_deg == pytest.approx(cam.fov_deg * 0.5)
+
+
+def test_probe_equals_the_dump_and_its_figures_the_cli_s(tmp_path):
+    scene = penumbra.load_scene("default")
+    rec = scene.probe(150, 170, size=(320, 240))
+    cli(
+        "probe", "default", "--size", "320x240", "--pixel", "150,170", "--gh-steps",
+        "--json", str(tmp_path / "p.json"), cwd=tmp_path,
+    )
+    dump = (tmp_path / "p.json").read_text()
+    assert json.loads(rec.to_json()) == json.loads(dump)
+    assert len(rec.stages) > 10 and rec.stages[0].startswith("light panel_light: silhouette")
+    for view, stage in [("sphere", None), ("hemisphere", 1), ("plane", 8)]:
+        fig = rec.figure(view=view, stage=stage)
+        args = ["figure", str(tmp_path / "p.json"), "--view", view, "--out", f"{view}.svg"]
+        if stage:
+            args += ["--stage", str(stage)]
+        cli(*args, cwd=tmp_path)
+        assert fig.svg() == (tmp_path / f"{view}.svg").read_text(), view
+        assert fig._repr_svg_().startswith("<svg")
+    fig = rec.figure()
+    for ext in ["svg", "pdf", "png"]:
+        fig.save(str(tmp_path / f"f.{ext}"))
+        assert (tmp_path / f"f.{ext}").stat().st_size > 1000
+    with pytest.raises(ValueError, match="stage 999"):
+        rec.figure(stage=999)
+    with pytest.raises(ValueError, match="view cube"):
+        rec.figure(view="cube")

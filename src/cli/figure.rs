@@ -6,9 +6,8 @@ use super::probe::probe_dump;
 use anyhow::{Context, Result, bail};
 use penumbra::figure::Figure;
 use penumbra::inspect::Probe;
-use penumbra::views::sphere::{Layers, drawing, region_of_interest};
-use penumbra::views::stages::{StepKind, plane_subject, probe_steps};
-use penumbra::views::{self, SphereCamera, Style};
+use penumbra::views::stages::probe_steps;
+use penumbra::views::{FigureRequest, SphereCamera, Style, current_stage, recording_figure};
 use std::path::Path;
 
 pub(crate) fn figure(args: &RenderArgs, f: &FigureArgs) -> Result<()> {
@@ -39,7 +38,18 @@ pub(crate) fn figure(args: &RenderArgs, f: &FigureArgs) -> Result<()> {
     };
     let figure = match f.view.as_str() {
         "light" | "bsp" => light_view_figure(args, &probe, f, style, orbit)?,
-        _ => view_figure(&probe, f, style, orbit)?,
+        view => {
+            let request = FigureRequest {
+                view: view.to_string(),
+                stage: f.stage,
+                difference: f.difference,
+                style,
+                size: f.figure_size,
+                orbit,
+                fit: f.fit,
+            };
+            recording_figure(&probe, &request).map_err(anyhow::Error::msg)?
+        }
     };
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
@@ -72,103 +82,6 @@ fn parse_orbit(s: &str) -> Result<SphereCamera> {
     }
 }
 
-/// `--stage N` (the stepper's 1 to M) as an index into `steps`; out of range, an error that
-/// lists every stage with its label.
-fn current_stage(
-    steps: &[penumbra::views::stages::Step],
-    stage: Option<usize>,
-) -> Result<Option<usize>> {
-    Ok(match stage {
-        None => None,
-        Some(n) if (1..=steps.len()).contains(&n) => Some(n - 1),
-        Some(n) => {
-            let list: Vec<String> = steps
-                .iter()
-                .enumerate()
-                .map(|(i, s)| format!("  {:>3}  {}", i + 1, s.label))
-                .collect();
-            bail!(
-                "--stage {n}: the recording at this point has {} stages, numbered as the \
-                 workbench's stepper numbers them:\n{}",
-                steps.len(),
-                list.join("\n")
-            )
-        }
-    })
-}
-
-/// The figure of `f.view` at `f.stage` of the probe's recording.
-fn view_figure(
-    probe: &Probe,
-    f: &FigureArgs,
-    style: Style,
-    orbit: Option<SphereCamera>,
-) -> Result<Figure> {
-    let steps = probe_steps(probe);
-    let current = current_stage(&steps, f.stage)?;
-    let step = current.map(|i| &steps[i]);
-    Ok(match f.view.as_str() {
-        "sphere" | "hemisphere" | "environment" => {
-            let layers = if f.view == "environment" {
-                if probe.environment.is_none() {
-                    bail!("--view environment: the scene has no environment light (give --env)");
-                }
-                Layers::environment_only()
-            } else {
-                Layers::default()
-            };
-            let d = drawing(probe, step, &layers);
-            if f.view == "hemisphere" {
-                views::hemisphere_figure(&d, f.fit, f.figure_size, style)
-            } else {
-                let camera =
-                    orbit.unwrap_or_else(|| SphereCamera::framed(&region_of_interest(probe, step)));
-                views::sphere_figure(&d, &camera, f.figure_size, style)
-            }
-        }
-        "plane" => {
-            let (sd, phase) = if current
-                .is_some_and(|i| matches!(steps[i].kind, StepKind::SetDifference { .. }))
-            {
-                match plane_subject(probe, &steps, current) {
-                    Some((sd, phase)) => (Some(sd), phase),
-                    None => (None, None),
-                }
-            } else {
-                let all: Vec<_> = probe
-                    .recording
-                    .lights
-                    .iter()
-                    .flat_map(|l| &l.set_differences)
-                    .collect();
-                (all.get(f.difference).copied(), None)
-            };
-            let Some(sd) = sd else {
-                bail!(
-                    "--view plane: no set difference {} at this point (the recording has {}; \
-                     pick a pixel in a penumbra)",
-                    f.difference,
-                    probe
-                        .recording
-                        .lights
-                        .iter()
-                        .map(|l| l.set_differences.len())
-                        .sum::<usize>()
-                );
-            };
-            let name = probe
-                .occluder_names
-                .get(sd.occluder)
-                .cloned()
-                .unwrap_or_else(|| format!("#{}", sd.occluder));
-            views::plane_figure(sd, &name, phase, f.figure_size, style)
-        }
-        other => {
-            bail!("--view {other}: expected sphere, hemisphere, plane, light, bsp or environment")
-        }
-    })
-}
-
 /// The light structure (`--view light`) or its BSP tree's planes (`--view bsp`) of the light
 /// of the stage (the first light recorded without --stage). The light's mesh and tree come
 /// from the scene, prepared as `penumbra render` prepares it (a dump names its scene); what
@@ -193,7 +106,9 @@ fn light_view_figure(
                 format!("--light {name}: the lights are {}", names.join(", "))
             })?,
         (None, stage) => {
-            let record = current_stage(&steps, stage)?.map_or(0, |i| steps[i].record);
+            let record = current_stage(&steps, stage)
+                .map_err(anyhow::Error::msg)?
+                .map_or(0, |i| steps[i].record);
             probe
                 .recording
                 .lights

@@ -2,7 +2,7 @@
 
 use super::args::*;
 use super::environment::prepared_scene;
-use super::render::camera;
+use super::render::{camera, settings};
 use anyhow::{Context, Result};
 use std::path::Path;
 
@@ -51,33 +51,8 @@ pub(crate) fn probe_dump(
             ),
         },
     };
-    // analytic-exact: the analytic stages plus the LTC's correction, sampled as the first
-    // pass of an `--aa 1` render with the same --spp and --seed samples this pixel.
-    let (method, correction) = penumbra::inspect::probe_method(
-        args.method,
-        args.spp.unwrap_or(16),
-        args.seed,
-        pixel,
-        args.size.0,
-    )
-    .map_err(anyhow::Error::msg)?;
-    let mut dump = penumbra::inspect::probe_corrected(
-        &ctx,
-        &args.scene,
-        &cam,
-        args.size,
-        pixel,
-        method,
-        correction,
-        gh_steps,
-    )
-    .map_err(anyhow::Error::msg)?;
-    if let (Some(sp), Some(m)) = (dump.point, dump.material.clone()) {
-        dump.monte_carlo = Some(penumbra::inspect::monte_carlo(
-            &ctx, &sp, &m, 65536, args.seed,
-        ));
-    }
-    Ok(dump)
+    penumbra::inspect::debug_dump(&ctx, &args.scene, &cam, &settings(args), pixel, gh_steps)
+        .map_err(anyhow::Error::msg)
 }
 
 /// The dump's numbers on standard output.
