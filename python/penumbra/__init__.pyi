@@ -23,6 +23,14 @@ class Scene:
     def objects(self) -> list[str]:
         """The names of the scene's objects, in file order."""
     camera: Optional[Camera]
+    def move(
+        self,
+        name: str,
+        translate: Vec3 = (0.0, 0.0, 0.0),
+        rotate_y: float = 0.0,
+        pivot: Optional[Vec3] = None,
+    ) -> None:
+        """Moves one object rigidly, as `penumbra edit` does (rotation about +y, then translation)."""
     def render(
         self,
         method: str = "analytic",
@@ -32,7 +40,10 @@ class Scene:
         seed: int = 1,
         env: Optional[str] = None,
     ) -> npt.NDArray[np.float32]:
-        """A float32 (h, w, 3) image, equal bit for bit to `penumbra render`'s PFM."""
+        """A float32 (h, w, 3) image, equal bit for bit to `penumbra render`'s PFM.
+
+        The interpreter is released while it renders; Ctrl-C stops it (KeyboardInterrupt).
+        """
 
     def probe(
         self,

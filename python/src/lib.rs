@@ -8,8 +8,10 @@ use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
 use penumbra::render::request::{self, EnvironmentOptions};
 use penumbra::render::{RenderMethod, RenderSettings};
 use penumbra::scene::environment_spec::EnvironmentOverrides;
-use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyValueError};
+use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
@@ -122,6 +124,28 @@ impl Scene {
         Ok(())
     }
 
+    /// Moves one object rigidly, as `penumbra edit` does: rotated by `rotate_y` degrees about
+    /// +y through `pivot` (the object's own pivot by default), then translated. `name` is an
+    /// object's name or index.
+    #[pyo3(signature = (name, translate=(0.0, 0.0, 0.0), rotate_y=0.0, pivot=None))]
+    fn r#move(
+        &mut self,
+        name: &str,
+        translate: (f64, f64, f64),
+        rotate_y: f64,
+        pivot: Option<(f64, f64, f64)>,
+    ) -> PyResult<()> {
+        penumbra::scene::edit::move_object(
+            &mut self.scene,
+            name,
+            to_dvec3(translate),
+            rotate_y,
+            pivot.map(to_dvec3),
+        )
+        .map_err(value_error)?;
+        Ok(())
+    }
+
     /// Renders the scene: a float32 array of shape (h, w, 3), linear radiance, equal bit for
     /// bit to the PFM `penumbra render` writes with the same settings.
     #[pyo3(signature = (method="analytic", size=(320, 240), aa=1, spp=None, seed=1, env=None))]
@@ -139,14 +163,15 @@ impl Scene {
         let (settings, options) = request_of(method, size, aa, spp, seed, env)?;
         let camera = self.camera_or_error()?;
         let mut scene = self.scene.clone();
-        // The long part without the interpreter: other Python threads run meanwhile.
-        let rgb = py.detach(move || -> Result<Vec<f32>, String> {
+        // The long part without the interpreter (other Python threads run meanwhile), and
+        // stopped by Ctrl-C.
+        let rgb = interruptible(py, move |cancel| -> Result<Vec<f32>, String> {
             request::resolve_environment(&mut scene, &options)?;
             let ltc = request::ltc_table("embedded")?;
             let prepared = request::prepare(&scene, &settings, &options, ltc)?;
-            let out = prepared.ctx.render_full(&camera, &settings, None)?;
+            let out = prepared.ctx.render_full(&camera, &settings, Some(cancel))?;
             Ok(out.image.to_rgb32().into_iter().flatten().collect())
-        });
+        })?;
         let rgb = rgb.map_err(value_error)?;
         let (w, h) = (size.0 as usize, size.1 as usize);
         let array = numpy::ndarray::Array3::from_shape_vec((h, w, 3), rgb).map_err(value_error)?;
@@ -202,6 +227,38 @@ impl Scene {
             ))
         })
     }
+}
+
+/// Runs `work` on a thread of its own while this one waits without the interpreter, looking
+/// for Ctrl-C every 50 ms: on an interrupt, `work`'s cancel flag is raised and the
+/// KeyboardInterrupt returned once it has stopped (renders check the flag tile by tile).
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&AtomicBool) -> T + Send,
+) -> PyResult<T> {
+    let cancel = AtomicBool::new(false);
+    std::thread::scope(|s| {
+        let handle = s.spawn(|| work(&cancel));
+        loop {
+            let finished = py.detach(|| {
+                let start = Instant::now();
+                while !handle.is_finished() && start.elapsed() < Duration::from_millis(50) {
+                    std::thread::sleep(Duration::from_millis(2));
+                }
+                handle.is_finished()
+            });
+            if finished {
+                return handle
+                    .join()
+                    .map_err(|_| PyRuntimeError::new_err("penumbra panicked: please report it"));
+            }
+            if let Err(interrupt) = py.check_signals() {
+                cancel.store(true, Ordering::Relaxed);
+                let _ = handle.join();
+                return Err(interrupt);
+            }
+        }
+    })
 }
 
 /// The settings and environment options of a render or probe, checked.

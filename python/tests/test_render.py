@@ -154,3 +154,35 @@ def test_probe_equals_the_dump_and_its_figures_the_cli_s(tmp_path):
         rec.figure(stage=999)
     with pytest.raises(ValueError, match="view cube"):
         rec.figure(view="cube")
+
+
+def test_move_is_penumbra_edit(tmp_path):
+    scene = penumbra.load_scene("default")
+    before = scene.render(size=(32, 24))
+    scene.move("seat", translate=(0.2, 0.0, -0.1), rotate_y=15.0)
+    ours = scene.render(size=(32, 24))
+    cli(
+        "edit", "default", "--move", "seat", "--translate", "0.2,0,-0.1", "--rotate-y", "15",
+        "--out", str(tmp_path / "moved.toml"), cwd=tmp_path,
+    )
+    cli("render", str(tmp_path / "moved.toml"), "--size", "32x24", "--out", "m.png", cwd=tmp_path)
+    theirs = read_pfm(tmp_path / "m.pfm")
+    assert not np.array_equal(before, ours), "the seat's shadow moved"
+    assert np.array_equal(ours, theirs)
+    with pytest.raises(ValueError, match="no object is named"):
+        scene.move("nothing", translate=(1, 0, 0))
+
+
+def test_ctrl_c_cancels_a_render_within_a_second():
+    import signal
+    import time
+
+    scene = penumbra.load_scene("default")
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        # Minutes of work uninterrupted.
+        scene.render(method="reference", size=(320, 240), spp=4096)
+    elapsed = time.perf_counter() - start
+    assert elapsed < 1.5, f"stopped {elapsed - 0.5:.2f} s after Ctrl-C"

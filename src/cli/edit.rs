@@ -14,7 +14,7 @@ pub(crate) fn edit(
     pivot: Option<DVec3>,
     out: &Path,
 ) -> Result<()> {
-    use penumbra::scene::edit::{EditHistory, Rigid, resolve_object};
+    use penumbra::scene::edit::move_object;
     if out
         .extension()
         .is_none_or(|e| !e.eq_ignore_ascii_case("toml"))
@@ -25,18 +25,14 @@ pub(crate) fn edit(
         );
     }
     let mut scene = load_scene(name)?;
-    let index = resolve_object(&scene, object).map_err(anyhow::Error::msg)?;
-    let mut history = EditHistory::new(&scene);
-    let pivot = match pivot {
-        Some(p) => p,
-        None => history.pivot(index).map_err(anyhow::Error::msg)?,
-    };
-    let rotation = Rigid::rotation_about(pivot, DVec3::Y, rotate_y.unwrap_or(0.0).to_radians())
-        .map_err(anyhow::Error::msg)?;
-    let motion = rotation.then(Rigid::translation(translate.unwrap_or(DVec3::ZERO)));
-    history
-        .edit(&mut scene, index, motion)
-        .map_err(anyhow::Error::msg)?;
+    let (index, pivot) = move_object(
+        &mut scene,
+        object,
+        translate.unwrap_or(DVec3::ZERO),
+        rotate_y.unwrap_or(0.0),
+        pivot,
+    )
+    .map_err(anyhow::Error::msg)?;
     let saved = penumbra::scene::save::save_scene(&scene, scene.camera.as_ref(), out)
         .map_err(anyhow::Error::msg)?;
     for (old, new) in &saved.renamed {

@@ -429,3 +429,25 @@ impl EditHistory {
         &self.undo
     }
 }
+
+/// One rigid move of one object, as `penumbra edit` and the Python module's `Scene.move` ask
+/// for it: rotated by `rotate_y_deg` about +y through `pivot` (the object's own pivot when
+/// `None`), then translated. Returns the object's index and the pivot used.
+pub fn move_object(
+    scene: &mut Scene,
+    object: &str,
+    translate: DVec3,
+    rotate_y_deg: f64,
+    pivot: Option<DVec3>,
+) -> Result<(usize, DVec3), EditError> {
+    let index = resolve_object(scene, object)?;
+    let mut history = EditHistory::new(scene);
+    let pivot = match pivot {
+        Some(p) => p,
+        None => history.pivot(index)?,
+    };
+    let rotation = Rigid::rotation_about(pivot, DVec3::Y, rotate_y_deg.to_radians())?;
+    let motion = rotation.then(Rigid::translation(translate));
+    history.edit(scene, index, motion)?;
+    Ok((index, pivot))
+}
