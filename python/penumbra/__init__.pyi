@@ -100,3 +100,6 @@ def compare(
     stderr: Optional[npt.NDArray[np.float32]] = None,
 ) -> dict:
     """The error metrics of `penumbra compare`."""
+
+def stress(cases: int = 1000, seed: int = 1, rays: int = 256) -> dict:
+    """`penumbra stress`'s report: random and adversarial cases against a ray-cast oracle."""

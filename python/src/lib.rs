@@ -460,6 +460,18 @@ fn serde_json_string<T: serde::Serialize>(v: &T) -> PyResult<String> {
     serde_json::to_string(v).map_err(value_error)
 }
 
+/// `penumbra stress`: `cases` random and adversarial configurations from `seed`, each shaded
+/// analytically and by a ray-cast oracle of `rays` rays; its report as a dict (the CLI's JSON;
+/// `seconds` is the run's own time). The interpreter is released while it runs; Ctrl-C is
+/// seen when it returns (the library's run has no cancel flag yet).
+#[pyfunction]
+#[pyo3(signature = (cases=1000, seed=1, rays=256))]
+fn stress(py: Python<'_>, cases: u64, seed: u64, rays: u32) -> PyResult<Py<PyAny>> {
+    let report = py.detach(move || penumbra::stress::run(cases, seed, rays, |_| {}));
+    let json = serde_json_string(&report)?;
+    Ok(py.import("json")?.call_method1("loads", (json,))?.unbind())
+}
+
 #[pymodule]
 fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Scene>()?;
@@ -469,5 +481,6 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scenes, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(stress, m)?)?;
     Ok(())
 }

@@ -186,3 +186,13 @@ def test_ctrl_c_cancels_a_render_within_a_second():
         scene.render(method="reference", size=(320, 240), spp=4096)
     elapsed = time.perf_counter() - start
     assert elapsed < 1.5, f"stopped {elapsed - 0.5:.2f} s after Ctrl-C"
+
+
+def test_stress_gives_the_cli_report(tmp_path):
+    ours = penumbra.stress(cases=40, seed=7, rays=64)
+    cli("stress", "--cases", "40", "--seed", "7", "--rays", "64", "--json", "s.json", cwd=tmp_path)
+    theirs = json.loads((tmp_path / "s.json").read_text())
+    ours.pop("seconds")
+    theirs.pop("seconds")
+    assert ours == theirs
+    assert ours["cases"] == 40 and ours["nan"] == 0 and ours["invariant_violations"] == 0
