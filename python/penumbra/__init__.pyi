@@ -73,6 +73,9 @@ class Recording:
     @property
     def stages(self) -> list[str]:
         """The stages as the workbench's stepper labels them (stage N is stages[N - 1])."""
+    def polygons(self, stage: int) -> list[npt.NDArray[np.float64]]:
+        """The polygon stage N produces: one (n, 3) array per loop (unit directions in the
+        shading frame; homogeneous plane points for a set difference)."""
     @property
     def radiance(self) -> Vec3: ...
     def to_json(self) -> str:

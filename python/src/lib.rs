@@ -316,6 +316,30 @@ impl Recording {
             .collect()
     }
 
+    /// The polygon stage N (the stepper's 1 to len(stages)) produces, as a list of (n, 3)
+    /// float64 arrays, one per loop: unit directions in the shading frame (z along the
+    /// normal), or for a set difference the result's homogeneous points (x, y, w) in the
+    /// occluder's projection plane; empty for GetBetween and the integral.
+    fn polygons<'py>(
+        &self,
+        py: Python<'py>,
+        stage: usize,
+    ) -> PyResult<Vec<Bound<'py, numpy::PyArray2<f64>>>> {
+        let steps = penumbra::views::stages::probe_steps(&self.probe);
+        let index = penumbra::views::current_stage(&steps, Some(stage))
+            .map_err(value_error)?
+            .unwrap_or(0);
+        penumbra::views::stages::step_polygon(&self.probe, &steps[index])
+            .into_iter()
+            .map(|lp| {
+                let flat: Vec<f64> = lp.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+                numpy::ndarray::Array2::from_shape_vec((lp.len(), 3), flat)
+                    .map(|a| a.into_pyarray(py))
+                    .map_err(value_error)
+            })
+            .collect()
+    }
+
     /// The pixel's radiance (r, g, b).
     #[getter]
     fn radiance(&self) -> (f64, f64, f64) {

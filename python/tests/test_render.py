@@ -196,3 +196,20 @@ def test_stress_gives_the_cli_report(tmp_path):
     theirs.pop("seconds")
     assert ours == theirs
     assert ours["cases"] == 40 and ours["nan"] == 0 and ours["invariant_violations"] == 0
+
+
+def test_a_stage_s_polygons_are_the_dump_s_as_arrays():
+    rec = penumbra.load_scene("default").probe(150, 170, size=(320, 240))
+    dump = json.loads(rec.to_json())
+    light = dump["recording"]["lights"][0]
+    silhouette = next(p for s, p in light["polygons"] if s == "Silhouette")
+    loops = rec.polygons(1)
+    assert rec.stages[0].startswith("light panel_light: silhouette")
+    flat = np.array(silhouette["vertices"], dtype=np.float64)
+    assert np.array_equal(np.concatenate(loops), flat)
+    assert all(lp.ndim == 2 and lp.shape[1] == 3 and len(lp) >= 3 for lp in loops)
+    assert np.allclose(np.linalg.norm(flat, axis=1), 1.0)
+    culling = next(i for i, s in enumerate(rec.stages, 1) if "GetBetween" in s)
+    assert rec.polygons(culling) == []
+    with pytest.raises(ValueError, match="stage 999"):
+        rec.polygons(999)

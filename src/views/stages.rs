@@ -210,6 +210,41 @@ pub fn plane_subject<'a>(
         .map(|sd| (sd, None))
 }
 
+/// The polygon step `step` produces, as loops of points: unit directions in the shading frame
+/// for the spherical stages, homogeneous points (x, y, w) of the occluder's projection plane
+/// for a set difference (its result), none for the stages that make no polygon (GetBetween,
+/// the integral).
+pub fn step_polygon(probe: &Probe, step: &Step) -> Vec<Vec<glam::DVec3>> {
+    use crate::shading::Stage;
+    let Some(rec) = probe.recording.lights.get(step.record) else {
+        return Vec::new();
+    };
+    let loops = |p: &crate::geometry::PolygonLoops| p.loops().map(|l| l.to_vec()).collect();
+    let of_stage = |want: Stage| {
+        rec.polygons
+            .iter()
+            .find(|(s, _)| *s == want)
+            .map_or_else(Vec::new, |(_, p)| loops(p))
+    };
+    match step.kind {
+        StepKind::LightSilhouette => of_stage(Stage::Silhouette),
+        StepKind::LightClipped => of_stage(Stage::HorizonClipped),
+        StepKind::Visible => of_stage(Stage::Visible),
+        StepKind::OccluderSilhouette { k } | StepKind::OccluderClipped { k } => rec
+            .occluder_polygons
+            .get(k)
+            .map_or_else(Vec::new, |(_, _, _, p)| loops(p)),
+        StepKind::SetDifference { k, .. } => {
+            rec.set_differences.get(k).map_or_else(Vec::new, |sd| {
+                sd.after.loops().map(|l| l.to_vec()).collect()
+            })
+        }
+        StepKind::LtcTransformed { k } => rec.lobes.get(k).map_or_else(Vec::new, |l| loops(&l.1)),
+        StepKind::LtcClipped { k } => rec.lobes.get(k).map_or_else(Vec::new, |l| loops(&l.2)),
+        StepKind::Culling | StepKind::Integral => Vec::new(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
