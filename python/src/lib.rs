@@ -166,9 +166,7 @@ impl Scene {
         // The long part without the interpreter (other Python threads run meanwhile), and
         // stopped by Ctrl-C.
         let rgb = interruptible(py, move |cancel| -> Result<Vec<f32>, String> {
-            request::resolve_environment(&mut scene, &options)?;
-            let ltc = request::ltc_table("embedded")?;
-            let prepared = request::prepare(&scene, &settings, &options, ltc)?;
+            let prepared = prepared(&mut scene, &settings, &options)?;
             let out = prepared.ctx.render_full(&camera, &settings, Some(cancel))?;
             Ok(out.image.to_rgb32().into_iter().flatten().collect())
         })?;
@@ -199,9 +197,7 @@ impl Scene {
         let mut scene = self.scene.clone();
         let name = self.name.clone();
         let probe = py.detach(move || -> Result<penumbra::inspect::Probe, String> {
-            request::resolve_environment(&mut scene, &options)?;
-            let ltc = request::ltc_table("embedded")?;
-            let prepared = request::prepare(&scene, &settings, &options, ltc)?;
+            let prepared = prepared(&mut scene, &settings, &options)?;
             penumbra::inspect::debug_dump(&prepared.ctx, &name, &camera, &settings, (x, y), true)
         });
         Ok(Recording {
@@ -259,6 +255,15 @@ fn interruptible<T: Send>(
             }
         }
     })
+}
+
+/// `scene` made ready for a render or probe with the command line's default LTC table.
+fn prepared(
+    scene: &mut penumbra::scene::Scene,
+    settings: &RenderSettings,
+    options: &EnvironmentOptions,
+) -> Result<request::PreparedRender, String> {
+    request::resolve_and_prepare(scene, settings, options, request::ltc_table("embedded")?)
 }
 
 /// The settings and environment options of a render or probe, checked.

@@ -32,11 +32,11 @@ pub(crate) fn prepared_scene(
 )> {
     use penumbra::render::request;
     let mut scene = super::render::load_scene(&args.scene)?;
-    let env = environment_options(args);
-    request::resolve_environment(&mut scene, &env).map_err(anyhow::Error::msg)?;
     let ltc = super::ltc::ltc_table(&args.ltc_table)?;
-    let prepared = request::prepare(&scene, &super::render::settings(args), &env, ltc)
-        .map_err(anyhow::Error::msg)?;
+    let settings = super::render::settings(args);
+    let prepared =
+        request::resolve_and_prepare(&mut scene, &settings, &environment_options(args), ltc)
+            .map_err(anyhow::Error::msg)?;
     for n in &prepared.notes {
         eprintln!("note: {n}");
     }

@@ -95,3 +95,15 @@ pub fn prepare(
         notes,
     })
 }
+
+/// [`resolve_environment`] then [`prepare`]: a loaded scene made ready for one request (the
+/// command line's and the Python module's one way to it).
+pub fn resolve_and_prepare(
+    scene: &mut Scene,
+    settings: &RenderSettings,
+    env: &EnvironmentOptions,
+    ltc: &'static LtcTable,
+) -> Result<PreparedRender, String> {
+    resolve_environment(scene, env)?;
+    prepare(scene, settings, env, ltc)
+}
