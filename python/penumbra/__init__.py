@@ -4,6 +4,26 @@ Scenes load from an embedded name or a file, render to numpy arrays equal bit fo
 ``penumbra render``'s PFM, and compare as ``penumbra compare`` does.
 """
 
-from ._penumbra import Camera, Figure, Recording, Scene, compare, load_scene, scenes, stress
+from ._penumbra import (
+    Camera,
+    Figure,
+    Recording,
+    Scene,
+    bench,
+    compare,
+    load_scene,
+    scenes,
+    stress,
+)
 
-__all__ = ["Camera", "Figure", "Recording", "Scene", "compare", "load_scene", "scenes", "stress"]
+__all__ = [
+    "Camera",
+    "Figure",
+    "Recording",
+    "Scene",
+    "bench",
+    "compare",
+    "load_scene",
+    "scenes",
+    "stress",
+]

@@ -106,3 +106,15 @@ def compare(
 
 def stress(cases: int = 1000, seed: int = 1, rays: int = 256) -> dict:
     """`penumbra stress`'s report: random and adversarial cases against a ray-cast oracle."""
+
+def bench(
+    scene: Scene,
+    size: Tuple[int, int] = (160, 120),
+    ladder: list[int] = [1, 2, 4, 8, 16, 32, 64, 128, 256],
+    methods: Optional[list[str]] = None,
+    reference_spp: int = 4096,
+    seed: int = 1,
+    repeats: int = 2,
+    aa: int = 1,
+) -> list[dict]:
+    """`penumbra bench`'s rows (method, spp, seconds, mae, rmse, relative_rmse, rmse_corrected)."""

@@ -501,6 +501,53 @@ fn stress(py: Python<'_>, cases: u64, seed: u64, rays: u32) -> PyResult<Py<PyAny
     Ok(py.import("json")?.call_method1("loads", (json,))?.unbind())
 }
 
+/// `penumbra bench` on `scene` through its camera: every method (by CLI name; all but
+/// `reference` by default) at each sample count of `ladder` against a reference of
+/// `reference_spp` samples, each render repeated `repeats` times (the fastest kept). Returns
+/// the report's rows as dicts (scene, method, spp, seconds, mae, rmse, relative_rmse,
+/// rmse_corrected), ready for `pandas.DataFrame`. The interpreter is released while it runs.
+#[pyfunction]
+#[pyo3(signature = (scene, size=(160, 120), ladder=vec![1, 2, 4, 8, 16, 32, 64, 128, 256], methods=None, reference_spp=4096, seed=1, repeats=2, aa=1))]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(name = "bench")]
+fn run_bench(
+    py: Python<'_>,
+    scene: &Scene,
+    size: (u32, u32),
+    ladder: Vec<u32>,
+    methods: Option<Vec<String>>,
+    reference_spp: u32,
+    seed: u64,
+    repeats: u32,
+    aa: u32,
+) -> PyResult<Py<PyAny>> {
+    use penumbra::bench::runner;
+    let camera = scene.camera_or_error()?;
+    let label = std::path::Path::new(&scene.name)
+        .file_stem()
+        .map_or(scene.name.clone(), |s| s.to_string_lossy().into_owned());
+    let mut config = runner::BenchConfig::new(&label, camera, size.0, size.1);
+    config.aa = aa;
+    config.ladder = ladder;
+    if let Some(names) = methods {
+        config.methods = names
+            .iter()
+            .map(|n| method_by_name(n))
+            .collect::<PyResult<_>>()?;
+    }
+    config.reference_spp = reference_spp;
+    config.seed = seed;
+    config.repeats = repeats;
+    let loaded = scene.scene.clone();
+    let report = py.detach(move || -> Result<_, String> {
+        let ctx = config.prepare(&loaded);
+        let reference = runner::render_reference(&ctx, &config)?;
+        Ok(runner::run_bench(&ctx, &config, &reference, |_, _, _| {})?.0)
+    });
+    let json = serde_json_string(&report.map_err(value_error)?.rows)?;
+    Ok(py.import("json")?.call_method1("loads", (json,))?.unbind())
+}
+
 #[pymodule]
 fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Scene>()?;
@@ -511,5 +558,6 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenes, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(stress, m)?)?;
+    m.add_function(wrap_pyfunction!(run_bench, m)?)?;
     Ok(())
 }

@@ -213,3 +213,20 @@ def test_a_stage_s_polygons_are_the_dump_s_as_arrays():
     assert rec.polygons(culling) == []
     with pytest.raises(ValueError, match="stage 999"):
         rec.polygons(999)
+
+
+def test_bench_gives_the_cli_rows(tmp_path):
+    scene = penumbra.load_scene("default")
+    kwargs = dict(size=(32, 24), ladder=[1, 4], methods=["analytic", "mc", "ratio"],
+                  reference_spp=64, repeats=1)
+    ours = penumbra.bench(scene, **kwargs)
+    cli(
+        "bench", "default", "--size", "32x24", "--ladder", "1,4", "--methods",
+        "analytic,mc,ratio", "--reference-spp", "64", "--repeats", "1", "--out-dir", "b",
+        cwd=tmp_path,
+    )
+    theirs = json.loads((tmp_path / "b" / "bench.json").read_text())["rows"]
+    strip = lambda rows: [{k: v for k, v in r.items() if k != "seconds"} for r in rows]
+    assert strip(ours) == strip(theirs)
+    assert {"analytic", "mc", "ratio"} <= {r["method"] for r in ours}
+    assert all(r["seconds"] > 0 for r in ours)
