@@ -3,7 +3,6 @@
 //! `penumbra figure` writes the same figures from the command line.
 
 use super::WorkbenchApp;
-use super::layout::Pane;
 use super::sphere_view::SphereFigure;
 use crate::figure::Figure;
 use crate::views::Style;
@@ -40,18 +39,6 @@ impl FigureView {
             FigureView::LightStructure => "the light structure",
             FigureView::Environment => "the environment on the sphere",
             FigureView::BenchChart => "the bench chart",
-        }
-    }
-
-    /// The pane that shows it.
-    pub fn pane(self) -> Pane {
-        match self {
-            FigureView::Sphere => Pane::Sphere,
-            FigureView::Hemisphere => Pane::Hemisphere,
-            FigureView::Plane => Pane::Planar,
-            FigureView::LightStructure => Pane::LightStructure,
-            FigureView::Environment => Pane::Environment,
-            FigureView::BenchChart => Pane::Plots,
         }
     }
 

@@ -33,13 +33,6 @@ impl FigureRect {
             self.origin.y + p.1 * self.scale,
         )
     }
-
-    pub fn from_screen(&self, p: Pos2) -> (f32, f32) {
-        (
-            (p.x - self.origin.x) / self.scale,
-            (p.y - self.origin.y) / self.scale,
-        )
-    }
 }
 
 fn colour(c: Rgb, opacity: f32) -> Color32 {

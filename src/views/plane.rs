@@ -221,7 +221,8 @@ pub fn plane_figure(
                     };
                     let pts: Vec<(f32, f32)> = warped_loop(&[step.from, step.to])
                         .into_iter()
-                        .take(25)
+                        // The edge a→b (the loop's first half), then b itself.
+                        .take(24)
                         .map(to_px)
                         .chain(std::iter::once(px(step.to)))
                         .collect();
