@@ -381,7 +381,17 @@ fn draw(
         let colour = ink(cv.colour);
         match cv.kind {
             CurveKind::Line => polyline(
-                fig, proj, &cv.points, cv.closed, colour, cv.width, cv.opacity, cv.closed,
+                fig,
+                proj,
+                &cv.points,
+                cv.closed,
+                colour,
+                cv.width,
+                cv.opacity,
+                // Orientation arrowheads on the current stage's polygons only: on a mesh
+                // taken face by face (an open mesh from an exporter) every face's outline
+                // would carry three, and hide the regions.
+                cv.closed && !cv.tag.is_empty(),
             ),
             CurveKind::Marker | CurveKind::Dot => {
                 for &p in &cv.points {
