@@ -1127,8 +1127,15 @@ fn run_environment_case(
     }
 }
 
-/// Runs `cases` cases (parallel, deterministic for a given seed).
-pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> StressReport {
+/// Runs `cases` cases (parallel, deterministic for a given seed). When `cancel` is raised the
+/// run stops after the case each thread is on and reports the cases done so far.
+pub fn run(
+    cases: u64,
+    seed: u64,
+    rays: u32,
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+    progress: impl Fn(u64) + Sync,
+) -> StressReport {
     let start = std::time::Instant::now();
     let prev_hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {}));
@@ -1141,6 +1148,9 @@ pub fn run(cases: u64, seed: u64, rays: u32, progress: impl Fn(u64) + Sync) -> S
             let mut rep = StressReport::default();
             let mut rng = Pcg32::new(seed ^ 0x5eed, c);
             for index in c * CHUNK..((c + 1) * CHUNK).min(cases) {
+                if cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed)) {
+                    break;
+                }
                 rep.cases += 1;
                 let result = catch_unwind(AssertUnwindSafe(|| {
                     let case = generate(seed, index);

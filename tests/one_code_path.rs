@@ -24,8 +24,8 @@ fn the_bench_renders_the_analytic_image_that_render_renders() {
         config.area_baseline = false;
         config.exact_u_variants = false;
         let ctx = config.prepare(&scene);
-        let reference = runner::render_reference(&ctx, &config).unwrap();
-        let (_, images) = runner::run_bench(&ctx, &config, &reference, |_, _, _| {}).unwrap();
+        let reference = runner::render_reference(&ctx, &config, None).unwrap();
+        let (_, images) = runner::run_bench(&ctx, &config, &reference, None, |_, _, _| {}).unwrap();
         let bench = images
             .iter()
             .find(|i| i.method == RenderMethod::Analytic)

@@ -94,7 +94,7 @@ fn the_cache_stays_within_its_bound_and_evicts_the_least_recently_used() {
 
     // A stress run writes nothing to the cache.
     cache.clear();
-    let report = penumbra::stress::run(300, 1, 64, |_| {});
+    let report = penumbra::stress::run(300, 1, 64, None, |_| {});
     assert_eq!(report.cases, 300);
     assert_eq!(cache.usage().files, 0, "stress cases are not cached");
     let _ = std::fs::remove_dir_all(&dir);

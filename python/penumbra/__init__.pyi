@@ -88,8 +88,10 @@ class Recording:
         size: int = 800,
         difference: int = 0,
         fit: bool = False,
+        light: Optional[str] = None,
     ) -> Figure:
-        """A view (sphere, hemisphere, plane, environment) at the stepper's stage N."""
+        """A view (sphere, hemisphere, plane, light, bsp, environment) at the stepper's
+        stage N; `light` names the light of the light and bsp views."""
 
 def load_scene(name_or_path: str) -> Scene:
     """An embedded scene by name, or an OBJ, glTF or TOML scene file."""
@@ -118,3 +120,19 @@ def bench(
     aa: int = 1,
 ) -> list[dict]:
     """`penumbra bench`'s rows (method, spp, seconds, mae, rmse, relative_rmse, rmse_corrected)."""
+
+def bench_report(
+    scene: Scene,
+    size: Tuple[int, int] = (160, 120),
+    ladder: list[int] = [1, 2, 4, 8, 16, 32, 64, 128, 256],
+    methods: Optional[list[str]] = None,
+    reference_spp: int = 4096,
+    seed: int = 1,
+    repeats: int = 2,
+    aa: int = 1,
+) -> dict:
+    """`penumbra bench`'s whole report (its bench.json): scene, width, height, reference,
+    rows, equal_time, speed_ratios."""
+
+def bench_chart(report: dict, width: int = 900, height: int = 600) -> Figure:
+    """The run time against RMSE chart of a `bench_report`, as `penumbra bench` draws it."""

@@ -196,12 +196,22 @@ impl Scene {
         let camera = self.camera_or_error()?;
         let mut scene = self.scene.clone();
         let name = self.name.clone();
-        let probe = py.detach(move || -> Result<penumbra::inspect::Probe, String> {
+        let recorded = py.detach(move || -> Result<_, String> {
             let prepared = prepared(&mut scene, &settings, &options)?;
-            penumbra::inspect::debug_dump(&prepared.ctx, &name, &camera, &settings, (x, y), true)
+            let probe = penumbra::inspect::debug_dump(
+                &prepared.ctx,
+                &name,
+                &camera,
+                &settings,
+                (x, y),
+                true,
+            )?;
+            Ok((probe, prepared.ctx))
         });
+        let (probe, context) = recorded.map_err(value_error)?;
         Ok(Recording {
-            probe: probe.map_err(value_error)?,
+            probe,
+            context: std::sync::Arc::new(context),
         })
     }
 
@@ -308,6 +318,9 @@ fn request_of(
 #[pyclass(module = "penumbra")]
 struct Recording {
     probe: penumbra::inspect::Probe,
+    /// The context the recording was made in: the light and bsp views draw on its meshes
+    /// and trees.
+    context: std::sync::Arc<penumbra::render::RenderContext>,
 }
 
 #[pymethods]
@@ -356,9 +369,11 @@ impl Recording {
         serde_json::to_string_pretty(&self.probe).map_err(value_error)
     }
 
-    /// A view of the recording as a figure: `view` is sphere, hemisphere, plane or
-    /// environment; `stage` the stepper's number (1 to len(stages); every stage by default).
-    #[pyo3(signature = (view="sphere", stage=None, style="print", size=800, difference=0, fit=false))]
+    /// A view of the recording as a figure: `view` is sphere, hemisphere, plane, light, bsp or
+    /// environment; `stage` the stepper's number (1 to len(stages); every stage by default);
+    /// `light` the light the light and bsp views show (by name; the stage's light by default).
+    #[pyo3(signature = (view="sphere", stage=None, style="print", size=800, difference=0, fit=false, light=None))]
+    #[allow(clippy::too_many_arguments)]
     fn figure(
         &self,
         view: &str,
@@ -367,6 +382,7 @@ impl Recording {
         size: u32,
         difference: usize,
         fit: bool,
+        light: Option<String>,
     ) -> PyResult<Figure> {
         let style = penumbra::views::Style::from_name(style)
             .ok_or_else(|| value_error(format!("style {style:?}: expected print or screen")))?;
@@ -374,13 +390,14 @@ impl Recording {
             view: view.to_string(),
             stage,
             difference,
+            light,
             style,
             size,
             orbit: None,
             fit,
         };
-        let figure =
-            penumbra::views::recording_figure(&self.probe, &request).map_err(value_error)?;
+        let figure = penumbra::views::recording_figure(&self.probe, Some(&self.context), &request)
+            .map_err(value_error)?;
         Ok(Figure { figure })
     }
 
@@ -480,32 +497,29 @@ fn compare(
     let s = stderr.as_ref().map(pixels).transpose()?;
     let stats = penumbra::render::compare::compare(&a, &b, s.as_ref().map(|s| &s.1[..]));
     // As `penumbra compare` prints it: its JSON, read back as a dict.
-    let json = serde_json_string(&stats)?;
-    let module = py.import("json")?;
-    Ok(module.call_method1("loads", (json,))?.unbind())
-}
-
-fn serde_json_string<T: serde::Serialize>(v: &T) -> PyResult<String> {
-    serde_json::to_string(v).map_err(value_error)
+    to_python(py, &stats)
 }
 
 /// `penumbra stress`: `cases` random and adversarial configurations from `seed`, each shaded
 /// analytically and by a ray-cast oracle of `rays` rays; its report as a dict (the CLI's JSON;
-/// `seconds` is the run's own time). The interpreter is released while it runs; Ctrl-C is
-/// seen when it returns (the library's run has no cancel flag yet).
+/// `seconds` is the run's own time). The interpreter is released while it runs, and Ctrl-C
+/// stops it within a case (KeyboardInterrupt), once the trees of the thesis' polyhedra exist
+/// (built on the first call of a process, in about 3 s, which Ctrl-C does not interrupt).
 #[pyfunction]
 #[pyo3(signature = (cases=1000, seed=1, rays=256))]
 fn stress(py: Python<'_>, cases: u64, seed: u64, rays: u32) -> PyResult<Py<PyAny>> {
-    let report = py.detach(move || penumbra::stress::run(cases, seed, rays, |_| {}));
-    let json = serde_json_string(&report)?;
-    Ok(py.import("json")?.call_method1("loads", (json,))?.unbind())
+    let report = interruptible(py, move |cancel| {
+        penumbra::stress::run(cases, seed, rays, Some(cancel), |_| {})
+    })?;
+    to_python(py, &report)
 }
 
 /// `penumbra bench` on `scene` through its camera: every method (by CLI name; all but
 /// `reference` by default) at each sample count of `ladder` against a reference of
-/// `reference_spp` samples, each render repeated `repeats` times (the fastest kept). Returns
-/// the report's rows as dicts (scene, method, spp, seconds, mae, rmse, relative_rmse,
-/// rmse_corrected), ready for `pandas.DataFrame`. The interpreter is released while it runs.
+/// `reference_spp` samples, each deterministic render repeated `repeats` times (the fastest
+/// kept). Returns the report's rows as dicts (scene, method, spp, seconds, mae, rmse,
+/// relative_rmse, rmse_corrected), ready for `pandas.DataFrame`. The interpreter is released
+/// while it runs, and Ctrl-C stops it within a tile of the current render (KeyboardInterrupt).
 #[pyfunction]
 #[pyo3(signature = (scene, size=(160, 120), ladder=vec![1, 2, 4, 8, 16, 32, 64, 128, 256], methods=None, reference_spp=4096, seed=1, repeats=2, aa=1))]
 #[allow(clippy::too_many_arguments)]
@@ -521,6 +535,85 @@ fn run_bench(
     repeats: u32,
     aa: u32,
 ) -> PyResult<Py<PyAny>> {
+    let report = bench_run(
+        py,
+        scene,
+        size,
+        ladder,
+        methods,
+        reference_spp,
+        seed,
+        repeats,
+        aa,
+    )?;
+    to_python(py, &report.rows)
+}
+
+/// The whole report of `penumbra bench` (its `bench.json`) as a dict: the rows, the
+/// reference's noise, the equal-time table and the speed ratios. Same arguments as `bench`.
+#[pyfunction]
+#[pyo3(signature = (scene, size=(160, 120), ladder=vec![1, 2, 4, 8, 16, 32, 64, 128, 256], methods=None, reference_spp=4096, seed=1, repeats=2, aa=1))]
+#[allow(clippy::too_many_arguments)]
+fn bench_report(
+    py: Python<'_>,
+    scene: &Scene,
+    size: (u32, u32),
+    ladder: Vec<u32>,
+    methods: Option<Vec<String>>,
+    reference_spp: u32,
+    seed: u64,
+    repeats: u32,
+    aa: u32,
+) -> PyResult<Py<PyAny>> {
+    let report = bench_run(
+        py,
+        scene,
+        size,
+        ladder,
+        methods,
+        reference_spp,
+        seed,
+        repeats,
+        aa,
+    )?;
+    to_python(py, &report)
+}
+
+/// The chart `penumbra bench` writes as `time_vs_rmse.svg`, from a `bench_report` dict:
+/// RMSE against run time, log–log, one series per method, the reference's noise as a line.
+#[pyfunction]
+#[pyo3(signature = (report, width=900, height=600))]
+fn bench_chart(
+    py: Python<'_>,
+    report: &Bound<'_, PyAny>,
+    width: u32,
+    height: u32,
+) -> PyResult<Figure> {
+    let json: String = py
+        .import("json")?
+        .call_method1("dumps", (report,))?
+        .extract()?;
+    let report: penumbra::bench::table::BenchReport = serde_json::from_str(&json)
+        .map_err(|e| PyValueError::new_err(format!("not a bench report: {e}")))?;
+    let chart = penumbra::bench::output::time_vs_rmse_chart(&report);
+    Ok(Figure {
+        figure: penumbra::figure::plot::chart_figure(&chart, width, height),
+    })
+}
+
+/// The one bench run behind `bench` and `bench_report`.
+#[allow(clippy::too_many_arguments)]
+fn bench_run(
+    py: Python<'_>,
+    scene: &Scene,
+    size: (u32, u32),
+    ladder: Vec<u32>,
+    methods: Option<Vec<String>>,
+    reference_spp: u32,
+    seed: u64,
+    repeats: u32,
+    aa: u32,
+) -> PyResult<penumbra::bench::table::BenchReport> {
     use penumbra::bench::runner;
     let camera = scene.camera_or_error()?;
     let label = std::path::Path::new(&scene.name)
@@ -539,12 +632,17 @@ fn run_bench(
     config.seed = seed;
     config.repeats = repeats;
     let loaded = scene.scene.clone();
-    let report = py.detach(move || -> Result<_, String> {
+    let report = interruptible(py, move |cancel| -> Result<_, String> {
         let ctx = config.prepare(&loaded);
-        let reference = runner::render_reference(&ctx, &config)?;
-        Ok(runner::run_bench(&ctx, &config, &reference, |_, _, _| {})?.0)
-    });
-    let json = serde_json_string(&report.map_err(value_error)?.rows)?;
+        let reference = runner::render_reference(&ctx, &config, Some(cancel))?;
+        Ok(runner::run_bench(&ctx, &config, &reference, Some(cancel), |_, _, _| {})?.0)
+    })?;
+    report.map_err(value_error)
+}
+
+/// A serialisable value as the Python object `json.loads` makes of its JSON.
+fn to_python<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<PyAny>> {
+    let json = serde_json::to_string(value).map_err(value_error)?;
     Ok(py.import("json")?.call_method1("loads", (json,))?.unbind())
 }
 
@@ -559,5 +657,7 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(stress, m)?)?;
     m.add_function(wrap_pyfunction!(run_bench, m)?)?;
+    m.add_function(wrap_pyfunction!(bench_report, m)?)?;
+    m.add_function(wrap_pyfunction!(bench_chart, m)?)?;
     Ok(())
 }

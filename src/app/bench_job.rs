@@ -85,8 +85,8 @@ fn run(
     let mut config = BenchConfig::new(&label, camera, width, height);
     config.ladder = vec![1, 4, 16, 64];
     config.reference_spp = 1024;
-    let reference = render_reference(ctx, &config)?;
-    let (report, strip) = run_bench(ctx, &config, &reference, |done, total, what| {
+    let reference = render_reference(ctx, &config, None)?;
+    let (report, strip) = run_bench(ctx, &config, &reference, None, |done, total, what| {
         let mut p = progress.lock().unwrap_or_else(|e| e.into_inner());
         p.done = done;
         p.total = total;

@@ -7,6 +7,17 @@ use crate::render::compare::compare;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::Camera;
 use crate::stochastic::LightSampling;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// What a cancelled run returns (the command line's Ctrl-C, Python's KeyboardInterrupt).
+pub const CANCELLED: &str = "cancelled";
+
+fn check(cancel: Option<&AtomicBool>) -> Result<(), String> {
+    match cancel {
+        Some(c) if c.load(Ordering::Relaxed) => Err(CANCELLED.into()),
+        _ => Ok(()),
+    }
+}
 
 /// What to run.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -99,17 +110,19 @@ pub struct ReferenceImage {
 }
 
 /// Renders the reference: the full-stochastic estimator at `reference_spp`, with a seed no
-/// ladder render uses.
+/// ladder render uses. Stops with [`CANCELLED`] soon after `cancel` is raised.
 pub fn render_reference(
     ctx: &RenderContext,
     config: &BenchConfig,
+    cancel: Option<&AtomicBool>,
 ) -> Result<ReferenceImage, String> {
     let settings = config.settings(
         RenderMethod::Reference,
         config.reference_spp,
         config.seed ^ 0x9e37_79b9_7f4a_7c15,
     );
-    let out = ctx.render_full(&config.camera, &settings, None)?;
+    let out = ctx.render_full(&config.camera, &settings, cancel)?;
+    check(cancel)?;
     Ok(ReferenceImage {
         image: out.image,
         stderr: out
@@ -134,11 +147,13 @@ pub struct BenchImage {
 /// Renders every method of `config` (stochastic ones at every budget of the ladder), times
 /// and compares each with `reference`. `progress(done, total, label)` is called before every
 /// render. Returns the report and, per method, the image whose time is closest to the
-/// analytic method's (for an equal-time comparison strip).
+/// analytic method's (for an equal-time comparison strip). Stops with [`CANCELLED`] soon
+/// after `cancel` is raised (each render checks it tile by tile).
 pub fn run_bench(
     ctx: &RenderContext,
     config: &BenchConfig,
     reference: &ReferenceImage,
+    cancel: Option<&AtomicBool>,
     mut progress: impl FnMut(usize, usize, &str),
 ) -> Result<(BenchReport, Vec<BenchImage>), String> {
     let (w, h) = (reference.image.width, reference.image.height);
@@ -201,7 +216,8 @@ pub fn run_bench(
         };
         let mut best: Option<(f64, Image)> = None;
         for _ in 0..repeats {
-            let (img, stats) = ctx.render(&config.camera, &settings, None)?;
+            let (img, stats) = ctx.render(&config.camera, &settings, cancel)?;
+            check(cancel)?;
             if best.as_ref().is_none_or(|(t, _)| stats.seconds < *t) {
                 best = Some((stats.seconds, img));
             }

@@ -119,7 +119,7 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
                 "rendering the reference ({} spp, {}x{})...",
                 config.reference_spp, config.width, config.height
             );
-            let r = runner::render_reference(&ctx, &config).map_err(anyhow::Error::msg)?;
+            let r = runner::render_reference(&ctx, &config, None).map_err(anyhow::Error::msg)?;
             let p = dir.join("reference.pfm");
             image_io::write_pfm(&p, r.image.width, r.image.height, &r.image.to_rgb32())?;
             let e = stderr_path(&p);
@@ -133,7 +133,7 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
             r
         }
     };
-    let (report, strip) = runner::run_bench(&ctx, &config, &reference, |k, n, what| {
+    let (report, strip) = runner::run_bench(&ctx, &config, &reference, None, |k, n, what| {
         eprintln!("[{k}/{n}] {what}")
     })
     .map_err(anyhow::Error::msg)?;

@@ -28,7 +28,7 @@ pub(crate) fn describe_case(seed: u64, index: u64, rays: u32) -> Result<()> {
 /// is invalid (NaN, infinite, negative, a panic, an invariant violated).
 pub(crate) fn stress(cases: u64, seed: u64, rays: u32, json: Option<&Path>) -> Result<()> {
     let last = std::sync::atomic::AtomicU64::new(0);
-    let rep = penumbra::stress::run(cases, seed, rays, |done| {
+    let rep = penumbra::stress::run(cases, seed, rays, None, |done| {
         let step = (cases / 20).max(1);
         let prev = last.fetch_max(done / step, std::sync::atomic::Ordering::Relaxed);
         if done / step > prev {

@@ -7,16 +7,19 @@ use super::stages::{Step, StepKind, plane_subject, probe_steps};
 use super::{SphereCamera, Style};
 use crate::figure::Figure;
 use crate::inspect::Probe;
+use crate::render::RenderContext;
 
-/// Which figure of a recording: the view (`sphere`, `hemisphere`, `plane`, `environment`),
-/// the stepper's stage (1 to M; every stage without one), the set difference the plane shows
-/// when the stage names none, the style, the side in pixels, a camera in place of the framing
-/// on the lights, and whether the hemisphere is magnified to what is drawn.
+/// Which figure of a recording: the view (`sphere`, `hemisphere`, `plane`, `light`, `bsp`,
+/// `environment`), the stepper's stage (1 to M; every stage without one), the set difference
+/// the plane shows when the stage names none, the light the light and bsp views show (the
+/// stage's light without one), the style, the side in pixels, a camera in place of the
+/// framing on the lights, and whether the hemisphere is magnified to what is drawn.
 #[derive(Clone, Debug)]
 pub struct FigureRequest {
     pub view: String,
     pub stage: Option<usize>,
     pub difference: usize,
+    pub light: Option<String>,
     pub style: Style,
     pub size: u32,
     pub orbit: Option<SphereCamera>,
@@ -29,6 +32,7 @@ impl Default for FigureRequest {
             view: "sphere".into(),
             stage: None,
             difference: 0,
+            light: None,
             style: Style::Print,
             size: 800,
             orbit: None,
@@ -59,13 +63,29 @@ pub fn current_stage(steps: &[Step], stage: Option<usize>) -> Result<Option<usiz
     }
 }
 
-/// The figure `request` asks of `probe`'s recording.
-pub fn recording_figure(probe: &Probe, request: &FigureRequest) -> Result<Figure, String> {
+/// The figure `request` asks of `probe`'s recording. The light and bsp views draw on the
+/// light's mesh and tree, which come from `scene`: the context the recording was made in
+/// (or one prepared the same way); the other views need only the recording.
+pub fn recording_figure(
+    probe: &Probe,
+    scene: Option<&RenderContext>,
+    request: &FigureRequest,
+) -> Result<Figure, String> {
     let steps = probe_steps(probe);
     let current = current_stage(&steps, request.stage)?;
     let step = current.map(|i| &steps[i]);
     let (size, style) = (request.size, request.style);
     match request.view.as_str() {
+        "light" | "bsp" => {
+            let scene = scene.ok_or_else(|| {
+                format!(
+                    "view {}: the light's mesh comes from the scene, which this recording \
+                     does not carry",
+                    request.view
+                )
+            })?;
+            light_structure_figure(probe, scene, &steps, current, request)
+        }
         "sphere" | "hemisphere" | "environment" => {
             let layers = if request.view == "environment" {
                 if probe.environment.is_none() {
@@ -128,4 +148,59 @@ pub fn recording_figure(probe: &Probe, request: &FigureRequest) -> Result<Figure
             "view {other}: expected sphere, hemisphere, plane, light, bsp or environment"
         )),
     }
+}
+
+/// The light structure (`light`) or its BSP tree's planes (`bsp`) of the light `request`
+/// names, or else of the current stage's light (the first light recorded at every stage).
+/// The mesh and tree come from `scene`; what is drawn on them comes from the recording.
+fn light_structure_figure(
+    probe: &Probe,
+    scene: &RenderContext,
+    steps: &[Step],
+    current: Option<usize>,
+    request: &FigureRequest,
+) -> Result<Figure, String> {
+    use super::light::{LightCamera, light_figure};
+    let light = match &request.light {
+        Some(name) => probe
+            .lights
+            .iter()
+            .find(|l| &l.name == name)
+            .map(|l| l.light)
+            .ok_or_else(|| {
+                let names: Vec<&str> = probe.lights.iter().map(|l| l.name.as_str()).collect();
+                format!("light {name}: the lights are {}", names.join(", "))
+            })?,
+        None => {
+            let record = current.map_or(0, |i| steps[i].record);
+            probe
+                .recording
+                .lights
+                .get(record)
+                .map(|r| r.light)
+                .ok_or("the recording at this point has no light")?
+        }
+    };
+    let &(id, _) = scene
+        .prepared
+        .lights
+        .get(light)
+        .ok_or_else(|| format!("scene '{}' has no light {light}", probe.scene))?;
+    let obj = &scene.prepared.objects[id as usize];
+    let record = probe
+        .recording
+        .lights
+        .iter()
+        .find(|r| r.light == light && r.piece.is_none());
+    let mut camera = LightCamera::default();
+    if let Some(o) = request.orbit {
+        (camera.yaw, camera.pitch, camera.zoom) = (o.yaw, o.pitch, o.zoom);
+    }
+    if request.view == "bsp" {
+        camera.levels = 2;
+    } else {
+        camera.path_planes = false;
+    }
+    let point = probe.point.map(|p| p.position);
+    Ok(light_figure(obj, point, record, &camera, request.size, request.style).0)
 }
