@@ -1136,7 +1136,7 @@ pub fn run(
     cancel: Option<&std::sync::atomic::AtomicBool>,
     progress: impl Fn(u64) + Sync,
 ) -> StressReport {
-    let start = std::time::Instant::now();
+    let start = web_time::Instant::now();
     let prev_hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {}));
     const CHUNK: u64 = 4096;

@@ -44,9 +44,9 @@ use orbit::OrbitCamera;
 use sphere_view::SphereView;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Instant;
 use tonemap::{Aov, ToneMap};
 use viewport::{RenderWorker, frame_image};
+use web_time::Instant;
 
 pub use launch::{DragMeasurement, Measurement, RunOptions, run};
 

@@ -11,7 +11,7 @@ use crate::scene::edit::{EditError, EditHistory, Rigid};
 use egui::{Painter, Pos2, Rect, Response, Ui};
 use glam::DVec3;
 use std::sync::Arc;
-use std::time::Instant;
+use web_time::Instant;
 
 /// A drag of a handle in progress.
 struct HandleDrag {

@@ -103,7 +103,7 @@ pub fn run_environment_bench(
     };
     // Prepared as `penumbra render` prepares this image (the scene has an environment: checked
     // above).
-    let t = std::time::Instant::now();
+    let t = web_time::Instant::now();
     let mut ctx = RenderContext::for_render(scene, &settings);
     let prepare_seconds = t.elapsed().as_secs_f64();
     let stderr: std::cell::RefCell<Option<Image>> = std::cell::RefCell::new(None);

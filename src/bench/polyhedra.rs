@@ -19,7 +19,7 @@ use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use crate::scene::{Camera, Material, ObjectFlags, Scene, SceneObject, shapes};
 use glam::{DAffine3, DVec3};
-use std::time::Instant;
+use web_time::Instant;
 
 /// The thesis' figures for one polyhedron (Tables 7.2 and 7.4).
 #[derive(Clone, Copy, Debug, serde::Serialize)]

@@ -11,7 +11,7 @@ use crate::scene::scene_file::load_scene;
 use crate::shading::Shortcuts;
 use crate::stochastic::LightSampling;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use web_time::Instant;
 
 /// What to run.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]

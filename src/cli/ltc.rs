@@ -22,7 +22,7 @@ pub(crate) fn ltc_error(
     use penumbra::ltc::error_map::{Source, compute_map, heat_map_png, summarize, to_csv};
     use penumbra::ltc::fit::{FitOptions, Objective, fit_grid};
     std::fs::create_dir_all(out).with_context(|| format!("{}", out.display()))?;
-    let start = std::time::Instant::now();
+    let start = web_time::Instant::now();
     let mut sources = Vec::new();
     let mut names: Vec<String> = Vec::new();
     for t in tables {
@@ -122,7 +122,7 @@ pub(crate) struct FitRequest<'a> {
 
 /// `penumbra fit-ltc`: the whole table, or some rows of a base table fitted again.
 pub(crate) fn fit_ltc(req: &FitRequest) -> Result<()> {
-    let start = std::time::Instant::now();
+    let start = web_time::Instant::now();
     let mut fo = penumbra::ltc::fit::FitOptions::default();
     if let Some(o) = req.objective {
         fo.objective = o;

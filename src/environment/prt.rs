@@ -267,7 +267,7 @@ impl TransferField {
         settings: PrtSettings,
         cache: Option<&TreeCache>,
     ) -> (TransferField, PrtReport) {
-        let start = std::time::Instant::now();
+        let start = web_time::Instant::now();
         let key = transfer_key(scene, settings);
         let faces = |o: usize| scene.objects[o].mesh.faces.len();
         if let Some(field) = cache.and_then(|c| {

@@ -177,7 +177,7 @@ impl SilhouetteBsp {
         if !poly.diagnostics.convex {
             return None;
         }
-        let start = std::time::Instant::now();
+        let start = web_time::Instant::now();
         // Pass 1: the cells and a point in each.
         let mut points = Vec::new();
         let planes = face_plane_cells(poly, lo, hi, max_cells, &mut points)?;

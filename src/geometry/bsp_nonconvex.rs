@@ -140,7 +140,7 @@ impl ExactSilhouetteBsp {
                 .map(|(i, e)| ([e.v[0].min(e.v[1]), e.v[0].max(e.v[1])], i as u32))
                 .collect(),
         };
-        let start = std::time::Instant::now();
+        let start = web_time::Instant::now();
         let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
         let mut b = Builder {
             poly,

@@ -841,7 +841,7 @@ impl SilhouetteTriangulation {
         exact: &ExactSilhouetteBsp,
         limits: TriangulationLimits,
     ) -> (Self, TriangulationStats) {
-        let start = std::time::Instant::now();
+        let start = web_time::Instant::now();
         let mut b = Builder {
             poly,
             exact,

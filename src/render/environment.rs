@@ -33,7 +33,7 @@ use crate::shading::{
 use glam::DVec3;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::time::Instant;
+use web_time::Instant;
 
 /// Which parts of conical ray culling `rt` uses (002 Table 1's three columns).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

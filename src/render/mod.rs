@@ -4,6 +4,7 @@ pub mod compare;
 pub mod environment;
 pub mod progressive;
 pub mod request;
+pub mod slicing;
 pub mod stochastic;
 
 // Images and their files are a base layer (`raster`), shared with the denoisers and the
@@ -24,7 +25,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use web_time::Instant;
 
 /// The camera rays of pixel (x, y): `aa`×`aa` stratified positions at the centres of the
 /// sub-pixel cells, averaged with a box filter by every renderer (analytic and reference alike).
@@ -591,7 +592,8 @@ impl RenderOutput {
 /// Evaluates `pixel(scratch, x, y)` for every pixel in 16×16 tiles spread over rayon's
 /// threads (one scratch per worker), and returns the values in row-major order; `None` once
 /// `cancel` has been set (the tiles not yet started are skipped, and nothing is assembled: a
-/// cancelled view must give way to the next one at once).
+/// cancelled view must give way to the next one at once). Under a [`slicing::Slicer`] the
+/// tiles run in order on this thread, a slice at a time.
 pub fn render_tiles<T, S>(
     width: u32,
     height: u32,
@@ -600,44 +602,90 @@ pub fn render_tiles<T, S>(
     pixel: impl Fn(&mut S, u32, u32) -> T + Sync + Send,
 ) -> Option<Vec<T>>
 where
-    T: Default + Clone + Send,
+    T: Default + Clone + Send + 'static,
 {
-    const TILE: u32 = 16;
-    let (w, h) = (width, height);
-    let tiles_x = w.div_ceil(TILE);
-    let tiles_y = h.div_ceil(TILE);
-    let tiles: Vec<(u32, Vec<T>)> = (0..tiles_x * tiles_y)
+    let tiles = Tiles::new(width, height);
+    let count = tiles.count();
+    let tile = |scratch: &mut S, t: usize| tiles.evaluate(t, |x, y| pixel(scratch, x, y));
+    if let Some(sliced) = slicing::Slicer::with_current(|s| s.tiles(count, &init, tile)) {
+        return sliced.map(|done| tiles.assemble(done.into_iter().enumerate()));
+    }
+    let done: Vec<(usize, Vec<T>)> = (0..count)
         .into_par_iter()
         .map_init(&init, |scratch, t| {
-            let (tx, ty) = (t % tiles_x, t / tiles_x);
-            let (x0, y0) = (tx * TILE, ty * TILE);
-            let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
-            let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
             // A cancelled tile comes back empty and stays at the default value.
             if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                return (t, out);
+                return (t, Vec::new());
             }
-            for y in y0..y1 {
-                for x in x0..x1 {
-                    out.push(pixel(scratch, x, y));
-                }
-            }
-            (t, out)
+            (t, tile(scratch, t))
         })
         .collect();
     if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
         return None;
     }
-    let mut pixels = vec![T::default(); w as usize * h as usize];
-    for (t, px) in tiles {
-        let (tx, ty) = (t % tiles_x, t / tiles_x);
-        let (x0, y0) = (tx * TILE, ty * TILE);
-        let x1 = (x0 + TILE).min(w);
-        let tw = (x1 - x0) as usize;
-        for (i, p) in px.into_iter().enumerate() {
-            let (x, y) = (x0 + (i % tw) as u32, y0 + (i / tw) as u32);
-            pixels[(y * w + x) as usize] = p;
+    Some(tiles.assemble(done.into_iter()))
+}
+
+/// An image cut into 16×16 tiles, numbered row by row.
+struct Tiles {
+    width: u32,
+    height: u32,
+    across: u32,
+}
+
+impl Tiles {
+    const SIDE: u32 = 16;
+
+    fn new(width: u32, height: u32) -> Self {
+        Tiles {
+            width,
+            height,
+            across: width.div_ceil(Self::SIDE),
         }
     }
-    Some(pixels)
+
+    fn count(&self) -> usize {
+        (self.across * self.height.div_ceil(Self::SIDE)) as usize
+    }
+
+    /// Tile `t`'s corner and its far corner (exclusive).
+    fn bounds(&self, t: usize) -> ((u32, u32), (u32, u32)) {
+        let t = t as u32;
+        let (x0, y0) = (
+            (t % self.across) * Self::SIDE,
+            (t / self.across) * Self::SIDE,
+        );
+        let far = (
+            (x0 + Self::SIDE).min(self.width),
+            (y0 + Self::SIDE).min(self.height),
+        );
+        ((x0, y0), far)
+    }
+
+    /// `pixel(x, y)` over tile `t`, row by row.
+    fn evaluate<T>(&self, t: usize, mut pixel: impl FnMut(u32, u32) -> T) -> Vec<T> {
+        let ((x0, y0), (x1, y1)) = self.bounds(t);
+        let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+        for y in y0..y1 {
+            for x in x0..x1 {
+                out.push(pixel(x, y));
+            }
+        }
+        out
+    }
+
+    /// The image in row-major order from its tiles' values.
+    fn assemble<T: Default + Clone>(&self, tiles: impl Iterator<Item = (usize, Vec<T>)>) -> Vec<T> {
+        let w = self.width;
+        let mut pixels = vec![T::default(); w as usize * self.height as usize];
+        for (t, px) in tiles {
+            let ((x0, y0), (x1, _)) = self.bounds(t);
+            let tw = (x1 - x0) as usize;
+            for (i, p) in px.into_iter().enumerate() {
+                let (x, y) = (x0 + (i % tw) as u32, y0 + (i / tw) as u32);
+                pixels[(y * w + x) as usize] = p;
+            }
+        }
+        pixels
+    }
 }

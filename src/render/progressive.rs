@@ -11,7 +11,7 @@ use super::{RenderContext, RenderMethod, RenderOutput, RenderSettings};
 use crate::scene::Camera;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use web_time::Instant;
 
 /// One step of a progressive render.
 #[derive(Clone, Debug)]
