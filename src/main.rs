@@ -1,7 +1,9 @@
 //! The `penumbra` command line: a thin layer over the library, one module per subcommand
-//! (`cli`), and the workbench window when built with the feature `gui` (the default).
+//! (`cli`), and the workbench window when built with the feature `gui` (the default). Built
+//! for `wasm32-unknown-unknown`, it is the workbench in a browser page (docs/web.md).
 
 /// `println!` that ignores a closed stdout (e.g. piped into `head`) instead of panicking.
+#[cfg(not(target_arch = "wasm32"))]
 macro_rules! say {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
@@ -9,12 +11,22 @@ macro_rules! say {
     }};
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 mod cli;
 
+#[cfg(not(target_arch = "wasm32"))]
 use anyhow::Result;
+#[cfg(not(target_arch = "wasm32"))]
 use cli::{Cli, Command, command_line};
 
+/// The browser's page: the workbench on its canvas (no command line there).
+#[cfg(target_arch = "wasm32")]
+fn main() {
+    penumbra::app::web::start();
+}
+
 /// Errors are printed alone, with their causes, whatever `RUST_BACKTRACE` says.
+#[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
     match run() {
         Ok(()) => std::process::ExitCode::SUCCESS,
@@ -25,6 +37,7 @@ fn main() -> std::process::ExitCode {
     }
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn run() -> Result<()> {
     use clap::FromArgMatches;
     let cli = Cli::from_arg_matches(&command_line().get_matches()).unwrap_or_else(|e| e.exit());

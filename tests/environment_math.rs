@@ -736,11 +736,17 @@ fn load_hdr_round_trip() {
     image::codecs::hdr::HdrEncoder::new(file)
         .encode(&rgb, w as usize, h as usize)
         .unwrap();
-    let map = EnvironmentMap::load(&path).unwrap();
-    assert_eq!((map.width(), map.height()), (w as usize, h as usize));
-    for (k, p) in px.iter().enumerate() {
-        let want = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
-        assert_eq!(map.pixels()[k], want, "pixel {k}");
+    // From the file, and from its content as the browser hands it over.
+    let bytes = std::fs::read(&path).unwrap();
+    for map in [
+        EnvironmentMap::load(&path).unwrap(),
+        EnvironmentMap::from_bytes(&bytes, "dropped.hdr").unwrap(),
+    ] {
+        assert_eq!((map.width(), map.height()), (w as usize, h as usize));
+        for (k, p) in px.iter().enumerate() {
+            let want = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            assert_eq!(map.pixels()[k], want, "pixel {k}");
+        }
     }
 }
 
@@ -752,11 +758,16 @@ fn load_exr_round_trip_and_repairs() {
         .collect();
     let path = temp("tiny.exr");
     penumbra::render::image_io::write_exr(&path, w, h, &px).unwrap();
-    let map = EnvironmentMap::load(&path).unwrap();
-    assert_eq!((map.width(), map.height()), (5, 2));
-    for (k, p) in px.iter().enumerate() {
-        let want = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
-        assert_eq!(map.pixels()[k], want, "pixel {k}");
+    let bytes = std::fs::read(&path).unwrap();
+    for map in [
+        EnvironmentMap::load(&path).unwrap(),
+        EnvironmentMap::from_bytes(&bytes, "dropped.exr").unwrap(),
+    ] {
+        assert_eq!((map.width(), map.height()), (5, 2));
+        for (k, p) in px.iter().enumerate() {
+            let want = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            assert_eq!(map.pixels()[k], want, "pixel {k}");
+        }
     }
 
     // Negative pixels are clamped to zero (with a warning on stderr).
@@ -788,8 +799,14 @@ fn load_errors_name_the_file() {
     }
     for name in ["corrupt.hdr", "corrupt.exr"] {
         let path = temp(name);
-        std::fs::write(&path, b"#?RADIANCE\nthis is not an image\n\x00\x01\x02").unwrap();
+        let corrupt = b"#?RADIANCE\nthis is not an image\n\x00\x01\x02";
+        std::fs::write(&path, corrupt).unwrap();
         let err = format!("{:#}", EnvironmentMap::load(&path).unwrap_err());
+        assert!(err.contains(name), "{err}");
+        let err = format!(
+            "{:#}",
+            EnvironmentMap::from_bytes(corrupt, name).unwrap_err()
+        );
         assert!(err.contains(name), "{err}");
     }
     let path = temp("sky.png");

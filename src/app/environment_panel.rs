@@ -16,6 +16,8 @@ pub enum MapChoice {
     Sky,
     SkySh,
     File(PathBuf),
+    /// A file's name and content, handed over by the browser (not kept between sessions).
+    Content(String, #[serde(skip)] Arc<[u8]>),
 }
 
 impl MapChoice {
@@ -38,6 +40,7 @@ impl MapChoice {
             MapChoice::File(p) => p
                 .file_name()
                 .map_or_else(|| p.display().to_string(), |f| f.to_string_lossy().into()),
+            MapChoice::Content(name, _) => name.clone(),
         }
     }
 
@@ -47,6 +50,8 @@ impl MapChoice {
             MapChoice::Sky => Some(EnvironmentSource::Sky),
             MapChoice::SkySh => Some(EnvironmentSource::SkySh),
             MapChoice::File(p) => Some(EnvironmentSource::File(p.clone())),
+            // Read by `MapCache::light` from the content.
+            MapChoice::Content(name, _) => Some(EnvironmentSource::File(name.into())),
         }
     }
 }
@@ -133,7 +138,13 @@ impl MapCache {
             .as_ref()
             .is_none_or(|(m, _, _)| *m != choice.map)
         {
-            let (map, label) = EnvironmentLight::load_map(&source)?;
+            let (map, label) = match &choice.map {
+                MapChoice::Content(name, bytes) => (
+                    crate::environment::EnvironmentMap::from_bytes(bytes, name)?,
+                    name.clone(),
+                ),
+                _ => EnvironmentLight::load_map(&source)?,
+            };
             self.loaded = Some((choice.map.clone(), map, label));
         }
         let (_, map, label) = self.loaded.as_ref().expect("just loaded");
@@ -154,6 +165,9 @@ pub struct EnvironmentPanel {
     /// change projects the map on SH again and restarts the render).
     rotate_edit: Option<f64>,
     scale_edit: Option<f64>,
+    /// "file…" was clicked in the browser: the app opens its picker.
+    #[cfg(target_arch = "wasm32")]
+    pub wants_file: bool,
 }
 
 impl EnvironmentPanel {
@@ -181,18 +195,26 @@ impl EnvironmentPanel {
                     choice.map = m;
                 }
             }
-            if let MapChoice::File(_) = &choice.map {
+            if let MapChoice::File(_) | MapChoice::Content(..) = &choice.map {
                 let _ = ui.selectable_label(true, choice.map.label());
             }
+            #[cfg(not(target_arch = "wasm32"))]
             if ui
                 .button("file…")
                 .on_hover_text("an equirectangular .hdr or .exr map (or drop one on the window)")
                 .clicked()
-                && let Some(p) = rfd::FileDialog::new()
-                    .add_filter("environment map", &["hdr", "exr"])
-                    .pick_file()
+                && let Some(p) = super::platform::pick_file("environment map", &["hdr", "exr"])
             {
                 choice.map = MapChoice::File(p);
+            }
+            // The browser's picker answers later, through the app's inbox.
+            #[cfg(target_arch = "wasm32")]
+            if ui
+                .button("file…")
+                .on_hover_text("an equirectangular .hdr or .exr map (or drop one on the page)")
+                .clicked()
+            {
+                self.wants_file = true;
             }
         });
         if choice.map != MapChoice::None {

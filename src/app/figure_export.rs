@@ -127,19 +127,29 @@ impl WorkbenchApp {
         Ok(())
     }
 
-    /// Asks where to write the figure of `view`, then writes it.
+    /// Asks where to write the figure of `view`, then writes it (downloads it in the
+    /// browser).
     pub(in crate::app) fn export_figure_dialog(&mut self, view: FigureView) {
-        let Some(path) = rfd::FileDialog::new()
-            .set_file_name(format!("{}.svg", view.file_stem()))
-            .add_filter("SVG", &["svg"])
-            .add_filter("PDF", &["pdf"])
-            .add_filter("PNG", &["png"])
-            .save_file()
-        else {
+        let name = format!("{}.svg", view.file_stem());
+        let Some(target) = super::platform::save_as("figure", &["svg", "pdf", "png"], &name) else {
             return;
         };
-        if let Err(e) = self.export_figure(view, &path) {
-            self.status = format!("figure not written: {e}");
-        }
+        let style = if self.figure_print {
+            Style::Print
+        } else {
+            Style::Screen
+        };
+        let figure = match self.view_figure(view, EXPORT_SIDE, style) {
+            Ok(f) => f,
+            Err(e) => {
+                self.status = format!("figure not written: {e}");
+                return;
+            }
+        };
+        let format = target.extension();
+        self.status = target.write(
+            |p| crate::figure::save(&figure, p),
+            || crate::figure::to_bytes(&figure, &format),
+        );
     }
 }

@@ -16,6 +16,7 @@ pub mod figure_painter;
 pub mod files;
 pub mod gizmo;
 pub mod inspector;
+#[cfg(not(target_arch = "wasm32"))]
 mod launch;
 pub mod layout;
 pub mod lesson;
@@ -23,12 +24,15 @@ pub mod lesson_export;
 pub mod light_view;
 pub mod orbit;
 pub mod panes;
+pub mod platform;
 pub mod scene_edit;
 pub mod sphere_view;
 
 pub mod tonemap;
 pub mod ui;
 pub mod viewport;
+#[cfg(target_arch = "wasm32")]
+pub mod viewport_web;
 
 use crate::bench::BenchReport;
 use crate::inspect::{MonteCarloEstimate, monte_carlo, probe_corrected, probe_method};
@@ -45,10 +49,17 @@ use sphere_view::SphereView;
 use std::path::PathBuf;
 use std::sync::Arc;
 use tonemap::{Aov, ToneMap};
-use viewport::{RenderWorker, frame_image};
+#[cfg(not(target_arch = "wasm32"))]
+use viewport::RenderWorker;
+use viewport::frame_image;
+#[cfg(target_arch = "wasm32")]
+use viewport_web::RenderWorker;
 use web_time::Instant;
 
+#[cfg(not(target_arch = "wasm32"))]
 pub use launch::{DragMeasurement, Measurement, RunOptions, run};
+#[cfg(target_arch = "wasm32")]
+pub mod web;
 
 /// What is kept between sessions.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -167,7 +178,18 @@ pub struct AppState {
     last_frame: Instant,
     /// UI frame times (ms), for the status bar.
     frame_ms: f64,
-    pending_screenshot: Option<(PathBuf, Option<egui::Rect>)>,
+    pending_screenshot: Option<(platform::SaveTarget, Option<egui::Rect>)>,
+    /// Files the browser's picker answered with (empty on the desktop, whose dialogs block).
+    inbox: platform::FileInbox,
+    /// When the workbench started (the browser's log times its first image from it).
+    #[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
+    started: Instant,
+    /// What the browser's console has been told (`log_milestones`).
+    #[cfg(target_arch = "wasm32")]
+    web_log: WebLog,
+    /// Wakes the UI (a frame is ready, a picked file arrived).
+    #[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
+    wake: Arc<dyn Fn() + Send + Sync>,
     sphere_rect: Option<egui::Rect>,
     /// The tile of the sphere, hemisphere or projected plane drawn last (what a lesson frame
     /// shows).
@@ -193,9 +215,19 @@ pub struct AppState {
     env_maps: environment_panel::MapCache,
 }
 
+/// What the browser's console has been told.
+#[cfg(target_arch = "wasm32")]
+#[derive(Default)]
+struct WebLog {
+    status: String,
+    first_image: bool,
+    recording: Option<((f64, f64), usize)>,
+}
+
 impl AppState {
     /// A workbench on `state.scene`; `repaint` wakes the UI when a frame is ready.
     pub fn new(state: Persisted, repaint: impl Fn() + Send + Sync + 'static) -> Self {
+        let wake: Arc<dyn Fn() + Send + Sync> = Arc::new(repaint);
         let mut app = AppState {
             orbit: OrbitCamera {
                 target: glam::DVec3::ZERO,
@@ -207,7 +239,10 @@ impl AppState {
             },
             ctx: None,
             scene_error: None,
-            worker: RenderWorker::start(repaint),
+            worker: RenderWorker::start({
+                let wake = wake.clone();
+                move || wake()
+            }),
             requested: None,
             scene_generation: 0,
             texture: None,
@@ -228,6 +263,11 @@ impl AppState {
             last_frame: Instant::now(),
             frame_ms: 0.0,
             pending_screenshot: None,
+            inbox: Default::default(),
+            started: Instant::now(),
+            #[cfg(target_arch = "wasm32")]
+            web_log: WebLog::default(),
+            wake,
             sphere_rect: None,
             subject_rect: None,
             lesson_capture: None,
@@ -522,10 +562,15 @@ impl AppState {
 
     /// Opens a file of any kind the workbench knows.
     pub fn open_path(&mut self, path: &std::path::Path) {
-        match files::open(path) {
+        self.take_opened(&path.display().to_string(), files::open(path));
+    }
+
+    /// Shows what was opened from the file `file`.
+    fn take_opened(&mut self, file: &str, opened: anyhow::Result<Opened>) {
+        match opened {
             Ok(Opened::Scene(name, scene)) => self.set_scene(name, scene),
             Ok(Opened::Dump(p)) => {
-                self.status = format!("replaying the dump {}", path.display());
+                self.status = format!("replaying the dump {file}");
                 self.inspector = Some(Inspector::new(*p));
                 self.monte_carlo = None;
             }
@@ -534,10 +579,14 @@ impl AppState {
                 self.bench = Some(*r);
                 layout::reveal(&mut self.tree, Pane::Plots);
             }
-            Ok(Opened::Environment(p)) => {
+            Ok(Opened::Environment(map)) => {
                 let mut choice = self.settings.environment.clone();
-                choice.map = environment_panel::MapChoice::File(p);
+                choice.map = map;
                 self.set_environment(choice);
+                self.status = match &self.env_error {
+                    Some(e) => e.clone(),
+                    None => format!("environment map {file}"),
+                };
             }
             Ok(Opened::Reference(img)) => {
                 self.status = format!("reference {}×{} loaded", img.width, img.height);
@@ -549,6 +598,14 @@ impl AppState {
         }
     }
 
+    /// Opens files handed over by content (the browser): a scene with the files it refers to
+    /// among them (an OBJ's MTL, a TOML's OBJs), a dump, a bench report.
+    pub fn open_contents(&mut self, contents: &[platform::FileContent]) {
+        for (file, opened) in files::open_contents(contents) {
+            self.take_opened(&file, opened);
+        }
+    }
+
     fn handle_input(&mut self, ctx: &egui::Context) {
         let (dropped, pressed) = ctx.input(|i| {
             (
@@ -556,11 +613,22 @@ impl AppState {
                 Command::ALL.map(|c| c.pressed(i)),
             )
         });
+        // The desktop drops paths; the browser's files are read by content and arrive in the
+        // inbox, with the picker's answers, a frame or more later.
+        #[cfg(not(target_arch = "wasm32"))]
         for f in dropped {
             let p = f.path().to_path_buf();
             if !p.as_os_str().is_empty() {
                 self.open_path(&p);
             }
+        }
+        #[cfg(target_arch = "wasm32")]
+        if !dropped.is_empty() {
+            self.inbox.read_dropped(dropped, self.wake.clone());
+        }
+        let contents = self.inbox.take();
+        if !contents.is_empty() {
+            self.open_contents(&contents);
         }
         let typing = ctx.egui_wants_keyboard_input();
         for (c, pressed) in Command::ALL.into_iter().zip(pressed) {
@@ -619,7 +687,7 @@ impl AppState {
 
     /// Requests a screenshot to `path` (of `crop` in points, or the whole window).
     pub fn screenshot_to(&mut self, path: PathBuf, crop: Option<egui::Rect>) {
-        self.pending_screenshot = Some((path, crop));
+        self.pending_screenshot = Some((platform::SaveTarget::Path(path), crop));
     }
 
     /// Whether the help window is shown.

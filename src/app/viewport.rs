@@ -1,15 +1,24 @@
 //! The viewport's render thread: progressive renders of the current view, restarted (and the
 //! old one cancelled between tiles) whenever the camera, scene or settings change. The UI
-//! thread never renders; it only uploads the latest frame as a texture.
+//! thread never renders; it only uploads the latest frame as a texture. (In the browser,
+//! which has no threads, `viewport_web` runs the same render a time slice per frame.)
 
 use super::tonemap::{Aov, ToneMap, aov_values, display};
-use crate::render::progressive::{ProgressiveFrame, render_progressive_with};
+use crate::render::progressive::ProgressiveFrame;
+#[cfg(not(target_arch = "wasm32"))]
+use crate::render::progressive::render_progressive_with;
 use crate::render::{RenderContext, RenderSettings};
 use crate::scene::Camera;
 use egui::{Color32, ColorImage};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+#[cfg(not(target_arch = "wasm32"))]
+use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
+#[cfg(not(target_arch = "wasm32"))]
+use std::sync::atomic::{AtomicU64, Ordering};
+#[cfg(not(target_arch = "wasm32"))]
 use std::sync::mpsc::{Receiver, Sender, channel};
-use std::sync::{Arc, Mutex};
+#[cfg(not(target_arch = "wasm32"))]
 use std::thread::JoinHandle;
 
 /// What to render.
@@ -45,6 +54,7 @@ pub struct Display {
     pub tonemap: ToneMap,
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 /// A frame waiting for the denoiser on the compose thread.
 struct Pending {
     generation: u64,
@@ -54,8 +64,10 @@ struct Pending {
     frame: ProgressiveFrame,
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 /// Publishes finished frames to the UI: maps them to display colours (on the calling thread,
 /// never the UI's) and wakes the UI.
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Clone)]
 struct Publisher {
     latest: Arc<Mutex<Option<Arc<ViewFrame>>>>,
@@ -63,6 +75,7 @@ struct Publisher {
     repaint: Arc<dyn Fn() + Send + Sync>,
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 impl Publisher {
     fn publish(
         &self,
@@ -91,6 +104,7 @@ impl Publisher {
     }
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 /// The render thread and what it shares with the UI.
 pub struct RenderWorker {
     /// Display settings the render thread maps new frames with.
@@ -105,6 +119,7 @@ pub struct RenderWorker {
     working: Arc<AtomicU64>,
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 impl RenderWorker {
     /// Starts the render thread and the compose thread; `repaint` is called whenever a new
     /// frame is ready.
@@ -284,8 +299,12 @@ impl RenderWorker {
     pub fn is_busy(&self) -> bool {
         self.working.load(Ordering::Relaxed) == self.generation
     }
+
+    /// Nothing: the render thread works on its own (the browser's loop renders here).
+    pub fn tick(&mut self) {}
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 impl Drop for RenderWorker {
     fn drop(&mut self) {
         self.cancel.store(true, Ordering::Relaxed);
@@ -328,6 +347,7 @@ pub fn frame_image(
 /// `penumbra gui --measure`, docs/workbench.md).
 const RENDER_NICE: i32 = 10;
 
+#[cfg(not(target_arch = "wasm32"))]
 /// Nice value of the denoiser's threads: below the render's, so that the first tiles of a new
 /// view (and the UI) win the CPU over denoising an image that may already be out of date.
 const DENOISE_NICE: i32 = 13;

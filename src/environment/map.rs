@@ -162,7 +162,7 @@ impl EnvironmentMap {
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
-        let (width, height, mut pixels) = match ext.as_deref() {
+        let decoded = match ext.as_deref() {
             Some("hdr") => read_hdr(path)?,
             Some("exr") => read_exr(path)?,
             _ => bail!(
@@ -170,17 +170,40 @@ impl EnvironmentMap {
                 path.display()
             ),
         };
+        Self::from_decoded(decoded, &path.display().to_string())
+    }
+
+    /// [`EnvironmentMap::load`] from a file's content (dropped on the browser's page): `name`
+    /// tells the format by its extension and names the map in errors.
+    pub fn from_bytes(bytes: &[u8], name: &str) -> anyhow::Result<Self> {
+        let ext = Path::new(name)
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        let decoded = match ext.as_deref() {
+            Some("hdr") => decode_hdr(std::io::Cursor::new(bytes))
+                .with_context(|| format!("{name}: reading Radiance HDR"))?,
+            Some("exr") => decode_exr(std::io::Cursor::new(bytes))
+                .with_context(|| format!("{name}: reading OpenEXR"))?,
+            _ => bail!("{name}: unsupported environment map format (expected .hdr or .exr)"),
+        };
+        Self::from_decoded(decoded, name)
+    }
+
+    /// The map of decoded pixels; negative components (some EXRs have them) are clamped to 0
+    /// with a warning naming `label`.
+    fn from_decoded(
+        (width, height, mut pixels): (usize, usize, Vec<DVec3>),
+        label: &str,
+    ) -> anyhow::Result<Self> {
         let negative = pixels.iter().filter(|p| p.min_element() < 0.0).count();
         if negative > 0 && pixels.iter().all(|p| p.is_finite()) {
-            eprintln!(
-                "warning: {}: {negative} pixels with negative components, clamped to 0",
-                path.display()
-            );
+            eprintln!("warning: {label}: {negative} pixels with negative components, clamped to 0");
             for p in &mut pixels {
                 *p = p.max(DVec3::ZERO);
             }
         }
-        Self::new(width, height, pixels).with_context(|| path.display().to_string())
+        Self::new(width, height, pixels).with_context(|| label.to_string())
     }
 
     /// The embedded default: a procedural sky, so that nothing needs downloading. A blue
@@ -241,9 +264,15 @@ fn sky_radiance(d: DVec3) -> DVec3 {
 
 fn read_hdr(path: &Path) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {
     let file = File::open(path).with_context(|| format!("{}: opening", path.display()))?;
-    let image = image::ImageReader::with_format(BufReader::new(file), image::ImageFormat::Hdr)
-        .decode()
-        .with_context(|| format!("{}: reading Radiance HDR", path.display()))?
+    decode_hdr(BufReader::new(file))
+        .with_context(|| format!("{}: reading Radiance HDR", path.display()))
+}
+
+fn decode_hdr(
+    reader: impl std::io::BufRead + std::io::Seek,
+) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {
+    let image = image::ImageReader::with_format(reader, image::ImageFormat::Hdr)
+        .decode()?
         .into_rgb32f();
     let (w, h) = (image.width() as usize, image.height() as usize);
     let pixels = image
@@ -251,6 +280,36 @@ fn read_hdr(path: &Path) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {
         .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
         .collect();
     Ok((w, h, pixels))
+}
+
+/// The first RGBA layer of an OpenEXR file's content (the reading
+/// `read_first_rgba_layer_from_file` makes of a file).
+fn decode_exr(
+    reader: impl std::io::Read + std::io::Seek + Send,
+) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {
+    use exr::prelude::{ReadChannels, ReadLayers};
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |size: exr::prelude::Vec2<usize>, _: &exr::image::RgbaChannels| {
+                (size.width(), vec![DVec3::ZERO; size.area()])
+            },
+            |(w, px): &mut (usize, Vec<DVec3>),
+             pos: exr::prelude::Vec2<usize>,
+             (r, g, b, _a): (f32, f32, f32, f32)| {
+                px[pos.y() * *w + pos.x()] = DVec3::new(r as f64, g as f64, b as f64);
+            },
+        )
+        .first_valid_layer()
+        .all_attributes();
+    // The page has no threads to decompress with.
+    #[cfg(target_arch = "wasm32")]
+    let image = image.non_parallel();
+    let image = image.from_buffered(reader)?;
+    let size = image.layer_data.size;
+    let (_, pixels) = image.layer_data.channel_data.pixels;
+    Ok((size.width(), size.height(), pixels))
 }
 
 fn read_exr(path: &Path) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {

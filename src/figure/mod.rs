@@ -14,6 +14,17 @@ pub use description::{Figure, Item, Rect, Rgb, Shape, Subpath};
 
 /// Writes `figure` to `path` as SVG, PDF or PNG, by the path's extension; an error names the
 /// file.
+/// The figure as the content of a `format` file (svg, pdf or png), as [`save`] writes it: a
+/// download in the browser.
+pub fn to_bytes(figure: &Figure, format: &str) -> anyhow::Result<Vec<u8>> {
+    match format.to_ascii_lowercase().as_str() {
+        "svg" => Ok(svg::to_svg(figure).into_bytes()),
+        "pdf" => Ok(pdf::to_pdf(figure)),
+        "png" => Ok(plot::pixmap_png_bytes(&raster::render(figure))?),
+        _ => anyhow::bail!("a figure is written as .svg, .pdf or .png, not .{format}"),
+    }
+}
+
 pub fn save(figure: &Figure, path: &std::path::Path) -> anyhow::Result<()> {
     use anyhow::Context;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");

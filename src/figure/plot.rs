@@ -706,15 +706,33 @@ pub fn save_chart_png(chart: &Chart, width: u32, height: u32, path: &Path) -> an
 }
 
 /// Writes a tiny-skia pixmap (premultiplied) as an 8-bit straight-alpha RGBA PNG.
-pub fn save_pixmap_png(pm: &tiny_skia::Pixmap, path: &Path) -> image::ImageResult<()> {
-    let rgba: Vec<u8> = pm
-        .pixels()
+/// The pixmap's RGBA with straight (not premultiplied) alpha, as PNG stores it.
+fn straight_rgba(pm: &tiny_skia::Pixmap) -> Vec<u8> {
+    pm.pixels()
         .iter()
         .flat_map(|p| {
             let c = p.demultiply();
             [c.red(), c.green(), c.blue(), c.alpha()]
         })
-        .collect();
+        .collect()
+}
+
+/// [`save_pixmap_png`]'s file as bytes.
+pub fn pixmap_png_bytes(pm: &tiny_skia::Pixmap) -> image::ImageResult<Vec<u8>> {
+    use image::ImageEncoder;
+    let rgba = straight_rgba(pm);
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut out).write_image(
+        &rgba,
+        pm.width(),
+        pm.height(),
+        image::ExtendedColorType::Rgba8,
+    )?;
+    Ok(out)
+}
+
+pub fn save_pixmap_png(pm: &tiny_skia::Pixmap, path: &Path) -> image::ImageResult<()> {
+    let rgba = straight_rgba(pm);
     image::save_buffer_with_format(
         path,
         &rgba,

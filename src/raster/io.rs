@@ -211,6 +211,38 @@ pub fn write_png(
     .with_context(|| format!("{}: writing PNG", path.display()))
 }
 
+/// [`write_png`]'s file as bytes (a download in the browser).
+pub fn png_bytes(
+    width: u32,
+    height: u32,
+    rgb: &[[f32; 3]],
+    exposure: f64,
+) -> anyhow::Result<Vec<u8>> {
+    if let Err(m) = check_len(width, height, rgb.len()) {
+        bail!("{m}");
+    }
+    let bytes: Vec<u8> = rgb
+        .iter()
+        .flat_map(|px| px.map(|c| to_srgb8(c, exposure)))
+        .collect();
+    encode_png(&bytes, width, height, image::ExtendedColorType::Rgb8)
+}
+
+/// 8-bit pixels (RGB or RGBA) as a PNG file's bytes.
+pub fn encode_png(
+    pixels: &[u8],
+    width: u32,
+    height: u32,
+    color: image::ExtendedColorType,
+) -> anyhow::Result<Vec<u8>> {
+    use image::ImageEncoder;
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(pixels, width, height, color)
+        .context("encoding PNG")?;
+    Ok(out)
+}
+
 /// Reads a PFM file as a linear [`Image`](super::Image).
 pub fn read_pfm_image(path: &Path) -> io::Result<super::Image> {
     let (width, height, px) = read_pfm(path)?;

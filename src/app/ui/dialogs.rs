@@ -1,34 +1,35 @@
-//! The workbench's file dialogs (open, save image, save dump, screenshot, save scene).
+//! The workbench's file dialogs (open, save image, save dump, screenshot, save scene): a
+//! path on the desktop, the browser's picker and downloads on the web (`app::platform`).
 
+use super::super::platform::{self, SaveTarget};
 use super::super::*;
+
+/// What the Open dialog offers.
+const OPENABLE: [&str; 9] = [
+    "toml", "obj", "mtl", "glb", "gltf", "json", "pfm", "hdr", "exr",
+];
 
 impl AppState {
     pub(in crate::app) fn open_dialog(&mut self) {
-        if let Some(p) = rfd::FileDialog::new()
-            .add_filter(
-                "penumbra files",
-                &["toml", "obj", "glb", "gltf", "json", "pfm", "hdr", "exr"],
-            )
-            .pick_file()
-        {
+        #[cfg(not(target_arch = "wasm32"))]
+        if let Some(p) = platform::pick_file("penumbra files", &OPENABLE) {
             self.open_path(&p);
         }
+        #[cfg(target_arch = "wasm32")]
+        self.inbox
+            .pick(self.wake.clone(), "penumbra files", &OPENABLE);
     }
 
     pub(in crate::app) fn save_image_dialog(&mut self) {
         let Some(frame) = self.worker.latest() else {
             return;
         };
-        if let Some(p) = rfd::FileDialog::new()
-            .add_filter("image", &["png", "pfm", "exr"])
-            .set_file_name("render.png")
-            .save_file()
-        {
-            self.status =
-                match files::save_image(&frame.frame.output.image, &p, self.settings.exposure) {
-                    Ok(()) => format!("wrote {}", p.display()),
-                    Err(e) => format!("{e:#}"),
-                };
+        if let Some(target) = platform::save_as("image", &["png", "pfm", "exr"], "render.png") {
+            let (image, exposure) = (&frame.frame.output.image, self.settings.exposure);
+            self.status = target.write(
+                |p| files::save_image(image, p, exposure),
+                || files::png_bytes(image, exposure),
+            );
         }
     }
 
@@ -36,41 +37,34 @@ impl AppState {
         let Some(ins) = &self.inspector else {
             return;
         };
-        if let Some(p) = rfd::FileDialog::new()
-            .add_filter("debug dump", &["json"])
-            .set_file_name("probe.json")
-            .save_file()
-        {
+        if let Some(target) = platform::save_as("debug dump", &["json"], "probe.json") {
             let mut probe = ins.probe.clone();
             probe.monte_carlo = self.monte_carlo;
-            self.status = match files::save_dump(&probe, &p) {
-                Ok(()) => format!("wrote {}", p.display()),
-                Err(e) => format!("{e:#}"),
-            };
+            self.status = target.write(
+                |p| files::save_dump(&probe, p),
+                || Ok(serde_json::to_vec_pretty(&probe)?),
+            );
         }
     }
 
     /// Asks for a file and takes a screenshot of the window (or of `crop`, in points).
     pub(in crate::app) fn screenshot_dialog(&mut self, crop: Option<egui::Rect>) {
-        if let Some(p) = rfd::FileDialog::new()
-            .add_filter("PNG", &["png"])
-            .set_file_name("penumbra.png")
-            .save_file()
-        {
-            self.pending_screenshot = Some((p, crop));
+        if let Some(target) = platform::save_as("PNG", &["png"], "penumbra.png") {
+            self.pending_screenshot = Some((target, crop));
         }
     }
 
-    /// Asks for a file and saves the scene as it is now (moved objects included).
+    /// Asks for a file and saves the scene as it is now (moved objects included): a TOML file
+    /// with its OBJ and MTL beside it, so the desktop's only.
     pub(in crate::app) fn save_scene_dialog(&mut self) {
         let Some(ctx) = self.ctx.clone() else {
             return;
         };
-        if let Some(p) = rfd::FileDialog::new()
-            .add_filter("scene", &["toml"])
-            .set_file_name("scene.toml")
-            .save_file()
-        {
+        if let Some(why) = platform::unavailable_here("saving a scene (three files)") {
+            self.status = why;
+            return;
+        }
+        if let Some(SaveTarget::Path(p)) = platform::save_as("scene", &["toml"], "scene.toml") {
             let cam = self.orbit.camera();
             self.status = match crate::scene::save::save_scene(&ctx.scene, Some(&cam), &p) {
                 Ok(saved) => format!(

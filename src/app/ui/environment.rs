@@ -16,5 +16,10 @@ impl PaneView for EnvironmentPane {
         if self.panel.ui(ui, &mut choice, app.env_error.as_deref()) {
             app.set_environment(choice);
         }
+        #[cfg(target_arch = "wasm32")]
+        if std::mem::take(&mut self.panel.wants_file) {
+            app.inbox
+                .pick(app.wake.clone(), "environment map", &["hdr", "exr"]);
+        }
     }
 }

@@ -71,9 +71,12 @@ impl WorkbenchApp {
         }
         self.palette_ui(&ctx);
         self.maybe_request();
+        self.worker.tick();
         self.maybe_auto_pick();
         self.take_pending_screenshot(&ctx);
         self.advance_lesson_capture(&ctx);
+        #[cfg(target_arch = "wasm32")]
+        self.log_milestones();
         if self.worker.is_busy() {
             ctx.request_repaint_after(std::time::Duration::from_millis(50));
         }
@@ -163,7 +166,7 @@ impl AppState {
     }
 
     pub(in crate::app) fn take_pending_screenshot(&mut self, ctx: &egui::Context) {
-        let Some((path, crop)) = self.pending_screenshot.take() else {
+        let Some((target, crop)) = self.pending_screenshot.take() else {
             return;
         };
         let ppp = ctx.pixels_per_point();
@@ -172,10 +175,65 @@ impl AppState {
                 Some(r) => img.region(&r, Some(ppp)),
                 None => (*img).clone(),
             };
-            if let Err(e) = files::save_screenshot(&img, &path) {
-                eprintln!("screenshot: {e:#}");
+            let status = target.write(
+                |p| files::save_screenshot(&img, p),
+                || files::screenshot_png_bytes(&img),
+            );
+            if !status.starts_with("wrote") && !status.starts_with("downloaded") {
+                eprintln!("screenshot: {status}");
             }
         });
         self.status = "screenshot requested".into();
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+impl AppState {
+    /// The browser's record of what happened (its console): the status line when it changes,
+    /// the first image with where the viewport is, and each recording with where the sphere
+    /// is (in CSS pixels). The browser test reads these; a user sees the same in the console.
+    fn log_milestones(&mut self) {
+        let rect = |r: egui::Rect| {
+            format!(
+                "({:.0}, {:.0}, {:.0}×{:.0})",
+                r.min.x,
+                r.min.y,
+                r.width(),
+                r.height()
+            )
+        };
+        let log = &mut self.web_log;
+        if log.status != self.status {
+            log.status = self.status.clone();
+            platform::note(&format!("status: {}", self.status));
+        }
+        if !log.first_image
+            && self.texture.is_some()
+            && let Some(v) = self.viewport_rect
+        {
+            log.first_image = true;
+            platform::note(&format!(
+                "first image after {:.2} s; viewport at {}",
+                self.started.elapsed().as_secs_f64(),
+                rect(v)
+            ));
+        }
+        let recording = self
+            .inspector
+            .as_ref()
+            .map(|i| (i.probe.pixel, i.steps.len()));
+        if recording.is_some()
+            && log.recording != recording
+            && let Some(s) = self.sphere_rect
+        {
+            log.recording = recording;
+            let (pixel, stages) = recording.unwrap_or_default();
+            platform::note(&format!(
+                "recording of pixel ({:.0}, {:.0}): {stages} stages; sphere at {}",
+                pixel.0,
+                pixel.1,
+                rect(s)
+            ));
+        }
     }
 }

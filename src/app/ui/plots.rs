@@ -41,7 +41,14 @@ impl PaneView for PlotsPane {
                             .range(32..=1080)
                             .prefix("h "),
                     );
-                    if ui.button("Run bench on this view").clicked()
+                    let why_not = crate::app::platform::unavailable_here("the bench");
+                    if ui
+                        .add_enabled(
+                            why_not.is_none(),
+                            egui::Button::new("Run bench on this view"),
+                        )
+                        .on_disabled_hover_text(why_not.unwrap_or_default())
+                        .clicked()
                         && let Some(ctx) = app.ctx.clone()
                     {
                         self.bench_job = Some(bench_job::BenchJob::start(

@@ -42,7 +42,12 @@ impl PaneView for ScenePane {
             {
                 app.run_command(Command::Redo);
             }
-            if ui.button("Save scene…").clicked() {
+            let why_not = crate::app::platform::unavailable_here("saving a scene (three files)");
+            if ui
+                .add_enabled(why_not.is_none(), egui::Button::new("Save scene…"))
+                .on_disabled_hover_text(why_not.unwrap_or_default())
+                .clicked()
+            {
                 app.save_scene_dialog();
             }
         });

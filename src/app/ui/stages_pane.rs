@@ -25,17 +25,22 @@ impl PaneView for StagesPane {
                 ui.label(format!("exporting the lesson: {done} of {all} frames…"));
             }
             None => {
-                if ui
-                    .button("Export lesson…")
+                let why_not = crate::app::platform::unavailable_here("exporting a lesson");
+                let button = ui
+                    .add_enabled(why_not.is_none(), egui::Button::new("Export lesson…"))
                     .on_hover_text(
                         "Every stage of this point as numbered PNG frames, an animated GIF and \
                          the lesson text (lesson.md), for slides",
                     )
-                    .clicked()
-                    && let Some(dir) = rfd::FileDialog::new().pick_folder()
+                    .on_disabled_hover_text(why_not.unwrap_or_default());
+                #[cfg(not(target_arch = "wasm32"))]
+                if button.clicked()
+                    && let Some(dir) = crate::app::platform::pick_folder()
                 {
                     app.export_lesson(dir);
                 }
+                #[cfg(target_arch = "wasm32")]
+                let _ = button;
             }
         }
     }

@@ -1,0 +1,170 @@
+//! The viewport's render loop in the browser, where the page has one thread: the same
+//! progressive render as the desktop's render thread (`render_progressive_with`), run a time
+//! slice per UI frame under a [`Slicer`] so that the page never waits for more than one slice.
+//! Frames are the desktop's, bit for bit (`render::slicing`); they are mapped to display
+//! colours here, as the desktop's render thread maps them before handing them over.
+
+use super::tonemap::{Aov, ToneMap};
+use super::viewport::{Display, ViewFrame, frame_image};
+use crate::render::progressive::{ProgressiveFrame, render_progressive_with};
+use crate::render::slicing::Slicer;
+use crate::render::{RenderContext, RenderSettings};
+use crate::scene::Camera;
+use std::sync::{Arc, Mutex};
+use web_time::Duration;
+
+/// How long a slice may render before the page gets its thread back: the page stays at
+/// 20 frames a second or more while the view renders.
+const SLICE: Duration = Duration::from_millis(40);
+
+/// At most this many passes of a stochastic method: every slice replays the passes before
+/// it (their whole-image sums and denoising), so the cost of a slice grows with them.
+const MAX_PASSES: u32 = 8;
+
+/// A render in progress.
+struct Running {
+    generation: u64,
+    ctx: Arc<RenderContext>,
+    camera: Camera,
+    settings: RenderSettings,
+    max_passes: u32,
+    slicer: Slicer,
+    /// Frames of this render already published (a slice replays them first).
+    published: usize,
+    started: web_time::Instant,
+    slices: u32,
+    /// Time spent rendering (the slices, replays included), against `started`'s wall time.
+    busy: Duration,
+}
+
+/// The render loop and what the UI reads of it (the desktop's `RenderWorker`'s interface).
+pub struct RenderWorker {
+    /// Display settings new frames are mapped with.
+    pub display: Arc<Mutex<Display>>,
+    running: Option<Running>,
+    latest: Option<Arc<ViewFrame>>,
+    generation: u64,
+    repaint: Arc<dyn Fn() + Send + Sync>,
+}
+
+impl RenderWorker {
+    /// A render loop that runs in [`RenderWorker::tick`]; `repaint` asks for the next frame.
+    pub fn start(repaint: impl Fn() + Send + Sync + 'static) -> Self {
+        RenderWorker {
+            display: Arc::new(Mutex::new(Display {
+                aov: Aov::Final,
+                exposure: 0.0,
+                tonemap: ToneMap::Clamp,
+            })),
+            running: None,
+            latest: None,
+            generation: 0,
+            repaint: Arc::new(repaint),
+        }
+    }
+
+    /// Drops the running render and starts a new one; returns its generation.
+    pub fn request(
+        &mut self,
+        ctx: Arc<RenderContext>,
+        camera: Camera,
+        settings: RenderSettings,
+        max_passes: u32,
+    ) -> u64 {
+        self.generation += 1;
+        self.running = Some(Running {
+            generation: self.generation,
+            ctx,
+            camera,
+            settings,
+            max_passes: max_passes.min(MAX_PASSES),
+            slicer: Slicer::new(),
+            published: 0,
+            started: web_time::Instant::now(),
+            slices: 0,
+            busy: Duration::ZERO,
+        });
+        (self.repaint)();
+        self.generation
+    }
+
+    /// Renders one slice of the running render and publishes the frames it finished.
+    pub fn tick(&mut self) {
+        let Some(run) = &mut self.running else {
+            return;
+        };
+        let mut seen = 0;
+        let mut new: Vec<ProgressiveFrame> = Vec::new();
+        run.slices += 1;
+        let slice_start = web_time::Instant::now();
+        let (result, finished) = run.slicer.run(SLICE, |cancel| {
+            render_progressive_with(
+                &run.ctx,
+                &run.camera,
+                &run.settings,
+                run.max_passes,
+                cancel,
+                false,
+                |f| {
+                    if seen >= run.published {
+                        new.push(f.clone());
+                    }
+                    seen += 1;
+                },
+            )
+        });
+        run.published = run.published.max(seen);
+        run.busy += slice_start.elapsed();
+        let d = *self.display.lock().unwrap_or_else(|e| e.into_inner());
+        // Only the newest frame of the slice is worth mapping.
+        if let Some(mut frame) = new.pop() {
+            // Since the render started, not since this slice's replay did.
+            frame.elapsed = run.started.elapsed().as_secs_f64();
+            let display = frame_image(&frame, d.aov, d.exposure, d.tonemap)
+                .map(|(img, range)| (d, img, range));
+            self.latest = Some(Arc::new(ViewFrame {
+                generation: run.generation,
+                camera: run.camera,
+                settings: run.settings,
+                frame,
+                display,
+            }));
+        }
+        if let Err(e) = result {
+            web_sys::console::error_1(&format!("render failed: {e}").into());
+            self.running = None;
+        } else if finished {
+            // The browser's measure of render speed (docs/web.md): the whole progressive
+            // render of the view, in slices, as the page saw it.
+            super::platform::note(&format!(
+                "render {} finished: {}×{} {} in {:.2} s, {:.2} s of it rendering ({} slices)",
+                run.generation,
+                run.settings.width,
+                run.settings.height,
+                run.settings.method.name(),
+                run.started.elapsed().as_secs_f64(),
+                run.busy.as_secs_f64(),
+                run.slices
+            ));
+            self.running = None;
+        }
+        (self.repaint)();
+    }
+
+    /// The generation of the last request.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// The newest frame of the newest render, if any has been finished.
+    pub fn latest(&self) -> Option<Arc<ViewFrame>> {
+        self.latest
+            .clone()
+            .filter(|f| f.generation == self.generation)
+    }
+
+    /// Whether the newest render is still running.
+    pub fn is_busy(&self) -> bool {
+        self.running.is_some()
+    }
+}
