@@ -17,10 +17,6 @@ use web_time::Duration;
 /// 20 frames a second or more while the view renders.
 const SLICE: Duration = Duration::from_millis(40);
 
-/// At most this many passes of a stochastic method: every slice replays the passes before
-/// it (their whole-image sums and denoising), so the cost of a slice grows with them.
-const MAX_PASSES: u32 = 8;
-
 /// A render in progress.
 struct Running {
     generation: u64,
@@ -77,7 +73,7 @@ impl RenderWorker {
             ctx,
             camera,
             settings,
-            max_passes: max_passes.min(MAX_PASSES),
+            max_passes,
             slicer: Slicer::new(),
             published: 0,
             started: web_time::Instant::now(),

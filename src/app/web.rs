@@ -1,6 +1,6 @@
 //! The workbench in a browser page (docs/web.md): eframe's web runner on the page's canvas,
 //! the same `WorkbenchApp` as the desktop's window. The page's address may choose what opens:
-//! `?scene=fig4&preset=teach`.
+//! `?scene=fig4&preset=teach&method=ratio`.
 
 use super::WorkbenchApp;
 use super::layout::Preset;
@@ -37,6 +37,15 @@ pub fn start() {
                     for (key, value) in &query {
                         match key.as_str() {
                             "scene" => app.load_scene(value),
+                            "method" => match crate::render::RenderMethod::ALL
+                                .into_iter()
+                                .find(|m| m.name() == value)
+                            {
+                                Some(m) => app.settings.method = m,
+                                None => web_sys::console::warn_1(
+                                    &format!("no method '{value}'").into(),
+                                ),
+                            },
                             "preset" => match Preset::from_name(value) {
                                 Some(p) => app.set_preset(p),
                                 None => {

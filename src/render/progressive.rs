@@ -7,7 +7,7 @@ use super::environment::render_environment;
 use super::stochastic::{
     StochasticBuffers, compose, compose_cancellable, render_buffers, render_buffers_with,
 };
-use super::{RenderContext, RenderMethod, RenderOutput, RenderSettings};
+use super::{RenderContext, RenderMethod, RenderOutput, RenderSettings, slicing};
 use crate::scene::Camera;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -128,10 +128,14 @@ pub fn render_progressive_with(
         };
         // Coarse levels are small enough to denoise at once: only full resolution is deferred.
         let defer_level = defer && scale == 1;
-        let output = if defer_level {
+        // A step of its own: a sliced render (the browser's) does each level once.
+        let output = slicing::step(|| -> Result<Option<RenderOutput>, String> {
+            if !defer_level {
+                return ctx.render_full(camera, &s, Some(cancel)).map(Some);
+            }
             let basis = camera.basis()?;
             let Some(buffers) = render_buffers(ctx, &basis, &s, Some(cancel)) else {
-                return Ok(last);
+                return Ok(None);
             };
             // The environment's term is added when the frame is composed.
             let environment = match &ctx.environment {
@@ -139,19 +143,20 @@ pub fn render_progressive_with(
                     let Some(e) =
                         render_environment(ctx, env, &basis, s.width, s.height, s.aa, Some(cancel))
                     else {
-                        return Ok(last);
+                        return Ok(None);
                     };
                     Some(e)
                 }
                 None => None,
             };
-            RenderOutput {
+            Ok(Some(RenderOutput {
                 buffers: Some(Arc::new(buffers)),
                 environment,
                 ..RenderOutput::default()
-            }
-        } else {
-            ctx.render_full(camera, &s, Some(cancel))?
+            }))
+        })?;
+        let Some(output) = output else {
+            return Ok(last);
         };
         if stop() {
             return Ok(last);
@@ -189,33 +194,44 @@ pub fn render_progressive_with(
             seed: settings.seed.wrapping_add(pass as u64 * 0x9e37_79b9),
             ..*settings
         };
-        // U is deterministic: the first pass computed it, the others take it from there.
-        // (A sampled U, `exact_u`, is averaged like S_N instead.)
-        let Some(mut next) = render_buffers_with(ctx, &basis, &s, Some(cancel), s.exact_u) else {
+        // The pass's sums and its image (if it shows one), as one step: a sliced render
+        // (the browser's) does each pass once.
+        let pass_result = slicing::step(|| {
+            // U is deterministic: the first pass computed it, the others take it from there.
+            // (A sampled U, `exact_u`, is averaged like S_N instead.)
+            let mut next = render_buffers_with(ctx, &basis, &s, Some(cancel), s.exact_u)?;
+            next.accumulate_onto(&acc, pass);
+            let acc = Arc::new(next);
+            // Denoising the whole image cannot be interrupted: unless the caller takes it
+            // over, compose the denoised methods only after passes 2, 4, 8, … and the last,
+            // so that a change of view rarely waits for it (the other estimators are per
+            // pixel and cheap).
+            let last_pass = pass + 1 == max_passes;
+            if denoised && !defer && !(pass + 1).is_power_of_two() && !last_pass {
+                return Some((acc, None));
+            }
+            let output = if defer {
+                RenderOutput {
+                    buffers: Some(acc.clone()),
+                    environment: environment.clone(),
+                    ..RenderOutput::default()
+                }
+            } else {
+                let mut output = compose(settings.method, &acc);
+                output.buffers = Some(acc.clone());
+                if let Some(e) = &environment {
+                    output.add_environment(e.clone());
+                }
+                output
+            };
+            Some((acc, Some(output)))
+        });
+        let Some((summed, output)) = pass_result else {
             break;
         };
-        next.accumulate_onto(&acc, pass);
-        acc = Arc::new(next);
-        // Denoising the whole image cannot be interrupted: unless the caller takes it over,
-        // compose the denoised methods only after passes 2, 4, 8, … and the last, so that a
-        // change of view rarely waits for it (the other estimators are per pixel and cheap).
-        let last_pass = pass + 1 == max_passes;
-        if denoised && !defer && !(pass + 1).is_power_of_two() && !last_pass {
+        acc = summed;
+        let Some(output) = output else {
             continue;
-        }
-        let output = if defer {
-            RenderOutput {
-                buffers: Some(acc.clone()),
-                environment: environment.clone(),
-                ..RenderOutput::default()
-            }
-        } else {
-            let mut output = compose(settings.method, &acc);
-            output.buffers = Some(acc.clone());
-            if let Some(e) = &environment {
-                output.add_environment(e.clone());
-            }
-            output
         };
         let frame = ProgressiveFrame {
             scale: 1,

@@ -13,8 +13,9 @@
 //! an uninterrupted render makes, bit for bit (`tests::a_sliced_render_is_the_whole_render`).
 //!
 //! What lies between the tile calls (assembling an image, the denoiser, accumulating passes)
-//! runs again in every slice: cheap for the analytic methods, and the reason a sliced
-//! progressive render should keep its passes few.
+//! would run again in every slice. The work marks such stretches as [`step`]s: once a step has
+//! finished, later slices take a copy of its result and skip it (and its tile calls), so a
+//! slice replays each finished level or pass of a progressive render at the cost of a copy.
 
 use std::any::Any;
 use std::cell::{Cell, RefCell};
@@ -34,7 +35,48 @@ pub struct Slicer {
     progressed: Cell<bool>,
     /// Raised when the slice's time is up: the work's cancel flag.
     out_of_time: AtomicBool,
+    /// Per [`step`] of the work, in order: its result once it finished, and how many
+    /// `render_tiles` calls it made (skipped with it).
+    steps: RefCell<Vec<Option<KeptStep>>>,
+    /// The next step's index in this slice.
+    step: Cell<usize>,
 }
+
+/// Runs `compute`, a stretch of sliced work (or of any render: outside a slicer this is just
+/// `compute()`), and keeps its result once it has finished within a slice: later slices
+/// get a copy instead of running it again. A step cut short by its slice's end is run again
+/// from its start (its finished tiles kept) in the next.
+pub fn step<T: Clone + 'static>(compute: impl FnOnce() -> T) -> T {
+    let p = CURRENT.with(|c| c.get());
+    if p.is_null() {
+        return compute();
+    }
+    // SAFETY: as in `Slicer::with_current`.
+    let slicer = unsafe { &*p };
+    let i = slicer.step.get();
+    slicer.step.set(i + 1);
+    let kept = slicer.steps.borrow().get(i).and_then(|s| {
+        s.as_ref()
+            .and_then(|(v, calls)| v.downcast_ref::<T>().map(|v| (v.clone(), *calls)))
+    });
+    if let Some((v, calls)) = kept {
+        slicer.call.set(slicer.call.get() + calls);
+        return v;
+    }
+    let before = slicer.call.get();
+    let v = compute();
+    if !slicer.out_of_time.load(Ordering::Relaxed) {
+        let mut steps = slicer.steps.borrow_mut();
+        if steps.len() <= i {
+            steps.resize_with(i + 1, || None);
+        }
+        steps[i] = Some((Box::new(v.clone()), slicer.call.get() - before));
+    }
+    v
+}
+
+/// A finished step's result and the number of `render_tiles` calls it made.
+type KeptStep = (Box<dyn Any>, usize);
 
 thread_local! {
     static CURRENT: Cell<*const Slicer> = const { Cell::new(std::ptr::null()) };
@@ -50,6 +92,7 @@ impl Slicer {
     /// Returns what `work` returns and whether the work was finished (no tile was left).
     pub fn run<R>(&self, budget: Duration, work: impl FnOnce(&AtomicBool) -> R) -> (R, bool) {
         self.call.set(0);
+        self.step.set(0);
         self.progressed.set(false);
         self.out_of_time.store(false, Ordering::Relaxed);
         self.deadline.set(Some(Instant::now() + budget));
@@ -126,7 +169,11 @@ mod tests {
         let scene = scene_file::load_embedded("default").expect("the default scene");
         let ctx = RenderContext::new(&scene);
         let camera = scene.camera.expect("a camera");
-        for (method, passes) in [(RenderMethod::Analytic, 1), (RenderMethod::Ratio, 3)] {
+        for (method, passes) in [
+            (RenderMethod::Analytic, 1),
+            (RenderMethod::Ratio, 3),
+            (RenderMethod::RatioDenoised, 4),
+        ] {
             let settings = RenderSettings {
                 width: 96,
                 height: 64,

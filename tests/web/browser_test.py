@@ -232,6 +232,8 @@ def main():
     ap.add_argument("--out", default="out/web")
     ap.add_argument("--chromium", default=shutil.which("chromium") or "chromium")
     ap.add_argument("--timeout", type=float, default=240)
+    ap.add_argument("--query", default="preset=teach",
+                    help="the page address's query (e.g. preset=teach&method=ratio)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     port = serve(os.path.abspath(args.dist))
@@ -261,7 +263,7 @@ def main():
         for domain in ["Runtime", "Log", "Page"]:
             page.send(f"{domain}.enable")
         page.start = time.monotonic()
-        page.send("Page.navigate", url=f"http://127.0.0.1:{port}/index.html?preset=teach")
+        page.send("Page.navigate", url=f"http://127.0.0.1:{port}/index.html?{args.query}")
 
         # 1. The first image.
         _, m = page.wait_for(r"first image after (\S+) s; viewport at (\(.*\))", args.timeout)
