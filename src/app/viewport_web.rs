@@ -25,8 +25,9 @@ struct Running {
     settings: RenderSettings,
     max_passes: u32,
     slicer: Slicer,
-    /// Frames of this render already published (a slice replays them first).
-    published: usize,
+    /// The newest frame published (coarsest level first, then passes): a slice replays
+    /// the frames of finished levels and passes it still holds.
+    published: Option<(std::cmp::Reverse<u32>, u32)>,
     started: web_time::Instant,
     slices: u32,
     /// Time spent rendering (the slices, replays included), against `started`'s wall time.
@@ -75,7 +76,7 @@ impl RenderWorker {
             settings,
             max_passes,
             slicer: Slicer::new(),
-            published: 0,
+            published: None,
             started: web_time::Instant::now(),
             slices: 0,
             busy: Duration::ZERO,
@@ -89,8 +90,7 @@ impl RenderWorker {
         let Some(run) = &mut self.running else {
             return;
         };
-        let mut seen = 0;
-        let mut new: Vec<ProgressiveFrame> = Vec::new();
+        let mut newest: Option<ProgressiveFrame> = None;
         run.slices += 1;
         let slice_start = web_time::Instant::now();
         let (result, finished) = run.slicer.run(SLICE, |cancel| {
@@ -102,18 +102,18 @@ impl RenderWorker {
                 cancel,
                 false,
                 |f| {
-                    if seen >= run.published {
-                        new.push(f.clone());
+                    let key = Some((std::cmp::Reverse(f.scale), f.passes));
+                    if key > run.published {
+                        run.published = key;
+                        newest = Some(f.clone());
                     }
-                    seen += 1;
                 },
             )
         });
-        run.published = run.published.max(seen);
         run.busy += slice_start.elapsed();
         let d = *self.display.lock().unwrap_or_else(|e| e.into_inner());
         // Only the newest frame of the slice is worth mapping.
-        if let Some(mut frame) = new.pop() {
+        if let Some(mut frame) = newest {
             // Since the render started, not since this slice's replay did.
             frame.elapsed = run.started.elapsed().as_secs_f64();
             let display = frame_image(&frame, d.aov, d.exposure, d.tonemap)
@@ -133,14 +133,16 @@ impl RenderWorker {
             // The browser's measure of render speed (docs/web.md): the whole progressive
             // render of the view, in slices, as the page saw it.
             super::platform::note(&format!(
-                "render {} finished: {}×{} {} in {:.2} s, {:.2} s of it rendering ({} slices)",
+                "render {} finished: {}×{} {} in {:.2} s, {:.2} s of it rendering ({} slices); \
+                 the page's memory {} MB",
                 run.generation,
                 run.settings.width,
                 run.settings.height,
                 run.settings.method.name(),
                 run.started.elapsed().as_secs_f64(),
                 run.busy.as_secs_f64(),
-                run.slices
+                run.slices,
+                core::arch::wasm32::memory_size(0) * 65536 / (1 << 20)
             ));
             self.running = None;
         }

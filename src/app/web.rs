@@ -42,9 +42,9 @@ pub fn start() {
                                 .find(|m| m.name() == value)
                             {
                                 Some(m) => app.settings.method = m,
-                                None => web_sys::console::warn_1(
-                                    &format!("no method '{value}'").into(),
-                                ),
+                                None => {
+                                    web_sys::console::warn_1(&format!("no method '{value}'").into())
+                                }
                             },
                             "preset" => match Preset::from_name(value) {
                                 Some(p) => app.set_preset(p),

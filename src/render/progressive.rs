@@ -128,8 +128,9 @@ pub fn render_progressive_with(
         };
         // Coarse levels are small enough to denoise at once: only full resolution is deferred.
         let defer_level = defer && scale == 1;
-        // A step of its own: a sliced render (the browser's) does each level once.
-        let output = slicing::step(|| -> Result<Option<RenderOutput>, String> {
+        // A step of its own: a sliced render (the browser's) does each level once, and skips
+        // it once a finer level is done (`None`).
+        let Some(output) = slicing::step(|| -> Result<Option<RenderOutput>, String> {
             if !defer_level {
                 return ctx.render_full(camera, &s, Some(cancel)).map(Some);
             }
@@ -154,8 +155,10 @@ pub fn render_progressive_with(
                 environment,
                 ..RenderOutput::default()
             }))
-        })?;
-        let Some(output) = output else {
+        }) else {
+            continue;
+        };
+        let Some(output) = output? else {
             return Ok(last);
         };
         if stop() {
@@ -195,8 +198,8 @@ pub fn render_progressive_with(
             ..*settings
         };
         // The pass's sums and its image (if it shows one), as one step: a sliced render
-        // (the browser's) does each pass once.
-        let pass_result = slicing::step(|| {
+        // (the browser's) does each pass once, and skips it once a later pass is done.
+        let Some(pass_result) = slicing::step(|| {
             // U is deterministic: the first pass computed it, the others take it from there.
             // (A sampled U, `exact_u`, is averaged like S_N instead.)
             let mut next = render_buffers_with(ctx, &basis, &s, Some(cancel), s.exact_u)?;
@@ -225,7 +228,9 @@ pub fn render_progressive_with(
                 output
             };
             Some((acc, Some(output)))
-        });
+        }) else {
+            continue;
+        };
         let Some((summed, output)) = pass_result else {
             break;
         };

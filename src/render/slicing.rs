@@ -15,7 +15,8 @@
 //! What lies between the tile calls (assembling an image, the denoiser, accumulating passes)
 //! would run again in every slice. The work marks such stretches as [`step`]s: once a step has
 //! finished, later slices take a copy of its result and skip it (and its tile calls), so a
-//! slice replays each finished level or pass of a progressive render at the cost of a copy.
+//! slice replays each finished level or pass of a progressive render at the cost of a copy;
+//! and once a later level or pass has finished, an earlier one is skipped altogether.
 
 use std::any::Any;
 use std::cell::{Cell, RefCell};
@@ -37,46 +38,83 @@ pub struct Slicer {
     out_of_time: AtomicBool,
     /// Per [`step`] of the work, in order: its result once it finished, and how many
     /// `render_tiles` calls it made (skipped with it).
-    steps: RefCell<Vec<Option<KeptStep>>>,
+    steps: RefCell<Vec<Option<Kept>>>,
     /// The next step's index in this slice.
     step: Cell<usize>,
 }
 
-/// Runs `compute`, a stretch of sliced work (or of any render: outside a slicer this is just
-/// `compute()`), and keeps its result once it has finished within a slice: later slices
-/// get a copy instead of running it again. A step cut short by its slice's end is run again
-/// from its start (its finished tiles kept) in the next.
-pub fn step<T: Clone + 'static>(compute: impl FnOnce() -> T) -> T {
+/// Runs `compute`, a stretch of sliced work (outside a slicer, any render: then this is just
+/// `Some(compute())`), and keeps its result once it has finished within a slice, so that later
+/// slices take a copy instead of running it again. A step cut short by its slice's end runs
+/// again from its start in the next slice, its finished tiles kept.
+///
+/// Steps made at the same place in the code form a series (the levels of a progressive
+/// render; its passes), of which each supersedes the one before: once a step has finished, the
+/// earlier ones of its series are dropped (their results and tiles) and answer `None`, and
+/// the caller skips them. So what a slicer keeps is bounded by a render's series, not by its
+/// length.
+#[track_caller]
+pub fn step<T: Clone + 'static>(compute: impl FnOnce() -> T) -> Option<T> {
+    let site = std::panic::Location::caller();
     let p = CURRENT.with(|c| c.get());
     if p.is_null() {
-        return compute();
+        return Some(compute());
     }
     // SAFETY: as in `Slicer::with_current`.
     let slicer = unsafe { &*p };
     let i = slicer.step.get();
     slicer.step.set(i + 1);
-    let kept = slicer.steps.borrow().get(i).and_then(|s| {
-        s.as_ref()
-            .and_then(|(v, calls)| v.downcast_ref::<T>().map(|v| (v.clone(), *calls)))
+    let kept = slicer.steps.borrow().get(i).and_then(|s| match s {
+        Some(Kept::Done { value, calls, .. }) => {
+            value.downcast_ref::<T>().map(|v| (Some(v.clone()), *calls))
+        }
+        Some(Kept::Superseded { calls }) => Some((None, *calls)),
+        None => None,
     });
-    if let Some((v, calls)) = kept {
+    if let Some((value, calls)) = kept {
         slicer.call.set(slicer.call.get() + calls);
-        return v;
+        return value;
     }
     let before = slicer.call.get();
-    let v = compute();
+    let value = compute();
     if !slicer.out_of_time.load(Ordering::Relaxed) {
+        let after = slicer.call.get();
+        // Its tiles are not needed again: the step is skipped with them from now on.
+        for tiles in slicer.memo.borrow_mut().iter_mut().take(after).skip(before) {
+            *tiles = Box::new(());
+        }
         let mut steps = slicer.steps.borrow_mut();
+        for earlier in steps.iter_mut().take(i) {
+            if let Some(Kept::Done { site: s, calls, .. }) = earlier
+                && *s == site
+            {
+                *earlier = Some(Kept::Superseded { calls: *calls });
+            }
+        }
         if steps.len() <= i {
             steps.resize_with(i + 1, || None);
         }
-        steps[i] = Some((Box::new(v.clone()), slicer.call.get() - before));
+        steps[i] = Some(Kept::Done {
+            value: Box::new(value.clone()),
+            calls: after - before,
+            site,
+        });
     }
-    v
+    Some(value)
 }
 
-/// A finished step's result and the number of `render_tiles` calls it made.
-type KeptStep = (Box<dyn Any>, usize);
+/// A finished step: its result, the number of `render_tiles` calls it made, and where in the
+/// code it was made; or, once a later step made there has finished, only the calls to skip.
+enum Kept {
+    Done {
+        value: Box<dyn Any>,
+        calls: usize,
+        site: &'static std::panic::Location<'static>,
+    },
+    Superseded {
+        calls: usize,
+    },
+}
 
 thread_local! {
     static CURRENT: Cell<*const Slicer> = const { Cell::new(std::ptr::null()) };
@@ -105,6 +143,19 @@ impl Slicer {
         let _restore = Restore(CURRENT.with(|c| c.replace(self as *const Slicer)));
         let r = work(&self.out_of_time);
         (r, !self.out_of_time.load(Ordering::Relaxed))
+    }
+
+    /// What the slicer holds: the results of finished steps it keeps, and the `render_tiles`
+    /// calls whose tiles it keeps.
+    pub fn held(&self) -> (usize, usize) {
+        let results = self
+            .steps
+            .borrow()
+            .iter()
+            .filter(|s| matches!(s, Some(Kept::Done { .. })))
+            .count();
+        let tiles = self.memo.borrow().iter().filter(|t| !t.is::<()>()).count();
+        (results, tiles)
     }
 
     /// The slicer installed on this thread by [`Slicer::run`], if any.
@@ -190,16 +241,17 @@ mod tests {
             let slicer = Slicer::new();
             let mut sliced = Vec::new();
             let mut slices = 0;
+            let mut newest = None;
             loop {
                 slices += 1;
-                let mut seen = 0;
                 let (_, finished) = slicer.run(Duration::from_micros(50), |cancel| {
                     render_progressive(&ctx, &camera, &settings, passes, cancel, |f| {
-                        // A slice replays the frames of the slices before it.
-                        if seen == sliced.len() {
+                        // A slice replays the frames of finished levels and passes it holds.
+                        let key = Some((std::cmp::Reverse(f.scale), f.passes));
+                        if key > newest {
+                            newest = key;
                             sliced.push(f.output.image.clone());
                         }
-                        seen += 1;
                     })
                     .unwrap()
                 });
@@ -208,6 +260,11 @@ mod tests {
                 }
                 assert!(slices < 100_000, "the slices do not advance");
             }
+            // Bounded by the render's series (its levels, its passes), not by its length: the
+            // newest level's and the newest pass's results, and no tiles of finished steps.
+            let (results, tiles) = slicer.held();
+            assert!(results <= 2, "{method:?}: {results} results held");
+            assert_eq!(tiles, 0, "{method:?}: tiles of finished steps held");
             assert!(
                 slices > 10,
                 "{method:?}: {slices} slices: the test slices nothing"
