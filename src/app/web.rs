@@ -34,6 +34,12 @@ pub fn start() {
                 },
                 Box::new(move |cc| {
                     let mut app = WorkbenchApp::from_creation_context(cc);
+                    // A scene remembered from a dropped file cannot be read again (the page
+                    // keeps no files): start on the default scene instead of an error.
+                    let embedded = crate::scene::scene_file::embedded_scene_names();
+                    if !embedded.contains(&app.settings.scene.as_str()) {
+                        app.load_scene("default");
+                    }
                     for (key, value) in &query {
                         match key.as_str() {
                             "scene" => app.load_scene(value),
