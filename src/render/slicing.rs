@@ -180,11 +180,11 @@ impl Slicer {
         let call = self.call.get();
         self.call.set(call + 1);
         let mut memo = self.memo.borrow_mut();
-        if memo.len() <= call {
-            memo.push(Box::new(Vec::<Vec<T>>::new()));
+        while memo.len() <= call {
+            memo.push(Box::new(()));
         }
-        // A call of another pixel type at this index would mean the work changed: start the
-        // call afresh rather than misread it.
+        // A new call; or one of another pixel type at this index, which would mean the work
+        // changed: start the call afresh rather than misread it.
         if !memo[call].is::<Vec<Vec<T>>>() {
             memo[call] = Box::new(Vec::<Vec<T>>::new());
         }
