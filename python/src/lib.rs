@@ -514,43 +514,14 @@ fn stress(py: Python<'_>, cases: u64, seed: u64, rays: u32) -> PyResult<Py<PyAny
     to_python(py, &report)
 }
 
-/// `penumbra bench` on `scene` through its camera: every method (by CLI name; all but
-/// `reference` by default) at each sample count of `ladder` against a reference of
-/// `reference_spp` samples, each deterministic render repeated `repeats` times (the fastest
-/// kept). Returns the report's rows as dicts (scene, method, spp, seconds, mae, rmse,
-/// relative_rmse, rmse_corrected), ready for `pandas.DataFrame`. The interpreter is released
-/// while it runs, and Ctrl-C stops it within a tile of the current render (KeyboardInterrupt).
-#[pyfunction]
-#[pyo3(signature = (scene, size=(160, 120), ladder=vec![1, 2, 4, 8, 16, 32, 64, 128, 256], methods=None, reference_spp=4096, seed=1, repeats=2, aa=1))]
-#[allow(clippy::too_many_arguments)]
-#[pyo3(name = "bench")]
-fn run_bench(
-    py: Python<'_>,
-    scene: &Scene,
-    size: (u32, u32),
-    ladder: Vec<u32>,
-    methods: Option<Vec<String>>,
-    reference_spp: u32,
-    seed: u64,
-    repeats: u32,
-    aa: u32,
-) -> PyResult<Py<PyAny>> {
-    let report = bench_run(
-        py,
-        scene,
-        size,
-        ladder,
-        methods,
-        reference_spp,
-        seed,
-        repeats,
-        aa,
-    )?;
-    to_python(py, &report.rows)
-}
-
-/// The whole report of `penumbra bench` (its `bench.json`) as a dict: the rows, the
-/// reference's noise, the equal-time table and the speed ratios. Same arguments as `bench`.
+/// `penumbra bench` on `scene` through its camera, its whole report (`bench.json`) as a dict:
+/// every method (by CLI name; all but `reference` by default) at each sample count of
+/// `ladder` against a reference of `reference_spp` samples, each deterministic render
+/// repeated `repeats` times (the fastest kept). The dict holds the scene, the size, the
+/// reference's noise, the rows (scene, method, spp, seconds, mae, rmse, relative_rmse,
+/// rmse_corrected), the equal-time table and the speed ratios. The interpreter is released
+/// while it runs, and Ctrl-C stops it within a tile of the current render
+/// (KeyboardInterrupt). `penumbra.bench` gives the rows alone.
 #[pyfunction]
 #[pyo3(signature = (scene, size=(160, 120), ladder=vec![1, 2, 4, 8, 16, 32, 64, 128, 256], methods=None, reference_spp=4096, seed=1, repeats=2, aa=1))]
 #[allow(clippy::too_many_arguments)]
@@ -565,18 +536,30 @@ fn bench_report(
     repeats: u32,
     aa: u32,
 ) -> PyResult<Py<PyAny>> {
-    let report = bench_run(
-        py,
-        scene,
-        size,
-        ladder,
-        methods,
-        reference_spp,
-        seed,
-        repeats,
-        aa,
-    )?;
-    to_python(py, &report)
+    use penumbra::bench::runner;
+    let camera = scene.camera_or_error()?;
+    let label = std::path::Path::new(&scene.name)
+        .file_stem()
+        .map_or(scene.name.clone(), |s| s.to_string_lossy().into_owned());
+    let mut config = runner::BenchConfig::new(&label, camera, size.0, size.1);
+    config.aa = aa;
+    config.ladder = ladder;
+    if let Some(names) = methods {
+        config.methods = names
+            .iter()
+            .map(|n| method_by_name(n))
+            .collect::<PyResult<_>>()?;
+    }
+    config.reference_spp = reference_spp;
+    config.seed = seed;
+    config.repeats = repeats;
+    let loaded = scene.scene.clone();
+    let report = interruptible(py, move |cancel| -> Result<_, String> {
+        let ctx = config.prepare(&loaded);
+        let reference = runner::render_reference(&ctx, &config, Some(cancel))?;
+        Ok(runner::run_bench(&ctx, &config, &reference, Some(cancel), |_, _, _| {})?.0)
+    })?;
+    to_python(py, &report.map_err(value_error)?)
 }
 
 /// The chart `penumbra bench` writes as `time_vs_rmse.svg`, from a `bench_report` dict:
@@ -601,45 +584,6 @@ fn bench_chart(
     })
 }
 
-/// The one bench run behind `bench` and `bench_report`.
-#[allow(clippy::too_many_arguments)]
-fn bench_run(
-    py: Python<'_>,
-    scene: &Scene,
-    size: (u32, u32),
-    ladder: Vec<u32>,
-    methods: Option<Vec<String>>,
-    reference_spp: u32,
-    seed: u64,
-    repeats: u32,
-    aa: u32,
-) -> PyResult<penumbra::bench::table::BenchReport> {
-    use penumbra::bench::runner;
-    let camera = scene.camera_or_error()?;
-    let label = std::path::Path::new(&scene.name)
-        .file_stem()
-        .map_or(scene.name.clone(), |s| s.to_string_lossy().into_owned());
-    let mut config = runner::BenchConfig::new(&label, camera, size.0, size.1);
-    config.aa = aa;
-    config.ladder = ladder;
-    if let Some(names) = methods {
-        config.methods = names
-            .iter()
-            .map(|n| method_by_name(n))
-            .collect::<PyResult<_>>()?;
-    }
-    config.reference_spp = reference_spp;
-    config.seed = seed;
-    config.repeats = repeats;
-    let loaded = scene.scene.clone();
-    let report = interruptible(py, move |cancel| -> Result<_, String> {
-        let ctx = config.prepare(&loaded);
-        let reference = runner::render_reference(&ctx, &config, Some(cancel))?;
-        Ok(runner::run_bench(&ctx, &config, &reference, Some(cancel), |_, _, _| {})?.0)
-    })?;
-    report.map_err(value_error)
-}
-
 /// A serialisable value as the Python object `json.loads` makes of its JSON.
 fn to_python<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<PyAny>> {
     let json = serde_json::to_string(value).map_err(value_error)?;
@@ -656,7 +600,6 @@ fn _penumbra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenes, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(stress, m)?)?;
-    m.add_function(wrap_pyfunction!(run_bench, m)?)?;
     m.add_function(wrap_pyfunction!(bench_report, m)?)?;
     m.add_function(wrap_pyfunction!(bench_chart, m)?)?;
     Ok(())
