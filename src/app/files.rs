@@ -111,10 +111,13 @@ pub fn open_contents(files: &[super::platform::FileContent]) -> Vec<(String, Res
         let mtl = mtl_for(&obj).map_err(as_file_error)?;
         crate::scene::obj::load_obj_str(&obj, mtl.as_deref(), &f.name)
     };
+    // A scene file's OBJs open with it, not on their own as well.
+    let with_scene_file = files.iter().any(|f| ext(&f.name) == "toml");
     let mut out = Vec::new();
     for f in files {
         let name = f.name.clone();
         let opened = match ext(&name).as_str() {
+            "obj" if with_scene_file => continue,
             "obj" => load_obj(f)
                 .map(|s| Opened::Scene(name.clone(), s))
                 .map_err(anyhow::Error::from),
@@ -153,10 +156,6 @@ pub fn open_contents(files: &[super::platform::FileContent]) -> Vec<(String, Res
             )),
         };
         out.push((name, opened));
-    }
-    // A scene file's OBJs were opened with it: do not open them again on their own.
-    if out.iter().any(|(n, _)| ext(n) == "toml") {
-        out.retain(|(n, _)| ext(n) != "obj");
     }
     out
 }
