@@ -77,6 +77,11 @@ impl Gizmo {
         ))
     }
 
+    /// The arrow along world axis `i` on the screen: from the pivot to its tip.
+    pub fn arrow(&self, i: usize) -> Option<(Pos2, Pos2)> {
+        Some((self.project(self.pivot)?, self.project(self.axis_end(i))?))
+    }
+
     fn axis_end(&self, i: usize) -> DVec3 {
         let mut e = DVec3::ZERO;
         e[i] = self.length;

@@ -222,6 +222,7 @@ struct WebLog {
     status: String,
     first_image: bool,
     recording: Option<((f64, f64), usize)>,
+    selected: Option<usize>,
 }
 
 impl AppState {

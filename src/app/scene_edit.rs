@@ -93,7 +93,8 @@ impl SceneEditor {
         ctx.primary_hit(&ray)?.point.object.map(|o| o as usize)
     }
 
-    fn gizmo(&mut self, ctx: &RenderContext, camera: &Camera, rect: Rect) -> Option<Gizmo> {
+    /// The selected object's gizmo as drawn in the viewport `rect`.
+    pub fn gizmo(&mut self, ctx: &RenderContext, camera: &Camera, rect: Rect) -> Option<Gizmo> {
         let object = self.selected?;
         let pivot = self.history(ctx).pivot(object).ok()?;
         // During a drag the gizmo follows the object.

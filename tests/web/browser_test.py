@@ -4,9 +4,11 @@ through the DevTools protocol and checks what a student would see (issue 30):
 1. the first image arrives (the page's console says so, with where the viewport is);
 2. a click on the viewport picks that pixel, and the sphere pane then shows its recording:
    the screenshot is not blank there;
-3. an OBJ (with its MTL) dropped on the page is read as a scene, and a malformed one gives
+3. an object double-clicked and dragged by its arrow moves, and Ctrl+Z brings the viewport
+   back to its image before the move, pixel for pixel;
+4. an OBJ (with its MTL) dropped on the page is read as a scene, and a malformed one gives
    its file and line, not a panic; a dropped .hdr lights the scene;
-4. the console has no panic and no uncaught exception from start to end.
+5. the console has no panic and no uncaught exception from start to end.
 
 It writes the screenshots and the console to OUT (default out/web/) and prints the timings:
 the time to the first image and the browser's own render times.
@@ -181,6 +183,32 @@ class Page:
                       clickCount=1)
             time.sleep(0.05)
 
+    def drag(self, start, end, steps=12):
+        x0, y0 = start
+        x1, y1 = end
+        self.send("Input.dispatchMouseEvent", type="mouseMoved", x=x0, y=y0)
+        self.send("Input.dispatchMouseEvent", type="mousePressed", x=x0, y=y0, button="left",
+                  clickCount=1)
+        for k in range(1, steps + 1):
+            t = k / steps
+            time.sleep(0.05)
+            self.send("Input.dispatchMouseEvent", type="mouseMoved", x=x0 + t * (x1 - x0),
+                      y=y0 + t * (y1 - y0), button="left", buttons=1)
+        self.send("Input.dispatchMouseEvent", type="mouseReleased", x=x1, y=y1, button="left",
+                  clickCount=1)
+
+    def double_click(self, x, y):
+        self.send("Input.dispatchMouseEvent", type="mouseMoved", x=x, y=y)
+        for count in [1, 2]:
+            for kind in ["mousePressed", "mouseReleased"]:
+                self.send("Input.dispatchMouseEvent", type=kind, x=x, y=y, button="left",
+                          clickCount=count)
+
+    def ctrl_key(self, key, code, vk):
+        for kind in ["rawKeyDown", "keyUp"]:
+            self.send("Input.dispatchKeyEvent", type=kind, modifiers=2, key=key, code=code,
+                      windowsVirtualKeyCode=vk)
+
     def drop(self, files):
         """Drops `files` ({name: text or bytes}) on the canvas, as a user's drag and drop
         does."""
@@ -218,6 +246,33 @@ def spread_in(page, png_b64, rect):
             n++; s += v; s2 += v * v;
         }}
         return Math.sqrt(Math.max(0, s2 / n - (s / n) ** 2));
+    }})()""")
+
+
+def differing_pixels(page, png_a, png_b, rect):
+    """How many pixels inside rect (x, y, w, h) differ between two screenshots."""
+    x, y, w, h = rect
+    return page.evaluate(f"""(async () => {{
+        const data = [];
+        for (const src of ["{png_a}", "{png_b}"]) {{
+            const img = new Image();
+            img.src = "data:image/png;base64," + src;
+            await img.decode();
+            const c = new OffscreenCanvas(img.width, img.height);
+            const g = c.getContext("2d");
+            g.drawImage(img, 0, 0);
+            data.push(g.getImageData({x}, {y}, {w}, {h}).data);
+        }}
+        let n = 0, box = [1e9, 1e9, -1, -1];
+        for (let i = 0; i < data[0].length; i += 4)
+            if (data[0][i] != data[1][i] || data[0][i + 1] != data[1][i + 1]
+                || data[0][i + 2] != data[1][i + 2]) {{
+                n++;
+                const px = (i / 4) % {w} + {x}, py = Math.floor(i / 4 / {w}) + {y};
+                box = [Math.min(box[0], px), Math.min(box[1], py),
+                       Math.max(box[2], px), Math.max(box[3], py)];
+            }}
+        return [n, box];
     }})()""")
 
 
@@ -293,7 +348,46 @@ def main():
         if spread < 5:
             failures.append(f"the sphere pane looks blank (grey spread {spread:.1f})")
 
-        # 3. Dropped files.
+        # 3. Moving an object, and undoing it: the image comes back bit for bit.
+        vshot = lambda: page.send("Page.captureScreenshot", format="png")["data"]
+        mark = len(page.console)
+        on_object = (vx + 0.70 * vw, vy + 0.63 * vh)
+        page.double_click(*on_object)
+        # The double-click selects the object (its handles appear); its clicks pick too.
+        _, m = page.wait_for(r"status: picked \(\S+, \S+\): (.+)", 30, after=mark)
+        name = m.group(1)
+        _, m = page.wait_for(r"handles: the x arrow from \((\S+), (\S+)\) to \((\S+), (\S+)\)",
+                             30, after=mark)
+        (ax, ay, bx, by) = (float(v) for v in m.groups())
+        time.sleep(0.5)
+        before = vshot()
+        mark = len(page.console)
+        grab = (ax + 0.6 * (bx - ax), ay + 0.6 * (by - ay))
+        page.drag(grab, (grab[0] + 1.5 * (bx - ax), grab[1] + 1.5 * (by - ay)))
+        page.wait_for(r"render \d+ finished", args.timeout, after=mark)
+        time.sleep(0.5)
+        moved, _ = differing_pixels(page, before, vshot(), viewport)
+        mark = len(page.console)
+        page.ctrl_key("z", "KeyZ", 90)
+        page.wait_for(r"status: undone", 30, after=mark)
+        page.wait_for(r"render \d+ finished", args.timeout, after=mark)
+        # The pointer back where it was, so that the handles' hover highlight is as it was.
+        page.send("Input.dispatchMouseEvent", type="mouseMoved", x=on_object[0], y=on_object[1])
+        time.sleep(0.5)
+        after = vshot()
+        undone, box = differing_pixels(page, before, after, viewport)
+        for png, file in [(before, "before_move.png"), (after, "after_undo.png")]:
+            with open(os.path.join(args.out, file), "wb") as f:
+                f.write(base64.b64decode(png))
+        print(f"moved {name} along x: {moved} viewport pixels changed; after undo "
+              f"{undone} differ from before the move")
+        if moved < 100:
+            failures.append(f"dragging {name}'s arrow changed {moved} pixels only")
+        if undone != 0:
+            failures.append(f"after undo, {undone} viewport pixels differ from before the "
+                            f"move, in {box}")
+
+        # 4. Dropped files.
         mark = len(page.console)
         page.drop({"dropped.obj": DROPPED_OBJ, "dropped.mtl": DROPPED_MTL})
         _, m = page.wait_for(r"status: dropped\.obj: (\d+) objects", 60, after=mark)
@@ -324,7 +418,7 @@ def main():
         browser.wait(timeout=10)
         shutil.rmtree(profile, ignore_errors=True)
 
-    # 4. Nothing went wrong on the way.
+    # 5. Nothing went wrong on the way.
     for t, line in console:
         if "panicked" in line or line.startswith("exception") or "RuntimeError" in line:
             failures.append(f"console at {t:.1f} s: {line}")

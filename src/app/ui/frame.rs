@@ -218,6 +218,24 @@ impl AppState {
                 rect(v)
             ));
         }
+        let selected = self.editor.selected;
+        if log.selected != selected {
+            log.selected = selected;
+            let arrow = match (&self.ctx, self.viewport_rect) {
+                (Some(ctx), Some(v)) => self
+                    .editor
+                    .gizmo(ctx, &self.orbit.camera(), v)
+                    .and_then(|g| g.arrow(0)),
+                _ => None,
+            };
+            if let Some((from, to)) = arrow {
+                platform::note(&format!(
+                    "handles: the x arrow from ({:.0}, {:.0}) to ({:.0}, {:.0})",
+                    from.x, from.y, to.x, to.y
+                ));
+            }
+        }
+        let log = &mut self.web_log;
         let recording = self
             .inspector
             .as_ref()
