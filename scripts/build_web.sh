@@ -13,7 +13,7 @@ fi
 cargo build --profile web --target wasm32-unknown-unknown --bin penumbra
 rm -rf dist
 wasm-bindgen --target web --no-typescript --out-dir dist --out-name penumbra \
-    target/wasm32-unknown-unknown/web/penumbra.wasm
+    "${CARGO_TARGET_DIR:-target}/wasm32-unknown-unknown/web/penumbra.wasm"
 cp assets/web/index.html dist/
 wasm=$(wc -c < dist/penumbra_bg.wasm)
 gz=$(gzip -9 -c dist/penumbra_bg.wasm | wc -c)
