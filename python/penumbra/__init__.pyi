@@ -1,4 +1,4 @@
-from typing import Optional, Tuple
+from typing import Any, Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -109,17 +109,9 @@ def compare(
 def stress(cases: int = 1000, seed: int = 1, rays: int = 256) -> dict:
     """`penumbra stress`'s report: random and adversarial cases against a ray-cast oracle."""
 
-def bench(
-    scene: Scene,
-    size: Tuple[int, int] = (160, 120),
-    ladder: list[int] = [1, 2, 4, 8, 16, 32, 64, 128, 256],
-    methods: Optional[list[str]] = None,
-    reference_spp: int = 4096,
-    seed: int = 1,
-    repeats: int = 2,
-    aa: int = 1,
-) -> list[dict]:
-    """`penumbra bench`'s rows (method, spp, seconds, mae, rmse, relative_rmse, rmse_corrected)."""
+def bench(scene: Scene, **options: Any) -> list[dict]:
+    """`penumbra bench`'s rows (method, spp, seconds, mae, rmse, relative_rmse, rmse_corrected):
+    those of `bench_report(scene, **options)`, which takes the same options."""
 
 def bench_report(
     scene: Scene,
