@@ -199,16 +199,7 @@ pub fn screenshot_png_bytes(img: &egui::ColorImage) -> Result<Vec<u8>> {
 
 /// Writes an RGBA screenshot as PNG.
 pub fn save_screenshot(img: &egui::ColorImage, path: &Path) -> Result<()> {
-    let bytes: Vec<u8> = img.pixels.iter().flat_map(|c| c.to_array()).collect();
-    image::save_buffer_with_format(
-        path,
-        &bytes,
-        img.size[0] as u32,
-        img.size[1] as u32,
-        image::ExtendedColorType::Rgba8,
-        image::ImageFormat::Png,
-    )
-    .with_context(|| path.display().to_string())
+    std::fs::write(path, screenshot_png_bytes(img)?).with_context(|| path.display().to_string())
 }
 
 /// The `penumbra render` command that reproduces the current view headless.

@@ -33,14 +33,6 @@ pub fn save_as(what: &str, extensions: &[&str], name: &str) -> Option<SaveTarget
 }
 
 impl SaveTarget {
-    /// The file's name as the status line shows it.
-    pub fn label(&self) -> String {
-        match self {
-            SaveTarget::Path(p) => p.display().to_string(),
-            SaveTarget::Download(name) => name.clone(),
-        }
-    }
-
     /// The extension the file will have, lower case.
     pub fn extension(&self) -> String {
         let name = match self {

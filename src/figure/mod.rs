@@ -12,8 +12,6 @@ pub mod svg;
 
 pub use description::{Figure, Item, Rect, Rgb, Shape, Subpath};
 
-/// Writes `figure` to `path` as SVG, PDF or PNG, by the path's extension; an error names the
-/// file.
 /// The figure as the content of a `format` file (svg, pdf or png), as [`save`] writes it: a
 /// download in the browser.
 pub fn to_bytes(figure: &Figure, format: &str) -> anyhow::Result<Vec<u8>> {
@@ -25,19 +23,18 @@ pub fn to_bytes(figure: &Figure, format: &str) -> anyhow::Result<Vec<u8>> {
     }
 }
 
+/// Writes `figure` to `path` as SVG, PDF or PNG, by the path's extension; an error names the
+/// file.
 pub fn save(figure: &Figure, path: &std::path::Path) -> anyhow::Result<()> {
     use anyhow::Context;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    match ext.to_ascii_lowercase().as_str() {
-        "svg" => std::fs::write(path, svg::to_svg(figure)),
-        "pdf" => std::fs::write(path, pdf::to_pdf(figure)),
-        "png" => {
-            plot::save_pixmap_png(&raster::render(figure), path).map_err(std::io::Error::other)
-        }
-        _ => anyhow::bail!(
+    if !["svg", "pdf", "png"].contains(&ext.to_ascii_lowercase().as_str()) {
+        anyhow::bail!(
             "{}: a figure is written as .svg, .pdf or .png",
             path.display()
-        ),
+        );
     }
-    .with_context(|| format!("{}: cannot write the figure", path.display()))
+    to_bytes(figure, ext)
+        .and_then(|bytes| Ok(std::fs::write(path, bytes)?))
+        .with_context(|| format!("{}: cannot write the figure", path.display()))
 }

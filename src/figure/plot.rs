@@ -732,15 +732,7 @@ pub fn pixmap_png_bytes(pm: &tiny_skia::Pixmap) -> image::ImageResult<Vec<u8>> {
 }
 
 pub fn save_pixmap_png(pm: &tiny_skia::Pixmap, path: &Path) -> image::ImageResult<()> {
-    let rgba = straight_rgba(pm);
-    image::save_buffer_with_format(
-        path,
-        &rgba,
-        pm.width(),
-        pm.height(),
-        image::ExtendedColorType::Rgba8,
-        image::ImageFormat::Png,
-    )
+    std::fs::write(path, pixmap_png_bytes(pm)?).map_err(image::ImageError::IoError)
 }
 
 #[cfg(test)]

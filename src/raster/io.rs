@@ -193,22 +193,9 @@ pub fn write_png(
     rgb: &[[f32; 3]],
     exposure: f64,
 ) -> anyhow::Result<()> {
-    if let Err(m) = check_len(width, height, rgb.len()) {
-        bail!("{}: {m}", path.display());
-    }
-    let bytes: Vec<u8> = rgb
-        .iter()
-        .flat_map(|px| px.map(|c| to_srgb8(c, exposure)))
-        .collect();
-    image::save_buffer_with_format(
-        path,
-        &bytes,
-        width,
-        height,
-        image::ExtendedColorType::Rgb8,
-        image::ImageFormat::Png,
-    )
-    .with_context(|| format!("{}: writing PNG", path.display()))
+    let bytes = png_bytes(width, height, rgb, exposure)
+        .with_context(|| format!("{}: writing PNG", path.display()))?;
+    std::fs::write(path, bytes).with_context(|| format!("{}: writing PNG", path.display()))
 }
 
 /// [`write_png`]'s file as bytes (a download in the browser).
