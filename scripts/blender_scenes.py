@@ -6,7 +6,7 @@ Blender's own exporters.
     /work/venv-bpy/bin/pip install -r scripts/requirements-blender.txt   # bpy (Python 3.11)
     /work/venv-bpy/bin/python scripts/blender_scenes.py --out tests/data/blender
 
-For each scene (suzanne, text, primitives, torus_light) the script starts from an empty
+For each scene (suzanne, text, penumbra_text, primitives, torus_light) the script starts from an empty
 factory scene, builds it and writes
 
 * NAME.obj + NAME.mtl  `bpy.ops.wm.obj_export` (defaults: -Z forward, +Y up, modifiers
@@ -203,6 +203,35 @@ def scene_text():
            "letters dip to 5.6 mm), lit by a 1 m quad light."
 
 
+def scene_penumbra_text():
+    floor()
+    # Lying flat (Blender's text is made in the XY plane), its baseline through the origin
+    # (Blender's default vertical alignment), 0.6 m above the floor.
+    bpy.ops.object.text_add(location=(0.0, 0.0, 0.6))
+    text = bpy.context.active_object
+    text.data.body = "penumbra"
+    text.data.size = 1.0
+    text.data.extrude = 0.05
+    text.data.align_x = 'CENTER'
+    bpy.ops.object.convert(target='MESH')
+    text = bpy.context.active_object
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.mesh.select_all(action='SELECT')
+    # Blender's default angle: keyhole n-gon caps (a bridge edge into each hole), open seams.
+    bpy.ops.mesh.dissolve_limited(angle_limit=math.radians(5.0))
+    bpy.ops.object.mode_set(mode='OBJECT')
+    finish(text, "Text", principled("Text", base=(0.8, 0.8, 0.8)))
+    light = quad_light("Light", (0.0, 0.0, 2.4), radiance=4.0)
+    light.scale = (1.6, 0.8, 1.0)
+    bpy.ops.object.transform_apply(location=False, rotation=False, scale=True)
+    # The camera of the report: file frame eye (0, 4, 4.8), target (0, 0.3, -0.2).
+    add_camera((0.0, -4.8, 4.0), (0.0, 0.2, 0.3))
+    return "The word 'penumbra' (built-in font, size 1, extrude 0.05, centred) converted to a "\
+           "mesh, Limited Dissolve (5 degrees, Blender's default) on the whole mesh: keyhole "\
+           "n-gon caps, open seams; lying flat 0.6 m above the floor under a 1.6 m x 0.8 m "\
+           "quad light 2.4 m up."
+
+
 def scene_primitives():
     floor()
     default = principled("Default")  # nothing changed: Blender's default Principled BSDF
@@ -248,6 +277,7 @@ def scene_torus_light():
 SCENES = {
     "suzanne": scene_suzanne,
     "text": scene_text,
+    "penumbra_text": scene_penumbra_text,
     "primitives": scene_primitives,
     "torus_light": scene_torus_light,
 }

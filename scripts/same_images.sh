@@ -36,7 +36,7 @@ for scene in $("$bin" scenes); do
         ;;
     esac
 done
-for f in tests/data/blender/suzanne.glb tests/data/blender/text.toml; do
+for f in tests/data/blender/*.toml tests/data/blender/*.glb; do
     fingerprint "$f/analytic" "$f" --method analytic
 done
 "$bin" stress --cases 20000 --seed 11 --json "$work/stress.json" >/dev/null 2>&1

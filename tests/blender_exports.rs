@@ -1,7 +1,8 @@
 //! Scenes built in Blender 5.0.1 and written by Blender's own OBJ and glTF exporters
 //! (`scripts/blender_scenes.py`, files in `tests/data/blender/`): Suzanne subdivided twice (an
 //! open mesh of non-planar quads with vertices of valence two), an extruded text converted to a
-//! mesh (open, n-gon caps, non-convex and non-planar faces), the default primitives under a
+//! mesh (open, n-gon caps, non-convex and non-planar faces), the word "penumbra" lying flat
+//! (keyhole n-gon caps, Blender's default dissolve angle), the default primitives under a
 //! quad light and a tube light, and a torus as a non-convex light.
 //!
 //! The oracles: the ray-cast reference (an unbiased estimate with its standard error, at the
@@ -18,11 +19,13 @@ use penumbra::scene::{Camera, Scene};
 use penumbra::shading::MeshPath;
 use std::path::Path;
 
-const SCENES: [&str; 8] = [
+const SCENES: [&str; 10] = [
     "suzanne.toml",
     "suzanne.glb",
     "text.toml",
     "text.glb",
+    "penumbra_text.toml",
+    "penumbra_text.glb",
     "primitives.toml",
     "primitives.glb",
     "torus_light.toml",
@@ -63,6 +66,8 @@ fn blender_meshes_keep_their_topology_and_take_the_open_path() {
         ("suzanne.glb", "Suzanne", Some(168)),
         ("text.toml", "Text", None),
         ("text.glb", "Text", None),
+        ("penumbra_text.toml", "Text", None),
+        ("penumbra_text.glb", "Text", None),
     ] {
         let scene = load(file);
         let m = mesh(&scene, object);
@@ -94,7 +99,13 @@ fn blender_meshes_keep_their_topology_and_take_the_open_path() {
 /// level, Ns from the roughness) maps to what glTF's metallic-roughness says.
 #[test]
 fn obj_and_glb_of_one_blender_scene_have_the_same_materials() {
-    for stem in ["suzanne", "text", "primitives", "torus_light"] {
+    for stem in [
+        "suzanne",
+        "text",
+        "penumbra_text",
+        "primitives",
+        "torus_light",
+    ] {
         let obj = load(&format!("{stem}.toml"));
         let glb = load(&format!("{stem}.glb"));
         for o in &obj.objects {

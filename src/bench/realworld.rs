@@ -115,7 +115,7 @@ fn source_path(rel: &str) -> Option<PathBuf> {
 }
 
 /// The scenes Blender built and wrote itself (`tests/data/blender`), each as OBJ and `.glb`.
-const BLENDER_SCENES: [(&str, &str); 4] = [
+const BLENDER_SCENES: [(&str, &str); 5] = [
     (
         "suzanne",
         "Blender's monkey, subdivided twice (7,872 quads, 7,686 not planar; open: 168 boundary \
@@ -125,6 +125,11 @@ const BLENDER_SCENES: [(&str, &str); 4] = [
         "text",
         "An extruded text 'BOP8' converted to a mesh, limited dissolve: n-gon caps split at the \
          holes, non-planar sides, open (caps not joined to the sides)",
+    ),
+    (
+        "penumbra_text",
+        "The word 'penumbra' lying flat under a 1.6 m x 0.8 m quad light, converted to a mesh \
+         with Blender's default limited dissolve: keyhole n-gon caps, open seams",
     ),
     (
         "primitives",
@@ -171,9 +176,13 @@ pub fn run_realworld(
             let rel = format!("tests/data/blender/{stem}.{ext}");
             match source_path(&rel) {
                 Some(p) => inputs.push((
-                    format!("blender_{stem}_{}", if ext == "toml" { "obj" } else { "glb" }),
                     format!(
-                        "{what}; written by Blender 5.0.1's own {} exporter                          (scripts/blender_scenes.py)",
+                        "blender_{stem}_{}",
+                        if ext == "toml" { "obj" } else { "glb" }
+                    ),
+                    format!(
+                        "{what}; written by Blender 5.0.1's own {} exporter \
+                         (scripts/blender_scenes.py)",
                         if ext == "toml" { "OBJ" } else { "glTF" }
                     ),
                     if ext == "toml" {

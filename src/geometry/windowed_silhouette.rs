@@ -65,8 +65,12 @@ pub struct WindowScratch {
     candidates: Vec<u32>,
     /// The clipped arcs and the stages shared with the whole silhouette.
     pieces: ContourPieces,
-    /// Open chains: (first piece, last piece).
+    /// Open chains: the range of `chain_pieces` each one takes.
     chains: Vec<(u32, u32)>,
+    /// The pieces of the open chains, in walking order.
+    chain_pieces: Vec<u32>,
+    /// Per open chain: the index of its exit in `order`, and whether a loop has taken it.
+    exit_at: Vec<(u32, bool)>,
     order: Vec<(f64, u32, bool)>,
     loop_buf: Vec<DVec3>,
     /// Test every pair of arcs and cast one ray per piece (the reference the sweep and the
@@ -302,23 +306,30 @@ pub fn exact_silhouette_in_window(
 
     // 6. Chains. Open chains first, from every piece that starts on ∂W'; the next piece
     //    starts where the current one ends. Then the closed loops inside W'.
+    //    Each step marks one unused piece as used, so all the walks together take at most
+    //    `kept.len()` steps, and every piece is in one chain or loop at most.
     pieces.index_starts();
     scratch.chains.clear();
+    scratch.chain_pieces.clear();
     scratch.loop_buf.clear();
     for s in 0..pieces.kept.len() {
         let first = pieces.kept[s] as usize;
         if pieces.pieces[first].used || !matches!(pieces.pieces[first].start, End::Boundary(_)) {
             continue;
         }
+        let start = scratch.chain_pieces.len() as u32;
         let mut cur = first;
         loop {
             pieces.pieces[cur].used = true;
+            scratch.chain_pieces.push(cur as u32);
             match pieces.pieces[cur].end {
                 End::Boundary(_) => break,
                 end => cur = pieces.next_piece(end)?,
             }
         }
-        scratch.chains.push((first as u32, cur as u32));
+        scratch
+            .chains
+            .push((start, scratch.chain_pieces.len() as u32));
     }
     if pieces.chain_closed_loops(frame, out).is_err() {
         out.clear();
@@ -352,8 +363,10 @@ pub fn exact_silhouette_in_window(
             End::Boundary(id) => Some(boundary[id as usize].1),
             _ => None,
         };
-        let entry = pos(pieces.pieces[first as usize].start, &pieces.boundary)?;
-        let exit = pos(pieces.pieces[last as usize].end, &pieces.boundary)?;
+        let first = scratch.chain_pieces[first as usize] as usize;
+        let last = scratch.chain_pieces[last as usize - 1] as usize;
+        let entry = pos(pieces.pieces[first].start, &pieces.boundary)?;
+        let exit = pos(pieces.pieces[last].end, &pieces.boundary)?;
         scratch.order.push((entry, c as u32, false));
         scratch.order.push((exit, c as u32, true));
     }
@@ -376,36 +389,33 @@ pub fn exact_silhouette_in_window(
             return None;
         }
     }
-    let mut done = vec_false(scratch.chains.len());
+    // Per chain: where its exit stands in `order`, and whether it is in a loop yet.
+    scratch.exit_at.clear();
+    scratch.exit_at.resize(scratch.chains.len(), (0, false));
+    for (k, &(_, c, exit)) in scratch.order.iter().enumerate() {
+        if exit {
+            scratch.exit_at[c as usize].0 = k as u32;
+        }
+    }
+    // Every step below takes a chain that is not done yet: at most `chains.len()` steps.
     for c0 in 0..scratch.chains.len() {
-        if done.get(c0) {
+        if scratch.exit_at[c0].1 {
             continue;
         }
         let mut c = c0;
         loop {
-            done.set(c);
+            scratch.exit_at[c].1 = true;
             // The chain's pieces.
-            let (first, _) = scratch.chains[c];
-            let mut cur = first as usize;
-            loop {
-                out.push_vertex(frame.to_local(pieces.pieces[cur].from));
-                match pieces.pieces[cur].end {
-                    End::Boundary(_) => break,
-                    end => {
-                        cur = pieces
-                            .kept
-                            .iter()
-                            .map(|&q| q as usize)
-                            .find(|&q| pieces.pieces[q].start == end)?;
-                    }
-                }
+            let (first, last) = scratch.chains[c];
+            // Replays the chain the first walk recorded: a second walk that chose among the
+            // pieces starting at a shared point could take another one there and never return.
+            for &q in &scratch.chain_pieces[first as usize..last as usize] {
+                out.push_vertex(frame.to_local(pieces.pieces[q as usize].from));
             }
+            let cur = scratch.chain_pieces[last as usize - 1] as usize;
             out.push_vertex(frame.to_local(pieces.pieces[cur].to));
             // Along ∂W' from this exit to the next entry, through the corners passed.
-            let k = scratch
-                .order
-                .iter()
-                .position(|&(_, ch, exit)| exit && ch as usize == c)?;
+            let k = scratch.exit_at[c].0 as usize;
             let (exit_pos, _, _) = scratch.order[k];
             let (entry_pos, next, _) = scratch.order[(k + 1) % n_events];
             let exit_side = exit_pos.floor() as usize;
@@ -423,7 +433,7 @@ pub fn exact_silhouette_in_window(
                 }
             }
             c = next as usize;
-            if done.get(c) {
+            if scratch.exit_at[c].1 {
                 break;
             }
         }
@@ -619,33 +629,5 @@ fn inside_arc(a: DVec3, b: DVec3, n: DVec3, p: DVec3) -> ArcPosition {
         ArcPosition::Outside
     } else {
         ArcPosition::AtEnd
-    }
-}
-
-/// A bit set for the few chains of a window.
-struct Flags(u64, Vec<bool>);
-
-fn vec_false(n: usize) -> Flags {
-    if n <= 64 {
-        Flags(0, Vec::new())
-    } else {
-        Flags(0, vec![false; n])
-    }
-}
-
-impl Flags {
-    fn get(&self, i: usize) -> bool {
-        if self.1.is_empty() {
-            self.0 >> i & 1 == 1
-        } else {
-            self.1[i]
-        }
-    }
-    fn set(&mut self, i: usize) {
-        if self.1.is_empty() {
-            self.0 |= 1 << i;
-        } else {
-            self.1[i] = true;
-        }
     }
 }
