@@ -127,7 +127,7 @@ fn compare_object(scene: &Scene, name: &str, points: &[ShadingPoint]) -> (f64, u
         let frame = Frame::from_normal_and_view(sp.normal, sp.view);
         if light
             .exact_silhouette(sp.position, &frame, &mut light_sph, &mut exact)
-            .is_none()
+            .is_err()
         {
             penumbra::geometry::silhouette(
                 &light.poly,
@@ -148,7 +148,7 @@ fn compare_object(scene: &Scene, name: &str, points: &[ShadingPoint]) -> (f64, u
                 &mut sph,
                 &mut window_scratch,
             )
-            .is_some()
+            .is_ok()
         {
             succeeded += 1;
             // The sweep over the clipped arcs finds the crossings all pairs find, bit for bit.
@@ -165,7 +165,7 @@ fn compare_object(scene: &Scene, name: &str, points: &[ShadingPoint]) -> (f64, u
                     &mut reference,
                     &mut all_pairs,
                 )
-                .is_some()
+                .is_ok()
             );
             assert_eq!(sph, reference, "at {}", sp.position);
         }

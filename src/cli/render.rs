@@ -133,8 +133,11 @@ pub(crate) fn render(args: &RenderArgs) -> Result<()> {
     }
     if settings.method.analytic().is_some() {
         say!(
-            "invariant, shadowed <= unshadowed per light piece: {} violations",
-            stats.violations
+            "invariant, shadowed <= unshadowed per light piece: {} violations, {} bounds \
+             crossed ({} degenerate fallbacks)",
+            stats.violations,
+            stats.fallbacks.bounds_crossed,
+            stats.fallbacks.degenerate
         );
     }
     if stats.violations > 0 {

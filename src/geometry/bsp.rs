@@ -40,6 +40,8 @@ pub struct BspPath {
 /// The leaf `x` falls in: the index of the node reached from the root (front: `eval > 0`).
 #[inline]
 pub fn bsp_leaf(nodes: &[BspNode], planes: &[Plane], x: DVec3) -> usize {
+    // Bound: children come after their parent (`nodes_well_formed`, checked for every tree,
+    // loaded ones included), so the descent ends within `nodes.len()` steps.
     let mut n = 0usize;
     loop {
         match nodes[n] {
@@ -461,6 +463,7 @@ fn contour_loops(poly: &Polyhedron, x: DVec3, out: &mut Vec<u32>) {
             continue;
         }
         let mut v = s;
+        // Bound: every step marks a vertex used: at most one step per vertex over all starts.
         while !used[v as usize] && next[v as usize] != NO_FACE {
             used[v as usize] = true;
             out.push(v);

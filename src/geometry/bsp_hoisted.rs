@@ -171,6 +171,7 @@ impl HoistedSilhouetteBsp {
         };
         let mut stack: Vec<(usize, Option<usize>, Option<usize>)> = vec![(0, None, None)];
         // (source node, source parent, index of the hoisted parent whose `front` to set)
+        // Bound: each source node is pushed once, by its parent (a tree): `nodes.len()` pops.
         while let Some((n, parent, set_front)) = stack.pop() {
             let me = out.nodes.len() as u32;
             if let Some(p) = set_front {
@@ -231,6 +232,8 @@ impl HoistedSilhouetteBsp {
         if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() {
             return false;
         }
+        // Bound: the back child is the next node and the front child comes later (built from a
+        // well-formed tree): the index grows at every step, at most `nodes.len()` steps.
         let mut n = 0usize;
         loop {
             let node = self.nodes[n];

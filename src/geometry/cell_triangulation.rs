@@ -254,6 +254,8 @@ fn best_triangulation(lp: &[Node], ns: usize, out: &mut Vec<[SilhouettePoint; 3]
         return false;
     }
     let mut stack = vec![(0, n - 1)];
+    // Bound: every pop with j > i + 1 writes one triangle of the n-gon and splits (i, j) into
+    // two shorter intervals: n − 2 triangles, 2n − 3 pops at most.
     while let Some((i, j)) = stack.pop() {
         if j <= i + 1 {
             continue;
@@ -270,6 +272,7 @@ fn best_triangulation(lp: &[Node], ns: usize, out: &mut Vec<[SilhouettePoint; 3]
 /// between two of their vertices that run through the region's interior and cross no edge.
 /// Loops of different components cannot be joined: any arc between them leaves the region.
 fn merge_holes(polys: &mut Vec<Vec<Node>>) {
+    // Bound: every round joins two loops into one or returns: `polys.len()` rounds at most.
     loop {
         let mut best: Option<(usize, usize, usize, usize, f64)> = None;
         for i in 0..polys.len() {
@@ -369,6 +372,8 @@ fn clip_ears(
     out: &mut Vec<[SilhouettePoint; 3]>,
 ) -> bool {
     let mut used = vec![false; extra.len()];
+    // Bound: every round clips an ear (one vertex fewer), brings in an unused optional vertex
+    // (at most `extra.len()` times), or returns: `lp.len() + 3 extra.len()` rounds at most.
     while lp.len() >= 3 {
         let n = lp.len();
         if n == 3 {
@@ -897,6 +902,7 @@ impl SilhouetteTriangulation {
             return out;
         }
         let mut stack = vec![(0usize, ConvexCell::cuboid(self.lo, self.hi))];
+        // Bound: a well-formed tree (children after parents): each node is pushed once.
         while let Some((n, cell)) = stack.pop() {
             match self.nodes[n] {
                 BspNode::Inner { plane, back, front } => {

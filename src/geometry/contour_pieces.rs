@@ -227,6 +227,7 @@ impl ContourPieces {
                 None => End::Vertex(e.v[0]),
             };
             let mut from = e.from;
+            // Bound: `k` only grows, up to `cuts.len()` over all arcs.
             while k < self.cuts.len() && self.cuts[k].0 == i as u32 {
                 let id = self.cuts[k].2;
                 let to = self.crossings[id as usize];
@@ -356,6 +357,8 @@ impl ContourPieces {
             if matches!(start, End::Boundary(_)) {
                 return Err(Degenerate::OpenChain);
             }
+            // Bound: each step marks an unused kept piece used, and `next_piece` returns unused ones
+            // only: at most `kept.len()` steps over all loops.
             let mut cur = first;
             loop {
                 self.pieces[cur].used = true;

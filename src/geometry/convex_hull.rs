@@ -82,6 +82,8 @@ pub fn convex_hull(points: &[DVec3]) -> Option<ConvexHull> {
     let mut visible: Vec<usize> = Vec::new();
     let mut horizon: Vec<(u32, u32)> = Vec::new();
     let mut orphans: Vec<u32> = Vec::new();
+    // Bound: each pop either skips a dead or empty face or adds one input point as an apex
+    // (its outside set shrinks): at most `points.len()` apexes, each making O(points) faces.
     while let Some(f) = stack.pop() {
         if !faces[f].alive || faces[f].outside.is_empty() {
             continue;
@@ -104,6 +106,7 @@ pub fn convex_hull(points: &[DVec3]) -> Option<ConvexHull> {
         visible.push(f);
         faces[f].alive = false;
         let mut k = 0;
+        // Bound: a face enters `visible` once (marked dead as it does).
         while k < visible.len() {
             let g = visible[k];
             k += 1;
@@ -191,6 +194,7 @@ fn merge_coplanar(
     let live: Vec<usize> = (0..faces.len()).filter(|&f| faces[f].alive).collect();
     let mut group: HashMap<usize, usize> = live.iter().map(|&f| (f, f)).collect();
     fn root(group: &mut HashMap<usize, usize>, mut f: usize) -> usize {
+        // Bound: a parent has a smaller face index than its child (below): `f` steps at most.
         while group[&f] != f {
             let up = group[&group[&f]];
             group.insert(f, up);
@@ -223,6 +227,7 @@ fn merge_coplanar(
     let mut remap: HashMap<u32, u32> = HashMap::new();
     let mut hull = ConvexHull::default();
     let mut start = 0;
+    // Bound: `start` moves past one group per round.
     while start < members.len() {
         let r = members[start].0;
         let end = start + members[start..].iter().take_while(|m| m.0 == r).count();

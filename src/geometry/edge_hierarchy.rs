@@ -312,6 +312,7 @@ impl EdgeHierarchy {
     ) -> EdgeQueryStats {
         let mut stats = EdgeQueryStats::default();
         let mut i = 0;
+        // Bound: `i` only grows (to the next node, or past a skipped subtree): `nodes.len()` steps.
         while i < self.nodes.len() {
             let node = &self.nodes[i];
             stats.nodes_visited += 1;

@@ -39,6 +39,13 @@ pub enum Degenerate {
     CrossingAtEnd,
     /// The kept pieces do not close into loops.
     OpenChain,
+    /// The windowed silhouette cannot decide the configuration inside its window (a contour
+    /// vertex or crossing on the window's boundary, a window too wide, chains that do not
+    /// alternate along it): the whole silhouette decides instead.
+    Window,
+    /// A walk took more steps than its input allows (see each walk's bound): a structure that
+    /// rounding left inconsistent. The point takes a path that is exact there.
+    BoundCrossed,
 }
 
 /// Reusable buffers of [`exact_silhouette`].

@@ -173,6 +173,8 @@ impl FaceBvh {
     fn walk(&self, enter: impl Fn(&Node) -> bool, mut face: impl FnMut(u32) -> bool) -> bool {
         let mut stack = [0u32; STACK];
         let mut sp = 0;
+        // Bound: children come after their parent and the stack holds at most one node per level
+        // (`STACK` levels: a median split halves the faces each time): each node is entered once.
         let mut cur = 0usize;
         loop {
             let node = &self.nodes[cur];

@@ -125,6 +125,8 @@ pub fn clip_to_horizon(
 
     // Join the chains along the horizon.
     let chains = &mut scratch.chains;
+    // Bound: each step of the inner walk marks an unused chain used, or closes onto `first`:
+    // `chains.len()` steps over all loops.
     for first in 0..chains.len() {
         if chains[first].used {
             continue;

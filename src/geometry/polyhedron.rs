@@ -364,6 +364,8 @@ impl Polyhedron {
         let nf = self.face_count();
         let mut parent: Vec<usize> = (0..nf).collect();
         fn find(parent: &mut [usize], mut i: usize) -> usize {
+            // Bound: links only ever join two roots, so the parents form a forest: `nf` steps
+            // at most.
             while parent[i] != i {
                 parent[i] = parent[parent[i]];
                 i = parent[i];

@@ -284,6 +284,8 @@ fn other_end(e: &QiEdge, v: u32) -> u32 {
     if e.v[0] == v { e.v[1] } else { e.v[0] }
 }
 
+/// Union-find root. Bound: links only ever join two roots (`components`), so the parents form a
+/// forest and the walk ends within `parent.len()` steps.
 fn find(parent: &mut [u32], mut i: u32) -> u32 {
     while parent[i as usize] != i {
         parent[i as usize] = parent[parent[i as usize] as usize];
@@ -384,6 +386,7 @@ impl QiScratch {
             self.stats.rays += 1;
             self.stack.clear();
             self.stack.push(q0 as u32);
+            // Bound: a piece is pushed when its count goes from unknown to known: once per piece.
             while let Some(q) = self.stack.pop() {
                 let q = q as usize;
                 if self.tiny[q] {

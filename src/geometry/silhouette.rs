@@ -141,6 +141,9 @@ fn chain_contour(
         if scratch.used[start] {
             continue;
         }
+        // Bound: each step marks an unused contour edge used (the candidates skip used ones): at
+        // most `contour.len()` steps over all loops; the scan along a vertex's list is as long as
+        // the list, which holds each edge once.
         let mut e = start as u32;
         let first_vertex = scratch.contour[start].0;
         loop {

@@ -88,6 +88,7 @@ pub trait SilhouetteTree: Send + Sync {
             return None;
         }
         let mut path = BspPath::default();
+        // Bound: children come after their parent (well-formed trees only): `node_count()` steps.
         let mut n = 0usize;
         loop {
             match self.node(n) {
@@ -113,6 +114,7 @@ pub trait SilhouetteTree: Send + Sync {
         }
         let (mut leaves, mut depth) = (0, 0);
         let mut stack = vec![(0usize, 0usize)];
+        // Bound: a tree: each node is pushed once, by its parent.
         while let Some((n, d)) = stack.pop() {
             match self.node(n) {
                 TreeNode::Inner { back, front, .. } => {
@@ -138,6 +140,7 @@ pub trait SilhouetteTree: Send + Sync {
         let (lo, hi) = self.bounds();
         // Depth first with an explicit stack: (node, its cell, its depth).
         let mut stack = vec![(0usize, ConvexCell::cuboid(lo, hi), 0usize)];
+        // Bound: a tree: each node is pushed once, by its parent.
         while let Some((n, cell, depth)) = stack.pop() {
             let TreeNode::Inner { plane, back, front } = self.node(n) else {
                 continue;

@@ -34,7 +34,7 @@
 
 use super::SphericalPolygon;
 use super::contour_pieces::{ArcPosition, ContourArc, ContourPieces, End};
-use super::exact_silhouette::blocked_ray;
+use super::exact_silhouette::{Degenerate, blocked_ray};
 use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::NO_FACE;
 use super::quantitative_invisibility::QiScratch;
@@ -113,17 +113,17 @@ pub fn exact_silhouette_in_window(
     on_mesh: bool,
     out: &mut SphericalPolygon,
     scratch: &mut WindowScratch,
-) -> Option<WindowStats> {
+) -> Result<WindowStats, Degenerate> {
     out.clear();
-    let bvh = poly.index.face_bvh.as_ref()?;
-    let face_edges = poly.index.face_edges.as_ref()?;
+    let bvh = poly.index.face_bvh.as_ref().ok_or(Degenerate::Window)?;
+    let face_edges = poly.index.face_edges.as_ref().ok_or(Degenerate::Window)?;
     let m = window.len();
     if !(3..=MAX_WINDOW_CORNERS).contains(&m) {
-        return None;
+        return Err(Degenerate::Window);
     }
     let tol = 1e-9 * poly.radius.max(f64::MIN_POSITIVE);
     // 0. The widened window W' in world directions, and its sides' inward normals.
-    let centre = widened_window(window, frame, &mut scratch.window)?;
+    let centre = widened_window(window, frame, &mut scratch.window).ok_or(Degenerate::Window)?;
     let orient = scratch.window[0]
         .cross(scratch.window[1])
         .dot(scratch.window[2])
@@ -131,14 +131,16 @@ pub fn exact_silhouette_in_window(
     scratch.sides.clear();
     for i in 0..m {
         let (a, b) = (scratch.window[i], scratch.window[(i + 1) % m]);
-        let n = (a.cross(b) * orient).try_normalize()?;
+        let n = (a.cross(b) * orient)
+            .try_normalize()
+            .ok_or(Degenerate::Window)?;
         scratch.sides.push(n);
     }
     // Convex and positively turning: every corner strictly inside the other sides.
     for i in 0..m {
         for (j, n) in scratch.sides.iter().enumerate() {
             if j != i && (j + 1) % m != i && n.dot(scratch.window[i]) <= TOL {
-                return None;
+                return Err(Degenerate::Window);
             }
         }
     }
@@ -146,7 +148,7 @@ pub fn exact_silhouette_in_window(
     // On the mesh: W' strictly above the horizon (above the tangent plane by far more than the
     // rounding of the directions), so that the edge-on faces' edges cannot reach it.
     if on_mesh && scratch.window.iter().any(|w| w.dot(frame.z) <= 1e3 * TOL) {
-        return None;
+        return Err(Degenerate::Window);
     }
     let absent =
         |f: u32| f == NO_FACE || on_mesh && poly.face_planes[f as usize].eval(x).abs() <= tol;
@@ -212,7 +214,7 @@ pub fn exact_silhouette_in_window(
             .iter()
             .any(|&f| !absent(f) && poly.face_planes[f as usize].eval(x).abs() <= tol)
         {
-            return None; // a face plane through x
+            return Err(Degenerate::Window); // a face plane through x
         }
         let a = (poly.vertices[i as usize] - x).normalize();
         let b = (poly.vertices[j as usize] - x).normalize();
@@ -225,7 +227,7 @@ pub fn exact_silhouette_in_window(
         for (s, side) in scratch.sides.iter().enumerate() {
             let (fa, fb) = (side.dot(a), side.dot(b));
             if fa.abs() <= TOL || fb.abs() <= TOL {
-                return None; // an end on the side's great circle
+                return Err(Degenerate::Window); // an end on the side's great circle
             }
             match (fa > 0.0, fb > 0.0) {
                 (true, true) => {}
@@ -251,7 +253,7 @@ pub fn exact_silhouette_in_window(
         }
         if t1 - t0 <= TOL {
             if t1 - t0 > -TOL {
-                return None; // touches W' at a corner
+                return Err(Degenerate::Window); // touches W' at a corner
             }
             continue;
         }
@@ -270,9 +272,7 @@ pub fn exact_silhouette_in_window(
     // 3.-4. Apparent intersections among the clipped arcs (Eq. 4.4), strictly inside both,
     //    and the pieces between them (`contour_pieces`, as the whole silhouette); boundary ends
     //    get ids of their own.
-    pieces
-        .find_crossings(scratch.all_pairs, |e, p| inside_arc(e.from, e.to, e.n, p))
-        .ok()?;
+    pieces.find_crossings(scratch.all_pairs, |e, p| inside_arc(e.from, e.to, e.n, p))?;
     pieces.split_into_pieces();
     stats.pieces = pieces.pieces.len() as u32;
     // Positions along ∂W': side index plus the angle from the side's first corner over the
@@ -284,7 +284,7 @@ pub fn exact_silhouette_in_window(
         let part = c0.cross(b.2).length().atan2(c0.dot(b.2));
         let f = part / whole;
         if !(TOL..=1.0 - TOL).contains(&f) {
-            return None; // at a corner of W'
+            return Err(Degenerate::Window); // at a corner of W'
         }
         b.1 = s as f64 + f;
     }
@@ -324,7 +324,7 @@ pub fn exact_silhouette_in_window(
             scratch.chain_pieces.push(cur as u32);
             match pieces.pieces[cur].end {
                 End::Boundary(_) => break,
-                end => cur = pieces.next_piece(end)?,
+                end => cur = pieces.next_piece(end).ok_or(Degenerate::OpenChain)?,
             }
         }
         scratch
@@ -333,7 +333,7 @@ pub fn exact_silhouette_in_window(
     }
     if pieces.chain_closed_loops(frame, out).is_err() {
         out.clear();
-        return None;
+        return Err(Degenerate::Window);
     }
     // Open chains closed along ∂W', or W' itself.
     if scratch.chains.is_empty() {
@@ -344,7 +344,7 @@ pub fn exact_silhouette_in_window(
                 && inside_arc(e.from, e.to, e.n, corner) != ArcPosition::Outside
             {
                 out.clear();
-                return None;
+                return Err(Degenerate::Window);
             }
         }
         stats.rays += 1;
@@ -354,7 +354,7 @@ pub fn exact_silhouette_in_window(
             }
             out.close_loop();
         }
-        return Some(stats);
+        return Ok(stats);
     }
     // Boundary events in order along ∂W': (position, chain, is the chain's exit).
     scratch.order.clear();
@@ -365,8 +365,8 @@ pub fn exact_silhouette_in_window(
         };
         let first = scratch.chain_pieces[first as usize] as usize;
         let last = scratch.chain_pieces[last as usize - 1] as usize;
-        let entry = pos(pieces.pieces[first].start, &pieces.boundary)?;
-        let exit = pos(pieces.pieces[last].end, &pieces.boundary)?;
+        let entry = pos(pieces.pieces[first].start, &pieces.boundary).ok_or(Degenerate::Window)?;
+        let exit = pos(pieces.pieces[last].end, &pieces.boundary).ok_or(Degenerate::Window)?;
         scratch.order.push((entry, c as u32, false));
         scratch.order.push((exit, c as u32, true));
     }
@@ -374,7 +374,7 @@ pub fn exact_silhouette_in_window(
     for w in scratch.order.windows(2) {
         if w[1].0 - w[0].0 <= TOL {
             out.clear();
-            return None; // two boundary points within rounding of each other
+            return Err(Degenerate::Window); // two boundary points within rounding of each other
         }
     }
     let n_events = scratch.order.len();
@@ -382,11 +382,11 @@ pub fn exact_silhouette_in_window(
     for k in 0..n_events {
         if scratch.order[k].2 && scratch.order[(k + 1) % n_events].2 {
             out.clear();
-            return None;
+            return Err(Degenerate::Window);
         }
         if !scratch.order[k].2 && !scratch.order[(k + 1) % n_events].2 {
             out.clear();
-            return None;
+            return Err(Degenerate::Window);
         }
     }
     // Per chain: where its exit stands in `order`, and whether it is in a loop yet.
@@ -397,7 +397,8 @@ pub fn exact_silhouette_in_window(
             scratch.exit_at[c as usize].0 = k as u32;
         }
     }
-    // Every step below takes a chain that is not done yet: at most `chains.len()` steps.
+    // Bound: the loop below takes one chain not done yet per step, and between two chains at
+    // most `m` corners: the outline has at most `kept.len() + chains.len() · (m + 1)` vertices.
     for c0 in 0..scratch.chains.len() {
         if scratch.exit_at[c0].1 {
             continue;
@@ -439,11 +440,11 @@ pub fn exact_silhouette_in_window(
         }
         if c != c0 {
             out.clear();
-            return None;
+            return Err(Degenerate::Window);
         }
         out.close_loop();
     }
-    Some(stats)
+    Ok(stats)
 }
 
 impl WindowScratch {

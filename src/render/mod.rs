@@ -179,6 +179,10 @@ pub struct PixelStats {
     /// `collect_stats`.
     #[serde(default)]
     pub violations: u32,
+    /// Paths that gave up for one exact there (degenerate configurations, bounds crossed).
+    /// Counted even without `collect_stats`.
+    #[serde(default)]
+    pub fallbacks: crate::shading::Fallbacks,
 }
 
 impl Default for RenderSettings {
@@ -205,6 +209,24 @@ pub struct RenderStats {
     /// Light pieces, over all camera rays, whose visible polygon was not inside the light's
     /// (`shading::invariant`; the analytic methods): a bug wherever it is not zero.
     pub violations: u64,
+    /// Shading points where a path gave up for one that is exact there, by reason: a
+    /// degenerate configuration, or a walk that crossed the bound its input sets.
+    #[serde(default)]
+    pub fallbacks: FallbackTotals,
+}
+
+/// [`crate::shading::Fallbacks`] summed over a render.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct FallbackTotals {
+    pub degenerate: u64,
+    pub bounds_crossed: u64,
+}
+
+impl FallbackTotals {
+    pub fn add(&mut self, f: &crate::shading::Fallbacks) {
+        self.degenerate += f.degenerate as u64;
+        self.bounds_crossed += f.bounds_crossed as u64;
+    }
 }
 
 /// A scene ready to render: the scene, its prepared shading data and its BVH.
@@ -479,6 +501,7 @@ impl RenderContext {
             seconds,
             pixels_per_second: (settings.width * settings.height) as f64 / seconds.max(1e-12),
             violations: out.violations,
+            fallbacks: out.fallbacks,
         };
         Ok(out)
     }
@@ -501,6 +524,8 @@ impl RenderContext {
                 sum += self.radiance(&ray, method, scratch, &mut NoRecorder);
                 stats.violations += scratch.stats.violations;
                 scratch.stats.violations = 0;
+                stats.fallbacks.add(&scratch.stats.fallbacks);
+                scratch.stats.fallbacks = Default::default();
                 if collect {
                     stats.occluders_kept += scratch.stats.occluders_kept;
                     stats.light_edges += scratch.stats.light_edges;
@@ -526,6 +551,10 @@ impl RenderContext {
         RenderOutput {
             image,
             violations: pixels.iter().map(|p| p.1.violations as u64).sum(),
+            fallbacks: pixels.iter().fold(FallbackTotals::default(), |mut t, p| {
+                t.add(&p.1.fallbacks);
+                t
+            }),
             violation_pixels: pixels
                 .iter()
                 .enumerate()
@@ -558,6 +587,8 @@ pub struct RenderOutput {
     pub violations: u64,
     /// The pixels where that happened: x, y (row 0 at the top) and how many pieces.
     pub violation_pixels: Vec<[u32; 3]>,
+    /// Fallbacks taken over the render (the analytic methods).
+    pub fallbacks: FallbackTotals,
     pub stats: RenderStats,
 }
 

@@ -29,7 +29,7 @@ use super::invariant::visible_within_light;
 use super::ltc_correction::{
     CorrectionEstimate, CorrectionSampling, CorrectionScratch, GlossyLobe, estimate_correction,
 };
-use super::outline::{Outline, OutlineScratch, Role};
+use super::outline::{Fallbacks, Outline, OutlineScratch, Role};
 use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage, TreeLookupRecord};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::{
@@ -56,6 +56,8 @@ pub struct ShadingStats {
     /// Light pieces whose visible polygon is not inside the light's (`super::invariant`): a
     /// bug wherever it is not zero.
     pub violations: u32,
+    /// Paths that gave up at the point for one that is exact there.
+    pub fallbacks: Fallbacks,
 }
 
 /// How many light pieces (a light taken whole, or one face of a light taken face by face) at a
@@ -144,12 +146,19 @@ impl ShadingScratch {
     /// Starts a new shading point: counters reset, the occluder cache invalidated.
     pub(super) fn begin_point(&mut self, scene: &PreparedScene) {
         self.stats = ShadingStats::default();
+        self.outline.fallbacks = Fallbacks::default();
         self.correction_sum = CorrectionEstimate::default();
         self.stamp += 1;
         if self.occluder_cache.len() < scene.occluders.len() {
             self.occluder_cache
                 .resize_with(scene.occluders.len(), CachedOccluder::default);
         }
+    }
+
+    /// Ends a shading point: the silhouette stage's fallbacks join the point's counters.
+    pub(super) fn end_point(&mut self) {
+        self.stats.fallbacks.add(&self.outline.fallbacks);
+        self.outline.fallbacks = Fallbacks::default();
     }
 }
 
@@ -292,6 +301,7 @@ fn shade_point<R: Recorder>(
     for l in 0..scene.lights.len() {
         total += shade_light(&ctx, l, scratch, rec);
     }
+    scratch.end_point();
     total
 }
 
@@ -684,9 +694,11 @@ pub(super) fn subtract_occluder<R: Recorder>(
             piece.is_some() && occ.path().is_windowed() && scratch.light_clip.loop_count() == 1;
         if !R::ENABLED && !windowed && scratch.occluder_cache[oi].stamp == scratch.stamp {
             std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-            subtract_planar(oi, scratch, rec);
+            let done = subtract_planar(oi, scratch, rec);
             std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-            return;
+            if done {
+                return;
+            }
         }
         let window = windowed.then(|| scratch.light_clip.loop_at(0));
         let kept_outline = !R::ENABLED && scratch.occluder_cache[oi].sph_stamp == scratch.stamp;
@@ -754,12 +766,16 @@ pub(super) fn subtract_occluder<R: Recorder>(
                 std::mem::swap(&mut scratch.occ_sph, &mut scratch.occ_clip);
             }
             clip_and_project(oi, None, scratch, rec);
-            subtract_planar(oi, scratch, rec);
+            let done = subtract_planar(oi, scratch, rec);
             if !R::ENABLED && !windowed && !clipped {
                 std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
                 scratch.occluder_cache[oi].stamp = scratch.stamp;
             }
-            return;
+            if done {
+                return;
+            }
+            // The set difference with the whole outline crossed a bound: face by face below,
+            // which is exact too.
         }
     }
     let faces = occ.face_pieces();
@@ -956,9 +972,11 @@ fn clip_and_project<R: Recorder>(
 }
 
 /// Subtracts the projected occluder polygon in `scratch.occ_plane` from the visible polygon.
-fn subtract_planar<R: Recorder>(oi: usize, scratch: &mut ShadingScratch, rec: &mut R) {
+/// Returns false, with the visible polygon unchanged and the crossing counted, when the set
+/// difference crossed the bound of one of its walks.
+fn subtract_planar<R: Recorder>(oi: usize, scratch: &mut ShadingScratch, rec: &mut R) -> bool {
     if scratch.occ_plane.is_empty() {
-        return;
+        return true;
     }
     // Exact fast paths for convex clips; Greiner–Hormann for the rest.
     let relation = if scratch.occ_plane.loop_count() == 1 {
@@ -969,7 +987,7 @@ fn subtract_planar<R: Recorder>(oi: usize, scratch: &mut ShadingScratch, rec: &m
     match relation {
         Overlap::Disjoint => {
             rec.set_difference(oi, &scratch.visible, &scratch.occ_plane, &scratch.visible);
-            return;
+            return true;
         }
         Overlap::SubjectInside => scratch.visible_next.clear(),
         Overlap::Unknown => {
@@ -980,6 +998,10 @@ fn subtract_planar<R: Recorder>(oi: usize, scratch: &mut ShadingScratch, rec: &m
                 rec.gh_steps(),
             );
             scratch.stats.set_differences += 1;
+            if scratch.difference.last_bound_crossed() {
+                scratch.stats.fallbacks.bounds_crossed += 1;
+                return false;
+            }
         }
     }
     rec.set_difference(
@@ -989,6 +1011,7 @@ fn subtract_planar<R: Recorder>(oi: usize, scratch: &mut ShadingScratch, rec: &m
         &scratch.visible_next,
     );
     std::mem::swap(&mut scratch.visible, &mut scratch.visible_next);
+    true
 }
 
 /// Lines 14–16 of Alg. 1: the diffuse lobe integrates the clamped cosine over the visible

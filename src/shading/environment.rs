@@ -112,6 +112,7 @@ pub fn environment_integrals<R: Recorder>(
     let ctx = PointContext::for_environment(scene, sp);
     let before = scratch.stats.set_differences;
     let mut out = union_integrals(&ctx, occluders, pass, integrate, scratch, rec);
+    scratch.end_point();
     out.set_differences = scratch.stats.set_differences - before;
     out
 }

@@ -23,7 +23,7 @@ pub use environment::{
 };
 pub use invariant::visible_within_light;
 pub use ltc_correction::CorrectionSampling;
-pub use outline::{Outline, OutlineScratch, Role};
+pub use outline::{Fallbacks, Outline, OutlineScratch, Role};
 pub use prepared::{MeshPath, MoveReuse, PrepareOptions, PreparedObject, PreparedScene};
 pub use recorder::{
     EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide, EnvironmentTerm,

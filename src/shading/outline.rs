@@ -18,8 +18,8 @@
 
 use super::{MeshPath, Method, PreparedObject};
 use crate::geometry::{
-    ExactSilhouetteScratch, Sidedness, SilhouetteScratch, SphericalPolygon, WindowScratch,
-    exact_silhouette, exact_silhouette_in_window, silhouette,
+    Degenerate, ExactSilhouetteScratch, Sidedness, SilhouetteScratch, SphericalPolygon,
+    WindowScratch, exact_silhouette, exact_silhouette_in_window, silhouette,
 };
 use crate::math::Frame;
 use glam::DVec3;
@@ -51,6 +51,35 @@ pub struct OutlineScratch {
     pub silhouette: SilhouetteScratch,
     pub exact: ExactSilhouetteScratch,
     pub window: WindowScratch,
+    /// The fallbacks taken since the shading point began.
+    pub fallbacks: Fallbacks,
+}
+
+/// How often a path gave up at a point and a slower path that is exact there took over: at a
+/// degenerate configuration (the fallbacks of 001's exact silhouette and of the window), or
+/// because a walk crossed the bound its input sets ([`Degenerate::BoundCrossed`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Fallbacks {
+    pub degenerate: u32,
+    pub bounds_crossed: u32,
+}
+
+impl Fallbacks {
+    /// Counts one fallback for `why`, if any.
+    #[inline]
+    pub fn count(&mut self, why: Option<Degenerate>) {
+        match why {
+            None => {}
+            Some(Degenerate::BoundCrossed) => self.bounds_crossed += 1,
+            Some(_) => self.degenerate += 1,
+        }
+    }
+
+    /// Component-wise sum.
+    pub fn add(&mut self, o: &Fallbacks) {
+        self.degenerate += o.degenerate;
+        self.bounds_crossed += o.bounds_crossed;
+    }
 }
 
 impl PreparedObject {
@@ -110,7 +139,7 @@ impl PreparedObject {
             MeshPath::ExactInWindow | MeshPath::OpenInWindow
                 if role == Role::Occluder
                     && window.is_some_and(|w| {
-                        exact_silhouette_in_window(
+                        let found = exact_silhouette_in_window(
                             &self.poly,
                             x,
                             frame,
@@ -118,8 +147,9 @@ impl PreparedObject {
                             on_it,
                             out,
                             &mut scratch.window,
-                        )
-                        .is_some()
+                        );
+                        scratch.fallbacks.count(found.err());
+                        found.is_ok()
                     }) =>
             {
                 Outline::Whole {
@@ -138,11 +168,14 @@ impl PreparedObject {
                 if !on_it && (role == Role::Occluder || !path.is_open()) =>
             {
                 match self.exact_silhouette(x, frame, out, &mut scratch.exact) {
-                    Some(from_tree) => Outline::Whole {
+                    Ok(from_tree) => Outline::Whole {
                         exact: true,
                         from_tree,
                     },
-                    None => Outline::Faces, // a degenerate point
+                    Err(why) => {
+                        scratch.fallbacks.count(Some(why));
+                        Outline::Faces
+                    }
                 }
             }
             MeshPath::ExactTree
@@ -156,8 +189,8 @@ impl PreparedObject {
     }
 
     /// The exact silhouette of a non-convex mesh: read from its BSP tree where it has one
-    /// (001 Sect. 5.2), else computed at the point (001 Sect. 4.3). `Some(true)` when read
-    /// from the tree, `None` at degenerate points.
+    /// (001 Sect. 5.2), else computed at the point (001 Sect. 4.3). `Ok(true)` when read
+    /// from the tree, the reason at degenerate points.
     #[inline]
     pub fn exact_silhouette(
         &self,
@@ -165,13 +198,11 @@ impl PreparedObject {
         frame: &Frame,
         out: &mut SphericalPolygon,
         scratch: &mut ExactSilhouetteScratch,
-    ) -> Option<bool> {
+    ) -> Result<bool, Degenerate> {
         if self.silhouette_from_tree(x, frame, out, &mut scratch.hoisted) {
-            return Some(true);
+            return Ok(true);
         }
-        exact_silhouette(&self.poly, x, frame, out, scratch)
-            .is_ok()
-            .then_some(false)
+        exact_silhouette(&self.poly, x, frame, out, scratch).map(|_| false)
     }
 
     /// The silhouette from `x` read from this mesh's tree (the hoisted form when present),

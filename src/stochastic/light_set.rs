@@ -273,7 +273,7 @@ impl LightSet {
             clipped,
             ..
         } = &mut self.scratch;
-        light.exact_silhouette(x, frame, sph, exact)?;
+        light.exact_silhouette(x, frame, sph, exact).ok()?;
         let mut loops = sph.loops();
         let (Some(lp), None) = (loops.next(), loops.next()) else {
             return None; // a star-shaped mesh's silhouette is one loop

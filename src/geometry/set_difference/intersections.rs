@@ -330,7 +330,8 @@ impl SetDifference {
         None
     }
 
-    /// Union–find root without path compression (for read-only queries).
+    /// Union–find root without path compression (for read-only queries); ends within `x`
+    /// steps, parents having smaller indices than their children.
     fn root(&self, mut x: u32) -> u32 {
         while self.nodes[x as usize].cluster != x {
             x = self.nodes[x as usize].cluster;
@@ -345,7 +346,11 @@ impl SetDifference {
         let absorbed = self.nodes[m];
         let mut merged = false;
         let mut k = self.nodes[n].next as usize;
+        let mut left = self.walk_bound();
         loop {
+            if !self.step(&mut left) {
+                return merged;
+            }
             self.nodes[k].removed = true;
             let slot = self.nodes[k].loop_slot as usize;
             if self.loops[slot].first == k as u32 {
@@ -509,7 +514,14 @@ impl SetDifference {
     /// and leaves along the last one's, a corner. Detours reaching farther are genuine loops
     /// through a point where the operand touches itself, and are kept.
     fn finish_clusters(&mut self) {
+        // A round repeats only after a merge of two clusters: at most one round per node. A
+        // detour collapsed removes at least one node: at most one per node in all.
+        let mut rounds = self.walk_bound();
+        let mut collapses = self.walk_bound();
         loop {
+            if !self.step(&mut rounds) {
+                return;
+            }
             for n in 0..self.nodes.len() as u32 {
                 if self.nodes[n as usize].cluster != NONE {
                     let r = self.find(n);
@@ -524,6 +536,9 @@ impl SetDifference {
                 }
                 let x = self.nodes[c as usize].dir;
                 while let Some(m) = self.detour_end(n, c, x) {
+                    if !self.step(&mut collapses) {
+                        return;
+                    }
                     merged |= self.collapse_detour(n, m, c);
                     if self.nodes[n].removed {
                         break;

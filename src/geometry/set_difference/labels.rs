@@ -47,7 +47,11 @@ impl SetDifference {
             return None;
         }
         let mut k = n;
+        let mut left = self.walk_bound();
         loop {
+            if !self.step(&mut left) {
+                return None;
+            }
             let other = &self.nodes[k];
             if other.operand != node.operand {
                 if self.nodes[other.next as usize].cluster == target {
@@ -78,7 +82,8 @@ impl SetDifference {
         let node = &self.nodes[n];
         let x = node.dir;
         let mut k = node.ring as usize;
-        while k != n {
+        let mut left = self.walk_bound();
+        while k != n && self.step(&mut left) {
             let other = &self.nodes[k];
             if other.operand != node.operand {
                 let from = tangent(other.n_out, x);
@@ -103,7 +108,11 @@ impl SetDifference {
             }
             let mut start = NONE;
             let mut n = first;
+            let mut left = self.walk_bound();
             loop {
+                if !self.step(&mut left) {
+                    return;
+                }
                 if self.nodes[n as usize].cluster != NONE {
                     start = n;
                     break;
@@ -116,7 +125,11 @@ impl SetDifference {
             if start != NONE {
                 let mut side = self.nodes[start as usize].status;
                 let mut n = self.nodes[start as usize].next;
+                let mut left = self.walk_bound();
                 while n != start {
+                    if !self.step(&mut left) {
+                        return;
+                    }
                     let node = &mut self.nodes[n as usize];
                     if node.cluster != NONE {
                         side = node.status;
@@ -135,7 +148,11 @@ impl SetDifference {
                 };
                 let lp = self.loops[slot];
                 let mut n = lp.first;
+                let mut left = self.walk_bound();
                 loop {
+                    if !self.step(&mut left) {
+                        return;
+                    }
                     let node = &mut self.nodes[n as usize];
                     node.status = side;
                     n = node.next;
@@ -228,7 +245,11 @@ impl SetDifference {
             let operand = self.nodes[lp.first as usize].operand;
             let begin = steps.labels.len();
             let mut n = lp.first;
+            let mut left = self.walk_bound();
             loop {
+                if !self.step(&mut left) {
+                    return;
+                }
                 let node = &self.nodes[n as usize];
                 if node.cluster != NONE {
                     let before = self.nodes[node.prev as usize].status;

@@ -206,6 +206,10 @@ pub struct SetDifference {
     cluster_rep: Vec<u32>,
     loop_scratch: Vec<DVec3>,
     consistent: bool,
+    /// Set by a walk over the nodes that took more steps than [`SetDifference::walk_bound`]
+    /// (a loop, ring or detour that rounding left unclosed): the difference is then not
+    /// trusted, and the caller takes a path that is exact there.
+    bound_crossed: std::cell::Cell<bool>,
 }
 
 impl SetDifference {
@@ -234,6 +238,7 @@ impl SetDifference {
         }
         out.clear();
         self.consistent = true;
+        self.bound_crossed.set(false);
         self.load(subject, clip);
         if self.subject_nodes == 0 {
             return;
@@ -242,6 +247,36 @@ impl SetDifference {
         self.label_intersections();
         self.mark_entry_exit(steps.as_deref_mut());
         self.traverse(out, steps);
+        if self.bound_crossed.get() {
+            out.clear();
+            self.consistent = false;
+        }
+    }
+
+    /// True when a walk of the last [`SetDifference::subtract`] crossed its bound: its output
+    /// is empty and must not be used.
+    pub fn last_bound_crossed(&self) -> bool {
+        self.bound_crossed.get()
+    }
+
+    /// The bound of every walk over the nodes: along a loop (`next`), around a cluster's ring
+    /// (`ring`), or over a detour, each node is visited at most once, so no walk takes more
+    /// than one step per node.
+    #[inline]
+    fn walk_bound(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// One step of a walk with `left` steps of its bound left: false (and the crossing
+    /// recorded) when none is left.
+    #[inline]
+    fn step(&self, left: &mut usize) -> bool {
+        if *left == 0 {
+            self.bound_crossed.set(true);
+            return false;
+        }
+        *left -= 1;
+        true
     }
 
     /// False when the last [`SetDifference::subtract`] found its labelling inconsistent (the
@@ -371,7 +406,9 @@ impl SetDifference {
         }
     }
 
-    /// Union–find root of a node, making the node a cluster of its own on first use.
+    /// Union–find root of a node, making the node a cluster of its own on first use. A parent
+    /// always has a smaller index than its child ([`SetDifference::union`]), so the walk to the
+    /// root ends within `x` steps.
     fn find(&mut self, mut x: u32) -> u32 {
         if self.nodes[x as usize].cluster == NONE {
             self.nodes[x as usize].cluster = x;

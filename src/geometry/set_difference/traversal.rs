@@ -71,7 +71,11 @@ impl SetDifference {
         let mut best = NONE;
         let mut best_tangent = DVec3::ZERO;
         let mut k = end;
+        let mut left = self.walk_bound();
         loop {
+            if !self.step(&mut left) {
+                return NONE;
+            }
             let q = &self.nodes[k as usize];
             let g = match q.operand {
                 Operand::Subject => k,
@@ -109,6 +113,8 @@ impl SetDifference {
             let mut record = steps.as_ref().map(|_| TraversedLoop::default());
             self.loop_scratch.clear();
             let mut f = f0;
+            // Each step marks an unvisited fragment and stops at a visited one: at most one
+            // step per node.
             let closed = loop {
                 self.nodes[f as usize].visited = true;
                 let (start, end) = self.ends(f);
