@@ -276,3 +276,40 @@ fn a_sliver_along_the_horizon_removes_nothing() {
         "{before} before, {after} after"
     );
 }
+
+/// A walk that crosses its bound (forced by capping every walk at a few steps) ends the
+/// difference at once, empty, inconsistent and flagged; the same workspace then computes the
+/// next difference as if nothing happened. Oracle: the decomposition.
+#[test]
+fn a_walk_over_its_bound_ends_the_difference_and_says_so() {
+    let square = |c: DVec3, r: f64| -> Vec<DVec3> {
+        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(x, y)| (c + DVec3::new(x * r, y * r, 0.0)).normalize())
+            .collect()
+    };
+    let subject = square(DVec3::Z, 0.3);
+    let clip = square(DVec3::new(0.2, 0.1, 1.0), 0.2);
+    let (mut s, mut c, mut out) = (
+        PlanarPolygon::new(),
+        PlanarPolygon::new(),
+        PlanarPolygon::new(),
+    );
+    s.push_loop(subject.iter().copied());
+    c.push_loop(clip.iter().copied());
+    let mut sd = SetDifference::new();
+    for steps in 0..4 {
+        sd.limit_walks(Some((steps, 0)));
+        sd.subtract(&s, &c, &mut out, None);
+        assert!(sd.last_bound_crossed(), "capped at {steps} steps");
+        assert!(out.is_empty() && !sd.last_traversal_consistent());
+    }
+    sd.limit_walks(None);
+    sd.subtract(&s, &c, &mut out, None);
+    assert!(!sd.last_bound_crossed() && sd.last_traversal_consistent());
+    let mut res = SphericalPolygon(out.0.clone());
+    res.map_vertices(|v| v.normalize());
+    let got = res.signed_solid_angle_about(DVec3::Z);
+    let want = decomposition_area(&subject, &clip);
+    assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+}

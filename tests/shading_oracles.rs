@@ -105,6 +105,43 @@ fn shading_points_match_brute_force_ray_casting() {
     }
 }
 
+/// A set difference whose walk crosses its bound (forced here: every walk is capped at one
+/// step where the polygon subtracted has more than five vertices, as the chair's and the
+/// sphere's outlines do and their faces do not) leaves the visible polygon as it was, is
+/// counted, and its occluder is subtracted face by face: the pixel keeps its exact value.
+/// Oracle: the per-triangle path (a second algorithm), which the cap does not reach.
+#[test]
+fn a_bound_crossed_in_the_set_difference_falls_back_face_by_face() {
+    let scene = scene_file::load_embedded("default").unwrap();
+    let ctx = RenderContext::new(&scene);
+    let mut scratch = ShadingScratch::default();
+    let (mut fell_back, mut face_capped) = (0, 0);
+    for sp in points(&ctx, 300, 5) {
+        scratch.limit_set_difference_walks(Some((1, 5)));
+        let exact = shade_at(&ctx, &sp, Method::PerTriangle, &mut scratch);
+        if scratch.stats.fallbacks.bounds_crossed > 0 {
+            face_capped += 1; // a face clipped to more than five vertices: no oracle here
+            continue;
+        }
+        let a = shade_at(&ctx, &sp, Method::Analytic, &mut scratch);
+        if scratch.stats.fallbacks.bounds_crossed == 0 {
+            continue;
+        }
+        fell_back += 1;
+        let d = (a - exact).abs().max_element() / exact.max_element().max(1e-3);
+        assert!(
+            d < 1e-7,
+            "{:?}: {a} after the fallback, per-triangle {exact}",
+            sp.position
+        );
+    }
+    scratch.limit_set_difference_walks(None);
+    assert!(
+        fell_back >= 30 && face_capped < 30,
+        "the fallback ran at {fell_back} of 300 points ({face_capped} without an oracle)"
+    );
+}
+
 #[test]
 fn silhouette_path_equals_per_triangle_path_on_convex_scenes() {
     for name in ["fig4", "chair", "default"] {

@@ -155,6 +155,13 @@ impl ShadingScratch {
         }
     }
 
+    /// Caps the set difference's walks at `steps` when the polygon subtracted has more than
+    /// `clip_vertices` vertices (tests of what a bound crossing does); `None` lifts the cap.
+    #[doc(hidden)]
+    pub fn limit_set_difference_walks(&mut self, cap: Option<(usize, usize)>) {
+        self.difference.limit_walks(cap);
+    }
+
     /// Ends a shading point: the silhouette stage's fallbacks join the point's counters.
     pub(super) fn end_point(&mut self) {
         self.stats.fallbacks.add(&self.outline.fallbacks);

@@ -210,6 +210,9 @@ pub struct SetDifference {
     /// (a loop, ring or detour that rounding left unclosed): the difference is then not
     /// trusted, and the caller takes a path that is exact there.
     bound_crossed: std::cell::Cell<bool>,
+    /// A lower bound for the walks than the node count, for tests of what a crossing does:
+    /// (steps, for clips of more than this many vertices).
+    walk_limit: Option<(usize, usize)>,
 }
 
 impl SetDifference {
@@ -264,7 +267,20 @@ impl SetDifference {
     /// than one step per node.
     #[inline]
     fn walk_bound(&self) -> usize {
-        self.nodes.len()
+        match self.walk_limit {
+            Some((steps, clip_vertices)) if self.clip_nodes > clip_vertices => {
+                steps.min(self.nodes.len())
+            }
+            _ => self.nodes.len(),
+        }
+    }
+
+    /// Caps every walk at `steps` where the clip has more than `clip_vertices` vertices
+    /// (tests only: a walk of a correct structure then crosses its bound, which shows what a
+    /// crossing does to the callers).
+    #[doc(hidden)]
+    pub fn limit_walks(&mut self, cap: Option<(usize, usize)>) {
+        self.walk_limit = cap;
     }
 
     /// One step of a walk with `left` steps of its bound left: false (and the crossing
