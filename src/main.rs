@@ -66,15 +66,17 @@ fn run() -> Result<()> {
             only: Some(index),
             seed,
             rays,
+            family,
             ..
-        }) => cli::stress::describe_case(seed, index, rays),
+        }) => cli::stress::describe_case(family.library(), seed, index, rays),
         Some(Command::Stress {
             cases,
             seed,
             rays,
             json,
+            family,
             ..
-        }) => cli::stress::stress(cases, seed, rays, json.as_deref()),
+        }) => cli::stress::stress(family.library(), cases, seed, rays, json.as_deref()),
         Some(Command::LtcError {
             tables,
             fit,

@@ -18,9 +18,11 @@ use crate::accel::{Bvh, Ray};
 use crate::environment::{PolygonMoments, Sh9, cosine_weighted_integral_local};
 use crate::ltc::LtcTable;
 use crate::math::{Frame, Pcg32};
+use crate::render::FallbackTotals;
 use crate::scene::shapes::{cuboid, cylinder, icosahedron, quad};
 use crate::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use crate::scene::{Material, Mesh, ObjectFlags, Scene, SceneObject};
+use crate::shading::Fallbacks;
 use crate::shading::{
     EnvironmentOccluders, EnvironmentPass, Lobe, Method, PrepareOptions, PreparedScene, Recorder,
     ShadingPoint, ShadingScratch, TreeLibrary, environment_integrals, shade, shadowed_irradiance,
@@ -28,6 +30,9 @@ use crate::shading::{
 use glam::{DAffine3, DMat3, DVec3};
 use rayon::prelude::*;
 use std::panic::{AssertUnwindSafe, catch_unwind};
+use web_time::Instant;
+
+pub mod real_meshes;
 
 /// The families of configurations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -62,6 +67,8 @@ pub enum CaseKind {
     /// the OBJ loader: non-planar quads, keyhole n-gons, open meshes, thin extrusions; as light
     /// and occluders.
     BlenderMeshes,
+    /// The real-mesh family ([`real_meshes`], `--family real-meshes`): not in the mixed run.
+    RealMeshes,
 }
 
 const KINDS: [CaseKind; 12] = [
@@ -155,6 +162,14 @@ pub struct StressReport {
     pub cases_by_kind: [u64; KINDS.len()],
     pub worst_abs: WorstCase,
     pub worst_sigma: WorstCase,
+    /// Shading points where a path gave up for one exact there: at a degenerate
+    /// configuration, or because a walk crossed the bound its input sets.
+    pub fallbacks: FallbackTotals,
+    /// The real-mesh family's own counts.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub real_meshes: Option<RealMeshCounts>,
+    /// Time and memory, measured.
+    pub timing: StressTiming,
     pub seconds: f64,
 }
 
@@ -719,7 +734,7 @@ fn generate_kind(seed: u64, index: u64, kind: CaseKind) -> Case {
         }
         // `generate` gives the environment family the geometry of another family; called
         // with this kind directly it takes the exporter meshes.
-        CaseKind::ExporterMeshes | CaseKind::Environment => {
+        CaseKind::ExporterMeshes | CaseKind::Environment | CaseKind::RealMeshes => {
             n = light_among_occluders(&mut rng, &mut objects, random_exporter_mesh, 1);
         }
         CaseKind::BlenderMeshes => {
@@ -885,16 +900,51 @@ impl Recorder for RawIntegrals {
 }
 
 /// Result of one case.
-struct Outcome {
+pub(crate) struct Outcome {
     trees_built: u32,
     /// Light pieces that broke the invariant (`shading::invariant`).
     violations: u32,
+    fallbacks: Fallbacks,
     analytic: f64,
     estimate: f64,
     sigma: f64,
     nan: bool,
     inf: bool,
     negative: bool,
+}
+
+/// Runs one case of the real-mesh family alone: (mesh, perturbation, the mesh is the light,
+/// the shading point, analytic, estimate, sigma, invariant violations, fallbacks); `None` for
+/// the point when its camera found no surface.
+#[allow(clippy::type_complexity)]
+pub fn run_one_real(
+    seed: u64,
+    index: u64,
+    rays: u32,
+) -> Result<
+    (
+        String,
+        f64,
+        bool,
+        Option<(ShadingPoint, f64, f64, f64, u32, Fallbacks)>,
+    ),
+    String,
+> {
+    let group = real_meshes::group(seed, index / real_meshes::GROUP)?;
+    let name = real_meshes::real_meshes()?[group.mesh].name.clone();
+    let mut scratch = ShadingScratch::default();
+    let shaded = group.point(seed, index).and_then(|p| {
+        let o = group.run(seed, index, rays, &mut scratch)?;
+        Some((
+            p,
+            o.analytic,
+            o.estimate,
+            o.sigma,
+            o.violations,
+            o.fallbacks,
+        ))
+    });
+    Ok((name, group.perturbation, group.mesh_is_light, shaded))
 }
 
 /// Runs one case alone: (analytic, estimate, sigma, invariant violations), for debugging a
@@ -948,6 +998,22 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
     if case.kind == CaseKind::Environment {
         return run_environment_case(case, &prepared, rays, rng, scratch);
     }
+    let bvh = Bvh::build(&case.scene);
+    evaluate(&prepared, &bvh, &case.point, case.alpha, rays, rng, scratch)
+}
+
+/// The analytic diffuse and specular values at `point` (light 0 of unit radiance), checked
+/// for NaN, Inf and negative values, and the ray-cast estimate of the diffuse one through
+/// `bvh` (object 0 is the light).
+fn evaluate(
+    prepared: &PreparedScene,
+    bvh: &Bvh,
+    point: &ShadingPoint,
+    alpha: f64,
+    rays: u32,
+    rng: &mut Pcg32,
+    scratch: &mut ShadingScratch,
+) -> Outcome {
     let diffuse = Material {
         kd: DVec3::ONE,
         ks: DVec3::ZERO,
@@ -956,13 +1022,13 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
     let specular = Material {
         kd: DVec3::ZERO,
         ks: DVec3::ONE,
-        alpha: case.alpha,
+        alpha,
         ..Material::default()
     };
     let mut raw = RawIntegrals::default();
     let e = shade(
-        &prepared,
-        &case.point,
+        prepared,
+        point,
         &diffuse,
         Method::Analytic,
         scratch,
@@ -970,9 +1036,10 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
     )
     .x;
     let mut violations = scratch.stats.violations;
+    let mut fallbacks = scratch.stats.fallbacks;
     let s = shade(
-        &prepared,
-        &case.point,
+        prepared,
+        point,
         &specular,
         Method::Analytic,
         scratch,
@@ -980,6 +1047,7 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
     )
     .x;
     violations += scratch.stats.violations;
+    fallbacks.add(&scratch.stats.fallbacks);
     let values = [e, s];
     let nan = values.iter().any(|v| v.is_nan()) || raw.nan;
     let inf = values.iter().any(|v| v.is_infinite());
@@ -987,15 +1055,16 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
     let negative = values.iter().any(|&v| v < 0.0) || raw.min < -1e-14;
 
     // Ray-cast oracle: stratified cosine-weighted directions.
-    let bvh = Bvh::build(&case.scene);
     let mut hits = 0u32;
-    let total = stratified_cosine_directions(case.point.normal, rays, rng, |d| {
+    let total = stratified_cosine_directions(point.normal, rays, rng, |d| {
         let ray = Ray {
-            origin: case.point.position,
+            origin: point.position,
             dir: d,
         };
-        // Counted when the first surface along the ray is the front of a light face.
-        let seen = bvh.intersect(&ray, 0.0, f64::INFINITY);
+        // Counted when the first surface along the ray is the front of a light face; the face
+        // the point lies on (a point on a mesh) is not in the way.
+        let own = |o: u32, f: u32| point.object == Some(o) && point.face == Some(f);
+        let seen = bvh.intersect_accept(&ray, 0.0, f64::INFINITY, |o, f| !own(o, f));
         if seen.is_some_and(|hit| hit.object == 0 && hit.geometric_normal.dot(d) < 0.0) {
             hits += 1;
         }
@@ -1007,6 +1076,7 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
     Outcome {
         trees_built: prepared.trees_built,
         violations,
+        fallbacks,
         analytic: e,
         estimate,
         sigma,
@@ -1118,6 +1188,7 @@ fn run_environment_case(
         trees_built: prepared.trees_built,
         // The environment's union of occluders has no light polygon to stay inside.
         violations: 0,
+        fallbacks: scratch.stats.fallbacks,
         analytic: e / unit,
         estimate: estimate / unit,
         sigma: sigma / unit,
@@ -1127,8 +1198,182 @@ fn run_environment_case(
     }
 }
 
-/// Runs `cases` cases (parallel, deterministic for a given seed). When `cancel` is raised the
-/// run stops after the case each thread is on and reports the cases done so far.
+/// The families `penumbra stress` runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Family {
+    /// The generated families of [`CaseKind`] in turn (small scenes, prepared per case).
+    #[default]
+    Mixed,
+    /// [`real_meshes`]: Blender's files and the bunny, shaded where a render shades them.
+    RealMeshes,
+}
+
+impl Family {
+    /// The command-line flag that selects it (empty for the default).
+    fn flag(self) -> &'static str {
+        match self {
+            Family::Mixed => "",
+            Family::RealMeshes => " --family real-meshes",
+        }
+    }
+}
+
+/// A case slower than this is counted as a hang.
+pub const HANG_SECONDS: f64 = 1.0;
+
+/// What the run measured (not computed: it differs from run to run).
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct StressTiming {
+    /// Mean wall-clock time of a case, in seconds (its preparation included where a case
+    /// prepares its own scene; a real-mesh group's preparation is not in any case's time).
+    pub mean_case_seconds: f64,
+    /// Cases that took longer than [`HANG_SECONDS`].
+    pub hangs: u64,
+    /// The slowest case, and the command that runs it alone.
+    pub slowest_index: u64,
+    pub slowest_seconds: f64,
+    pub slowest_command: String,
+    /// Real meshes: the slowest preparation of a group's scene, in seconds, and its group.
+    pub slowest_preparation_seconds: f64,
+    pub slowest_preparation_group: u64,
+    /// Peak resident memory of the process over the run, in MB (Linux).
+    pub peak_mb: Option<f64>,
+}
+
+/// Counts of the real-mesh family.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct RealMeshCounts {
+    /// The meshes drawn from, `FILE:OBJECT`.
+    pub meshes: Vec<String>,
+    /// Groups prepared (each a mesh, a perturbation, a role and a light).
+    pub groups: u64,
+    /// Cases per perturbation of [`real_meshes::PERTURBATIONS`].
+    pub cases_by_perturbation: [u64; real_meshes::PERTURBATIONS.len()],
+    /// Cases beyond 6σ per perturbation.
+    pub beyond_6_sigma_by_perturbation: [u64; real_meshes::PERTURBATIONS.len()],
+    /// Cases whose cameras found no surface within their tries (not shaded).
+    pub missed: u64,
+    /// Cases with the mesh as the light.
+    pub mesh_as_light: u64,
+}
+
+impl StressReport {
+    /// Adds the outcome of case `index` (of `kind`, at `scale`) that took `seconds`.
+    #[allow(clippy::too_many_arguments)]
+    fn record(
+        &mut self,
+        family: Family,
+        seed: u64,
+        index: u64,
+        kind: CaseKind,
+        scale: f64,
+        o: &Outcome,
+        seconds: f64,
+    ) -> bool {
+        self.timing.mean_case_seconds += seconds;
+        if seconds > HANG_SECONDS {
+            self.timing.hangs += 1;
+        }
+        if seconds > self.timing.slowest_seconds {
+            self.timing.slowest_seconds = seconds;
+            self.timing.slowest_index = index;
+            self.timing.slowest_command = format!(
+                "penumbra stress{} --seed {seed} --rays {} --only {index}",
+                family.flag(),
+                self.rays_per_case
+            );
+        }
+        let k = KINDS.iter().position(|&k| k == kind);
+        if let Some(k) = k {
+            self.cases_by_kind[k] += 1;
+            self.invariant_violations_by_kind[k] += o.violations as u64;
+        }
+        self.trees_built += o.trees_built as u64;
+        self.nan += o.nan as u64;
+        self.inf += o.inf as u64;
+        self.negative += o.negative as u64;
+        self.invariant_violations += o.violations as u64;
+        self.fallbacks.add(&o.fallbacks);
+        if !o.analytic.is_finite() {
+            return false;
+        }
+        let err = (o.analytic - o.estimate).abs();
+        let sigmas = err / (o.sigma + 1.0 / self.rays_per_case as f64);
+        let beyond = sigmas > 6.0;
+        if beyond {
+            self.beyond_6_sigma += 1;
+            if let Some(k) = k {
+                self.beyond_6_sigma_by_kind[k] += 1;
+            }
+        }
+        let w = WorstCase {
+            index,
+            kind: Some(kind),
+            scale,
+            analytic: o.analytic,
+            estimate: o.estimate,
+            abs_error: err,
+            sigmas,
+        };
+        if err > self.worst_abs.abs_error {
+            self.worst_abs = w.clone();
+        }
+        if sigmas > self.worst_sigma.sigmas {
+            self.worst_sigma = w;
+        }
+        beyond
+    }
+
+    /// Adds another part of the same run.
+    fn merge(&mut self, r: StressReport) {
+        self.cases += r.cases;
+        self.nan += r.nan;
+        self.inf += r.inf;
+        self.negative += r.negative;
+        self.panics += r.panics;
+        self.trees_built += r.trees_built;
+        self.beyond_6_sigma += r.beyond_6_sigma;
+        self.invariant_violations += r.invariant_violations;
+        self.fallbacks.degenerate += r.fallbacks.degenerate;
+        self.fallbacks.bounds_crossed += r.fallbacks.bounds_crossed;
+        for k in 0..KINDS.len() {
+            self.invariant_violations_by_kind[k] += r.invariant_violations_by_kind[k];
+            self.beyond_6_sigma_by_kind[k] += r.beyond_6_sigma_by_kind[k];
+            self.cases_by_kind[k] += r.cases_by_kind[k];
+        }
+        if r.worst_abs.abs_error > self.worst_abs.abs_error {
+            self.worst_abs = r.worst_abs;
+        }
+        if r.worst_sigma.sigmas > self.worst_sigma.sigmas {
+            self.worst_sigma = r.worst_sigma;
+        }
+        let t = &mut self.timing;
+        t.mean_case_seconds += r.timing.mean_case_seconds;
+        t.hangs += r.timing.hangs;
+        if r.timing.slowest_seconds > t.slowest_seconds {
+            t.slowest_seconds = r.timing.slowest_seconds;
+            t.slowest_index = r.timing.slowest_index;
+            t.slowest_command = r.timing.slowest_command;
+        }
+        if r.timing.slowest_preparation_seconds > t.slowest_preparation_seconds {
+            t.slowest_preparation_seconds = r.timing.slowest_preparation_seconds;
+            t.slowest_preparation_group = r.timing.slowest_preparation_group;
+        }
+        if let (Some(a), Some(b)) = (self.real_meshes.as_mut(), r.real_meshes) {
+            a.groups += b.groups;
+            a.missed += b.missed;
+            a.mesh_as_light += b.mesh_as_light;
+            for k in 0..a.cases_by_perturbation.len() {
+                a.cases_by_perturbation[k] += b.cases_by_perturbation[k];
+                a.beyond_6_sigma_by_perturbation[k] += b.beyond_6_sigma_by_perturbation[k];
+            }
+        }
+    }
+}
+
+/// Runs `cases` cases of the mixed family (parallel, deterministic for a given seed). When
+/// `cancel` is raised the run stops after the case each thread is on and reports the cases
+/// done so far.
 pub fn run(
     cases: u64,
     seed: u64,
@@ -1136,99 +1381,138 @@ pub fn run(
     cancel: Option<&std::sync::atomic::AtomicBool>,
     progress: impl Fn(u64) + Sync,
 ) -> StressReport {
-    let start = web_time::Instant::now();
+    run_family(Family::Mixed, cases, seed, rays, cancel, progress)
+        .expect("the mixed family needs no files")
+}
+
+/// Runs `cases` cases of `family` (parallel, deterministic for a given seed). An error when
+/// the real meshes' files cannot be read.
+pub fn run_family(
+    family: Family,
+    cases: u64,
+    seed: u64,
+    rays: u32,
+    cancel: Option<&std::sync::atomic::AtomicBool>,
+    progress: impl Fn(u64) + Sync,
+) -> Result<StressReport, String> {
+    let start = Instant::now();
+    if family == Family::RealMeshes {
+        real_meshes::real_meshes()?;
+    }
+    crate::bench::memory::reset_peak();
     let prev_hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {}));
-    const CHUNK: u64 = 4096;
-    let chunks = cases.div_ceil(CHUNK);
+    let chunk: u64 = match family {
+        Family::Mixed => 4096,
+        Family::RealMeshes => real_meshes::GROUP,
+    };
+    let chunks = cases.div_ceil(chunk);
     let done = std::sync::atomic::AtomicU64::new(0);
+    let cancelled = || cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed));
+    let empty = || StressReport {
+        rays_per_case: rays,
+        real_meshes: (family == Family::RealMeshes).then(RealMeshCounts::default),
+        ..Default::default()
+    };
     let partial: Vec<StressReport> = (0..chunks)
         .into_par_iter()
         .map_init(ShadingScratch::default, |scratch, c| {
-            let mut rep = StressReport::default();
-            let mut rng = Pcg32::new(seed ^ 0x5eed, c);
-            for index in c * CHUNK..((c + 1) * CHUNK).min(cases) {
-                if cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed)) {
-                    break;
+            let mut rep = empty();
+            let indices = c * chunk..((c + 1) * chunk).min(cases);
+            match family {
+                Family::Mixed => {
+                    let mut rng = Pcg32::new(seed ^ 0x5eed, c);
+                    for index in indices {
+                        if cancelled() {
+                            break;
+                        }
+                        rep.cases += 1;
+                        let t = Instant::now();
+                        let result = catch_unwind(AssertUnwindSafe(|| {
+                            let case = generate(seed, index);
+                            let o = run_case(&case, rays, &mut rng, scratch);
+                            (case.kind, case.scale, o)
+                        }));
+                        let seconds = t.elapsed().as_secs_f64();
+                        match result {
+                            Ok((kind, scale, o)) => {
+                                rep.record(family, seed, index, kind, scale, &o, seconds);
+                            }
+                            Err(_) => {
+                                rep.panics += 1;
+                                *scratch = ShadingScratch::default();
+                            }
+                        }
+                    }
                 }
-                rep.cases += 1;
-                let result = catch_unwind(AssertUnwindSafe(|| {
-                    let case = generate(seed, index);
-                    (
-                        case.kind,
-                        case.scale,
-                        run_case(&case, rays, &mut rng, scratch),
-                    )
-                }));
-                let Ok((kind, scale, o)) = result else {
-                    rep.panics += 1;
-                    *scratch = ShadingScratch::default();
-                    continue;
-                };
-                let k = KINDS.iter().position(|&k| k == kind).unwrap_or(0);
-                rep.cases_by_kind[k] += 1;
-                rep.trees_built += o.trees_built as u64;
-                rep.nan += o.nan as u64;
-                rep.inf += o.inf as u64;
-                rep.negative += o.negative as u64;
-                rep.invariant_violations += o.violations as u64;
-                rep.invariant_violations_by_kind[k] += o.violations as u64;
-                if !o.analytic.is_finite() {
-                    continue;
-                }
-                let err = (o.analytic - o.estimate).abs();
-                let sigmas = err / (o.sigma + 1.0 / rays as f64);
-                if sigmas > 6.0 {
-                    rep.beyond_6_sigma += 1;
-                    rep.beyond_6_sigma_by_kind[k] += 1;
-                }
-                let w = WorstCase {
-                    index,
-                    kind: Some(kind),
-                    scale,
-                    analytic: o.analytic,
-                    estimate: o.estimate,
-                    abs_error: err,
-                    sigmas,
-                };
-                if err > rep.worst_abs.abs_error {
-                    rep.worst_abs = w.clone();
-                }
-                if sigmas > rep.worst_sigma.sigmas {
-                    rep.worst_sigma = w;
+                Family::RealMeshes => {
+                    let t = Instant::now();
+                    let group = catch_unwind(AssertUnwindSafe(|| real_meshes::group(seed, c)));
+                    rep.timing.slowest_preparation_seconds = t.elapsed().as_secs_f64();
+                    rep.timing.slowest_preparation_group = c;
+                    let group = match group {
+                        Ok(Ok(g)) => g,
+                        _ => {
+                            rep.cases += indices.end - indices.start;
+                            rep.panics += indices.end - indices.start;
+                            return rep;
+                        }
+                    };
+                    let level = real_meshes::PERTURBATIONS
+                        .iter()
+                        .position(|&p| p == group.perturbation)
+                        .unwrap_or(0);
+                    let counts = rep.real_meshes.as_mut().expect("set above");
+                    counts.groups = 1;
+                    for index in indices {
+                        if cancelled() {
+                            break;
+                        }
+                        rep.cases += 1;
+                        let t = Instant::now();
+                        let result = catch_unwind(AssertUnwindSafe(|| {
+                            group.run(seed, index, rays, scratch)
+                        }));
+                        let seconds = t.elapsed().as_secs_f64();
+                        let counts = rep.real_meshes.as_mut().expect("set above");
+                        counts.cases_by_perturbation[level] += 1;
+                        counts.mesh_as_light += group.mesh_is_light as u64;
+                        match result {
+                            Ok(Some(o)) => {
+                                let kind = CaseKind::RealMeshes;
+                                let scale = group.perturbation;
+                                if rep.record(family, seed, index, kind, scale, &o, seconds) {
+                                    let counts = rep.real_meshes.as_mut().expect("set above");
+                                    counts.beyond_6_sigma_by_perturbation[level] += 1;
+                                }
+                            }
+                            Ok(None) => counts.missed += 1,
+                            Err(_) => {
+                                rep.panics += 1;
+                                *scratch = ShadingScratch::default();
+                            }
+                        }
+                    }
                 }
             }
             let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            progress((d * CHUNK).min(cases));
+            progress((d * chunk).min(cases));
             rep
         })
         .collect();
     std::panic::set_hook(prev_hook);
-    let mut total = StressReport {
-        rays_per_case: rays,
-        ..Default::default()
-    };
-    for r in partial {
-        total.cases += r.cases;
-        total.nan += r.nan;
-        total.inf += r.inf;
-        total.negative += r.negative;
-        total.panics += r.panics;
-        total.trees_built += r.trees_built;
-        total.beyond_6_sigma += r.beyond_6_sigma;
-        total.invariant_violations += r.invariant_violations;
-        for k in 0..KINDS.len() {
-            total.invariant_violations_by_kind[k] += r.invariant_violations_by_kind[k];
-            total.beyond_6_sigma_by_kind[k] += r.beyond_6_sigma_by_kind[k];
-            total.cases_by_kind[k] += r.cases_by_kind[k];
-        }
-        if r.worst_abs.abs_error > total.worst_abs.abs_error {
-            total.worst_abs = r.worst_abs;
-        }
-        if r.worst_sigma.sigmas > total.worst_sigma.sigmas {
-            total.worst_sigma = r.worst_sigma;
-        }
+    let mut total = empty();
+    if let Some(r) = total.real_meshes.as_mut() {
+        r.meshes = real_meshes::real_meshes()?
+            .iter()
+            .map(|m| m.name.clone())
+            .collect();
     }
+    for r in partial {
+        total.merge(r);
+    }
+    total.timing.mean_case_seconds /= total.cases.max(1) as f64;
+    total.timing.peak_mb = crate::bench::memory::peak_mb();
     total.seconds = start.elapsed().as_secs_f64();
-    total
+    Ok(total)
 }

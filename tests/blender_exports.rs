@@ -277,3 +277,81 @@ fn the_stress_family_of_blender_like_meshes() {
     }
     assert_eq!(cases, 40);
 }
+
+/// `penumbra stress --family real-meshes`: Blender's meshes and the bunny, perturbed or not,
+/// as occluders and as lights, shaded where a camera ray lands; no invariant broken, no
+/// fallback for a crossed bound, and every value within 6σ of ray casting. Case by case
+/// (`stress::run_family` would silence every test's panic messages while it runs).
+#[test]
+fn the_real_mesh_stress_family_agrees_with_ray_casting() {
+    use penumbra::stress::real_meshes::{GROUP, PERTURBATIONS, real_meshes};
+    use penumbra::stress::run_one_real;
+    let meshes = real_meshes().expect("the files of tests/data/blender and the bunny");
+    // Both files of every Blender scene's solid objects, and the bunny.
+    assert!(meshes.len() >= 25, "{} meshes", meshes.len());
+    assert!(
+        meshes
+            .iter()
+            .any(|m| m.name.ends_with("suzanne.glb:Suzanne"))
+    );
+    assert!(
+        meshes
+            .iter()
+            .any(|m| m.name.ends_with("penumbra_text.toml:Text"))
+    );
+    assert!(meshes.iter().any(|m| m.name.ends_with("bunny.obj:bunny")));
+    let (seed, rays) = (4, 4096);
+    let (mut shaded, mut levels, mut as_light) = (0, Vec::new(), 0);
+    for g in 0..6 {
+        for k in 0..12 {
+            let index = g * GROUP + k * 17;
+            let (mesh, perturbation, light, result) = run_one_real(seed, index, rays).unwrap();
+            levels.push(perturbation);
+            as_light += light as usize;
+            let Some((point, analytic, estimate, sigma, violations, fallbacks)) = result else {
+                continue;
+            };
+            shaded += 1;
+            assert_eq!(violations, 0, "case {index} ({mesh})");
+            assert_eq!(fallbacks.bounds_crossed, 0, "case {index} ({mesh})");
+            assert!(
+                analytic.is_finite() && analytic >= 0.0,
+                "case {index}: {analytic}"
+            );
+            let sigmas = (analytic - estimate).abs() / (sigma + 1.0 / rays as f64);
+            assert!(
+                sigmas <= 6.0,
+                "case {index} ({mesh}, perturbed {perturbation:e}) at {point:?}: analytic \
+                 {analytic}, ray cast {estimate} ± {sigma}"
+            );
+        }
+    }
+    assert!(shaded >= 60, "{shaded} of 72 cases found a surface");
+    assert!(
+        as_light > 0 && as_light < 72,
+        "the mesh was the light in {as_light} cases"
+    );
+    levels.dedup();
+    assert!(levels.iter().any(|&p| p > 0.0) && levels.iter().all(|p| PERTURBATIONS.contains(p)));
+}
+
+/// Blender's UV sphere is convex as Blender meant it. Its OBJ (6 decimals) and its glTF (f32,
+/// computed in f32 by Blender) are each classified at their own precision: both are convex up
+/// to their rounding, and a hull stands in for both.
+#[test]
+fn the_uv_sphere_is_convex_up_to_its_rounding_in_both_files() {
+    for file in ["primitives.toml", "primitives.glb"] {
+        let scene = load(file);
+        let ctx = RenderContext::new(&scene);
+        let path = ctx
+            .prepared
+            .objects
+            .iter()
+            .find(|o| o.name == "UVSphere")
+            .map(|o| o.path());
+        assert!(
+            matches!(path, Some(MeshPath::HullTree | MeshPath::HullAtPoint)),
+            "{file}: {path:?}"
+        );
+    }
+}

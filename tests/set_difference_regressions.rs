@@ -313,3 +313,36 @@ fn a_walk_over_its_bound_ends_the_difference_and_says_so() {
     let want = decomposition_area(&subject, &clip);
     assert!((got - want).abs() < 1e-12, "{got} vs {want}");
 }
+
+/// Found by `penumbra stress --family real-meshes` (seed 2, case 65101): a point on Blender's
+/// torus (vertices perturbed by 1e-5 of its radius), face by face. The visible polygon so far
+/// reaches the horizon at a point that the next face's sliver (a neighbouring face seen at a
+/// grazing angle, clipped to the horizon) starts from too, and the sliver ends 1e-11 from it
+/// along the horizon. The difference came out empty: the point was black where rays see 4 %
+/// of the light.
+#[test]
+fn a_grazing_sliver_from_a_shared_horizon_point() {
+    let subject = [
+        DVec3::new(
+            0.8865266465636736,
+            -0.32649370514913645,
+            0.32782978118309486,
+        ),
+        DVec3::new(-0.246066955665919, -0.8906094865285952, 0.38244711508204426),
+        DVec3::new(
+            -0.29332143171433617,
+            -0.9558542445307067,
+            0.017470000277159916,
+        ),
+        DVec3::new(-0.10898140670277813, -0.9940437882674403, 0.0),
+        DVec3::new(0.7724854190656102, -0.6350325010037112, 0.0),
+        DVec3::new(0.9443723601735132, -0.328878161721618, 9.105909864080929e-6),
+    ];
+    let clip = [
+        DVec3::new(0.7724854190656102, -0.6350325010037112, 0.0),
+        DVec3::new(0.6526303069001276, 0.7576765020916276, 2.633706848597321e-5),
+        DVec3::new(0.9553916444270911, -0.2916223564832243, 0.0467248002464393),
+        DVec3::new(0.7724854190604374, -0.6350325010100039, 0.0),
+    ];
+    check(&subject, &clip);
+}

@@ -7,7 +7,8 @@ use super::*;
 /// What `penumbra gui` does besides showing the window (its command-line flags).
 #[derive(Clone, Debug, Default, clap::Args)]
 pub struct RunOptions {
-    /// A scene file or embedded scene name (default: the last one used).
+    /// A penumbra scene file (.toml), a Wavefront OBJ (.obj, with its .mtl), a glTF 2.0 file
+    /// (.glb or .gltf), or the name of an embedded scene (default: the last one used).
     pub scene: Option<String>,
     /// Save a screenshot of the window here once the render has finished, then quit.
     #[arg(long)]

@@ -478,6 +478,7 @@ mod tests {
             rmse: err,
             relative_rmse: err,
             rmse_corrected: err,
+            ..BenchRow::default()
         }
     }
 

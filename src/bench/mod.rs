@@ -13,12 +13,14 @@
 //! * [`realworld`]: `--suite realworld`, the scenes users load ([`realworld_scenes`]).
 //! * [`environment`](mod@environment): `--env SCENE`, the environment light in the form of
 //!   002's Tables 1 and 2.
+//! * [`memory`]: the peak resident memory of a row.
 //! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].
 
 pub mod environment;
 pub mod equal_time;
 pub mod fit;
 pub use crate::figure::font;
+pub mod memory;
 pub mod output;
 pub use crate::figure::plot;
 pub mod polyhedra;

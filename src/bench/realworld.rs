@@ -58,6 +58,12 @@ pub struct MethodRow {
     /// relative): a shadow that adds light.
     #[serde(default)]
     pub above_unshadowed: u64,
+    /// Shading points where a path gave up for one exact there, over the last render.
+    #[serde(default)]
+    pub fallbacks: crate::render::FallbackTotals,
+    /// The process's peak resident memory during the method's renders, in MB (Linux).
+    #[serde(default)]
+    pub peak_mb: Option<f64>,
 }
 
 /// One scene of the suite.
@@ -104,7 +110,7 @@ fn bunny_scene_path() -> Option<PathBuf> {
 }
 
 /// `rel` under the working directory, else under the source tree the binary was built from.
-fn source_path(rel: &str) -> Option<PathBuf> {
+pub(crate) fn source_path(rel: &str) -> Option<PathBuf> {
     let rel = Path::new(rel);
     [
         rel.to_path_buf(),
@@ -115,7 +121,7 @@ fn source_path(rel: &str) -> Option<PathBuf> {
 }
 
 /// The scenes Blender built and wrote itself (`tests/data/blender`), each as OBJ and `.glb`.
-const BLENDER_SCENES: [(&str, &str); 5] = [
+pub(crate) const BLENDER_SCENES: [(&str, &str); 5] = [
     (
         "suzanne",
         "Blender's monkey, subdivided twice (7,872 quads, 7,686 not planar; open: 168 boundary \
@@ -282,10 +288,13 @@ pub fn run_realworld(
             let mut image = Image::new(1, 1);
             let mut shortcuts = None;
             let mut violations = 0;
+            let mut fallbacks = Default::default();
+            super::memory::reset_peak();
             for _ in 0..config.repeats.max(1) {
                 let out = ctx.render_full(&camera, &settings(method, 1, config.seed), None)?;
                 best = best.min(out.stats.seconds);
                 violations = out.stats.violations;
+                fallbacks = out.stats.fallbacks;
                 image = out.image;
                 shortcuts = out.pixel_stats.map(|px| {
                     let mut sum = Shortcuts::default();
@@ -308,6 +317,8 @@ pub fn run_realworld(
                 shortcuts,
                 violations,
                 above_unshadowed: 0,
+                fallbacks,
+                peak_mb: super::memory::peak_mb(),
             });
             images.push(image);
         }

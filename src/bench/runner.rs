@@ -4,7 +4,7 @@
 
 use super::table::{BenchReport, BenchRow, ReferenceInfo};
 use crate::render::compare::compare;
-use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
+use crate::render::{Image, RenderContext, RenderMethod, RenderSettings, RenderStats};
 use crate::scene::Camera;
 use crate::stochastic::LightSampling;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -214,24 +214,24 @@ pub fn run_bench(
         } else {
             config.repeats.max(1)
         };
-        let mut best: Option<(f64, Image)> = None;
+        let mut best: Option<(f64, Image, RenderStats)> = None;
+        super::memory::reset_peak();
         for _ in 0..repeats {
             let (img, stats) = ctx.render(&config.camera, &settings, cancel)?;
             check(cancel)?;
-            if best.as_ref().is_none_or(|(t, _)| stats.seconds < *t) {
-                best = Some((stats.seconds, img));
+            if best.as_ref().is_none_or(|(t, _, _)| stats.seconds < *t) {
+                best = Some((stats.seconds, img, stats));
             }
         }
-        let (seconds, image) = best.expect("at least one render");
+        let peak_mb = super::memory::peak_mb();
+        let (seconds, image, stats) = best.expect("at least one render");
         let cmp = compare(&image.to_rgb32(), &ref_rgb, Some(&err_rgb));
-        rows.push(BenchRow::from_comparison(
-            &config.scene,
-            name,
-            spp,
-            seconds,
-            &cmp,
-            info.rms_stderr,
-        ));
+        rows.push(BenchRow {
+            violations: stats.violations,
+            fallbacks: stats.fallbacks,
+            peak_mb,
+            ..BenchRow::from_comparison(&config.scene, name, spp, seconds, &cmp, info.rms_stderr)
+        });
         images.push(BenchImage {
             label: name.clone(),
             method,

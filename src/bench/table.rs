@@ -16,7 +16,7 @@ pub(crate) fn f64_or_nan<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Erro
 }
 
 /// One render of one method at one budget, compared with the reference.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BenchRow {
     pub scene: String,
     pub method: String,
@@ -35,6 +35,17 @@ pub struct BenchRow {
     /// RMSE with the reference's own noise removed: sqrt(max(0, MSE − mean(reference stderr²))).
     #[serde(deserialize_with = "f64_or_nan")]
     pub rmse_corrected: f64,
+    /// Light pieces whose visible polygon was not inside the light's (`shading::invariant`;
+    /// the analytic methods): a bug wherever it is not zero.
+    #[serde(default)]
+    pub violations: u64,
+    /// Shading points where a path gave up for one exact there (degenerate configurations,
+    /// bounds crossed).
+    #[serde(default)]
+    pub fallbacks: crate::render::FallbackTotals,
+    /// The process's peak resident memory during the row's renders, in MB (Linux).
+    #[serde(default)]
+    pub peak_mb: Option<f64>,
 }
 
 impl BenchRow {
@@ -57,6 +68,9 @@ impl BenchRow {
             rmse: comparison.rmse,
             relative_rmse: comparison.relative_rmse,
             rmse_corrected: corrected_rmse(comparison.rmse, reference_rms_stderr),
+            violations: 0,
+            fallbacks: Default::default(),
+            peak_mb: None,
         }
     }
 }
@@ -192,7 +206,8 @@ impl BenchReport {
 }
 
 /// The CSV header, in the order of [`BenchRow`]'s fields.
-pub const CSV_HEADER: &str = "scene,method,spp,seconds,mae,rmse,relative_rmse,rmse_corrected";
+pub const CSV_HEADER: &str = "scene,method,spp,seconds,mae,rmse,relative_rmse,rmse_corrected,\
+                              violations,bounds_crossed,degenerate_fallbacks,peak_mb";
 
 /// Quotes a CSV field if it needs it (RFC 4180: commas, quotes, line breaks).
 fn csv_field(s: &str) -> String {
@@ -213,7 +228,7 @@ pub fn write_csv(rows: &[BenchRow], path: &Path) -> io::Result<()> {
         let spp = r.spp.map(|s| s.to_string()).unwrap_or_default();
         writeln!(
             w,
-            "{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
             csv_field(&r.scene),
             csv_field(&r.method),
             spp,
@@ -221,7 +236,11 @@ pub fn write_csv(rows: &[BenchRow], path: &Path) -> io::Result<()> {
             r.mae,
             r.rmse,
             r.relative_rmse,
-            r.rmse_corrected
+            r.rmse_corrected,
+            r.violations,
+            r.fallbacks.bounds_crossed,
+            r.fallbacks.degenerate,
+            r.peak_mb.map(|m| m.to_string()).unwrap_or_default()
         )?;
     }
     w.flush()
@@ -277,10 +296,11 @@ pub fn read_csv(path: &Path) -> io::Result<Vec<BenchRow>> {
         };
         record.clear();
         let at = |what: &str| bad(format!("{}: line {}: {what}", path.display(), i + 2));
-        if f.len() != 8 {
-            return Err(at("expected 8 fields"));
+        if f.len() != 12 {
+            return Err(at("expected 12 fields"));
         }
         let num = |k: usize| f[k].trim().parse::<f64>().map_err(|e| at(&e.to_string()));
+        let count = |k: usize| f[k].trim().parse::<u64>().map_err(|e| at(&e.to_string()));
         let spp = match f[2].trim() {
             "" => None,
             s => Some(s.parse::<u32>().map_err(|e| at(&e.to_string()))?),
@@ -294,6 +314,15 @@ pub fn read_csv(path: &Path) -> io::Result<Vec<BenchRow>> {
             rmse: num(5)?,
             relative_rmse: num(6)?,
             rmse_corrected: num(7)?,
+            violations: count(8)?,
+            fallbacks: crate::render::FallbackTotals {
+                bounds_crossed: count(9)?,
+                degenerate: count(10)?,
+            },
+            peak_mb: match f[11].trim() {
+                "" => None,
+                _ => Some(num(11)?),
+            },
         });
     }
     if !record.is_empty() {
@@ -336,6 +365,7 @@ mod tests {
             rmse: err,
             relative_rmse: err / 0.3,
             rmse_corrected: corrected_rmse(err, 1e-3),
+            ..BenchRow::default()
         }
     }
 
@@ -363,6 +393,12 @@ mod tests {
             rmse: 0.1 + 0.2,
             relative_rmse: 123456789.125,
             rmse_corrected: 0.0,
+            violations: 3,
+            fallbacks: crate::render::FallbackTotals {
+                degenerate: 12,
+                bounds_crossed: 1,
+            },
+            peak_mb: Some(123.456789),
         });
         rows
     }

@@ -58,6 +58,10 @@ pub(crate) enum Command {
         /// Run only this case and describe it.
         #[arg(long)]
         only: Option<u64>,
+        /// Which cases: the generated families in turn, or the meshes of Blender's files and
+        /// the bunny shaded where a render shades them.
+        #[arg(long, value_enum, default_value = "mixed")]
+        family: StressFamily,
     },
     /// Fit the 64×64 GGX LTC table (Nelder–Mead) and write it.
     FitLtc {
@@ -164,7 +168,7 @@ pub(crate) enum Command {
     /// axis through the pivot first, then is translated. See docs/scenes.md, "Editing and
     /// saving scenes".
     Edit {
-        /// A scene file or embedded scene name.
+        #[arg(help = SCENE_HELP)]
         scene: String,
         /// The object to move: its index (0-based, in scene order) or its (unique) name.
         #[arg(long = "move", value_name = "OBJ")]
@@ -200,6 +204,21 @@ pub(crate) struct CameraArgs {
     pub(crate) fov: Option<f64>,
 }
 
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum StressFamily {
+    Mixed,
+    RealMeshes,
+}
+
+impl StressFamily {
+    pub(crate) fn library(self) -> penumbra::stress::Family {
+        match self {
+            StressFamily::Mixed => penumbra::stress::Family::Mixed,
+            StressFamily::RealMeshes => penumbra::stress::Family::RealMeshes,
+        }
+    }
+}
+
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
 pub(crate) enum BenchSuite {
     Realworld,
@@ -207,7 +226,11 @@ pub(crate) enum BenchSuite {
 
 #[derive(Args, Clone)]
 pub(crate) struct BenchArgs {
-    /// A scene file or embedded scene name (not needed with --scaling).
+    #[arg(help = concat!(
+        "A penumbra scene file (.toml), a Wavefront OBJ (.obj, with its .mtl), a glTF 2.0 ",
+        "file (.glb or .gltf), or the name of an embedded scene (see `penumbra scenes`); not ",
+        "needed with --scaling or --suite"
+    ))]
     pub(crate) scene: Option<String>,
     #[command(flatten)]
     pub(crate) camera: CameraArgs,
@@ -273,9 +296,13 @@ pub(crate) struct BenchArgs {
     pub(crate) max_level: u32,
 }
 
+/// Every input format a SCENE argument takes.
+const SCENE_HELP: &str = "A penumbra scene file (.toml), a Wavefront OBJ (.obj, with its .mtl), \
+     a glTF 2.0 file (.glb or .gltf), or the name of an embedded scene (see `penumbra scenes`)";
+
 #[derive(Args, Clone)]
 pub(crate) struct RenderArgs {
-    /// A scene file (.toml or .obj) or the name of an embedded scene (see `penumbra scenes`).
+    #[arg(help = SCENE_HELP)]
     pub(crate) scene: String,
     #[command(flatten)]
     pub(crate) camera: CameraArgs,

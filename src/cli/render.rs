@@ -86,8 +86,7 @@ pub(crate) fn render(args: &RenderArgs) -> Result<()> {
     let cam = camera(&args.camera, &scene)?;
     let settings = settings(args);
     let (ctx, env) = (prepared.ctx, prepared.environment);
-    let out = ctx
-        .render_full(&cam, &settings, None)
+    let out = super::progress::with_tile_bar(|| ctx.render_full(&cam, &settings, None))
         .map_err(anyhow::Error::msg)?;
     let (img, stats) = (&out.image, out.stats);
     let (nan, inf, neg) = img.invalid_counts();

@@ -1,10 +1,35 @@
 //! `penumbra stress`: random and adversarial configurations against a ray-cast oracle.
 
 use anyhow::{Context, Result, bail};
+use penumbra::stress::Family;
 use std::path::Path;
 
 /// One case described (`--only INDEX`): its kind, point, meshes and both values.
-pub(crate) fn describe_case(seed: u64, index: u64, rays: u32) -> Result<()> {
+pub(crate) fn describe_case(family: Family, seed: u64, index: u64, rays: u32) -> Result<()> {
+    if family == Family::RealMeshes {
+        let t = web_time::Instant::now();
+        let (mesh, perturbation, light, shaded) =
+            penumbra::stress::run_one_real(seed, index, rays).map_err(anyhow::Error::msg)?;
+        say!(
+            "case {index}: {mesh}, perturbed by {perturbation:e} of its radius, as the {}",
+            if light { "light" } else { "occluder" }
+        );
+        match shaded {
+            None => say!("its camera rays found no surface"),
+            Some((point, analytic, estimate, sigma, violations, fallbacks)) => {
+                say!("shading point {point:?}");
+                say!(
+                    "analytic {analytic}, ray cast {estimate} ± {sigma}; {violations} invariant \
+                     violations; fallbacks {fallbacks:?}"
+                );
+            }
+        }
+        say!(
+            "{:.3} s (the group's preparation included)",
+            t.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
     let (case, analytic, estimate, sigma, violations) =
         penumbra::stress::run_one(seed, index, rays);
     say!("case {index}: {:?}, scale {:e}", case.kind, case.scale);
@@ -26,20 +51,42 @@ pub(crate) fn describe_case(seed: u64, index: u64, rays: u32) -> Result<()> {
 
 /// `cases` cases from `seed`: the report on stdout (and in `json`); an error when any result
 /// is invalid (NaN, infinite, negative, a panic, an invariant violated).
-pub(crate) fn stress(cases: u64, seed: u64, rays: u32, json: Option<&Path>) -> Result<()> {
+pub(crate) fn stress(
+    family: Family,
+    cases: u64,
+    seed: u64,
+    rays: u32,
+    json: Option<&Path>,
+) -> Result<()> {
     let last = std::sync::atomic::AtomicU64::new(0);
-    let rep = penumbra::stress::run(cases, seed, rays, None, |done| {
+    let rep = penumbra::stress::run_family(family, cases, seed, rays, None, |done| {
         let step = (cases / 20).max(1);
         let prev = last.fetch_max(done / step, std::sync::atomic::Ordering::Relaxed);
         if done / step > prev {
             eprintln!("  {done}/{cases}");
         }
-    });
+    })
+    .map_err(anyhow::Error::msg)?;
     say!("{}", serde_json::to_string_pretty(&rep)?);
     if let Some(path) = json {
         std::fs::write(path, serde_json::to_string_pretty(&rep)?)
             .with_context(|| format!("{}", path.display()))?;
     }
+    say!(
+        "{} cases: {} invariant violations, {} bounds crossed ({} degenerate fallbacks), {} \
+         hangs (cases over {} s); slowest case {:.3} s: {}; peak memory {}",
+        rep.cases,
+        rep.invariant_violations,
+        rep.fallbacks.bounds_crossed,
+        rep.fallbacks.degenerate,
+        rep.timing.hangs,
+        penumbra::stress::HANG_SECONDS,
+        rep.timing.slowest_seconds,
+        rep.timing.slowest_command,
+        rep.timing
+            .peak_mb
+            .map_or("unknown".into(), |m| format!("{m:.0} MB"))
+    );
     if rep.nan + rep.inf + rep.negative + rep.panics + rep.invariant_violations > 0 {
         bail!("stress found invalid results");
     }

@@ -940,6 +940,7 @@ mod tests {
             rmse,
             relative_rmse: rmse,
             rmse_corrected: rmse,
+            ..Default::default()
         };
         let mut rows = vec![
             row("analytic", None, 0.42, 2.1e-3),

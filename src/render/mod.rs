@@ -2,6 +2,7 @@
 
 pub mod compare;
 pub mod environment;
+pub mod progress;
 pub mod progressive;
 pub mod request;
 pub mod slicing;
@@ -637,7 +638,17 @@ where
 {
     let tiles = Tiles::new(width, height);
     let count = tiles.count();
-    let tile = |scratch: &mut S, t: usize| tiles.evaluate(t, |x, y| pixel(scratch, x, y));
+    let progress = progress::TileProgress::current();
+    if let Some(p) = &progress {
+        p.started(count);
+    }
+    let tile = |scratch: &mut S, t: usize| {
+        let out = tiles.evaluate(t, |x, y| pixel(scratch, x, y));
+        if let Some(p) = &progress {
+            p.finished_one();
+        }
+        out
+    };
     if let Some(sliced) = slicing::Slicer::with_current(|s| s.tiles(count, &init, tile)) {
         return sliced.map(|done| tiles.assemble(done.into_iter().enumerate()));
     }

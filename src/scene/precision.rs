@@ -14,7 +14,13 @@
 //! * **Significant digits** (`%.Sg`) otherwise: `S` is the most significant digits any
 //!   coordinate has, and `v` is within `0.5·10^(⌊log10|v|⌋ − S + 1)` of what was meant.
 //! * **f32 data**: when every coordinate is an f32 value (within a thousandth of an f32 ulp),
-//!   the rounding is at least half an f32 ulp of it, however many digits were printed.
+//!   the data was computed in f32 as well as stored in it (Blender holds meshes in f32; glTF
+//!   stores f32). A vertex computed as a vector (a rotation, a scaling, a sine and a cosine)
+//!   carries an error of the order of its *largest* coordinate's ulp in every coordinate, not
+//!   of each coordinate's own ulp: half an ulp for the arithmetic and half for the storage.
+//!   So each coordinate's rounding is at least one f32 ulp of the vertex's largest coordinate
+//!   ([`WrittenPrecision::vertex_rounding`]), and half an ulp of its own value alone
+//!   ([`WrittenPrecision::coordinate_rounding`]), however many digits were printed.
 //!
 //! A coordinate's rounding also never falls below the f64 rounding of its value (4 ulp). A
 //! vertex is within the Euclidean norm of its three coordinates' roundings of its meant
@@ -158,12 +164,17 @@ impl WrittenPrecision {
     }
 
     /// The rounding radius of a vertex written as `p`: how far it may be from the position
-    /// meant.
+    /// meant. f32 data: one f32 ulp of the largest coordinate in each (see the module docs).
     pub fn vertex_rounding(&self, p: DVec3) -> f64 {
+        let vector = if self.f32_data && !self.empty {
+            f32_ulp(p.abs().max_element())
+        } else {
+            0.0
+        };
         DVec3::new(
-            self.coordinate_rounding(p.x),
-            self.coordinate_rounding(p.y),
-            self.coordinate_rounding(p.z),
+            self.coordinate_rounding(p.x).max(vector),
+            self.coordinate_rounding(p.y).max(vector),
+            self.coordinate_rounding(p.z).max(vector),
         )
         .length()
     }

@@ -29,13 +29,20 @@ use super::predicates::{
     arc_coordinates, arc_parameter, coincident, on_line, opposite, unit_normal,
 };
 use super::{
-    COLLAPSE_RADIUS, EPS_LINE, EPS_ON_EDGE, EPS_POINT, GreinerHormannSteps, IntersectionKind,
-    IntersectionRecord, NONE, Node, SetDifference, Status,
+    EPS_LINE, EPS_ON_EDGE, EPS_POINT, GreinerHormannSteps, IntersectionKind, IntersectionRecord,
+    NONE, Node, SetDifference, Status,
 };
 use glam::DVec3;
 
 /// At most this many vertices are looked at for a detour.
 const MAX_DETOUR: usize = 8;
+
+/// A detour of one operand out of an intersection point and back whose vertices all lie within
+/// this (sine of angle) of the point is removed (`finish_clusters`): it encloses less than
+/// π·1e-18 sr, nothing any integral can see, while the tolerances of the clusters (a few
+/// [`EPS_LINE`](super::EPS_LINE)) can make such a detour out of two crossings of one nearly
+/// horizontal arc with the horizon, 1e-11 apart, whose labels then contradict each other.
+const DETOUR_RADIUS: f64 = 1e-9;
 
 /// `contact_sc` bit: subject vertex i coincides with clip vertex j.
 const VERTEX: u8 = 1;
@@ -321,7 +328,7 @@ impl SetDifference {
                 return Some(m);
             }
             if node.dir.dot(x) <= 0.0
-                || node.dir.cross(x).length_squared() > COLLAPSE_RADIUS * COLLAPSE_RADIUS
+                || node.dir.cross(x).length_squared() > DETOUR_RADIUS * DETOUR_RADIUS
             {
                 return None;
             }
@@ -508,7 +515,7 @@ impl SetDifference {
     /// Clusters are transitive, and tolerance decisions near features at the tolerance scale
     /// can put two nodes of one operand into a cluster that the operand joins by a detour of a
     /// few 1e-12 rad: consecutive nodes (a fragment of zero length and meaningless direction),
-    /// or nodes separated by vertices that all lie within [`COLLAPSE_RADIUS`](super::COLLAPSE_RADIUS) of the cluster
+    /// or nodes separated by vertices that all lie within [`DETOUR_RADIUS`] of the cluster
     /// (a clip vertex on two edges near a subject corner, three clip vertices around one
     /// subject vertex). The detour is removed: one node arrives along the first node's edge
     /// and leaves along the last one's, a corner. Detours reaching farther are genuine loops

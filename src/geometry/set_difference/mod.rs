@@ -58,8 +58,8 @@ pub const EPS_POINT: f64 = 5e-13;
 
 /// Features smaller than this (sine of angle), four times [`EPS_LINE`], are folded onto one
 /// point: consecutive input vertices closer than this are merged on loading (edges shorter than
-/// the tolerances), and detours of one operand through an intersection point whose vertices all
-/// lie within this distance of the point are removed (`finish_clusters`).
+/// the tolerances). (Detours of one operand through an intersection point are removed within
+/// a wider radius, `intersections::DETOUR_RADIUS`.)
 ///
 /// An edge shorter than a few [`EPS_LINE`] has a well-defined line, but the tolerance band
 /// around that line is as wide as the edge is long, so "on the line" says nothing about the
