@@ -258,7 +258,7 @@ impl Group {
     /// and sub-pixel position, and what its ray hits first (a receiver). `None` when
     /// [`TRIES`] rays all miss.
     pub fn point(&self, seed: u64, index: u64) -> Option<ShadingPoint> {
-        let mut rng = Pcg32::new(seed ^ 0xca5e_0f_7ea1, index);
+        let mut rng = Pcg32::new(seed ^ 0x00ca_5e0f_7ea1, index);
         for _ in 0..TRIES {
             let dir = DVec3::new(
                 rng.range(-1.0, 1.0),
