@@ -165,6 +165,9 @@ pub struct StressReport {
     /// Shading points where a path gave up for one exact there: at a degenerate
     /// configuration, or because a walk crossed the bound its input sets.
     pub fallbacks: FallbackTotals,
+    /// The first cases (by index, at most [`MAX_LISTED`]) that broke the invariant, gave an
+    /// invalid value or lay beyond 6σ: each reruns alone with `--only INDEX`.
+    pub failing_cases: Vec<u64>,
     /// The real-mesh family's own counts.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub real_meshes: Option<RealMeshCounts>,
@@ -1218,6 +1221,9 @@ impl Family {
     }
 }
 
+/// Failing cases listed in a report at most.
+pub const MAX_LISTED: usize = 32;
+
 /// A case slower than this is counted as a hang.
 pub const HANG_SECONDS: f64 = 1.0;
 
@@ -1294,12 +1300,23 @@ impl StressReport {
         self.negative += o.negative as u64;
         self.invariant_violations += o.violations as u64;
         self.fallbacks.add(&o.fallbacks);
+        let list = |cases: &mut Vec<u64>| {
+            if cases.len() < MAX_LISTED {
+                cases.push(index);
+            }
+        };
+        if o.violations > 0 || o.nan || o.inf || o.negative {
+            list(&mut self.failing_cases);
+        }
         if !o.analytic.is_finite() {
             return false;
         }
         let err = (o.analytic - o.estimate).abs();
         let sigmas = err / (o.sigma + 1.0 / self.rays_per_case as f64);
         let beyond = sigmas > 6.0;
+        if beyond && o.violations == 0 {
+            list(&mut self.failing_cases);
+        }
         if beyond {
             self.beyond_6_sigma += 1;
             if let Some(k) = k {
@@ -1336,6 +1353,9 @@ impl StressReport {
         self.invariant_violations += r.invariant_violations;
         self.fallbacks.degenerate += r.fallbacks.degenerate;
         self.fallbacks.bounds_crossed += r.fallbacks.bounds_crossed;
+        self.failing_cases.extend(r.failing_cases);
+        self.failing_cases.sort_unstable();
+        self.failing_cases.truncate(MAX_LISTED);
         for k in 0..KINDS.len() {
             self.invariant_violations_by_kind[k] += r.invariant_violations_by_kind[k];
             self.beyond_6_sigma_by_kind[k] += r.beyond_6_sigma_by_kind[k];
