@@ -12,12 +12,12 @@
 //! renderer does ([`RenderContext::primary_hit`]). The oracle is the one of every family:
 //! stratified cosine-weighted rays through the group's BVH.
 
-use super::{Outcome, evaluate};
+use super::{Outcome, evaluate, object};
 use crate::bench::realworld::{BLENDER_SCENES, source_path};
 use crate::math::{Frame, Pcg32};
 use crate::render::RenderContext;
 use crate::scene::shapes::quad;
-use crate::scene::{Camera, Material, Mesh, ObjectFlags, Scene, SceneObject};
+use crate::scene::{Camera, Mesh, Scene};
 use crate::shading::{PrepareOptions, ShadingPoint, ShadingScratch};
 use glam::DVec3;
 use std::sync::Arc;
@@ -170,23 +170,6 @@ fn perturbed(mesh: &Mesh, eps: f64, rng: &mut Pcg32) -> Result<Mesh, String> {
         .ok_or_else(|| "the perturbed mesh has no face".into())
 }
 
-fn object(name: &str, mesh: Mesh, light: bool, occluder: bool) -> SceneObject {
-    SceneObject {
-        name: name.into(),
-        mesh,
-        material: Material {
-            ke: if light { DVec3::ONE } else { DVec3::ZERO },
-            ..Material::default()
-        },
-        flags: ObjectFlags {
-            light,
-            occluder,
-            receiver: true,
-            is_static: false,
-        },
-    }
-}
-
 /// Group `g` of the run with `seed`. The light is object 0 (the oracle counts rays that reach
 /// the front of its faces).
 pub fn group(seed: u64, g: u64) -> Result<Group, String> {
@@ -210,8 +193,8 @@ pub fn group(seed: u64, g: u64) -> Result<Group, String> {
     );
     let objects = if mesh_is_light {
         vec![
-            object("mesh", m, true, true),
-            object("floor", floor, false, true),
+            object("mesh", m, true),
+            object("floor", floor, false),
         ]
     } else {
         // A quad light above the mesh, facing it: its normal (u × v) points at the centre.
@@ -225,11 +208,10 @@ pub fn group(seed: u64, g: u64) -> Result<Group, String> {
         let f = Frame::from_z((centre - at).normalize());
         let size = radius * rng.range(0.1, 2.0);
         let light = quad(at, f.x * size, f.y * size * rng.range(0.3, 1.0));
-        vec![
-            object("light", light, true, false),
-            object("mesh", m, false, true),
-            object("floor", floor, false, true),
-        ]
+        // A flat light hides nothing: not an occluder.
+        let mut light = object("light", light, true);
+        light.flags.occluder = false;
+        vec![light, object("mesh", m, false), object("floor", floor, false)]
     };
     let scene = Scene {
         objects,
