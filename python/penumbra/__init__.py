@@ -20,8 +20,9 @@ from ._penumbra import (
 
 def bench(scene, **options):
     """`penumbra bench`'s rows as dicts (scene, method, spp, seconds, mae, rmse,
-    relative_rmse, rmse_corrected), ready for `pandas.DataFrame`: the rows of
-    `bench_report(scene, **options)`, which takes the same arguments."""
+    relative_rmse, rmse_corrected, violations, fallbacks, peak_mb), ready for
+    `pandas.DataFrame`: the rows of `bench_report(scene, **options)`, which takes the same
+    arguments."""
     return bench_report(scene, **options)["rows"]
 
 

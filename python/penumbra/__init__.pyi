@@ -110,7 +110,8 @@ def stress(cases: int = 1000, seed: int = 1, rays: int = 256) -> dict:
     """`penumbra stress`'s report: random and adversarial cases against a ray-cast oracle."""
 
 def bench(scene: Scene, **options: Any) -> list[dict]:
-    """`penumbra bench`'s rows (method, spp, seconds, mae, rmse, relative_rmse, rmse_corrected):
+    """`penumbra bench`'s rows (method, spp, seconds, mae, rmse, relative_rmse, rmse_corrected,
+    violations, fallbacks, peak_mb):
     those of `bench_report(scene, **options)`, which takes the same options."""
 
 def bench_report(

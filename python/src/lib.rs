@@ -519,9 +519,9 @@ fn stress(py: Python<'_>, cases: u64, seed: u64, rays: u32) -> PyResult<Py<PyAny
 /// `ladder` against a reference of `reference_spp` samples, each deterministic render
 /// repeated `repeats` times (the fastest kept). The dict holds the scene, the size, the
 /// reference's noise, the rows (scene, method, spp, seconds, mae, rmse, relative_rmse,
-/// rmse_corrected), the equal-time table and the speed ratios. The interpreter is released
-/// while it runs, and Ctrl-C stops it within a tile of the current render
-/// (KeyboardInterrupt). `penumbra.bench` gives the rows alone.
+/// rmse_corrected, violations, fallbacks, peak_mb), the equal-time table and the speed ratios.
+/// The interpreter is released while it runs, and Ctrl-C stops it within a tile of the
+/// current render (KeyboardInterrupt). `penumbra.bench` gives the rows alone.
 #[pyfunction]
 #[pyo3(signature = (scene, size=(160, 120), ladder=vec![1, 2, 4, 8, 16, 32, 64, 128, 256], methods=None, reference_spp=4096, seed=1, repeats=2, aa=1))]
 #[allow(clippy::too_many_arguments)]
