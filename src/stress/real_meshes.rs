@@ -192,10 +192,7 @@ pub fn group(seed: u64, g: u64) -> Result<Group, String> {
         DVec3::X * span,
     );
     let objects = if mesh_is_light {
-        vec![
-            object("mesh", m, true),
-            object("floor", floor, false),
-        ]
+        vec![object("mesh", m, true), object("floor", floor, false)]
     } else {
         // A quad light above the mesh, facing it: its normal (u × v) points at the centre.
         let up = DVec3::new(
@@ -211,7 +208,11 @@ pub fn group(seed: u64, g: u64) -> Result<Group, String> {
         // A flat light hides nothing: not an occluder.
         let mut light = object("light", light, true);
         light.flags.occluder = false;
-        vec![light, object("mesh", m, false), object("floor", floor, false)]
+        vec![
+            light,
+            object("mesh", m, false),
+            object("floor", floor, false),
+        ]
     };
     let scene = Scene {
         objects,
