@@ -178,22 +178,30 @@ def scene_suzanne():
            "about 0.5 m above a 6 m floor, lit by a tilted 1 m quad light."
 
 
-def scene_text():
-    floor()
-    bpy.ops.object.text_add(location=(0.0, 0.0, 0.01), rotation=(math.radians(90.0), 0.0, 0.0))
+def extruded_text(body, size, location, rotation, dissolve_deg, base):
+    """Blender's built-in font: `body` at `size`, extruded 0.05, centred horizontally,
+    converted to a mesh and simplified by Limited Dissolve at `dissolve_deg` over the whole
+    mesh. Not merge-by-distance: the caps and the sides stay separate pieces, as Blender makes
+    them."""
+    bpy.ops.object.text_add(location=location, rotation=rotation)
     text = bpy.context.active_object
-    text.data.body = "BOP8"
-    text.data.size = 0.6
+    text.data.body = body
+    text.data.size = size
     text.data.extrude = 0.05
     text.data.align_x = 'CENTER'
     bpy.ops.object.convert(target='MESH')
     text = bpy.context.active_object
     bpy.ops.object.mode_set(mode='EDIT')
     bpy.ops.mesh.select_all(action='SELECT')
-    # Not merge-by-distance: the caps and the sides stay separate pieces, as Blender makes them.
-    bpy.ops.mesh.dissolve_limited(angle_limit=math.radians(TEXT_DISSOLVE_DEG))  # delimit NORMAL
+    bpy.ops.mesh.dissolve_limited(angle_limit=math.radians(dissolve_deg))  # delimit NORMAL
     bpy.ops.object.mode_set(mode='OBJECT')
-    finish(text, "Text", principled("Text", base=(0.2, 0.4, 0.8)))
+    return finish(text, "Text", principled("Text", base=base))
+
+
+def scene_text():
+    floor()
+    extruded_text("BOP8", 0.6, (0.0, 0.0, 0.01), (math.radians(90.0), 0.0, 0.0),
+                  TEXT_DISSOLVE_DEG, (0.2, 0.4, 0.8))
     quad_light("Light", (0.2, 0.8, 2.0), radiance=4.0)
     add_camera((1.2, -3.2, 1.4), (0.0, 0.0, 0.3))
     return "The text 'BOP8' (built-in font, size 0.6, extrude 0.05) converted to a mesh "\
@@ -206,21 +214,9 @@ def scene_text():
 def scene_penumbra_text():
     floor()
     # Lying flat (Blender's text is made in the XY plane), its baseline through the origin
-    # (Blender's default vertical alignment), 0.6 m above the floor.
-    bpy.ops.object.text_add(location=(0.0, 0.0, 0.6))
-    text = bpy.context.active_object
-    text.data.body = "penumbra"
-    text.data.size = 1.0
-    text.data.extrude = 0.05
-    text.data.align_x = 'CENTER'
-    bpy.ops.object.convert(target='MESH')
-    text = bpy.context.active_object
-    bpy.ops.object.mode_set(mode='EDIT')
-    bpy.ops.mesh.select_all(action='SELECT')
-    # Blender's default angle: keyhole n-gon caps (a bridge edge into each hole), open seams.
-    bpy.ops.mesh.dissolve_limited(angle_limit=math.radians(5.0))
-    bpy.ops.object.mode_set(mode='OBJECT')
-    finish(text, "Text", principled("Text", base=(0.8, 0.8, 0.8)))
+    # (Blender's default vertical alignment), 0.6 m above the floor; Blender's default
+    # dissolve angle: keyhole n-gon caps (a bridge edge into each hole), open seams.
+    extruded_text("penumbra", 1.0, (0.0, 0.0, 0.6), (0.0, 0.0, 0.0), 5.0, (0.8, 0.8, 0.8))
     light = quad_light("Light", (0.0, 0.0, 2.4), radiance=4.0)
     light.scale = (1.6, 0.8, 1.0)
     bpy.ops.object.transform_apply(location=False, rotation=False, scale=True)
