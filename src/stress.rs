@@ -1264,6 +1264,26 @@ pub struct RealMeshCounts {
 }
 
 impl StressReport {
+    /// Runs one case: counted, timed, and caught if it panics (counted as a panic; the
+    /// thread's buffers, which it may have left half written, are replaced). Returns what it
+    /// returned and its time in seconds.
+    fn run_timed<T>(
+        &mut self,
+        scratch: &mut ShadingScratch,
+        case: impl FnOnce(&mut ShadingScratch) -> T,
+    ) -> Option<(T, f64)> {
+        self.cases += 1;
+        let t = Instant::now();
+        match catch_unwind(AssertUnwindSafe(|| case(scratch))) {
+            Ok(out) => Some((out, t.elapsed().as_secs_f64())),
+            Err(_) => {
+                self.panics += 1;
+                *scratch = ShadingScratch::default();
+                None
+            }
+        }
+    }
+
     /// Adds the outcome of case `index` (of `kind`, at `scale`) that took `seconds`.
     #[allow(clippy::too_many_arguments)]
     fn record(
@@ -1446,22 +1466,13 @@ pub fn run_family(
                         if cancelled() {
                             break;
                         }
-                        rep.cases += 1;
-                        let t = Instant::now();
-                        let result = catch_unwind(AssertUnwindSafe(|| {
+                        let result = rep.run_timed(scratch, |scratch| {
                             let case = generate(seed, index);
                             let o = run_case(&case, rays, &mut rng, scratch);
                             (case.kind, case.scale, o)
-                        }));
-                        let seconds = t.elapsed().as_secs_f64();
-                        match result {
-                            Ok((kind, scale, o)) => {
-                                rep.record(family, seed, index, kind, scale, &o, seconds);
-                            }
-                            Err(_) => {
-                                rep.panics += 1;
-                                *scratch = ShadingScratch::default();
-                            }
+                        });
+                        if let Some(((kind, scale, o), seconds)) = result {
+                            rep.record(family, seed, index, kind, scale, &o, seconds);
                         }
                     }
                 }
@@ -1488,17 +1499,13 @@ pub fn run_family(
                         if cancelled() {
                             break;
                         }
-                        rep.cases += 1;
-                        let t = Instant::now();
-                        let result = catch_unwind(AssertUnwindSafe(|| {
-                            group.run(seed, index, rays, scratch)
-                        }));
-                        let seconds = t.elapsed().as_secs_f64();
+                        let result =
+                            rep.run_timed(scratch, |scratch| group.run(seed, index, rays, scratch));
                         let counts = rep.real_meshes.as_mut().expect("set above");
                         counts.cases_by_perturbation[level] += 1;
                         counts.mesh_as_light += group.mesh_is_light as u64;
                         match result {
-                            Ok(Some(o)) => {
+                            Some((Some(o), seconds)) => {
                                 let kind = CaseKind::RealMeshes;
                                 let scale = group.perturbation;
                                 if rep.record(family, seed, index, kind, scale, &o, seconds) {
@@ -1506,11 +1513,8 @@ pub fn run_family(
                                     counts.beyond_6_sigma_by_perturbation[level] += 1;
                                 }
                             }
-                            Ok(None) => counts.missed += 1,
-                            Err(_) => {
-                                rep.panics += 1;
-                                *scratch = ShadingScratch::default();
-                            }
+                            Some((None, _)) => counts.missed += 1,
+                            None => {}
                         }
                     }
                 }
