@@ -29,20 +29,13 @@ use super::predicates::{
     arc_coordinates, arc_parameter, coincident, on_line, opposite, unit_normal,
 };
 use super::{
-    EPS_LINE, EPS_ON_EDGE, EPS_POINT, GreinerHormannSteps, IntersectionKind, IntersectionRecord,
-    NONE, Node, SetDifference, Status,
+    DETOUR_RADIUS, EPS_LINE, EPS_ON_EDGE, EPS_POINT, GreinerHormannSteps, IntersectionKind,
+    IntersectionRecord, NONE, Node, SetDifference, Status,
 };
 use glam::DVec3;
 
 /// At most this many vertices are looked at for a detour.
 const MAX_DETOUR: usize = 8;
-
-/// A detour of one operand out of an intersection point and back whose vertices all lie within
-/// this (sine of angle) of the point is removed (`finish_clusters`): it encloses less than
-/// π·1e-18 sr, nothing any integral can see, while the tolerances of the clusters (a few
-/// [`EPS_LINE`](super::EPS_LINE)) can make such a detour out of two crossings of one nearly
-/// horizontal arc with the horizon, 1e-11 apart, whose labels then contradict each other.
-const DETOUR_RADIUS: f64 = 1e-9;
 
 /// `contact_sc` bit: subject vertex i coincides with clip vertex j.
 const VERTEX: u8 = 1;

@@ -59,7 +59,7 @@ pub const EPS_POINT: f64 = 5e-13;
 /// Features smaller than this (sine of angle), four times [`EPS_LINE`], are folded onto one
 /// point: consecutive input vertices closer than this are merged on loading (edges shorter than
 /// the tolerances). (Detours of one operand through an intersection point are removed within
-/// a wider radius, `intersections::DETOUR_RADIUS`.)
+/// a wider radius, [`DETOUR_RADIUS`], and so are loops thinner than it.)
 ///
 /// An edge shorter than a few [`EPS_LINE`] has a well-defined line, but the tolerance band
 /// around that line is as wide as the edge is long, so "on the line" says nothing about the
@@ -69,28 +69,57 @@ pub const EPS_POINT: f64 = 5e-13;
 /// radius (the area by less than half of it times the edge length).
 pub const COLLAPSE_RADIUS: f64 = 4e-12;
 
+/// A detour of one operand out of an intersection point and back whose vertices all lie within
+/// this (sine of angle) of the point is removed (`finish_clusters`): it encloses less than
+/// π·1e-18 sr, nothing any integral can see, while the tolerances of the clusters (a few
+/// [`EPS_LINE`]) can make such a detour out of two crossings of one nearly
+/// horizontal arc with the horizon, 1e-11 apart, whose labels then contradict each other. A whole loop
+/// within this of one great circle is a sliver of the same scale and is dropped on loading
+/// (`on_one_great_circle`).
+pub const DETOUR_RADIUS: f64 = 1e-9;
+
 /// A fragment whose end points lie farther than this (sine of angle) from the line of its input
 /// edge after snapping takes the normal of its own chord (see `finish_clusters`).
 const EPS_ON_EDGE: f64 = 1e-15;
 
+/// The neighbours of a vertex folded as straight (`fold_straight_vertices`) are at least this
+/// far apart (sine of their angle).
+const STRAIGHT_MIN_SINE: f64 = 1e-3;
+
+/// A loop within [`DETOUR_RADIUS`] of one great circle and longer than this (sine of the
+/// angle from its first node to its farthest) is a sliver (`on_one_great_circle`): along it,
+/// nodes of its two sides lie within the detour radius of each other, where collapsing a
+/// detour can fold it into a loop of no area whose labels contradict each other.
+const SLIVER_LENGTH: f64 = 1e-8;
+
 /// "No node".
 const NONE: u32 = u32::MAX;
 
-/// Whether a loop is a sliver with no area: every node within [`COLLAPSE_RADIUS`] of one great
+/// Whether a loop is a sliver with no area the tolerances can resolve: every node within
+/// [`COLLAPSE_RADIUS`] (or [`DETOUR_RADIUS`], for a loop longer than [`SLIVER_LENGTH`]) of one great
 /// circle (the circle through the first node and the node farthest from it, short of its
 /// antipode), going along it and back. A loop that goes once around the circle (the horizon
 /// itself: a hemisphere) is kept, and so is one that spans no such pair.
 fn on_one_great_circle(nodes: &[Node]) -> bool {
     let a = nodes[0].dir;
-    let Some(n) = nodes[1..]
+    let Some(far) = nodes[1..]
         .iter()
         .map(|q| a.cross(q.dir))
         .max_by(|p, q| p.length_squared().total_cmp(&q.length_squared()))
-        .and_then(|c| c.try_normalize())
     else {
         return false;
     };
-    if !nodes.iter().all(|q| n.dot(q.dir).abs() < COLLAPSE_RADIUS) {
+    let Some(n) = far.try_normalize() else {
+        return false;
+    };
+    // Thinner than the collapse radius; or than the detour radius and long (a small loop of
+    // some width, a hole of 1e-9 rad, is a feature the tolerances resolve).
+    let width = if far.length() > SLIVER_LENGTH {
+        DETOUR_RADIUS
+    } else {
+        COLLAPSE_RADIUS
+    };
+    if !nodes.iter().all(|q| n.dot(q.dir).abs() < width) {
         return false;
     }
     // The angle swept about n: ±2π around the circle, 0 there and back.
@@ -380,6 +409,7 @@ impl SetDifference {
             {
                 self.nodes.pop();
             }
+            self.fold_straight_vertices(first);
             let len = self.nodes.len() - first;
             if len < 3 || on_one_great_circle(&self.nodes[first..]) {
                 // No area: a sliver thinner than the tolerances (a face seen edge-on, a loop
@@ -389,6 +419,66 @@ impl SetDifference {
             }
             self.link_loop(first, len, input_loop);
         }
+    }
+
+    /// Removes the vertices of the loop from `first` to the end of `nodes` that lie within
+    /// [`EPS_LINE`] of the great circle through their neighbours: a straight angle, or a spike
+    /// of no width. Such a vertex adds nothing to the region, but it is on the line of both its
+    /// edges, so a vertex of the other operand near it would be decided on one edge by one test
+    /// and on the other by the next, and the labels around it would contradict each other (a
+    /// clip whose horizon-clipped outline runs through one of its own vertices). Each test
+    /// removes a vertex or keeps one for good: at most two passes over the loop.
+    fn fold_straight_vertices(&mut self, first: usize) {
+        // Only where the neighbours are far enough apart (and from antipodal) for the circle
+        // through them to be known well below EPS_LINE: its normal's rounding over |a × b| is
+        // then below 1e-13.
+        let straight = |a: DVec3, v: DVec3, b: DVec3| {
+            let c = a.cross(b);
+            let len = c.length();
+            len > STRAIGHT_MIN_SINE && (c.dot(v) / len).abs() < EPS_LINE
+        };
+        // A stack over the loop: the kept vertices are `first..top`.
+        let mut top = first;
+        for i in first..self.nodes.len() {
+            let v = self.nodes[i];
+            // Bound: each pop removes one kept vertex.
+            while top >= first + 2
+                && straight(self.nodes[top - 2].dir, self.nodes[top - 1].dir, v.dir)
+            {
+                top -= 1;
+            }
+            self.nodes[top] = v;
+            top += 1;
+        }
+        // Around the closing point: the last vertices against the first, and the first against
+        // the last.
+        let mut start = first;
+        // Bound: each step removes a vertex; at most the loop's length.
+        loop {
+            if top - start < 3 {
+                break;
+            }
+            if straight(
+                self.nodes[top - 2].dir,
+                self.nodes[top - 1].dir,
+                self.nodes[start].dir,
+            ) {
+                top -= 1;
+            } else if straight(
+                self.nodes[top - 1].dir,
+                self.nodes[start].dir,
+                self.nodes[start + 1].dir,
+            ) {
+                start += 1;
+            } else {
+                break;
+            }
+        }
+        if start > first {
+            self.nodes.copy_within(start..top, first);
+            top -= start - first;
+        }
+        self.nodes.truncate(top);
     }
 
     /// Links the `n` nodes from `first` into one loop (doubly linked, with the unit normals of
