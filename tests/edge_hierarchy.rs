@@ -250,3 +250,79 @@ fn the_skip_test_is_conservative_next_to_a_face_plane() {
         }
     }
 }
+
+/// The windowed query (`candidates_in_window`: the cone and the pyramid of a convex window) is
+/// a subsequence of the cone's query, and holds every contour or boundary edge (the scan's,
+/// an independent oracle) with a point seen inside the window, found by sampling each edge:
+/// quads of random size and place seen from points far, near and just off the faces' planes.
+#[test]
+fn the_windows_pyramid_keeps_every_edge_seen_in_the_window() {
+    let mut rng = Pcg32::new(77, 3);
+    let mut scan = ContourScratch::default();
+    scan.scan = true;
+    let (mut cone, mut window, mut contour) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut pruned, mut total, mut seen) = (0usize, 0usize, 0usize);
+    for (name, poly) in meshes() {
+        let Some(h) = poly.index.edge_hierarchy.as_deref() else {
+            continue;
+        };
+        for x in points(&poly, &mut rng, 120) {
+            // A quad around a point near the mesh, seen from x.
+            let target = poly.center + uniform_direction(&mut rng) * poly.radius * rng.next_f64();
+            let f = Frame::from_z((target - x).normalize_or_zero());
+            let (su, sv) = (
+                poly.radius * (0.05 + rng.next_f64()),
+                poly.radius * (0.05 + rng.next_f64()),
+            );
+            let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .map(|(a, b)| (target + f.x * (a * su) + f.y * (b * sv) - x).normalize());
+            let axis = corners.iter().sum::<DVec3>().normalize();
+            let cos = corners.iter().map(|w| w.dot(axis)).fold(1.0f64, f64::min);
+            if cos < 0.5 {
+                continue; // the windowed silhouette leaves such windows to the whole one
+            }
+            let sin = (1.0 - cos * cos).sqrt();
+            let orient = corners[0].cross(corners[1]).dot(corners[2]).signum();
+            let sides: Vec<DVec3> = (0..4)
+                .map(|i| (corners[i].cross(corners[(i + 1) % 4]) * orient).normalize())
+                .collect();
+            cone.clear();
+            window.clear();
+            h.candidates_in_cone(x, axis, cos, sin, &mut cone);
+            h.candidates_in_window(x, axis, cos, sin, &sides, &mut window);
+            // A subsequence of the cone's list.
+            let mut it = cone.iter();
+            assert!(
+                window.iter().all(|e| it.any(|c| c == e)),
+                "{name} from {x}: not a subsequence of the cone's query"
+            );
+            pruned += cone.len() - window.len();
+            total += cone.len();
+            // Every contour or boundary edge with a sampled point inside the window.
+            if contour_edge_indices(&poly, x, None, &mut scan, &mut contour).is_err() {
+                continue;
+            }
+            for &e in &contour {
+                let edge = &poly.edges[e as usize];
+                let (a, b) = (
+                    poly.vertices[edge.v[0] as usize],
+                    poly.vertices[edge.v[1] as usize],
+                );
+                let inside = (0..=64).any(|k| {
+                    let d = (a + (b - a) * (k as f64 / 64.0) - x).normalize_or_zero();
+                    sides.iter().all(|n| n.dot(d) > 1e-9)
+                });
+                if inside {
+                    seen += 1;
+                    assert!(
+                        window.contains(&e),
+                        "{name} from {x}: edge {e} seen in the window is missing"
+                    );
+                }
+            }
+        }
+    }
+    assert!(seen > 1000, "only {seen} edges seen inside a window");
+    // The pyramid must prune something beyond the cone (else it only costs).
+    assert!(pruned * 10 > total, "pruned {pruned} of {total}");
+}

@@ -301,6 +301,38 @@ impl EdgeHierarchy {
         stats
     }
 
+    /// [`EdgeHierarchy::candidates_in_cone`] restricted further to the pyramid from `x` of a
+    /// convex window inside the cone, given by the inward unit normals `sides` of its great
+    /// circles: a ball wholly on the outer side of one of them (by more than its radius, with a
+    /// relative margin of 1e-9) holds no point whose direction from `x` is in the window. A
+    /// superset of the contour and boundary edges with a point in the window, in the order of
+    /// the cone's query (a subsequence of it).
+    pub fn candidates_in_window(
+        &self,
+        x: DVec3,
+        axis: DVec3,
+        cos_theta: f64,
+        sin_theta: f64,
+        sides: &[DVec3],
+        out: &mut Vec<u32>,
+    ) -> EdgeQueryStats {
+        let in_window = |c: DVec3, r: f64| {
+            sphere_meets_cone(x, axis, cos_theta, sin_theta, c, r) && {
+                let d = c - x;
+                let slack = r * (1.0 + 1e-9) + 1e-9 * d.length();
+                sides.iter().all(|n| n.dot(d) >= -slack)
+            }
+        };
+        let mut stats = self.tree_candidates(x, |n| in_window(n.centre, n.reach), out);
+        for (&e, &(c, r)) in self.boundary.iter().zip(&self.boundary_balls) {
+            stats.edges_tested += 1;
+            if in_window(c, r) {
+                out.push(e);
+            }
+        }
+        stats
+    }
+
     /// The tree's part of the queries: the edges of every leaf that neither the skip test
     /// nor `keep` (false: skip the node's subtree) rules out.
     #[inline]

@@ -154,11 +154,18 @@ pub fn exact_silhouette_in_window(
         |f: u32| f == NO_FACE || on_mesh && poly.face_planes[f as usize].eval(x).abs() <= tol;
 
     // 1. Candidate edges: through the mesh's edge hierarchy, the contour and boundary edges
-    //    that may meet the cone (both skip tests at once); without one, the edges of the faces
+    //    that may meet the cone and the pyramid of W' (all skip tests at once); without one, the edges of the faces
     //    whose boxes meet the cone.
     scratch.candidates.clear();
     if let Some(h) = poly.index.edge_hierarchy.as_deref() {
-        h.candidates_in_cone(x, centre, cos_cone, sin_cone, &mut scratch.candidates);
+        h.candidates_in_window(
+            x,
+            centre,
+            cos_cone,
+            sin_cone,
+            &scratch.sides,
+            &mut scratch.candidates,
+        );
     } else {
         // One stamp per call: marks left by other meshes are older, so the buffer is shared
         // by every mesh this thread meets and only ever grows.
