@@ -184,3 +184,91 @@ fn shading_with_stand_ins_is_within_the_bound_of_the_exact_path() {
     // The comparison is not vacuous: the two paths compute different polygons.
     assert!(differ > 100, "{differ}");
 }
+
+/// A quad light written with six decimals, its fourth corner off the plane of the other three
+/// by the rounding (Blender's monkey's light in `tests/data/blender/suzanne.obj`), is flat up
+/// to its rounding; the same quad bent by 1e-3 is not, nor is a pair of faces folded back onto
+/// each other. The shading of a point under the flat-classified light equals the face-by-face
+/// path's (the per-triangle method over the fan the file's bent quad is split into) to 1e-12.
+#[test]
+fn a_quad_bent_by_its_rounding_is_flat_and_shades_as_its_triangles() {
+    use penumbra::geometry::flat_up_to_rounding;
+    let quad = |z3: f64| {
+        let v = [
+            DVec3::new(-0.262450, 2.429410, -0.608538),
+            DVec3::new(0.688802, 2.170590, -0.776269),
+            DVec3::new(0.862450, 2.170590, z3),
+            DVec3::new(-0.088802, 2.429410, 0.376270),
+        ];
+        Polyhedron::new(&v, &[vec![0, 1, 2, 3]])
+    };
+    let rounding = 5e-7 * 3f64.sqrt();
+    let bent = quad(0.208538);
+    assert!(!bent.diagnostics.planar, "bent beyond 1e-9 of its radius");
+    let off = flat_up_to_rounding(&bent, rounding).expect("flat up to its rounding");
+    assert!(off > 1e-9 && off < 1e-7, "{off}");
+    assert!(flat_up_to_rounding(&quad(0.209538), rounding).is_none());
+    // Two triangles folded back onto each other along their shared edge.
+    let folded = Polyhedron::new(
+        &[DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(0.5, 0.5, 1e-9)],
+        &[vec![0, 1, 2], vec![2, 1, 3]],
+    );
+    assert!(flat_up_to_rounding(&folded, rounding).is_none());
+
+    // Shading under it: the whole light (flat path) against its faces one by one.
+    let obj = "v -0.262450 2.429410 -0.608538\nv 0.688802 2.170590 -0.776269\n\
+               v 0.862450 2.170590 0.208538\nv -0.088802 2.429410 0.376270\n\
+               v -0.3 1.2 -0.3\nv 0.3 1.2 -0.3\nv 0.3 1.2 0.3\nv -0.3 1.2 0.3\n\
+               o Light\nf 1 2 3 4\no Card\nf 5 6 7 8\n";
+    let mut scene = load_obj_str(obj, None, "bent_light.obj").expect("parses");
+    scene.objects[0].flags.light = true;
+    scene.objects[0].material.ke = DVec3::ONE;
+    let prepared = PreparedScene::prepare(&scene, LtcTable::embedded(), PrepareOptions::default());
+    let light = &prepared.objects[0];
+    assert!(light.poly.diagnostics.planar, "classified flat");
+    let mut scratch = ShadingScratch::default();
+    let mut rng = Pcg32::new(3, 7);
+    let mut lit = 0;
+    for _ in 0..200 {
+        let p = DVec3::new(
+            rng.range(-2.0, 2.0),
+            rng.range(-0.5, 0.0),
+            rng.range(-2.0, 2.0),
+        );
+        let sp = ShadingPoint {
+            position: p,
+            normal: DVec3::Y,
+            view: DVec3::new(0.2, 1.0, 0.1).normalize(),
+            object: None,
+            face: None,
+        };
+        let m = penumbra::scene::Material {
+            kd: DVec3::splat(0.7),
+            ks: DVec3::splat(0.3),
+            alpha: 0.3,
+            ..penumbra::scene::Material::default()
+        };
+        let whole = shade(
+            &prepared,
+            &sp,
+            &m,
+            Method::Analytic,
+            &mut scratch,
+            &mut NoRecorder,
+        );
+        let faces = shade(
+            &prepared,
+            &sp,
+            &m,
+            Method::PerTriangle,
+            &mut scratch,
+            &mut NoRecorder,
+        );
+        assert!(
+            (whole - faces).abs().max_element() <= 1e-12 * faces.abs().max_element() + 1e-15,
+            "{p}: {whole} vs {faces}"
+        );
+        lit += (faces.max_element() > 1e-6) as u32;
+    }
+    assert!(lit > 100, "only {lit} of 200 points lit");
+}

@@ -48,7 +48,7 @@ pub use exact_silhouette::{
 pub use horizon::{HorizonScratch, clip_to_horizon};
 pub use kernel::{kernel, star_centre};
 pub use mesh_index::{IndexedPolyhedron, MeshIndex};
-pub use near_convex::{ConvexStandIn, convex_stand_in, solid_angle_bound};
+pub use near_convex::{ConvexStandIn, convex_stand_in, flat_up_to_rounding, solid_angle_bound};
 pub use overlap::{Overlap, classify as classify_overlap};
 pub use polygon_loops::PolygonLoops;
 pub use polyhedron::{Edge, FeatureCounts, MeshDiagnostics, Plane, Polyhedron};

@@ -150,3 +150,78 @@ pub fn solid_angle_bound(deviation: f64, distance: f64) -> f64 {
     let cos_w = (1.0 - sin_w * sin_w).sqrt();
     2.0 * PI * (sin_w + 1.0 - cos_w)
 }
+
+/// A mesh flat up to rounding is bent by at most this much of its radius (coordinates written
+/// with one decimal have a rounding that would admit a folded sheet): from points farther than
+/// that from its plane, all its faces face one way.
+pub const MAX_FLAT_BEND: f64 = 1e-6;
+
+/// Meshes with more vertex–triangle pairs than this are not tested for flatness (flat lights
+/// and cards are small).
+pub const MAX_NEAR_FLAT_PAIRS: usize = 1_000_000;
+
+/// For a mesh that is not planar as stored but flat as meant (a quad light whose six-decimal
+/// corners bend it by 1e-8): the farthest a vertex lies off the plane of one of its fan
+/// triangles, when every vertex lies within the tolerance `τ(v, t)` of the convexity test
+/// (module documentation) of every triangle's plane and within [`MAX_FLAT_BEND`] of the radius,
+/// and every triangle faces the same way; `None` otherwise, and for closed or non-manifold meshes.
+///
+/// Such a mesh's faces are one polygon as meant, and seen from a point not within the
+/// tolerance of that plane they all face the same way, so the images of its faces tile the
+/// image of its outline exactly: the flat path (the outline of the boundary edges) and the
+/// face-by-face path integrate the same region, with the mesh's own vertices. Within the
+/// bend of the plane (at most [`MAX_FLAT_BEND`] of the radius) the light is seen edge-on.
+pub fn flat_up_to_rounding(mesh: &Polyhedron, rounding: f64) -> Option<f64> {
+    let d = &mesh.diagnostics;
+    if d.closed_manifold
+        || d.planar
+        || d.nonmanifold_edges > 0
+        || rounding.is_nan()
+        || rounding <= 0.0
+        || !rounding.is_finite()
+    {
+        return None;
+    }
+    let mut seen = vec![false; mesh.vertices.len()];
+    mesh.face_indices
+        .iter()
+        .for_each(|&i| seen[i as usize] = true);
+    let used: Vec<DVec3> = (0..mesh.vertices.len())
+        .filter(|&i| seen[i])
+        .map(|i| mesh.vertices[i])
+        .collect();
+    let mut tris = Vec::new();
+    for f in 0..mesh.face_count() {
+        let idx = mesh.face(f);
+        for k in 1..idx.len() - 1 {
+            let [a, b, c] = [idx[0], idx[k], idx[k + 1]].map(|i| mesh.vertices[i as usize]);
+            let area2 = (b - a).cross(c - a);
+            let len = area2.length();
+            if len.is_nan() || len <= 0.0 {
+                continue;
+            }
+            let perimeter = a.distance(b) + b.distance(c) + c.distance(a);
+            tris.push((area2 / len, (a + b + c) / 3.0, perimeter / (0.5 * len)));
+        }
+    }
+    if tris.is_empty() || used.len().saturating_mul(tris.len()) > MAX_NEAR_FLAT_PAIRS {
+        return None;
+    }
+    let n0 = tris[0].0;
+    let floor = 1e-9 * mesh.radius.max(f64::MIN_POSITIVE);
+    let thin = MAX_FLAT_BEND * mesh.radius;
+    let mut off = 0.0f64;
+    for &(n, c, slope) in &tris {
+        if n.dot(n0) <= 0.0 {
+            return None; // folded: not one polygon
+        }
+        for &v in &used {
+            let e = n.dot(v - c).abs();
+            if !(e <= floor + rounding * (2.0 + v.distance(c) * slope) && e <= thin) {
+                return None;
+            }
+            off = off.max(e);
+        }
+    }
+    Some(off)
+}

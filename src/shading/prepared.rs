@@ -22,8 +22,8 @@ use crate::geometry::bsp::face_planes_exceed;
 use crate::geometry::{
     EDGE_PAIRS_MAX_EDGES, ExactBspLimits, ExactSilhouetteBsp, HoistedSilhouetteBsp,
     IndexedPolyhedron, Plane, PointCoding, Polyhedron, SilhouetteBsp, SilhouetteTree,
-    SilhouetteTriangulation, TriangulationLimits, convex_stand_in, separating_plane,
-    solid_angle_bound, star_centre,
+    SilhouetteTriangulation, TriangulationLimits, convex_stand_in, flat_up_to_rounding,
+    separating_plane, solid_angle_bound, star_centre,
 };
 use crate::ltc::LtcTable;
 use crate::scene::{Material, Scene};
@@ -138,7 +138,15 @@ impl StandIn {
     /// The polyhedron to prepare for `mesh`: its convex hull when the mesh is convex up to
     /// `rounding` (with the stand-in's record), else the mesh itself. The one place that
     /// decides it, for a first preparation and after a move alike.
-    pub fn of(mesh: IndexedPolyhedron, rounding: f64) -> (IndexedPolyhedron, Option<StandIn>) {
+    ///
+    /// A mesh flat up to `rounding` (`geometry::near_convex::flat_up_to_rounding`) is
+    /// classified planar instead, with no stand-in: it keeps its own vertices, and its faces
+    /// tile its outline's image exactly.
+    pub fn of(mut mesh: IndexedPolyhedron, rounding: f64) -> (IndexedPolyhedron, Option<StandIn>) {
+        if flat_up_to_rounding(&mesh, rounding).is_some() {
+            mesh.mesh.diagnostics.planar = true;
+            return (mesh, None);
+        }
         match convex_stand_in(&mesh, rounding) {
             Some(s) => {
                 let stand_in = StandIn {
@@ -849,8 +857,18 @@ impl PreparedScene {
                 continue;
             }
             let fan = FanMesh::of(&obj.mesh);
-            // Convex as meant but not as written (rounded coordinates): the hull stands in.
+            // Convex as meant but not as written (rounded coordinates): the hull stands in;
+            // flat as meant: planar, with its own vertices.
+            let planar_as_stored = mesh.diagnostics.planar;
             let (poly, stand_in) = StandIn::of(mesh, obj.mesh.rounding);
+            if poly.diagnostics.planar && !planar_as_stored {
+                notes.push(format!(
+                    "object '{}' is flat up to the rounding of its coordinates (rounding {:.2e}): \
+                     its faces tile one polygon, whose outline it takes as a light and as an \
+                     occluder",
+                    obj.name, obj.mesh.rounding
+                ));
+            }
             // A mesh that takes its exact silhouette (or outline) takes it over the triangles
             // rays see when some face is bent, the very surface its face-by-face path and the
             // ray-cast reference see.
