@@ -38,7 +38,7 @@
 //! only) are kept out of the tree and handed out by every query: such an edge bounds an open
 //! mesh's image whichever way its face turns. [`EdgeHierarchy::candidates`] implements the test.
 
-use super::face_bvh::sphere_meets_cone;
+use super::face_bvh::{ball_meets_pyramid, sphere_meets_cone};
 use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::{NO_FACE, Polyhedron};
 use glam::DVec3;
@@ -290,15 +290,7 @@ impl EdgeHierarchy {
         sin_theta: f64,
         out: &mut Vec<u32>,
     ) -> EdgeQueryStats {
-        let in_cone = |c: DVec3, r: f64| sphere_meets_cone(x, axis, cos_theta, sin_theta, c, r);
-        let mut stats = self.tree_candidates(x, |n| in_cone(n.centre, n.reach), out);
-        for (&e, &(c, r)) in self.boundary.iter().zip(&self.boundary_balls) {
-            stats.edges_tested += 1;
-            if in_cone(c, r) {
-                out.push(e);
-            }
-        }
-        stats
+        self.candidates_in_window(x, axis, cos_theta, sin_theta, &[], out)
     }
 
     /// [`EdgeHierarchy::candidates_in_cone`] restricted further to the pyramid from `x` of a
@@ -317,11 +309,8 @@ impl EdgeHierarchy {
         out: &mut Vec<u32>,
     ) -> EdgeQueryStats {
         let in_window = |c: DVec3, r: f64| {
-            sphere_meets_cone(x, axis, cos_theta, sin_theta, c, r) && {
-                let d = c - x;
-                let slack = r * (1.0 + 1e-9) + 1e-9 * d.length();
-                sides.iter().all(|n| n.dot(d) >= -slack)
-            }
+            sphere_meets_cone(x, axis, cos_theta, sin_theta, c, r)
+                && ball_meets_pyramid(x, sides, c, r)
         };
         let mut stats = self.tree_candidates(x, |n| in_window(n.centre, n.reach), out);
         for (&e, &(c, r)) in self.boundary.iter().zip(&self.boundary_balls) {

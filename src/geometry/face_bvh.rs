@@ -168,6 +168,33 @@ impl FaceBvh {
         });
     }
 
+    /// [`FaceBvh::for_each_in_cone`] restricted further to the pyramid from `apex` of a convex
+    /// window inside the cone, given by the inward unit normals `sides` of its great circles
+    /// ([`ball_meets_pyramid`]): a superset of the faces with a point seen inside the window,
+    /// visited in the cone's order.
+    pub fn for_each_in_window(
+        &self,
+        apex: DVec3,
+        axis: DVec3,
+        cos_theta: f64,
+        sin_theta: f64,
+        sides: &[DVec3],
+        mut visit: impl FnMut(u32),
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let meets = |n: &Node| {
+            let (c, r) = (0.5 * (n.lo + n.hi), 0.5 * (n.hi - n.lo).length());
+            sphere_meets_cone(apex, axis, cos_theta, sin_theta, c, r)
+                && ball_meets_pyramid(apex, sides, c, r)
+        };
+        self.walk(meets, |f| {
+            visit(f);
+            false
+        });
+    }
+
     /// Depth-first over the nodes that `enter` accepts, calling `face` on the faces of the
     /// leaves reached until it returns true; returns whether it did.
     fn walk(&self, enter: impl Fn(&Node) -> bool, mut face: impl FnMut(u32) -> bool) -> bool {
@@ -245,6 +272,17 @@ impl FaceEdges {
     pub fn edges_of(&self, f: usize) -> &[u32] {
         &self.edges[self.starts[f] as usize..self.starts[f + 1] as usize]
     }
+}
+
+/// Whether the ball of centre `c` and radius `r` may hold a point whose direction from `apex`
+/// lies in the convex window of the inward unit normals `sides` (its great circles through
+/// `apex`): false only when the ball lies wholly on the outer side of one of them, by more
+/// than its radius with a relative margin of 1e-9.
+#[inline]
+pub fn ball_meets_pyramid(apex: DVec3, sides: &[DVec3], c: DVec3, r: f64) -> bool {
+    let d = c - apex;
+    let slack = r * (1.0 + 1e-9) + 1e-9 * d.length();
+    sides.iter().all(|n| n.dot(d) >= -slack)
 }
 
 /// Whether the ball of centre `c` and radius `r` may meet the cone of directions within the

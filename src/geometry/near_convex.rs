@@ -54,50 +54,11 @@ pub const MAX_NEAR_CONVEX_PAIRS: usize = 400_000_000;
 /// (the test above); `None` otherwise.
 pub fn convex_stand_in(mesh: &Polyhedron, rounding: f64) -> Option<ConvexStandIn> {
     let d = &mesh.diagnostics;
-    if !d.closed_manifold
-        || d.convex
-        || rounding.is_nan()
-        || rounding <= 0.0
-        || !rounding.is_finite()
-    {
+    if !d.closed_manifold || d.convex || !is_rounding(rounding) {
         return None;
     }
-    let used: Vec<DVec3> = {
-        let mut seen = vec![false; mesh.vertices.len()];
-        mesh.face_indices
-            .iter()
-            .for_each(|&i| seen[i as usize] = true);
-        (0..mesh.vertices.len())
-            .filter(|&i| seen[i])
-            .map(|i| mesh.vertices[i])
-            .collect()
-    };
-    struct Tri {
-        n: DVec3,
-        d: f64,
-        c: DVec3,
-        slope: f64,
-    }
-    let mut tris = Vec::new();
-    for f in 0..mesh.face_count() {
-        let idx = mesh.face(f);
-        for k in 1..idx.len() - 1 {
-            let [a, b, c] = [idx[0], idx[k], idx[k + 1]].map(|i| mesh.vertices[i as usize]);
-            let area2 = (b - a).cross(c - a);
-            let len = area2.length();
-            if len.is_nan() || len <= 0.0 {
-                continue; // a sliver of a fan: its neighbours carry the face
-            }
-            let n = area2 / len;
-            let perimeter = a.distance(b) + b.distance(c) + c.distance(a);
-            tris.push(Tri {
-                n,
-                d: n.dot(a),
-                c: (a + b + c) / 3.0,
-                slope: perimeter / (0.5 * len),
-            });
-        }
-    }
+    let used = used_vertices(mesh);
+    let tris = fan_triangles(mesh);
     if used.len().saturating_mul(tris.len()) > MAX_NEAR_CONVEX_PAIRS || tris.is_empty() {
         return None;
     }
@@ -173,23 +134,62 @@ pub const MAX_NEAR_FLAT_PAIRS: usize = 1_000_000;
 /// bend of the plane (at most [`MAX_FLAT_BEND`] of the radius) the light is seen edge-on.
 pub fn flat_up_to_rounding(mesh: &Polyhedron, rounding: f64) -> Option<f64> {
     let d = &mesh.diagnostics;
-    if d.closed_manifold
-        || d.planar
-        || d.nonmanifold_edges > 0
-        || rounding.is_nan()
-        || rounding <= 0.0
-        || !rounding.is_finite()
-    {
+    if d.closed_manifold || d.planar || d.nonmanifold_edges > 0 || !is_rounding(rounding) {
         return None;
     }
+    let used = used_vertices(mesh);
+    let tris = fan_triangles(mesh);
+    if tris.is_empty() || used.len().saturating_mul(tris.len()) > MAX_NEAR_FLAT_PAIRS {
+        return None;
+    }
+    let n0 = tris[0].n;
+    let floor = 1e-9 * mesh.radius.max(f64::MIN_POSITIVE);
+    let thin = MAX_FLAT_BEND * mesh.radius;
+    let mut off = 0.0f64;
+    for t in &tris {
+        if t.n.dot(n0) <= 0.0 {
+            return None; // folded: not one polygon
+        }
+        for &v in &used {
+            let e = (t.n.dot(v) - t.d).abs();
+            if !(e <= floor + rounding * (2.0 + v.distance(t.c) * t.slope) && e <= thin) {
+                return None;
+            }
+            off = off.max(e);
+        }
+    }
+    Some(off)
+}
+
+/// A rounding radius the tests can use: positive and finite.
+fn is_rounding(r: f64) -> bool {
+    r > 0.0 && r.is_finite()
+}
+
+/// The vertices some face uses (only they count for the geometric tests).
+fn used_vertices(mesh: &Polyhedron) -> Vec<DVec3> {
     let mut seen = vec![false; mesh.vertices.len()];
     mesh.face_indices
         .iter()
         .for_each(|&i| seen[i as usize] = true);
-    let used: Vec<DVec3> = (0..mesh.vertices.len())
+    (0..mesh.vertices.len())
         .filter(|&i| seen[i])
         .map(|i| mesh.vertices[i])
-        .collect();
+        .collect()
+}
+
+/// A fan triangle of a face with what the tolerance `τ(v, t)` needs: unit normal, plane
+/// offset, centroid and perimeter over area.
+struct Tri {
+    n: DVec3,
+    d: f64,
+    c: DVec3,
+    slope: f64,
+}
+
+/// The fan triangles of every face (the ones the renderer's ray caster sees), without the
+/// slivers of no area (their neighbours carry the face).
+fn fan_triangles(mesh: &Polyhedron) -> Vec<Tri> {
     let mut tris = Vec::new();
     for f in 0..mesh.face_count() {
         let idx = mesh.face(f);
@@ -200,28 +200,15 @@ pub fn flat_up_to_rounding(mesh: &Polyhedron, rounding: f64) -> Option<f64> {
             if len.is_nan() || len <= 0.0 {
                 continue;
             }
+            let n = area2 / len;
             let perimeter = a.distance(b) + b.distance(c) + c.distance(a);
-            tris.push((area2 / len, (a + b + c) / 3.0, perimeter / (0.5 * len)));
+            tris.push(Tri {
+                n,
+                d: n.dot(a),
+                c: (a + b + c) / 3.0,
+                slope: perimeter / (0.5 * len),
+            });
         }
     }
-    if tris.is_empty() || used.len().saturating_mul(tris.len()) > MAX_NEAR_FLAT_PAIRS {
-        return None;
-    }
-    let n0 = tris[0].0;
-    let floor = 1e-9 * mesh.radius.max(f64::MIN_POSITIVE);
-    let thin = MAX_FLAT_BEND * mesh.radius;
-    let mut off = 0.0f64;
-    for &(n, c, slope) in &tris {
-        if n.dot(n0) <= 0.0 {
-            return None; // folded: not one polygon
-        }
-        for &v in &used {
-            let e = n.dot(v - c).abs();
-            if !(e <= floor + rounding * (2.0 + v.distance(c) * slope) && e <= thin) {
-                return None;
-            }
-            off = off.max(e);
-        }
-    }
-    Some(off)
+    tris
 }

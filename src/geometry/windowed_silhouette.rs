@@ -179,7 +179,7 @@ pub fn exact_silhouette_in_window(
         }
         let stamp = scratch.stamp;
         let (edge_stamp, candidates) = (&mut scratch.edge_stamp, &mut scratch.candidates);
-        bvh.for_each_in_cone(x, centre, cos_cone, sin_cone, |f| {
+        bvh.for_each_in_window(x, centre, cos_cone, sin_cone, &scratch.sides, |f| {
             for &e in face_edges.edges_of(f as usize) {
                 if edge_stamp[e as usize] != stamp {
                     edge_stamp[e as usize] = stamp;
