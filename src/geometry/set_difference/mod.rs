@@ -72,9 +72,9 @@ pub const COLLAPSE_RADIUS: f64 = 4e-12;
 /// A detour of one operand out of an intersection point and back whose vertices all lie within
 /// this (sine of angle) of the point is removed (`finish_clusters`): it encloses less than
 /// π·1e-18 sr, nothing any integral can see, while the tolerances of the clusters (a few
-/// [`EPS_LINE`]) can make such a detour out of two crossings of one nearly
-/// horizontal arc with the horizon, 1e-11 apart, whose labels then contradict each other. A whole loop
-/// within this of one great circle is a sliver of the same scale and is dropped on loading
+/// [`EPS_LINE`]) can make such a detour out of two crossings of one nearly horizontal arc with
+/// the horizon, 1e-11 apart, whose labels then contradict each other. A long loop within this
+/// of one great circle is a sliver of the same scale and is dropped on loading
 /// (`on_one_great_circle`).
 pub const DETOUR_RADIUS: f64 = 1e-9;
 
@@ -96,8 +96,8 @@ const SLIVER_LENGTH: f64 = 1e-8;
 const NONE: u32 = u32::MAX;
 
 /// Whether a loop is a sliver with no area the tolerances can resolve: every node within
-/// [`COLLAPSE_RADIUS`] (or [`DETOUR_RADIUS`], for a loop longer than [`SLIVER_LENGTH`]) of one great
-/// circle (the circle through the first node and the node farthest from it, short of its
+/// [`COLLAPSE_RADIUS`] (or [`DETOUR_RADIUS`], for a loop longer than [`SLIVER_LENGTH`]) of one
+/// great circle (the circle through the first node and the node farthest from it, short of its
 /// antipode), going along it and back. A loop that goes once around the circle (the horizon
 /// itself: a hemisphere) is kept, and so is one that spans no such pair.
 fn on_one_great_circle(nodes: &[Node]) -> bool {
