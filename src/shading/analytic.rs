@@ -330,16 +330,23 @@ fn shade_light<R: Recorder>(
         rec.end_light(DVec3::ZERO, DVec3::ZERO);
         return DVec3::ZERO;
     }
-    let outline = light.spherical_polygon(
-        sp.position,
-        &ctx.frame,
-        Role::Light,
-        ctx.method,
-        on_light,
-        None,
-        &mut scratch.light_sph,
-        &mut scratch.outline,
-    );
+    // An occluder passing through the light (no plane separates them) is in front of some of
+    // its faces and behind others: the light goes face by face, each face cutting the occluder
+    // at its plane, which is exact.
+    let outline = if scene.light_is_crossed(l) {
+        Outline::Faces
+    } else {
+        light.spherical_polygon(
+            sp.position,
+            &ctx.frame,
+            Role::Light,
+            ctx.method,
+            on_light,
+            None,
+            &mut scratch.light_sph,
+            &mut scratch.outline,
+        )
+    };
     match outline {
         Outline::Nothing => DVec3::ZERO,
         Outline::Whole { exact, from_tree } => {

@@ -1019,8 +1019,8 @@ impl PreparedScene {
                     let p = separating_plane(&objects[o as usize].poly, &objects[l as usize].poly);
                     if p.is_none() {
                         notes.push(format!(
-                            "light '{}' and occluder '{}' are not separated by a plane: the occluder is \
-                             treated as lying in front of the light",
+                            "light '{}' and occluder '{}' are not separated by a plane: the light is \
+                             taken face by face, each face cutting the occluder at its plane",
                             objects[l as usize].name, objects[o as usize].name
                         ));
                     }
@@ -1261,14 +1261,23 @@ impl PreparedScene {
             for (oi, &oc) in out.occluders.iter().enumerate() {
                 if l != oc && out.separations[li * n_occ + oi].is_none() {
                     out.notes.push(format!(
-                        "light '{}' and occluder '{}' are not separated by a plane: the occluder is \
-                         treated as lying in front of the light",
+                        "light '{}' and occluder '{}' are not separated by a plane: the light is \
+                         taken face by face, each face cutting the occluder at its plane",
                         out.objects[l as usize].name, out.objects[oc as usize].name
                     ));
                 }
             }
         }
         Ok((out, reuse))
+    }
+
+    /// Whether some occluder other than light `l` itself (index into `lights`) has no plane
+    /// separating it from the light: the light is then shaded face by face.
+    #[inline]
+    pub fn light_is_crossed(&self, l: usize) -> bool {
+        let n = self.occluders.len();
+        let light = self.lights[l].0;
+        (0..n).any(|o| self.occluders[o] != light && self.separations[l * n + o].is_none())
     }
 
     /// The separating plane of light `l` and occluder `o` (indices into `lights`/`occluders`).
