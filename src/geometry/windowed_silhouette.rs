@@ -154,8 +154,8 @@ pub fn exact_silhouette_in_window(
         |f: u32| f == NO_FACE || on_mesh && poly.face_planes[f as usize].eval(x).abs() <= tol;
 
     // 1. Candidate edges: through the mesh's edge hierarchy, the contour and boundary edges
-    //    that may meet the cone and the pyramid of W' (all skip tests at once); without one, the edges of the faces
-    //    whose boxes meet the cone.
+    //    that may meet the cone and the pyramid of W' (all skip tests at once); without one,
+    //    the edges of the faces whose boxes meet both.
     scratch.candidates.clear();
     if let Some(h) = poly.index.edge_hierarchy.as_deref() {
         h.candidates_in_window(
