@@ -9,10 +9,10 @@
 //! of directions from `x`) widened a little to `W'`:
 //!
 //! 1. the contour edges from `x` (001 Eq. 4.2), and the boundary edges of an open mesh, that may
-//!    meet a cone around `W'`: through the normal-cone hierarchy with a ball per node
-//!    (`EdgeHierarchy::candidates_in_cone`) where the mesh has one, else the edges of the
-//!    faces whose boxes meet the cone (the face hierarchy; an edge whose arc meets `W'` has its
-//!    faces meeting the cone);
+//!    meet a cone around `W'` and the pyramid of `W'` itself: through the normal-cone
+//!    hierarchy with a ball per node (`EdgeHierarchy::candidates_in_window`) where the mesh
+//!    has one, else the edges of the faces whose boxes meet both (the face hierarchy,
+//!    `FaceBvh::for_each_in_window`; an edge whose arc meets `W'` has its faces meeting both);
 //! 2. each contour arc clipped to `W'` (convex: one interval of the chord a + t(b − a));
 //! 3. apparent intersections (001 Eq. 4.4) among the clipped arcs only;
 //! 4. the pieces between them, kept when their midpoint ray meets no other face (the same
