@@ -432,11 +432,21 @@ impl SetDifference {
         // Only where the neighbours are far enough apart (and from antipodal) for the circle
         // through them to be known well below EPS_LINE: its normal's rounding over |a × b| is
         // then below 1e-13.
+        // Squared, so that the load of every operand pays no square root or division.
         let straight = |a: DVec3, v: DVec3, b: DVec3| {
             let c = a.cross(b);
-            let len = c.length();
-            len > STRAIGHT_MIN_SINE && (c.dot(v) / len).abs() < EPS_LINE
+            let len2 = c.length_squared();
+            let along = c.dot(v);
+            len2 > STRAIGHT_MIN_SINE * STRAIGHT_MIN_SINE
+                && along * along < EPS_LINE * EPS_LINE * len2
         };
+        // Most loops have none: find that out without moving a node.
+        let end = self.nodes.len();
+        let n = end - first;
+        let dir = |k: usize| self.nodes[first + k % n].dir;
+        if n < 3 || !(0..n).any(|k| straight(dir(k + n - 1), dir(k), dir(k + 1))) {
+            return;
+        }
         // A stack over the loop: the kept vertices are `first..top`.
         let mut top = first;
         for i in first..self.nodes.len() {
@@ -447,7 +457,9 @@ impl SetDifference {
             {
                 top -= 1;
             }
-            self.nodes[top] = v;
+            if top != i {
+                self.nodes[top] = v;
+            }
             top += 1;
         }
         // Around the closing point: the last vertices against the first, and the first against
