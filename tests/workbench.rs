@@ -572,3 +572,51 @@ fn every_view_exports_its_figure_from_the_workbench() {
     assert!(std::fs::metadata(&path).unwrap().len() > 1000);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// At a point on Blender's monkey the renderer subtracts the monkey face by face, hundreds of
+/// stages: the stepper lists them as a few groups, steps over a group at once (to the step
+/// that draws all of it), and through it one stage at a time once it is opened.
+#[test]
+fn a_mesh_taken_face_by_face_is_stepped_as_groups() {
+    use penumbra::app::inspector::Inspector;
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/blender/suzanne.glb");
+    let scene = penumbra::scene::scene_file::load_scene(&path).unwrap();
+    let ctx = penumbra::render::RenderContext::new(&scene);
+    let camera = scene.camera.unwrap();
+    let size = (32, 32);
+    let found = (0..size.0 * size.1).find_map(|i| {
+        let px = ((i % size.0) as f64, (i / size.0) as f64);
+        let p = probe(&ctx, "suzanne", &camera, size, px, Method::Analytic, false).ok()?;
+        let ins = Inspector::new(p);
+        ins.groups.iter().any(|g| g.len > 50).then_some(ins)
+    });
+    let mut ins = found.expect("a point of the monkey taken face by face");
+    let (steps, groups) = (ins.steps.len(), ins.groups.len());
+    assert!(groups * 5 < steps, "{groups} groups of {steps} stages");
+    // Closed groups: one step each, each landing on its group's last stage.
+    let mut landed = Vec::new();
+    for _ in 0..groups {
+        ins.next();
+        landed.push(ins.step.unwrap());
+    }
+    let lasts: Vec<usize> = ins.groups.iter().map(|g| g.last()).collect();
+    assert_eq!(landed, lasts);
+    for _ in 0..groups {
+        ins.previous();
+    }
+    assert_eq!(ins.step, None);
+    // An opened group: through its stages one by one, then on to the next group.
+    let g = ins.groups.iter().position(|g| g.len > 50).unwrap();
+    let group = ins.groups[g].clone();
+    ins.open_group = Some(g);
+    ins.step = Some(group.first);
+    for k in 1..group.len {
+        ins.next();
+        assert_eq!(ins.step, Some(group.first + k));
+    }
+    ins.next();
+    assert_eq!(ins.step, Some(ins.groups[g + 1].last()));
+    ins.previous();
+    assert_eq!(ins.step, Some(group.last()));
+}

@@ -6,7 +6,9 @@ use super::figure_painter::{self, FigureRect};
 use super::sphere_view::SphereView;
 use crate::inspect::{MonteCarloEstimate, Probe};
 use crate::shading::{EnvironmentSide, RayOutcome, SetDifferenceRecord};
-use crate::views::stages::{GhPhase, Step, StepKind, plane_subject, probe_steps};
+use crate::views::stages::{
+    GhPhase, Step, StepGroup, StepKind, plane_subject, probe_groups, probe_steps,
+};
 use crate::views::{Style, plane_figure};
 use egui::{RichText, Ui};
 
@@ -14,6 +16,10 @@ use egui::{RichText, Ui};
 pub struct Inspector {
     pub probe: Probe,
     pub steps: Vec<Step>,
+    /// The steps as the stepper lists them: a mesh taken face by face is one group.
+    pub groups: Vec<StepGroup>,
+    /// The group opened to step through its members one by one.
+    pub open_group: Option<usize>,
     /// Index into `steps`; `None` shows every stage at once.
     pub step: Option<usize>,
     pub playing: bool,
@@ -24,9 +30,12 @@ pub struct Inspector {
 impl Inspector {
     pub fn new(probe: Probe) -> Self {
         let steps = probe_steps(&probe);
+        let groups = probe_groups(&probe, &steps);
         Inspector {
             probe,
             steps,
+            groups,
+            open_group: None,
             step: None,
             playing: false,
             play_clock: 0.0,
@@ -37,20 +46,43 @@ impl Inspector {
         self.step.and_then(|i| self.steps.get(i))
     }
 
+    /// The group of step `i`.
+    fn group_of(&self, i: usize) -> Option<usize> {
+        self.groups.iter().position(|g| g.contains(i))
+    }
+
+    /// Where stepping into group `g` lands: its first step when it is open, else the step it
+    /// stands at (its last).
+    fn entry(&self, g: usize, forwards: bool) -> usize {
+        let group = &self.groups[g];
+        if self.open_group == Some(g) && forwards {
+            group.first
+        } else {
+            group.last()
+        }
+    }
+
+    /// The next stage: the next step inside an open group, else the next group.
     pub fn next(&mut self) {
-        if self.steps.is_empty() {
+        if self.groups.is_empty() {
             return;
         }
         self.step = Some(match self.step {
-            None => 0,
-            Some(i) => (i + 1).min(self.steps.len() - 1),
+            None => self.entry(0, true),
+            Some(i) => match self.group_of(i) {
+                Some(g) if self.open_group == Some(g) && i < self.groups[g].last() => i + 1,
+                Some(g) if g + 1 < self.groups.len() => self.entry(g + 1, true),
+                _ => i,
+            },
         });
     }
 
+    /// The previous stage: the previous step inside an open group, else the previous group.
     pub fn previous(&mut self) {
-        self.step = match self.step {
-            None | Some(0) => None,
-            Some(i) => Some(i - 1),
+        self.step = match self.step.and_then(|i| Some((i, self.group_of(i)?))) {
+            Some((i, g)) if self.open_group == Some(g) && i > self.groups[g].first => Some(i - 1),
+            Some((_, g)) if g > 0 => Some(self.entry(g - 1, false)),
+            _ => None,
         };
     }
 
@@ -64,7 +96,7 @@ impl Inspector {
             return false;
         }
         self.play_clock = 0.0;
-        let at_end = self.step == Some(self.steps.len().saturating_sub(1));
+        let at_end = self.step.is_some_and(|i| i + 1 >= self.steps.len());
         if at_end {
             self.playing = false;
         } else {
@@ -334,27 +366,79 @@ impl Inspector {
                 self.playing = !self.playing;
             }
             ui.label(match self.step {
-                Some(i) => format!("stage {}/{}", i + 1, self.steps.len()),
-                None => format!("all {} stages", self.steps.len()),
+                Some(i) => match self.group_of(i) {
+                    Some(g) if self.groups[g].len > 1 => format!(
+                        "stage {}/{}, in group {}/{} ({} stages)",
+                        i + 1,
+                        self.steps.len(),
+                        g + 1,
+                        self.groups.len(),
+                        self.groups[g].len
+                    ),
+                    _ => format!("stage {}/{}", i + 1, self.steps.len()),
+                },
+                None => format!(
+                    "all {} stages in {} groups",
+                    self.steps.len(),
+                    self.groups.len()
+                ),
             });
         });
-        if let Some(s) = self.current() {
+        // The current stage's label: the group's, where it stands for a closed group.
+        let label = self.step.map(|i| match self.group_of(i) {
+            Some(g) if self.groups[g].len > 1 && self.open_group != Some(g) => {
+                self.groups[g].label.clone()
+            }
+            _ => self.steps[i].label.clone(),
+        });
+        if let Some(label) = label {
             // Wrapped at the visible edge: the panel scrolls sideways for its wide tables, and
             // a long stage label would run out of sight.
             let visible = ui.clip_rect().max.x - ui.cursor().min.x;
             ui.scope(|ui| {
                 ui.set_max_width(visible);
-                ui.add(egui::Label::new(RichText::new(&s.label).strong()).wrap());
+                ui.add(egui::Label::new(RichText::new(label).strong()).wrap());
             });
         }
         egui::ScrollArea::vertical()
             .id_salt("step_list")
             .max_height(140.0)
             .show(ui, |ui| {
-                for (i, s) in self.steps.iter().enumerate() {
-                    let selected = self.step == Some(i);
-                    if ui.selectable_label(selected, &s.label).clicked() {
-                        self.step = Some(i);
+                for (g, group) in self.groups.iter().enumerate() {
+                    let here = self.step.is_some_and(|i| group.contains(i));
+                    if group.len == 1 {
+                        if ui.selectable_label(here, &group.label).clicked() {
+                            self.step = Some(group.first);
+                        }
+                        continue;
+                    }
+                    let open = self.open_group == Some(g);
+                    ui.horizontal(|ui| {
+                        let arrow = if open { "▾" } else { "▸" };
+                        if ui
+                            .small_button(format!("{arrow} {}", group.len))
+                            .on_hover_text("Step through the group's stages one by one")
+                            .clicked()
+                        {
+                            self.open_group = if open { None } else { Some(g) };
+                        }
+                        if ui.selectable_label(here && !open, &group.label).clicked() {
+                            self.step = Some(group.last());
+                        }
+                    });
+                    if open {
+                        for i in group.first..group.first + group.len {
+                            ui.horizontal(|ui| {
+                                ui.add_space(18.0);
+                                let s = &self.steps[i];
+                                if ui
+                                    .selectable_label(self.step == Some(i), &s.label)
+                                    .clicked()
+                                {
+                                    self.step = Some(i);
+                                }
+                            });
+                        }
                     }
                 }
             });

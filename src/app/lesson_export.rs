@@ -101,6 +101,8 @@ pub struct LessonCapture {
     showing: Option<usize>,
     settle: u32,
     steps: usize,
+    /// The step each frame shows.
+    at: Vec<usize>,
     labels: Vec<(String, Option<Lesson>)>,
     /// Filled by the screenshot callbacks, which arrive a frame or two after the request.
     images: Arc<Mutex<Vec<Option<ColorImage>>>>,
@@ -119,9 +121,11 @@ pub enum CaptureAction {
 }
 
 impl LessonCapture {
-    /// A capture of `labels.len()` steps (the stepper's labels and lessons, in order).
-    pub fn new(dir: PathBuf, seconds: f64, labels: Vec<(String, Option<Lesson>)>) -> Self {
-        let steps = labels.len();
+    /// A capture of `frames.len()` frames: the step each shows, with the stepper's label and
+    /// lesson there, in order.
+    pub fn new(dir: PathBuf, seconds: f64, frames: Vec<(usize, String, Option<Lesson>)>) -> Self {
+        let steps = frames.len();
+        let (at, labels) = frames.into_iter().map(|(i, l, s)| (i, (l, s))).unzip();
         LessonCapture {
             dir,
             seconds,
@@ -129,6 +133,7 @@ impl LessonCapture {
             showing: None,
             settle: 0,
             steps,
+            at,
             labels,
             images: Arc::new(Mutex::new(vec![None; steps])),
         }
@@ -159,7 +164,7 @@ impl LessonCapture {
             self.next += 1;
             self.showing = Some(i);
             self.settle = SETTLE_FRAMES;
-            return CaptureAction::Show(i);
+            return CaptureAction::Show(self.at[i]);
         }
         let Ok(images) = self.images.lock() else {
             return CaptureAction::Wait;

@@ -275,6 +275,78 @@ fn edge_curve(a: DVec3, b: DVec3, colour: Rgb, opacity: f32, width: f32) -> Curv
     }
 }
 
+/// The outline of the union of `loops` (polygons of a mesh's faces on the sphere), as open
+/// polylines: the edges that no other loop runs along the other way (so not the edges two
+/// neighbouring faces share), sampled, without the stretches that lie inside another face.
+/// Ends are matched to 1e-9 rad: the faces' shared corners are computed from the same mesh
+/// vertices, or cut from the same edge by the horizon.
+fn union_outline(loops: &[Vec<DVec3>]) -> Vec<Vec<DVec3>> {
+    use crate::geometry::SphericalPolygon;
+    use std::collections::HashSet;
+    let loops: Vec<&Vec<DVec3>> = loops.iter().filter(|l| l.len() >= 3).collect();
+    let key = |p: DVec3| (p * 1e9).round().as_i64vec3().to_array();
+    let edges = || {
+        loops
+            .iter()
+            .enumerate()
+            .flat_map(|(f, l)| (0..l.len()).map(move |i| (f, [l[i], l[(i + 1) % l.len()]])))
+    };
+    let directed: HashSet<([i64; 3], [i64; 3])> =
+        edges().map(|(_, [a, b])| (key(a), key(b))).collect();
+    // Each face as a polygon with a bounding cap (centre, cosine of its radius), to skip the
+    // faces far from a sample quickly.
+    let faces: Vec<(SphericalPolygon, DVec3, f64)> = loops
+        .iter()
+        .map(|l| {
+            let mut p = SphericalPolygon::new();
+            p.push_loop(l.iter().copied());
+            let c = l.iter().sum::<DVec3>().normalize_or_zero();
+            let cos = l.iter().map(|v| v.dot(c)).fold(1.0f64, f64::min);
+            (p, c, cos)
+        })
+        .collect();
+    let hidden = |p: DVec3, own: usize| {
+        faces.iter().enumerate().any(|(f, (poly, c, cos))| {
+            f != own && p.dot(*c) >= *cos - 1e-12 && poly.contains_within(p, 0.0)
+        })
+    };
+    let mut out = Vec::new();
+    for (f, [a, b]) in edges() {
+        if directed.contains(&(key(b), key(a))) {
+            continue;
+        }
+        let mut points = Vec::new();
+        arc(a, b, &mut points);
+        points.push(b);
+        // At least 8 stretches per edge, each kept when its middle is in no other face.
+        let mut dense = Vec::with_capacity(points.len() * 8);
+        for w in points.windows(2) {
+            for i in 0..8 {
+                dense.push(w[0].lerp(w[1], i as f64 / 8.0).normalize_or_zero());
+            }
+        }
+        dense.push(b);
+        let mut run: Vec<DVec3> = Vec::new();
+        for w in dense.windows(2) {
+            if hidden(w[0].lerp(w[1], 0.5).normalize_or_zero(), f) {
+                if run.len() >= 2 {
+                    out.push(std::mem::take(&mut run));
+                }
+                run.clear();
+            } else {
+                if run.is_empty() {
+                    run.push(w[0]);
+                }
+                run.push(w[1]);
+            }
+        }
+        if run.len() >= 2 {
+            out.push(run);
+        }
+    }
+    out
+}
+
 /// How far through a light record's stages a step is, to draw everything up to it.
 fn rank(k: &StepKind) -> u8 {
     match k {
@@ -423,21 +495,24 @@ fn light_record(
         push_outlines(&loops, o, &mut out.curves);
     }
     if layers.occluders && upto >= 3 {
-        for (k, (oi, _, stage, poly)) in rec.occluder_polygons.iter().enumerate() {
-            // At an occluder step, only that occluder's polygons so far.
-            if let Some(
-                StepKind::OccluderSilhouette { k: cur } | StepKind::OccluderClipped { k: cur },
-            ) = step.map(|s| s.kind)
-                && k > cur
-            {
-                continue;
-            }
-            let (colour, width, legend, fill) = match stage {
-                Stage::Silhouette => (colours::OCCLUDER, 1.5, "occluder silhouette", 0.0),
-                _ => (colours::OCCLUDER_CLIPPED, 2.0, "occluder, clipped", 0.3),
-            };
-            let opacity = if upto >= 5 { FADED } else { 1.0 };
-            let tag = if (3..=4).contains(&upto) { "o" } else { "" };
+        // At an occluder step, only that occluder's polygons so far.
+        let last = match step.map(|s| s.kind) {
+            Some(StepKind::OccluderSilhouette { k } | StepKind::OccluderClipped { k }) => k,
+            _ => usize::MAX,
+        };
+        let opacity = if upto >= 5 { FADED } else { 1.0 };
+        let tag = if (3..=4).contains(&upto) { "o" } else { "" };
+        let style = |stage: &Stage| match stage {
+            Stage::Silhouette => (colours::OCCLUDER, 1.5, "occluder silhouette", 0.0),
+            _ => (colours::OCCLUDER_CLIPPED, 2.0, "occluder, clipped", 0.3),
+        };
+        let shown = rec
+            .occluder_polygons
+            .iter()
+            .enumerate()
+            .take_while(|&(k, _)| k <= last);
+        for (_, (oi, piece, stage, poly)) in shown.clone().filter(|(_, p)| p.1.is_none()) {
+            let (colour, width, legend, fill) = style(stage);
             let loops = unit_loops(poly);
             if fill > 0.0 {
                 out.regions.push(Region {
@@ -447,6 +522,7 @@ fn light_record(
                     legend: "occluder",
                 });
             }
+            debug_assert!(piece.is_none());
             let label = format!("occluder {}", occluder_name(*oi));
             let o = Outline {
                 colour,
@@ -457,6 +533,58 @@ fn light_record(
                 tag,
             };
             push_outlines(&loops, o, &mut out.curves);
+        }
+        // A mesh the renderer took face by face: per occluder and stage, its faces as one
+        // region (filled by the nonzero rule, so overlapping faces do not darken it) outlined
+        // where no other face of it continues, as a student reads the mesh's outline.
+        let mut faced: Vec<(usize, bool)> = shown
+            .clone()
+            .filter(|(_, p)| p.1.is_some())
+            .map(|(_, p)| (p.0, p.2 == Stage::Silhouette))
+            .collect();
+        faced.sort_unstable();
+        faced.dedup();
+        for (oi, silhouette) in faced {
+            let polys = shown
+                .clone()
+                .map(|(_, p)| p)
+                .filter(|p| p.0 == oi && p.1.is_some() && (p.2 == Stage::Silhouette) == silhouette);
+            let loops: Vec<Vec<DVec3>> = polys.flat_map(|p| unit_loops(&p.3)).collect();
+            let stage = if silhouette {
+                Stage::Silhouette
+            } else {
+                Stage::HorizonClipped
+            };
+            let (colour, width, legend, fill) = style(&stage);
+            if fill > 0.0 {
+                out.regions.push(Region {
+                    loops: loops.clone(),
+                    colour: colours::OCCLUDER,
+                    opacity: fill * opacity.max(0.7),
+                    legend: "occluder",
+                });
+            }
+            let faces = loops.len();
+            for points in union_outline(&loops) {
+                let mut c = Curve {
+                    points,
+                    colour,
+                    opacity,
+                    width,
+                    closed: false,
+                    kind: CurveKind::Line,
+                    label: String::new(),
+                    legend: "",
+                    vertices: Vec::new(),
+                    tag: "",
+                };
+                c.label = format!(
+                    "occluder {}, face by face ({faces} faces)",
+                    occluder_name(oi)
+                );
+                c.legend = legend;
+                out.curves.push(c);
+            }
         }
     }
     if layers.ltc && upto >= 6 {
@@ -745,4 +873,62 @@ pub fn region_of_interest(probe: &Probe, step: Option<&Step>) -> Vec<DVec3> {
     }
     out.retain(|p| *p != DVec3::ZERO);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn length(polylines: &[Vec<DVec3>]) -> f64 {
+        polylines
+            .iter()
+            .flat_map(|l| l.windows(2))
+            .map(|w| w[0].cross(w[1]).length().atan2(w[0].dot(w[1])))
+            .sum()
+    }
+
+    fn dir(x: f64, y: f64) -> DVec3 {
+        DVec3::new(x, y, 1.0).normalize()
+    }
+
+    /// Two triangles sharing a diagonal outline their quad: the diagonal is not drawn, and
+    /// the outline is as long as the quad's four arcs. A face inside another is not outlined.
+    #[test]
+    fn the_union_of_faces_is_outlined_without_their_shared_and_covered_edges() {
+        let (a, b, c, d) = (
+            dir(-0.3, -0.2),
+            dir(0.3, -0.2),
+            dir(0.3, 0.2),
+            dir(-0.3, 0.2),
+        );
+        let arc_len = |p: DVec3, q: DVec3| p.cross(q).length().atan2(p.dot(q));
+        let perimeter = arc_len(a, b) + arc_len(b, c) + arc_len(c, d) + arc_len(d, a);
+        let quad = vec![vec![a, b, c], vec![a, c, d]];
+        let outline = union_outline(&quad);
+        assert!((length(&outline) - perimeter).abs() < 1e-9 * perimeter);
+        // A small triangle inside the first adds nothing.
+        let mut with_inner = quad.clone();
+        with_inner.push(vec![dir(0.05, -0.15), dir(0.2, -0.15), dir(0.2, -0.05)]);
+        let outline = union_outline(&with_inner);
+        assert!((length(&outline) - perimeter).abs() < 1e-9 * perimeter);
+        // A triangle sticking out over edge b–c (x = 0.3 in the gnomonic plane, where arcs
+        // are lines): b–c is outlined outside it (|y| > 1/15), the triangle outside the quad.
+        // The stretches are decided at the samples, 1/8 of the arcs' sampling step apart.
+        let tip = dir(0.5, 0.0);
+        let (p1, p2) = (dir(0.3, -1.0 / 15.0), dir(0.3, 1.0 / 15.0));
+        let mut over = quad.clone();
+        over.push(vec![dir(0.2, -0.1), tip, dir(0.2, 0.1)]);
+        let outline = union_outline(&over);
+        let expected = perimeter - arc_len(p1, p2) + arc_len(p1, tip) + arc_len(tip, p2);
+        assert!(
+            (length(&outline) - expected).abs() < 4.0 * 0.04 / 8.0,
+            "{} {expected}",
+            length(&outline)
+        );
+        let inside_both = |p: &DVec3| {
+            let (x, y) = (p.x / p.z, p.y / p.z);
+            x > 0.2 + 1e-3 && x < 0.3 - 1e-3 && y.abs() < 0.1 * (0.5 - x) / 0.3 - 1e-3
+        };
+        assert!(!outline.iter().flatten().any(inside_both));
+    }
 }

@@ -167,6 +167,111 @@ pub fn steps(
     out
 }
 
+/// Steps the stepper shows as one: the run of an occluder the renderer took face by face (its
+/// faces' polygons, or its set differences, one per face), else one step alone. A group stands
+/// at its last step, which draws all of the run (the faces so far, the last difference).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StepGroup {
+    /// Index into the steps of its first step.
+    pub first: usize,
+    /// Steps in it (1 for a step alone).
+    pub len: usize,
+    pub label: String,
+}
+
+impl StepGroup {
+    /// The step the group stands at.
+    pub fn last(&self) -> usize {
+        self.first + self.len - 1
+    }
+
+    pub fn contains(&self, step: usize) -> bool {
+        (self.first..self.first + self.len).contains(&step)
+    }
+}
+
+/// The groups of `steps` (as [`steps`] made them from `rec`), in order, covering every step.
+pub fn groups(
+    rec: &StageRecording,
+    steps: &[Step],
+    occluder_name: impl Fn(usize) -> String,
+) -> Vec<StepGroup> {
+    // What a face-by-face run is made of: (record, occluder, set differences or polygons).
+    let run_of = |s: &Step| -> Option<(usize, usize, bool)> {
+        let lr = rec.lights.get(s.record)?;
+        let faced = |oi: usize| {
+            lr.occluder_polygons
+                .iter()
+                .any(|(o, piece, _, _)| *o == oi && piece.is_some())
+        };
+        match s.kind {
+            StepKind::OccluderSilhouette { k } | StepKind::OccluderClipped { k } => {
+                let (oi, piece, _, _) = lr.occluder_polygons.get(k)?;
+                piece.map(|_| (s.record, *oi, false))
+            }
+            StepKind::SetDifference { k, .. } => {
+                let oi = lr.set_differences.get(k)?.occluder;
+                faced(oi).then_some((s.record, oi, true))
+            }
+            _ => None,
+        }
+    };
+    let mut out: Vec<StepGroup> = Vec::new();
+    let mut i = 0;
+    while i < steps.len() {
+        let run = run_of(&steps[i]);
+        let mut len = 1;
+        while run.is_some() && i + len < steps.len() && run_of(&steps[i + len]) == run {
+            len += 1;
+        }
+        let label = match run {
+            Some((r, oi, differences)) if len > 1 => {
+                let lr = &rec.lights[r];
+                let who = steps[i].label.split(": ").next().unwrap_or_default();
+                let name = occluder_name(oi);
+                if differences {
+                    let n = lr
+                        .set_differences
+                        .iter()
+                        .filter(|sd| sd.occluder == oi)
+                        .count();
+                    format!("{who}: set differences − {name}, face by face ({n} faces, line 12)")
+                } else {
+                    let mut faces: Vec<usize> = lr
+                        .occluder_polygons
+                        .iter()
+                        .filter(|p| p.0 == oi)
+                        .filter_map(|p| p.1)
+                        .collect();
+                    faces.sort_unstable();
+                    faces.dedup();
+                    format!(
+                        "{who}: occluder {name}, face by face: {} faces' silhouettes, clipped \
+                         and projected (lines 9–11)",
+                        faces.len()
+                    )
+                }
+            }
+            _ => steps[i].label.clone(),
+        };
+        out.push(StepGroup {
+            first: i,
+            len,
+            label,
+        });
+        i += len;
+    }
+    out
+}
+
+/// The groups of a probe's steps ([`probe_steps`]), named as the probe names its occluders.
+pub fn probe_groups(probe: &Probe, steps: &[Step]) -> Vec<StepGroup> {
+    let names = &probe.occluder_names;
+    groups(&probe.recording, steps, |i| {
+        names.get(i).cloned().unwrap_or_else(|| format!("#{i}"))
+    })
+}
+
 /// The steps of a probe's recording, lights and occluders named as the probe names them: the
 /// numbering the workbench's stepper shows and `penumbra figure --stage` takes.
 pub fn probe_steps(probe: &Probe) -> Vec<Step> {
@@ -309,5 +414,64 @@ mod tests {
             s.iter().filter(|x| x.kind == StepKind::Integral).count(),
             p.recording.lights.len()
         );
+    }
+
+    /// An occluder taken face by face is one group for its faces' polygons and one for its
+    /// set differences; the steps of a whole occluder stay alone; the groups cover every step
+    /// once, in order.
+    #[test]
+    fn a_mesh_taken_face_by_face_is_one_group_per_stage() {
+        use crate::geometry::{PlanarPolygon, SphericalPolygon};
+        use crate::shading::{LightRecord, SetDifferenceRecord, Stage};
+        let mut lr = LightRecord::default();
+        let poly = SphericalPolygon::new();
+        // Occluder 0 whole, occluder 1 in three faces.
+        lr.occluder_polygons
+            .push((0, None, Stage::Silhouette, poly.clone()));
+        lr.occluder_polygons
+            .push((0, None, Stage::HorizonClipped, poly.clone()));
+        for f in [4, 7, 9] {
+            lr.occluder_polygons
+                .push((1, Some(f), Stage::Silhouette, poly.clone()));
+            lr.occluder_polygons
+                .push((1, Some(f), Stage::HorizonClipped, poly.clone()));
+        }
+        let sd = |occluder| SetDifferenceRecord {
+            occluder,
+            before: PlanarPolygon::default(),
+            clip: PlanarPolygon::default(),
+            after: PlanarPolygon::default(),
+            steps: None,
+        };
+        lr.set_differences = vec![sd(0), sd(1), sd(1), sd(1)];
+        let mut rec = StageRecording::new(false);
+        rec.lights.push(lr);
+        let s = steps(&rec, |i| format!("L{i}"), |i| format!("O{i}"));
+        let g = groups(&rec, &s, |i| format!("O{i}"));
+        // Every step in exactly one group, in order.
+        assert_eq!(g[0].first, 0);
+        for w in g.windows(2) {
+            assert_eq!(w[0].first + w[0].len, w[1].first);
+        }
+        assert_eq!(g.last().map(|x| x.first + x.len), Some(s.len()));
+        let big: Vec<&StepGroup> = g.iter().filter(|x| x.len > 1).collect();
+        assert_eq!(big.len(), 2, "{g:?}");
+        assert_eq!(big[0].len, 6);
+        assert!(big[0].label.contains("3 faces"), "{}", big[0].label);
+        assert_eq!(big[1].len, 3);
+        assert!(
+            big[1].label.contains("face by face (3 faces"),
+            "{}",
+            big[1].label
+        );
+        // The group stands at its last step: the last face's clipped polygon, the last
+        // difference.
+        assert_eq!(s[big[0].last()].kind, StepKind::OccluderClipped { k: 7 });
+        assert_eq!(
+            s[big[1].last()].kind,
+            StepKind::SetDifference { k: 3, phase: None }
+        );
+        // Alone: everything of the whole occluder.
+        assert_eq!(s.len() - 9 + 2, g.len());
     }
 }

@@ -39,7 +39,7 @@ impl AppState {
         }
     }
 
-    /// Starts exporting every stage of the picked point into `dir` (frames, GIF, text): the
+    /// Starts exporting every stage (group) of the picked point into `dir` (frames, GIF, text): the
     /// stepper walks the stages one frame after another and each is captured from the
     /// sphere's tile. `false` when nothing is picked.
     pub fn export_lesson(&mut self, dir: PathBuf) -> bool {
@@ -47,10 +47,14 @@ impl AppState {
             self.status = "pick a point before exporting its lesson".into();
             return false;
         };
+        // One frame per group of the stepper: a mesh taken face by face is one frame.
         let labels = ins
-            .steps
+            .groups
             .iter()
-            .map(|s| (s.label.clone(), lesson::lesson(&ins.probe, s)))
+            .map(|g| {
+                let s = &ins.steps[g.last()];
+                (g.last(), g.label.clone(), lesson::lesson(&ins.probe, s))
+            })
             .collect();
         self.maximised = None;
         if !layout::is_shown(&self.tree, Pane::Planar) {
