@@ -346,3 +346,98 @@ fn a_grazing_sliver_from_a_shared_horizon_point() {
     ];
     check(&subject, &clip);
 }
+
+/// `subject − clip` lies inside the subject: every output vertex within 1e-12 rad of it, and
+/// its area that of the convex decomposition up to the rounding of the solid angles (fans
+/// about +z, whose terms round to some 1e-17 sr each however small the polygon is: both
+/// subjects below are smaller than what this check can resolve, so the vertices decide).
+fn check_inside(subject: &[DVec3], clip: &[DVec3]) {
+    let mut s = PlanarPolygon::new();
+    s.push_loop(subject.iter().copied());
+    let mut c = PlanarPolygon::new();
+    c.push_loop(clip.iter().copied());
+    let mut out = PlanarPolygon::new();
+    let mut sd = SetDifference::new();
+    sd.subtract(&s, &c, &mut out, None);
+    assert!(sd.last_traversal_consistent());
+    let mut whole = SphericalPolygon::new();
+    whole.push_loop(subject.iter().map(|v| v.normalize()));
+    for v in out.0.vertices() {
+        assert!(whole.contains_within(v.normalize(), 1e-12), "{v:?} outside");
+    }
+    let got = difference_area(&[subject], clip);
+    let want = decomposition_area(subject, clip);
+    assert!(
+        (got - want).abs() <= 1e-15,
+        "set difference {got} vs decomposition {want}"
+    );
+}
+
+/// Stress case 846323 (a text lit by itself, face by face): a light face 4e-7 rad wide on the
+/// horizon, minus an occluder face seen 1e-5 rad above it whose corner, 5e-7 rad from the
+/// light face, is 1e-6 rad wide. The light's vertices lay within the line tolerance of both
+/// of the corner's edges; the corner rule took them for the corner and the traversal put the
+/// occluder's far corners, 80° away, into the result. The corner's tip, thinner than the
+/// tolerances, is cut off on loading.
+#[test]
+fn a_light_vertex_near_a_hair_thin_corner_is_not_the_corner() {
+    let subject = [
+        DVec3::new(
+            0.5445641539707019,
+            -0.8387191915097714,
+            1.8354852058447814e-6,
+        ),
+        DVec3::new(
+            0.5445641539511327,
+            -0.8387191915244858,
+            1.4446231807165958e-11,
+        ),
+        DVec3::new(
+            0.5445645682120737,
+            -0.8387189225527215,
+            7.888566579000154e-12,
+        ),
+    ];
+    let clip = [
+        DVec3::new(
+            -0.36604013038222327,
+            -0.9305990666337264,
+            1.1410622198344656e-5,
+        ),
+        DVec3::new(
+            -0.42915100522784244,
+            -0.9032327577009338,
+            1.1309214160608436e-5,
+        ),
+        DVec3::new(
+            0.5445650665477768,
+            -0.8387185989924246,
+            1.2421574646501902e-17,
+        ),
+    ];
+    check_inside(&subject, &clip);
+}
+
+/// Stress case 319850 (a text lit by itself, face by face): the tip of a light face, 3.5e-8
+/// rad long, minus an occluder face 7e-9 rad long and 4e-13 rad wide along the tip's base.
+/// The sliver test took the occluder's great circle from a × b of two of its corners, whose
+/// rounding (1e-16 / 7e-9) is far above its width: the sliver was kept, and its corners
+/// entered the result 3e-9 rad outside the light.
+#[test]
+fn a_sliver_shorter_than_its_rounding_is_still_a_sliver() {
+    let subject = [
+        DVec3::new(0.8994896284867003, -0.41121409574416884, 0.1477206001414944),
+        DVec3::new(0.8994896137860672, -0.4112141276564743, 0.14772060082032176),
+        DVec3::new(0.8994896140357411, -0.4112141277706203, 0.14772059898227247),
+    ];
+    let clip = [
+        DVec3::new(0.8994896133763105, -0.4112141274691416, 0.14772060383686442),
+        DVec3::new(0.8994896143222466, -0.411214127901605, 0.14772059687307823),
+        DVec3::new(
+            0.8994896134187227,
+            -0.41121412748813907,
+            0.14772060352572774,
+        ),
+    ];
+    check_inside(&subject, &clip);
+}

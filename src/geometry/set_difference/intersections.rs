@@ -149,8 +149,9 @@ impl SetDifference {
             // 2'. A vertex within the line tolerance of two consecutive edges of the other
             // operand, inside both, lies at their common vertex (farther than EPS_POINT from
             // it only because the corner is nearly straight or the point sits in the tolerance
-            // band): a V contact. Two T contacts would put two nodes of the other operand into
-            // one cluster with the corner vertex in between.
+            // band; at most DETOUR_RADIUS, since sharper tips were cut on loading,
+            // `truncate_spikes`): a V contact. Two T contacts would put two nodes of the other
+            // operand into one cluster with the corner vertex in between.
             for k in 0..self.near_sc.len() {
                 let idx = self.near_sc[k] as usize;
                 let (i, j) = (idx / nc, idx % nc);

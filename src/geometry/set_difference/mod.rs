@@ -92,6 +92,11 @@ const STRAIGHT_MIN_SINE: f64 = 1e-3;
 /// detour can fold it into a loop of no area whose labels contradict each other.
 const SLIVER_LENGTH: f64 = 1e-8;
 
+/// A vertex whose two edges leave it at an angle whose sine is below this is the tip of a
+/// spike (`truncate_spikes`): near it, points within [`EPS_LINE`] of both edges' lines lie up
+/// to `EPS_LINE / sine` from it, farther than the detour radius.
+const SPIKE_MAX_SINE: f64 = 1e-3;
+
 /// "No node".
 const NONE: u32 = u32::MAX;
 
@@ -102,9 +107,11 @@ const NONE: u32 = u32::MAX;
 /// itself: a hemisphere) is kept, and so is one that spans no such pair.
 fn on_one_great_circle(nodes: &[Node]) -> bool {
     let a = nodes[0].dir;
+    // a × (q − a), not a × q: for nodes close together, the rounding of a × q is as large as
+    // the loop's width relative to its length.
     let Some(far) = nodes[1..]
         .iter()
-        .map(|q| a.cross(q.dir))
+        .map(|q| a.cross(q.dir - a))
         .max_by(|p, q| p.length_squared().total_cmp(&q.length_squared()))
     else {
         return false;
@@ -234,6 +241,8 @@ pub struct SetDifference {
     /// First live node of each cluster, indexed by the union–find representative.
     cluster_rep: Vec<u32>,
     loop_scratch: Vec<DVec3>,
+    /// A loop's nodes while its spikes are truncated (`truncate_spikes`).
+    spike_scratch: Vec<Node>,
     consistent: bool,
     /// Set by a walk over the nodes that took more steps than [`SetDifference::walk_bound`]
     /// (a loop, ring or detour that rounding left unclosed): the difference is then not
@@ -346,6 +355,7 @@ impl SetDifference {
             + self.insertion_nodes.capacity()
             + self.cluster_rep.capacity()
             + self.loop_scratch.capacity()
+            + self.spike_scratch.capacity()
     }
 
     /// Builds the vertex lists of both operands.
@@ -410,6 +420,7 @@ impl SetDifference {
                 self.nodes.pop();
             }
             self.fold_straight_vertices(first);
+            self.truncate_spikes(first);
             let len = self.nodes.len() - first;
             if len < 3 || on_one_great_circle(&self.nodes[first..]) {
                 // No area: a sliver thinner than the tolerances (a face seen edge-on, a loop
@@ -491,6 +502,80 @@ impl SetDifference {
             top -= start - first;
         }
         self.nodes.truncate(top);
+    }
+
+    /// Cuts the tip off every spike of the loop from `first` to the end of `nodes`: a vertex
+    /// whose edges leave it at an angle θ with sin θ below [`SPIKE_MAX_SINE`] is replaced by
+    /// the two points of its edges at the distance r = 2 [`COLLAPSE_RADIUS`] / sin θ from it,
+    /// where the spike is as wide as twice the collapse radius.
+    ///
+    /// Within r of the tip the spike is narrower than that, and within `EPS_LINE / sin θ` a
+    /// point lies within the line tolerance of both edges: a vertex of the other operand
+    /// there would be taken for the tip itself (the corner rule of `intersections.rs`) and
+    /// moved by up to that distance, far more than any tolerance (an occluder's face seen
+    /// nearly edge-on, with a corner of 1e-6 rad, moved a light's vertex 1e-6 rad and put its
+    /// far corners into the visible polygon). The tip cut off has an area of about
+    /// r² sin θ / 2 = 2 [`COLLAPSE_RADIUS`]² / sin θ, a spike no wider than twice the collapse
+    /// radius. A spike whose r would reach past half of one of its edges is left alone (it is
+    /// a sliver, or the loop is).
+    fn truncate_spikes(&mut self, first: usize) {
+        let n = self.nodes.len() - first;
+        if n < 3 {
+            return;
+        }
+        // The tangents at v toward a and b, from the differences a − v and b − v so that
+        // short edges keep their precision: sin θ |t_a| |t_b| = (t_a × t_b)·v and
+        // cos θ |t_a| |t_b| = t_a·t_b. Squared, with no square root in the common case.
+        let tangents = |a: DVec3, v: DVec3, b: DVec3| {
+            let (da, db) = (a - v, b - v);
+            (da - v * v.dot(da), db - v * v.dot(db))
+        };
+        let spike = |a: DVec3, v: DVec3, b: DVec3| {
+            let (ta, tb) = tangents(a, v, b);
+            let sin = ta.cross(tb).dot(v);
+            ta.dot(tb) > 0.0
+                && sin * sin
+                    < SPIKE_MAX_SINE * SPIKE_MAX_SINE * ta.length_squared() * tb.length_squared()
+        };
+        let dir = |k: usize| self.nodes[first + k % n].dir;
+        if !(0..n).any(|k| spike(dir(k + n - 1), dir(k), dir(k + 1))) {
+            return;
+        }
+        self.spike_scratch.clear();
+        self.spike_scratch.extend_from_slice(&self.nodes[first..]);
+        self.nodes.truncate(first);
+        for k in 0..n {
+            let node = self.spike_scratch[k];
+            let (a, v, b) = (
+                self.spike_scratch[(k + n - 1) % n].dir,
+                node.dir,
+                self.spike_scratch[(k + 1) % n].dir,
+            );
+            if !spike(a, v, b) {
+                self.nodes.push(node);
+                continue;
+            }
+            let (ta, tb) = tangents(a, v, b);
+            let (la, lb) = (ta.length(), tb.length());
+            let sin = (ta.cross(tb).dot(v) / (la * lb))
+                .abs()
+                .max(f64::MIN_POSITIVE);
+            let r = 2.0 * COLLAPSE_RADIUS / sin;
+            // The edges' angles: |t| is the sine of each for unit vectors.
+            if r >= 0.5 * la.atan2(v.dot(a)) || r >= 0.5 * lb.atan2(v.dot(b)) {
+                self.nodes.push(node);
+                continue;
+            }
+            let (sr, cr) = r.sin_cos();
+            for t in [ta / la, tb / lb] {
+                let p = v * cr + t * sr;
+                self.nodes.push(Node {
+                    pos: p,
+                    dir: p,
+                    ..node
+                });
+            }
+        }
     }
 
     /// Links the `n` nodes from `first` into one loop (doubly linked, with the unit normals of
