@@ -15,6 +15,7 @@ pub mod exact_predicates;
 pub mod exact_silhouette;
 pub mod face_bvh;
 pub mod horizon;
+pub mod horizon_split;
 pub mod kernel;
 pub mod mesh_index;
 pub mod near_convex;

@@ -32,6 +32,7 @@ use super::ltc_correction::{
 use super::outline::{Fallbacks, Outline, OutlineScratch, Role};
 use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage, TreeLookupRecord};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
+use crate::geometry::horizon_split::{HorizonSplit, clip_to_planes};
 use crate::geometry::{
     ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, ProjectionPlane,
     SetDifference, Sidedness, SilhouettePoint, SphericalPolygon, classify_overlap, clip_to_horizon,
@@ -58,6 +59,9 @@ pub struct ShadingStats {
     pub violations: u32,
     /// Paths that gave up at the point for one that is exact there.
     pub fallbacks: Fallbacks,
+    /// Occluders subtracted inside a light's window split at the horizon (`subtract_split`:
+    /// a point on the occluder's own surface under a light that reaches its horizon).
+    pub horizon_splits: u32,
 }
 
 /// How many light pieces (a light taken whole, or one face of a light taken face by face) at a
@@ -133,6 +137,11 @@ pub struct ShadingScratch {
     pub(super) face_list: Vec<u32>,
     pub(super) cone_buf: Vec<DVec3>,
     pub(super) window_bufs: [Vec<DVec3>; 3],
+    /// A light's window split at the horizon for a point on the occluder (`subtract_split`).
+    pub(super) split: HorizonSplit,
+    /// A face clipped to the lower part of that split.
+    pub(super) split_face: Vec<DVec3>,
+    pub(super) split_tmp: Vec<DVec3>,
     /// The faces of an occluder taken face by face under the environment (`environment`).
     pub(super) env_faces: Vec<u32>,
     pub(super) correction: CorrectionScratch,
@@ -737,6 +746,18 @@ pub(super) fn subtract_occluder<R: Recorder>(
                 &mut scratch.outline,
             )
         };
+        // At a point on this mesh under a light that reaches the horizon, the windowed outline
+        // cannot take the light's window (its own face's edges lie on the horizon): split the
+        // window along a circle tilted just above the horizon, the outline in the part above
+        // it and the faces one by one in the thin part below.
+        if windowed
+            && on_this
+            && matches!(outline, Outline::Faces)
+            && scratch.split.split(scratch.light_clip.loop_at(0))
+            && subtract_split(ctx, oi, piece, scratch, rec)
+        {
+            return;
+        }
         if let Outline::Whole { exact, from_tree } = outline {
             record_contour(
                 rec,
@@ -792,10 +813,29 @@ pub(super) fn subtract_occluder<R: Recorder>(
             // which is exact too.
         }
     }
+    subtract_faces(ctx, oi, piece, cut, skip_face, false, scratch, rec);
+}
+
+/// Subtracts occluder `oi` face by face: the faces the face hierarchy finds in a cone around
+/// the light's polygon (all of them for small meshes), in index order as the scan visits them,
+/// but the point's own face (and `skip_face`) and, for a closed mesh, the faces turned away
+/// from the point. `lower`: each face clipped first to the lower part of `scratch.split`.
+#[allow(clippy::too_many_arguments)]
+fn subtract_faces<R: Recorder>(
+    ctx: &PointContext,
+    oi: usize,
+    piece: Option<&LightPiece>,
+    cut: Option<&Plane>,
+    skip_face: Option<usize>,
+    lower: bool,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) {
+    let (scene, sp, frame) = (ctx.scene, ctx.sp, &ctx.frame);
+    let occ = &scene.objects[scene.occluders[oi] as usize];
+    let on_this = sp.object == Some(occ.object);
     let faces = occ.face_pieces();
     let closed = faces.diagnostics.closed_manifold;
-    // The faces that can overlap the light: those the face hierarchy finds in a cone around
-    // its polygon (all of them for small meshes), in index order as the scan visits them.
     scratch.face_list.clear();
     let cone = match (&faces.index.face_bvh, scratch.light_clip.loop_count()) {
         (Some(_), 1) if piece.is_some() => {
@@ -834,10 +874,94 @@ pub(super) fn subtract_occluder<R: Recorder>(
             &mut scratch.occ_sph,
             &mut scratch.face_buf,
         );
+        if lower && !scratch.occ_sph.is_empty() {
+            // One loop: a face's polygon, cut by a plane at most. Entirely above the tilted
+            // circle, it is in the upper part, which the outline took care of; a convex face
+            // is clipped to the lower part; a non-convex one (an n-gon from an exporter) is
+            // subtracted whole, which removes nothing the mesh does not cover.
+            let lp = scratch.occ_sph.loop_at(0);
+            let tilt = -scratch.split.lower_planes[0];
+            if lp.iter().all(|d| d.dot(tilt) > 0.0) {
+                continue;
+            }
+            if is_convex_loop(lp) {
+                let part = &mut scratch.split_face;
+                clip_to_planes(
+                    lp,
+                    &scratch.split.lower_planes,
+                    part,
+                    &mut scratch.split_tmp,
+                );
+                scratch.occ_sph.clear();
+                if !part.is_empty() {
+                    scratch.occ_sph.push_loop(part.iter().copied());
+                }
+            }
+        }
         if !scratch.occ_sph.is_empty() {
             subtract_polygon(oi, Some(g), scratch, rec);
         }
     }
+}
+
+/// Whether a loop of unit directions turns one way at every corner (a convex spherical
+/// polygon, for a loop in an open hemisphere).
+fn is_convex_loop(lp: &[DVec3]) -> bool {
+    let n = lp.len();
+    if n <= 3 {
+        return true;
+    }
+    let turn = |k: usize| lp[k].cross(lp[(k + 1) % n]).dot(lp[(k + 2) % n]);
+    let first = turn(0).signum();
+    (1..n).all(|k| turn(k) * first >= 0.0)
+}
+
+/// Occluder `oi` (a large mesh the point lies on) subtracted inside the light's window split
+/// at the horizon (`scratch.split`, `geometry::horizon_split`): its windowed outline in the
+/// upper part, its faces one by one clipped to the lower part. `false`, with nothing
+/// subtracted, when the outline cannot be found in the upper part either (the caller then
+/// takes every face).
+fn subtract_split<R: Recorder>(
+    ctx: &PointContext,
+    oi: usize,
+    piece: Option<&LightPiece>,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> bool {
+    let (scene, sp, frame) = (ctx.scene, ctx.sp, &ctx.frame);
+    let occ = &scene.objects[scene.occluders[oi] as usize];
+    if !scratch.split.upper.is_empty() {
+        let outline = occ.spherical_polygon(
+            sp.position,
+            frame,
+            Role::Occluder,
+            ctx.method,
+            true,
+            Some(&scratch.split.upper),
+            &mut scratch.occ_sph,
+            &mut scratch.outline,
+        );
+        if !matches!(outline, Outline::Whole { .. }) {
+            return false;
+        }
+        record_contour(
+            rec,
+            Some(oi),
+            occ,
+            outline,
+            true,
+            &scratch.occ_sph,
+            sp,
+            frame,
+        );
+        clip_and_project(oi, None, scratch, rec);
+        if !subtract_planar(oi, scratch, rec) {
+            return false;
+        }
+    }
+    subtract_faces(ctx, oi, piece, None, None, true, scratch, rec);
+    scratch.stats.horizon_splits += 1;
+    true
 }
 
 /// Puts occluder `oi`'s outline at the point, clipped to the horizon and projected, into
