@@ -65,6 +65,7 @@ impl SetDifference {
     pub(super) fn find_intersections(&mut self, mut steps: Option<&mut GreinerHormannSteps>) {
         let ns = self.subject_nodes;
         let nc = self.clip_nodes;
+        self.needs_cleaning = false;
         self.insertions.clear();
         self.side_sc.clear();
         self.side_cs.clear();
@@ -99,6 +100,27 @@ impl SetDifference {
                     self.near_cs.push((j * ns + i) as u32);
                 }
                 self.side_cs.push(side);
+            }
+        }
+
+        // A vertex near the line of an edge where either is at a straight vertex: the operands
+        // are loaded again with their straight vertices folded (`fold_straight_vertices`).
+        if !self.cleaned {
+            let straight_at = |this: &Self, v: usize, c: usize| {
+                this.node_is_straight(v)
+                    || this.node_is_straight(c)
+                    || this.node_is_straight(this.nodes[c].orig_next as usize)
+            };
+            let near_straight = self.near_sc.iter().any(|&idx| {
+                let (i, j) = (idx as usize / nc, idx as usize % nc);
+                straight_at(self, i, ns + j)
+            }) || self.near_cs.iter().any(|&idx| {
+                let (j, i) = (idx as usize / ns, idx as usize % ns);
+                straight_at(self, ns + j, i)
+            });
+            if near_straight {
+                self.needs_cleaning = true;
+                return;
             }
         }
 
@@ -149,8 +171,8 @@ impl SetDifference {
             // 2'. A vertex within the line tolerance of two consecutive edges of the other
             // operand, inside both, lies at their common vertex (farther than EPS_POINT from
             // it only because the corner is nearly straight or the point sits in the tolerance
-            // band; at most DETOUR_RADIUS, since sharper tips were cut on loading,
-            // `truncate_spikes`): a V contact. Two T contacts would put two nodes of the other
+            // band; at most DETOUR_RADIUS, since at a sharper tip the operands are loaded
+            // again with the tips cut, `truncate_spikes`): a V contact. Two T contacts would put two nodes of the other
             // operand into one cluster with the corner vertex in between.
             for k in 0..self.near_sc.len() {
                 let idx = self.near_sc[k] as usize;
@@ -158,6 +180,10 @@ impl SetDifference {
                 let corner = self.nodes[ns + j].orig_next as usize - ns;
                 let next = i * nc + corner;
                 if self.contact_sc[idx] & self.contact_sc[next] & ON_EDGE != 0 {
+                    if !self.cleaned && self.node_is_spike(ns + corner) {
+                        self.needs_cleaning = true;
+                        return;
+                    }
                     self.contact_sc[idx] &= !ON_EDGE;
                     self.contact_sc[next] &= !ON_EDGE;
                     self.contact_sc[next] |= VERTEX;
@@ -171,6 +197,10 @@ impl SetDifference {
                 let corner = self.nodes[a].orig_next as usize;
                 let next = j * ns + corner;
                 if self.contact_cs[idx] & self.contact_cs[next] & ON_EDGE != 0 {
+                    if !self.cleaned && self.node_is_spike(corner) {
+                        self.needs_cleaning = true;
+                        return;
+                    }
                     self.contact_cs[idx] &= !ON_EDGE;
                     self.contact_cs[next] &= !ON_EDGE;
                     self.contact_sc[corner * nc + j] |= VERTEX;

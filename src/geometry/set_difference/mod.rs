@@ -140,6 +140,34 @@ fn on_one_great_circle(nodes: &[Node]) -> bool {
     swept.abs() < std::f64::consts::PI
 }
 
+/// Whether `v` lies within [`EPS_LINE`] of the great circle through its neighbours `a` and
+/// `b` (a straight vertex, `fold_straight_vertices`). Only where the neighbours are far enough
+/// apart (and from antipodal) for the circle through them to be known well below EPS_LINE: its
+/// normal's rounding over |a × b| is then below 1e-13. Squared: no square root or division.
+fn is_straight(a: DVec3, v: DVec3, b: DVec3) -> bool {
+    let c = a.cross(b);
+    let len2 = c.length_squared();
+    let along = c.dot(v);
+    len2 > STRAIGHT_MIN_SINE * STRAIGHT_MIN_SINE && along * along < EPS_LINE * EPS_LINE * len2
+}
+
+/// The tangents at `v` toward `a` and `b` (unit directions), from the differences a − v and
+/// b − v so that short edges keep their precision.
+fn tangents(a: DVec3, v: DVec3, b: DVec3) -> (DVec3, DVec3) {
+    let (da, db) = (a - v, b - v);
+    (da - v * v.dot(da), db - v * v.dot(db))
+}
+
+/// Whether the corner `v` between its neighbours `a` and `b` is the tip of a spike: its edges
+/// leave it at an angle θ with sin θ below [`SPIKE_MAX_SINE`] (sin θ |t_a| |t_b| = (t_a × t_b)·v
+/// and cos θ |t_a| |t_b| = t_a·t_b for the tangents; squared, with no square root).
+fn is_spike(a: DVec3, v: DVec3, b: DVec3) -> bool {
+    let (ta, tb) = tangents(a, v, b);
+    let sin = ta.cross(tb).dot(v);
+    ta.dot(tb) > 0.0
+        && sin * sin < SPIKE_MAX_SINE * SPIKE_MAX_SINE * ta.length_squared() * tb.length_squared()
+}
+
 /// Side of the fragment leaving a node (see [`FragmentSide`]); `Unknown` before phase 2.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Status {
@@ -243,6 +271,12 @@ pub struct SetDifference {
     loop_scratch: Vec<DVec3>,
     /// A loop's nodes while its spikes are truncated (`truncate_spikes`).
     spike_scratch: Vec<Node>,
+    /// This load folded the straight vertices and cut the spikes' tips
+    /// (`fold_straight_vertices`, `truncate_spikes`).
+    cleaned: bool,
+    /// Phase 1 found a contact at a straight vertex or on both edges of a spike, left as they
+    /// were: the operands are loaded again, cleaned.
+    needs_cleaning: bool,
     consistent: bool,
     /// Set by a walk over the nodes that took more steps than [`SetDifference::walk_bound`]
     /// (a loop, ring or detour that rounding left unclosed): the difference is then not
@@ -280,11 +314,25 @@ impl SetDifference {
         out.clear();
         self.consistent = true;
         self.bound_crossed.set(false);
-        self.load(subject, clip);
+        self.load(subject, clip, false);
         if self.subject_nodes == 0 {
             return;
         }
         self.find_intersections(steps.as_deref_mut());
+        if self.needs_cleaning {
+            // A contact at a straight vertex, or a vertex on both edges of a spike sharper than
+            // the tolerances resolve: start over with the straight vertices folded and the
+            // spikes' tips cut. Rare (phase 1 looks only at the few pairs within the line
+            // tolerance), so the common load pays nothing for either.
+            if let Some(s) = steps.as_deref_mut() {
+                s.clear();
+            }
+            self.load(subject, clip, true);
+            if self.subject_nodes == 0 {
+                return;
+            }
+            self.find_intersections(steps.as_deref_mut());
+        }
         self.label_intersections();
         self.mark_entry_exit(steps.as_deref_mut());
         self.traverse(out, steps);
@@ -341,6 +389,26 @@ impl SetDifference {
         self.consistent
     }
 
+    /// Whether original node `c` is the tip of a spike of its loop (see [`is_spike`]).
+    fn node_is_spike(&self, c: usize) -> bool {
+        let node = &self.nodes[c];
+        is_spike(
+            self.nodes[node.prev as usize].dir,
+            node.dir,
+            self.nodes[node.orig_next as usize].dir,
+        )
+    }
+
+    /// Whether original node `c` is a straight vertex of its loop (see [`is_straight`]).
+    fn node_is_straight(&self, c: usize) -> bool {
+        let node = &self.nodes[c];
+        is_straight(
+            self.nodes[node.prev as usize].dir,
+            node.dir,
+            self.nodes[node.orig_next as usize].dir,
+        )
+    }
+
     /// Total capacity of the scratch buffers, in elements (for allocation tests and tuning).
     pub fn scratch_capacity(&self) -> usize {
         self.nodes.capacity()
@@ -358,8 +426,10 @@ impl SetDifference {
             + self.spike_scratch.capacity()
     }
 
-    /// Builds the vertex lists of both operands.
-    fn load(&mut self, subject: &PlanarPolygon, clip: &PlanarPolygon) {
+    /// Builds the vertex lists of both operands; `clean`: with their straight vertices folded
+    /// and the tips of their spikes cut (`fold_straight_vertices`, `truncate_spikes`).
+    fn load(&mut self, subject: &PlanarPolygon, clip: &PlanarPolygon, clean: bool) {
+        self.cleaned = clean;
         self.nodes.clear();
         self.loops.clear();
         self.push_operand(subject, Operand::Subject);
@@ -419,8 +489,10 @@ impl SetDifference {
             {
                 self.nodes.pop();
             }
-            self.fold_straight_vertices(first);
-            self.truncate_spikes(first);
+            if self.cleaned {
+                self.fold_straight_vertices(first);
+                self.truncate_spikes(first);
+            }
             let len = self.nodes.len() - first;
             if len < 3 || on_one_great_circle(&self.nodes[first..]) {
                 // No area: a sliver thinner than the tolerances (a face seen edge-on, a loop
@@ -440,17 +512,7 @@ impl SetDifference {
     /// clip whose horizon-clipped outline runs through one of its own vertices). Each test
     /// removes a vertex or keeps one for good: at most two passes over the loop.
     fn fold_straight_vertices(&mut self, first: usize) {
-        // Only where the neighbours are far enough apart (and from antipodal) for the circle
-        // through them to be known well below EPS_LINE: its normal's rounding over |a × b| is
-        // then below 1e-13.
-        // Squared, so that the load of every operand pays no square root or division.
-        let straight = |a: DVec3, v: DVec3, b: DVec3| {
-            let c = a.cross(b);
-            let len2 = c.length_squared();
-            let along = c.dot(v);
-            len2 > STRAIGHT_MIN_SINE * STRAIGHT_MIN_SINE
-                && along * along < EPS_LINE * EPS_LINE * len2
-        };
+        let straight = is_straight;
         // Most loops have none: find that out without moving a node.
         let end = self.nodes.len();
         let n = end - first;
@@ -523,22 +585,8 @@ impl SetDifference {
         if n < 3 {
             return;
         }
-        // The tangents at v toward a and b, from the differences a − v and b − v so that
-        // short edges keep their precision: sin θ |t_a| |t_b| = (t_a × t_b)·v and
-        // cos θ |t_a| |t_b| = t_a·t_b. Squared, with no square root in the common case.
-        let tangents = |a: DVec3, v: DVec3, b: DVec3| {
-            let (da, db) = (a - v, b - v);
-            (da - v * v.dot(da), db - v * v.dot(db))
-        };
-        let spike = |a: DVec3, v: DVec3, b: DVec3| {
-            let (ta, tb) = tangents(a, v, b);
-            let sin = ta.cross(tb).dot(v);
-            ta.dot(tb) > 0.0
-                && sin * sin
-                    < SPIKE_MAX_SINE * SPIKE_MAX_SINE * ta.length_squared() * tb.length_squared()
-        };
         let dir = |k: usize| self.nodes[first + k % n].dir;
-        if !(0..n).any(|k| spike(dir(k + n - 1), dir(k), dir(k + 1))) {
+        if !(0..n).any(|k| is_spike(dir(k + n - 1), dir(k), dir(k + 1))) {
             return;
         }
         self.spike_scratch.clear();
@@ -551,7 +599,7 @@ impl SetDifference {
                 node.dir,
                 self.spike_scratch[(k + 1) % n].dir,
             );
-            if !spike(a, v, b) {
+            if !is_spike(a, v, b) {
                 self.nodes.push(node);
                 continue;
             }
