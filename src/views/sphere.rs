@@ -261,6 +261,11 @@ fn edge_curve(a: DVec3, b: DVec3, colour: Rgb, opacity: f32, width: f32) -> Curv
     let mut points = Vec::new();
     arc(a, b, &mut points);
     points.push(b);
+    open_curve(points, colour, opacity, width)
+}
+
+/// An open polyline through `points`, unlabelled.
+fn open_curve(points: Vec<DVec3>, colour: Rgb, opacity: f32, width: f32) -> Curve {
     Curve {
         points,
         colour,
@@ -566,18 +571,7 @@ fn light_record(
             }
             let faces = loops.len();
             for points in union_outline(&loops) {
-                let mut c = Curve {
-                    points,
-                    colour,
-                    opacity,
-                    width,
-                    closed: false,
-                    kind: CurveKind::Line,
-                    label: String::new(),
-                    legend: "",
-                    vertices: Vec::new(),
-                    tag: "",
-                };
+                let mut c = open_curve(points, colour, opacity, width);
                 c.label = format!(
                     "occluder {}, face by face ({faces} faces)",
                     occluder_name(oi)
