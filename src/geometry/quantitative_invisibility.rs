@@ -207,15 +207,42 @@ pub(crate) fn crossing_transfer(e: &QiEdge, g: &QiEdge, p: DVec3) -> Option<i32>
     })
 }
 
+/// A direction from `x` and its squared length.
+#[derive(Clone, Copy)]
+struct Toward {
+    d: DVec3,
+    len2: f64,
+}
+
+impl Toward {
+    fn new(d: DVec3) -> Self {
+        Toward {
+            d,
+            len2: d.length_squared(),
+        }
+    }
+}
+
 /// Whether the face `f` at the mesh vertex `v` (direction `vd = v − x`) covers the directions
-/// from `x` just off `v` toward `t` (`t − x`, any point but `v` on the arc's great circle): is
-/// `t`'s direction strictly inside the wedge at `v` of one of the face's fan triangles (those
-/// the ray test uses) that have `v` as a corner? `None` within rounding of a wedge's side.
-fn covers(poly: &Polyhedron, x: DVec3, f: u32, v: u32, vd: DVec3, td: DVec3) -> Option<bool> {
+/// from `x` just off `v` toward `t` (`t − x`, any point but `v` on the arc's great circle), for
+/// each of the two `t` asked (`None`: not asked, answered `false`): is `t`'s direction strictly
+/// inside the wedge at `v` of one of the face's fan triangles (those the ray test uses) that
+/// have `v` as a corner? `None` within rounding of a wedge's side. Both directions share the
+/// fan triangles' tests; the sign tests compare squares, so no square root is taken.
+fn covers(
+    poly: &Polyhedron,
+    x: DVec3,
+    f: u32,
+    v: u32,
+    vd: Toward,
+    toward: [Option<Toward>; 2],
+) -> Option<[bool; 2]> {
     let idx = poly.face(f as usize);
     let det = |a: DVec3, b: DVec3, c: DVec3| a.dot(b.cross(c));
-    let (lv, lt) = (vd.length(), td.length());
-    let mut hit = false;
+    // |det| ≤ SIGN_TOL |a| |b| |c|, squared.
+    let tol2 = SIGN_TOL * SIGN_TOL;
+    let near = |s: f64, l2: f64| s * s <= tol2 * l2;
+    let mut hit = [false; 2];
     for k in 1..idx.len() - 1 {
         let tri = [idx[0], idx[k], idx[k + 1]];
         let Some(at) = tri.iter().position(|&w| w == v) else {
@@ -231,18 +258,23 @@ fn covers(poly: &Polyhedron, x: DVec3, f: u32, v: u32, vd: DVec3, td: DVec3) -> 
             continue; // the ray test skips it too
         }
         let (pd, qd) = (pv - x, qv - x);
-        let (lp, lq) = (pd.length(), qd.length());
-        let s = det(vd, pd, qd);
-        let sp = det(vd, pd, td);
-        let sq = det(vd, td, qd);
-        if s.abs() <= SIGN_TOL * lv * lp * lq
-            || sp.abs() <= SIGN_TOL * lv * lp * lt
-            || sq.abs() <= SIGN_TOL * lv * lt * lq
-        {
+        let (lp2, lq2) = (pd.length_squared(), qd.length_squared());
+        let s = det(vd.d, pd, qd);
+        if near(s, vd.len2 * lp2 * lq2) {
             return None;
         }
-        if sp * s > 0.0 && sq * s > 0.0 {
-            hit = true;
+        for (t, hit) in toward.iter().zip(&mut hit) {
+            let Some(t) = t else {
+                continue;
+            };
+            let sp = det(vd.d, pd, t.d);
+            let sq = det(vd.d, t.d, qd);
+            if near(sp, vd.len2 * lp2 * t.len2) || near(sq, vd.len2 * t.len2 * lq2) {
+                return None;
+            }
+            if sp * s > 0.0 && sq * s > 0.0 {
+                *hit = true;
+            }
         }
     }
     Some(hit)
@@ -261,19 +293,23 @@ pub(crate) fn vertex_step(
     (b, fb): (u32, [u32; 2]),
     absent: &impl Fn(u32) -> bool,
 ) -> Option<i32> {
-    let vd = poly.vertices[v as usize] - x;
-    let (ad, bd) = (poly.vertices[a as usize] - x, poly.vertices[b as usize] - x);
+    let vd = Toward::new(poly.vertices[v as usize] - x);
+    let ad = Toward::new(poly.vertices[a as usize] - x);
+    let bd = Toward::new(poly.vertices[b as usize] - x);
     let mut delta = 0;
     for &f in star.of(v) {
         if absent(f) {
             continue; // never met by the rays (seen edge-on)
         }
-        if !fa.contains(&f) && covers(poly, x, f, v, vd, ad)? {
-            delta -= 1;
+        let asked = [
+            (!fa.contains(&f)).then_some(ad),
+            (!fb.contains(&f)).then_some(bd),
+        ];
+        if asked.iter().all(Option::is_none) {
+            continue;
         }
-        if !fb.contains(&f) && covers(poly, x, f, v, vd, bd)? {
-            delta += 1;
-        }
+        let [by_a, by_b] = covers(poly, x, f, v, vd, asked)?;
+        delta += by_b as i32 - by_a as i32;
     }
     Some(delta)
 }
