@@ -2,7 +2,7 @@
 //! the recording the renderer's own `shade` call produced (never recomputed here).
 
 use crate::inspect::Probe;
-use crate::shading::{Lobe, SetDifferenceRecord, StageRecording};
+use crate::shading::{LightRecord, Lobe, SetDifferenceRecord, StageRecording};
 
 /// The three Greiner–Hormann phases, stepped one by one inside a set difference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -55,6 +55,15 @@ pub struct Step {
     pub label: String,
 }
 
+/// How a step names its light record: "light NAME", with the face for a light taken face by
+/// face.
+fn light_label(lr: &LightRecord, light_name: &impl Fn(usize) -> String) -> String {
+    match lr.piece {
+        Some(f) => format!("light {} face {f}", light_name(lr.light)),
+        None => format!("light {}", light_name(lr.light)),
+    }
+}
+
 /// Every step of a recording, light record by light record, in pipeline order.
 pub fn steps(
     rec: &StageRecording,
@@ -63,10 +72,7 @@ pub fn steps(
 ) -> Vec<Step> {
     let mut out = Vec::new();
     for (r, lr) in rec.lights.iter().enumerate() {
-        let who = match lr.piece {
-            Some(f) => format!("light {} face {f}", light_name(lr.light)),
-            None => format!("light {}", light_name(lr.light)),
-        };
+        let who = light_label(lr, &light_name);
         // How the exact silhouette of a non-convex mesh was found, if it was.
         let exact = |occluder: Option<usize>| match lr.exact.iter().find(|e| e.occluder == occluder)
         {
@@ -194,6 +200,7 @@ impl StepGroup {
 pub fn groups(
     rec: &StageRecording,
     steps: &[Step],
+    light_name: impl Fn(usize) -> String,
     occluder_name: impl Fn(usize) -> String,
 ) -> Vec<StepGroup> {
     // What a face-by-face run is made of: (record, occluder, set differences or polygons).
@@ -227,7 +234,7 @@ pub fn groups(
         let label = match run {
             Some((r, oi, differences)) if len > 1 => {
                 let lr = &rec.lights[r];
-                let who = steps[i].label.split(": ").next().unwrap_or_default();
+                let who = light_label(lr, &light_name);
                 let name = occluder_name(oi);
                 if differences {
                     let n = lr
@@ -264,29 +271,32 @@ pub fn groups(
     out
 }
 
-/// The groups of a probe's steps ([`probe_steps`]), named as the probe names its occluders.
+/// The groups of a probe's steps ([`probe_steps`]), named as the probe names its lights and
+/// occluders.
 pub fn probe_groups(probe: &Probe, steps: &[Step]) -> Vec<StepGroup> {
-    let names = &probe.occluder_names;
-    groups(&probe.recording, steps, |i| {
-        names.get(i).cloned().unwrap_or_else(|| format!("#{i}"))
-    })
+    let (light_name, occluder_name) = probe_names(probe);
+    groups(&probe.recording, steps, light_name, occluder_name)
 }
 
-/// The steps of a probe's recording, lights and occluders named as the probe names them: the
-/// numbering the workbench's stepper shows and `penumbra figure --stage` takes.
-pub fn probe_steps(probe: &Probe) -> Vec<Step> {
-    let names = &probe.occluder_names;
-    let lights = &probe.lights;
-    steps(
-        &probe.recording,
-        |i| {
+/// How a probe names its lights and its occluders, by index.
+fn probe_names(probe: &Probe) -> (impl Fn(usize) -> String + '_, impl Fn(usize) -> String + '_) {
+    let (names, lights) = (&probe.occluder_names, &probe.lights);
+    (
+        move |i| {
             lights
                 .iter()
                 .find(|l| l.light == i)
                 .map_or_else(|| i.to_string(), |l| l.name.clone())
         },
-        |i| names.get(i).cloned().unwrap_or_else(|| format!("#{i}")),
+        move |i| names.get(i).cloned().unwrap_or_else(|| format!("#{i}")),
     )
+}
+
+/// The steps of a probe's recording, lights and occluders named as the probe names them: the
+/// numbering the workbench's stepper shows and `penumbra figure --stage` takes.
+pub fn probe_steps(probe: &Probe) -> Vec<Step> {
+    let (light_name, occluder_name) = probe_names(probe);
+    steps(&probe.recording, light_name, occluder_name)
 }
 
 /// The set difference the projected plane shows at step `current` (every stage: `None`): the
@@ -447,7 +457,7 @@ mod tests {
         let mut rec = StageRecording::new(false);
         rec.lights.push(lr);
         let s = steps(&rec, |i| format!("L{i}"), |i| format!("O{i}"));
-        let g = groups(&rec, &s, |i| format!("O{i}"));
+        let g = groups(&rec, &s, |i| format!("L{i}"), |i| format!("O{i}"));
         // Every step in exactly one group, in order.
         assert_eq!(g[0].first, 0);
         for w in g.windows(2) {
