@@ -11,6 +11,7 @@
 
 use crate::geometry::SphericalPolygon;
 use crate::ltc::form_factor;
+use glam::DVec3;
 
 /// How far (radians) a visible vertex may lie outside the light polygon: the rounding of the
 /// intersections, projections and reprojections it went through, far below any feature.
@@ -27,16 +28,29 @@ pub fn visible_within_light(light: &SphericalPolygon, visible: &SphericalPolygon
     if !(f_visible >= -tol && f_visible <= f_light + tol) {
         return false;
     }
+    // Most visible vertices lie strictly inside the light. For a light of one positively
+    // turning (convex) loop, inside every edge's half-space is inside the light: a sign per
+    // edge instead of the winding number's angles, which are left to the vertices on or near
+    // its boundary.
+    let convex = (light.loop_count() == 1).then(|| light.loop_at(0)).filter(|lp| {
+        let n = lp.len();
+        n >= 3 && (0..n).all(|k| lp[k].cross(lp[(k + 1) % n]).dot(lp[(k + 2) % n]) > 0.0)
+    });
+    let strictly_inside = |v: DVec3| {
+        convex.is_some_and(|lp| {
+            let n = lp.len();
+            (0..n).all(|k| lp[k].cross(lp[(k + 1) % n]).dot(v) > 0.0)
+        })
+    };
     visible
         .vertices()
         .iter()
-        .all(|&v| light.contains_within(v, OUTSIDE_TOLERANCE))
+        .all(|&v| strictly_inside(v) || light.contains_within(v, OUTSIDE_TOLERANCE))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
 
     fn square(c: (f64, f64), r: f64) -> Vec<DVec3> {
         [(-r, -r), (r, -r), (r, r), (-r, r)]
@@ -67,5 +81,27 @@ mod tests {
         twice.push_loop(square((0.0, 0.0), 0.45));
         twice.push_loop(square((0.0, 0.0), 0.45));
         assert!(!visible_within_light(&light, &twice));
+    }
+
+    /// A non-convex light (an L) takes the winding number for every vertex: a polygon in its
+    /// notch is outside it, though inside the half-spaces of most of its edges.
+    #[test]
+    fn a_polygon_in_the_notch_of_an_l_is_not_inside_it() {
+        let d = |x: f64, y: f64| DVec3::new(x, y, 1.0).normalize();
+        let mut light = SphericalPolygon::new();
+        light.push_loop([
+            d(0.0, 0.0),
+            d(0.4, 0.0),
+            d(0.4, 0.2),
+            d(0.2, 0.2),
+            d(0.2, 0.4),
+            d(0.0, 0.4),
+        ]);
+        let mut inside = SphericalPolygon::new();
+        inside.push_loop([d(0.05, 0.05), d(0.15, 0.05), d(0.15, 0.15), d(0.05, 0.15)]);
+        assert!(visible_within_light(&light, &inside));
+        let mut notch = SphericalPolygon::new();
+        notch.push_loop([d(0.25, 0.25), d(0.35, 0.25), d(0.35, 0.35), d(0.25, 0.35)]);
+        assert!(!visible_within_light(&light, &notch));
     }
 }
