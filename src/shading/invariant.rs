@@ -32,10 +32,12 @@ pub fn visible_within_light(light: &SphericalPolygon, visible: &SphericalPolygon
     // turning (convex) loop, inside every edge's half-space is inside the light: a sign per
     // edge instead of the winding number's angles, which are left to the vertices on or near
     // its boundary.
-    let convex = (light.loop_count() == 1).then(|| light.loop_at(0)).filter(|lp| {
-        let n = lp.len();
-        n >= 3 && (0..n).all(|k| lp[k].cross(lp[(k + 1) % n]).dot(lp[(k + 2) % n]) > 0.0)
-    });
+    let convex = (light.loop_count() == 1)
+        .then(|| light.loop_at(0))
+        .filter(|lp| {
+            let n = lp.len();
+            n >= 3 && (0..n).all(|k| lp[k].cross(lp[(k + 1) % n]).dot(lp[(k + 2) % n]) > 0.0)
+        });
     let strictly_inside = |v: DVec3| {
         convex.is_some_and(|lp| {
             let n = lp.len();
