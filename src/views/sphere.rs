@@ -516,18 +516,19 @@ fn light_record(
             .iter()
             .enumerate()
             .take_while(|&(k, _)| k <= last);
-        for (_, (oi, piece, stage, poly)) in shown.clone().filter(|(_, p)| p.1.is_none()) {
+        // An occluder's region, filled at the stages that fill it.
+        let region = |loops: &[Vec<DVec3>], fill: f32| Region {
+            loops: loops.to_vec(),
+            colour: colours::OCCLUDER,
+            opacity: fill * opacity.max(0.7),
+            legend: "occluder",
+        };
+        for (_, (oi, _, stage, poly)) in shown.clone().filter(|(_, p)| p.1.is_none()) {
             let (colour, width, legend, fill) = style(stage);
             let loops = unit_loops(poly);
             if fill > 0.0 {
-                out.regions.push(Region {
-                    loops: loops.clone(),
-                    colour: colours::OCCLUDER,
-                    opacity: fill * opacity.max(0.7),
-                    legend: "occluder",
-                });
+                out.regions.push(region(&loops, fill));
             }
-            debug_assert!(piece.is_none());
             let label = format!("occluder {}", occluder_name(*oi));
             let o = Outline {
                 colour,
@@ -562,12 +563,7 @@ fn light_record(
             };
             let (colour, width, legend, fill) = style(&stage);
             if fill > 0.0 {
-                out.regions.push(Region {
-                    loops: loops.clone(),
-                    colour: colours::OCCLUDER,
-                    opacity: fill * opacity.max(0.7),
-                    legend: "occluder",
-                });
+                out.regions.push(region(&loops, fill));
             }
             let faces = loops.len();
             for points in union_outline(&loops) {
