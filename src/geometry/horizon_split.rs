@@ -10,6 +10,7 @@
 //! loops agree with `R` in a slight widening of `W⁺`, and so may remove a little of `W⁻` too,
 //! which is in `R` as well); the faces clipped to `W⁻` supply `R ∩ W⁻`.
 
+use super::spherical_polygon::clip_loop_to_half_spaces;
 use glam::DVec3;
 
 /// The tilted circle's least elevation (radians, as a tangent) over the window: far above the
@@ -73,50 +74,11 @@ impl HorizonSplit {
             let n = window[i].cross(window[(i + 1) % m]) * orient;
             self.lower_planes.push(n);
         }
-        clip_to_planes(window, &[tilt], &mut self.upper, &mut self.buf);
+        clip_loop_to_half_spaces(window, &[tilt], &mut self.upper, &mut self.buf);
         if self.upper.len() < 3 {
             self.upper.clear();
         }
         true
-    }
-}
-
-/// `subject` (one convex loop of unit directions) clipped to the half-spaces `d·n ≥ 0` of
-/// `planes` (Sutherland–Hodgman, each plane through the centre: each side a great circle;
-/// crossings on the chords, normalised, so they lie on both circles up to rounding), into
-/// `out`; empty when nothing is left. `tmp` is scratch.
-pub fn clip_to_planes(
-    subject: &[DVec3],
-    planes: &[DVec3],
-    out: &mut Vec<DVec3>,
-    tmp: &mut Vec<DVec3>,
-) {
-    out.clear();
-    out.extend_from_slice(subject);
-    for &n in planes {
-        if out.len() < 3 {
-            break;
-        }
-        tmp.clear();
-        let k = out.len();
-        // Bound: one pass over the loop, at most two points per vertex.
-        for j in 0..k {
-            let (p, q) = (out[j], out[(j + 1) % k]);
-            let (dp, dq) = (n.dot(p), n.dot(q));
-            if dp >= 0.0 {
-                tmp.push(p);
-            }
-            if (dp >= 0.0) != (dq >= 0.0) && dp != dq {
-                let x = (p + (q - p) * (dp / (dp - dq))).normalize_or_zero();
-                if x != DVec3::ZERO && tmp.last() != Some(&x) {
-                    tmp.push(x);
-                }
-            }
-        }
-        std::mem::swap(out, tmp);
-    }
-    if out.len() < 3 {
-        out.clear();
     }
 }
 
@@ -146,7 +108,7 @@ mod tests {
         assert!(s.split(&w));
         assert!(s.upper.iter().all(|d| d.z >= 0.99 * MIN_ELEVATION));
         let mut lower = Vec::new();
-        clip_to_planes(&w, &s.lower_planes, &mut lower, &mut Vec::new());
+        clip_loop_to_half_spaces(&w, &s.lower_planes, &mut lower, &mut Vec::new());
         assert!(lower.iter().all(|d| d.z <= MIN_ELEVATION / MIN_AZIMUTH_COS));
         let (a, up, lo) = (area(&w), area(&s.upper), area(&lower));
         assert!(up > 0.0 && lo > 0.0);

@@ -105,6 +105,55 @@ impl SphericalPolygon {
     }
 }
 
+/// The convex loop `subject` (unit directions) clipped to the half-spaces `d·n ≥ 0` of `normals`
+/// (Sutherland–Hodgman, each plane through the centre, so each side is a great circle), into
+/// `out`: empty when fewer than three points are left. Crossings are taken on the chords and
+/// normalised, so they lie on both circles up to rounding. A vertex on a side's circle is kept
+/// and not crossed again, and no point repeats its predecessor (within 1e-12): the set
+/// difference wants no repeated vertices. Bound: one pass per plane, at most two points per
+/// vertex. `tmp` is scratch.
+pub fn clip_loop_to_half_spaces(
+    subject: &[DVec3],
+    normals: &[DVec3],
+    out: &mut Vec<DVec3>,
+    tmp: &mut Vec<DVec3>,
+) {
+    let push_distinct = |buf: &mut Vec<DVec3>, v: DVec3| {
+        if buf.last().is_none_or(|&l| (l - v).length_squared() > 1e-24) {
+            buf.push(v);
+        }
+    };
+    out.clear();
+    out.extend_from_slice(subject);
+    for &n in normals {
+        tmp.clear();
+        let k = out.len();
+        for j in 0..k {
+            let (p, q) = (out[j], out[(j + 1) % k]);
+            let (dp, dq) = (n.dot(p), n.dot(q));
+            if dp >= 0.0 {
+                push_distinct(tmp, p);
+            }
+            if (dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0) {
+                let t = dp / (dp - dq);
+                if let Some(v) = (p + t * (q - p)).try_normalize() {
+                    push_distinct(tmp, v);
+                }
+            }
+        }
+        while tmp.len() > 1 && (tmp[0] - tmp[tmp.len() - 1]).length_squared() <= 1e-24 {
+            tmp.pop();
+        }
+        std::mem::swap(out, tmp);
+        if out.is_empty() {
+            break;
+        }
+    }
+    if out.len() < 3 {
+        out.clear();
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

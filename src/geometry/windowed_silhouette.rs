@@ -39,6 +39,7 @@ use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::NO_FACE;
 use super::quantitative_invisibility::QiScratch;
 use super::silhouette::is_front_facing;
+use super::spherical_polygon::clip_loop_to_half_spaces;
 use crate::math::Frame;
 use glam::DVec3;
 
@@ -580,47 +581,12 @@ pub fn clip_to_window(
         sides.push(c * (hi[k] + margin) - d);
         sides.push(d - c * (lo[k] - margin));
     }
-    a.clear();
-    a.extend_from_slice(subject.loop_at(0));
-    for &n in sides.iter() {
-        b.clear();
-        let k = a.len();
-        for j in 0..k {
-            let (p, q) = (a[j], a[(j + 1) % k]);
-            let (dp, dq) = (n.dot(p), n.dot(q));
-            // A vertex on the side's circle is kept and not crossed again (no repeated
-            // vertices: the set difference wants none).
-            if dp >= 0.0 {
-                push_distinct(b, p);
-            }
-            if (dp > 0.0 && dq < 0.0) || (dp < 0.0 && dq > 0.0) {
-                let t = dp / (dp - dq);
-                if let Some(v) = (p + t * (q - p)).try_normalize() {
-                    push_distinct(b, v);
-                }
-            }
-        }
-        while b.len() > 1 && (b[0] - b[b.len() - 1]).length_squared() <= 1e-24 {
-            b.pop();
-        }
-        std::mem::swap(a, b);
-        if a.is_empty() {
-            break;
-        }
-    }
+    clip_loop_to_half_spaces(subject.loop_at(0), sides, a, b);
     out.clear();
-    if a.len() >= 3 {
+    if !a.is_empty() {
         out.push_loop(a.iter().copied());
     }
     true
-}
-
-/// Appends `v` unless it repeats the last point (within 1e-12).
-#[inline]
-fn push_distinct(buf: &mut Vec<DVec3>, v: DVec3) {
-    if buf.last().is_none_or(|&l| (l - v).length_squared() > 1e-24) {
-        buf.push(v);
-    }
 }
 
 /// Where `p` (on the great circle of normal `n`) lies on the arc from `a` to `b`: strictly

@@ -32,7 +32,8 @@ use super::ltc_correction::{
 use super::outline::{Fallbacks, Outline, OutlineScratch, Role};
 use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage, TreeLookupRecord};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
-use crate::geometry::horizon_split::{HorizonSplit, clip_to_planes};
+use crate::geometry::horizon_split::HorizonSplit;
+use crate::geometry::spherical_polygon::clip_loop_to_half_spaces;
 use crate::geometry::{
     ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, ProjectionPlane,
     SetDifference, Sidedness, SilhouettePoint, SphericalPolygon, classify_overlap, clip_to_horizon,
@@ -886,7 +887,7 @@ fn subtract_faces<R: Recorder>(
             }
             if is_convex_loop(lp) {
                 let part = &mut scratch.split_face;
-                clip_to_planes(
+                clip_loop_to_half_spaces(
                     lp,
                     &scratch.split.lower_planes,
                     part,

@@ -512,12 +512,11 @@ impl SetDifference {
     /// clip whose horizon-clipped outline runs through one of its own vertices). Each test
     /// removes a vertex or keeps one for good: at most two passes over the loop.
     fn fold_straight_vertices(&mut self, first: usize) {
-        let straight = is_straight;
         // Most loops have none: find that out without moving a node.
         let end = self.nodes.len();
         let n = end - first;
         let dir = |k: usize| self.nodes[first + k % n].dir;
-        if n < 3 || !(0..n).any(|k| straight(dir(k + n - 1), dir(k), dir(k + 1))) {
+        if n < 3 || !(0..n).any(|k| is_straight(dir(k + n - 1), dir(k), dir(k + 1))) {
             return;
         }
         // A stack over the loop: the kept vertices are `first..top`.
@@ -526,7 +525,7 @@ impl SetDifference {
             let v = self.nodes[i];
             // Bound: each pop removes one kept vertex.
             while top >= first + 2
-                && straight(self.nodes[top - 2].dir, self.nodes[top - 1].dir, v.dir)
+                && is_straight(self.nodes[top - 2].dir, self.nodes[top - 1].dir, v.dir)
             {
                 top -= 1;
             }
@@ -543,13 +542,13 @@ impl SetDifference {
             if top - start < 3 {
                 break;
             }
-            if straight(
+            if is_straight(
                 self.nodes[top - 2].dir,
                 self.nodes[top - 1].dir,
                 self.nodes[start].dir,
             ) {
                 top -= 1;
-            } else if straight(
+            } else if is_straight(
                 self.nodes[top - 1].dir,
                 self.nodes[start].dir,
                 self.nodes[start + 1].dir,
