@@ -54,6 +54,7 @@ mod shading_oracles;
 mod stochastic;
 mod stress_exporter;
 mod thesis_polyhedra;
+mod tile_candidates;
 mod tree_library;
 mod windowed_silhouette;
 #[cfg(feature = "gui")]

@@ -364,6 +364,144 @@ impl EdgeHierarchy {
         }
         stats
     }
+
+    /// Writes into `out` every edge of `poly` (the mesh this hierarchy was built over) that
+    /// can be a contour or boundary edge with a point in the window of some shading point of
+    /// `region` (Eq. EH.2 of docs/silhouettes.md): each edge that the windowed silhouette at
+    /// such a point makes an arc of is in `out`, in the order of that point's window query.
+    /// An edge is left out when both its faces are seen from the front from the whole ball, or
+    /// both from the back, beyond the coplanarity tolerance, or when its ball, grown by the
+    /// region's radius, misses the region's cone or its `pyramid`.
+    pub fn tile_candidates(
+        &self,
+        poly: &Polyhedron,
+        region: &RegionCone,
+        pyramid: Option<&RegionPyramid>,
+        out: &mut Vec<u32>,
+    ) {
+        out.clear();
+        let (c, rho) = (region.centre, region.radius);
+        let tol = coplanar_tolerance(poly);
+        // The windows of every point of the ball lie in the cone from `c`, so a ball that can
+        // meet one of them, moved by at most `rho`, meets that cone (the module docs of
+        // `geometry::tile_candidates`); `1 + 1e-6` covers the queries' own relative margins.
+        let meets = |centre: DVec3, reach: f64| {
+            sphere_meets_cone(
+                c,
+                region.axis,
+                region.cos_theta,
+                region.sin_theta,
+                centre,
+                (reach + rho) * (1.0 + 1e-6),
+            ) && pyramid.is_none_or(|p| p.meets(centre, reach))
+        };
+        // A face seen from the same side by every point of the ball, beyond the tolerance:
+        // its plane is 1-Lipschitz in the point over its normal's length.
+        let side = |f: u32| {
+            let plane = &poly.face_planes[f as usize];
+            let s = plane.eval(c);
+            let reach = rho * plane.n.length() * (1.0 + 1e-12)
+                + tol
+                + 1e-12 * (plane.n.length() * c.length() + plane.d.abs());
+            if s > reach {
+                1
+            } else if s < -reach {
+                -1
+            } else {
+                0
+            }
+        };
+        let mut i = 0;
+        // Bound: `i` only grows, as in `tree_candidates`; each edge is looked at once.
+        while i < self.nodes.len() {
+            let node = &self.nodes[i];
+            if skips_from_ball(node, c, rho) || !meets(node.centre, node.reach) {
+                i = node.next as usize;
+                continue;
+            }
+            let s = node.start as usize;
+            for &e in &self.edges[s..s + node.count as usize] {
+                let edge = &poly.edges[e as usize];
+                let [g0, g1] = edge.faces;
+                let (s0, s1) = (side(g0), side(g1));
+                if s0 != 0 && s0 == s1 {
+                    continue;
+                }
+                let (a, b) = (
+                    poly.vertices[edge.v[0] as usize],
+                    poly.vertices[edge.v[1] as usize],
+                );
+                if meets(0.5 * (a + b), 0.5 * (a - b).length()) {
+                    out.push(e);
+                }
+            }
+            i += 1;
+        }
+        for (&e, &(bc, br)) in self.boundary.iter().zip(&self.boundary_balls) {
+            if meets(bc, br) {
+                out.push(e);
+            }
+        }
+    }
+}
+
+/// Shading points within `radius` of `centre`, each looking at a window (the widened light,
+/// [`super::windowed_silhouette`]) that lies, seen from `centre`, in the cone of directions
+/// within θ of the unit `axis`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RegionCone {
+    pub centre: DVec3,
+    pub radius: f64,
+    pub axis: DVec3,
+    pub cos_theta: f64,
+    pub sin_theta: f64,
+}
+
+/// The pyramid of one point's window, which bounds the windows of every point of a region
+/// (the module docs of `geometry::tile_candidates`): from `apex`, whose window is the whole
+/// light, with the inward unit normals `sides` of that window's great circles. The points of
+/// the region lie within `reach` of the apex, and every direction from one of them into its
+/// window is on the inner side of each great circle up to `spread` (a sine).
+#[derive(Clone, Copy, Debug)]
+pub struct RegionPyramid<'a> {
+    pub apex: DVec3,
+    pub sides: &'a [DVec3],
+    pub reach: f64,
+    pub spread: f64,
+}
+
+impl RegionPyramid<'_> {
+    /// Whether the ball of centre `q` and radius `r` may hold a point seen from a point of the
+    /// region in its window: a point `p = x + t u` of it has `n · (p − apex) ≥ −reach − t
+    /// spread` for each side `n`, with `t ≤ |q − apex| + r + reach`.
+    #[inline]
+    fn meets(&self, q: DVec3, r: f64) -> bool {
+        let d = q - self.apex;
+        let far = d.length() + r + self.reach;
+        let slack = (r + self.reach) * (1.0 + 1e-6) + far * self.spread;
+        self.sides.iter().all(|n| n.dot(d) >= -slack)
+    }
+}
+
+/// Eq. EH.2: the skip test of Eq. EH.1 holds at every point within `rho` of `c`. Both sides of
+/// Eq. EH.1 are 1-Lipschitz in `x` (the left one is `|d| cos(α ± β)`, whose gradient has unit
+/// length, the margin's ‖d‖₁ term is √3-Lipschitz times 1e-12), so the test at `c` with the
+/// margin raised by `rho (1 + 2e-12)` holds everywhere in the ball; the last term covers the
+/// rounding of both evaluations, far above it.
+#[inline]
+fn skips_from_ball(node: &Node, c: DVec3, rho: f64) -> bool {
+    if node.cos_a < 0.0 {
+        return false;
+    }
+    let d = c - node.centre;
+    let along = node.axis.dot(d);
+    let across = node.axis.cross(d).length();
+    let margin = node.slack
+        + ROUNDING * (d.x.abs() + d.y.abs() + d.z.abs())
+        + rho * (1.0 + 2.0 * ROUNDING)
+        + 1e-10 * (d.length() + rho + node.centre.length() + node.slack);
+    node.cos_a * along - node.sin_a * across > margin
+        || node.cos_a * along + node.sin_a * across < -margin
 }
 
 /// The normal cone and bounding sphere of the faces adjacent to `edges`.

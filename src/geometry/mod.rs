@@ -33,6 +33,7 @@ pub mod silhouette_walk;
 pub mod spherical_polygon;
 #[cfg(test)]
 pub(crate) mod test_util;
+pub mod tile_candidates;
 pub mod triangle;
 pub mod windowed_silhouette;
 
@@ -60,6 +61,7 @@ pub use set_difference::{GreinerHormannSteps, SetDifference};
 pub use silhouette::{Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette};
 pub use silhouette_tree::{SilhouetteTree, TreeKind, TreeNode};
 pub use spherical_polygon::{SphericalPolygon, orient};
+pub use tile_candidates::{TileCandidates, TileQuery, TileRegion};
 pub use windowed_silhouette::{
     WindowScratch, WindowStats, clip_to_window, exact_silhouette_in_window, window_cone,
 };

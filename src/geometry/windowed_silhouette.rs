@@ -11,7 +11,8 @@
 //! 1. the contour edges from `x` (001 Eq. 4.2), and the boundary edges of an open mesh, that may
 //!    meet a cone around `W'` and the pyramid of `W'` itself: through the normal-cone
 //!    hierarchy with a ball per node (`EdgeHierarchy::candidates_in_window`) where the mesh
-//!    has one, else the edges of the faces whose boxes meet both (the face hierarchy,
+//!    has one (over the part of it that the point's tile can need, `tile_candidates`, when
+//!    the caller names the tile), else the edges of the faces whose boxes meet both (the face hierarchy,
 //!    `FaceBvh::for_each_in_window`; an edge whose arc meets `W'` has its faces meeting both);
 //! 2. each contour arc clipped to `W'` (convex: one interval of the chord a + t(b − a));
 //! 3. apparent intersections (001 Eq. 4.4) among the clipped arcs only;
@@ -40,6 +41,7 @@ use super::polyhedron::NO_FACE;
 use super::quantitative_invisibility::QiScratch;
 use super::silhouette::is_front_facing;
 use super::spherical_polygon::clip_loop_to_half_spaces;
+use super::tile_candidates::{TileCandidates, TileQuery};
 use crate::math::Frame;
 use glam::DVec3;
 
@@ -81,6 +83,11 @@ pub struct WindowScratch {
     pub per_piece_rays: bool,
     /// The propagation of quantitative invisibility (step 5).
     pub qi: QiScratch,
+    /// What the next call may share with the other points of its tile (set by the caller
+    /// before each call; `None`: the whole hierarchy).
+    pub tile: Option<TileQuery>,
+    /// The hierarchy's subtrees for the current tiles.
+    pub tile_candidates: TileCandidates,
 }
 
 /// What the windowed silhouette did.
@@ -159,14 +166,23 @@ pub fn exact_silhouette_in_window(
     //    the edges of the faces whose boxes meet both.
     scratch.candidates.clear();
     if let Some(h) = poly.index.edge_hierarchy.as_deref() {
-        h.candidates_in_window(
-            x,
-            centre,
-            cos_cone,
-            sin_cone,
-            &scratch.sides,
-            &mut scratch.candidates,
-        );
+        let shared = match &scratch.tile {
+            Some(q) => scratch.tile_candidates.edges(h, poly, q, x, &scratch.sides),
+            None => None,
+        };
+        match shared {
+            Some(edges) => scratch.candidates.extend_from_slice(edges),
+            None => {
+                h.candidates_in_window(
+                    x,
+                    centre,
+                    cos_cone,
+                    sin_cone,
+                    &scratch.sides,
+                    &mut scratch.candidates,
+                );
+            }
+        }
     } else {
         // One stamp per call: marks left by other meshes are older, so the buffer is shared
         // by every mesh this thread meets and only ever grows.

@@ -7,6 +7,7 @@ pub mod progressive;
 pub mod request;
 pub mod slicing;
 pub mod stochastic;
+mod tile_hits;
 
 // Images and their files are a base layer (`raster`), shared with the denoisers and the
 // environment's filter.
@@ -26,6 +27,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use tile_hits::{TileBounds, TileScratch};
 use web_time::Instant;
 
 /// The camera rays of pixel (x, y): `aa`×`aa` stratified positions at the centres of the
@@ -439,9 +441,20 @@ impl RenderContext {
         scratch: &mut ShadingScratch,
         rec: &mut R,
     ) -> DVec3 {
-        let Some(hit) = self.primary_hit(ray) else {
-            return DVec3::ZERO;
-        };
+        match self.primary_hit(ray) {
+            Some(hit) => self.radiance_at(&hit, method, scratch, rec),
+            None => DVec3::ZERO,
+        }
+    }
+
+    /// [`RenderContext::radiance`] at a primary hit already found.
+    pub fn radiance_at<R: Recorder>(
+        &self,
+        hit: &PrimaryHit,
+        method: Method,
+        scratch: &mut ShadingScratch,
+        rec: &mut R,
+    ) -> DVec3 {
         let mut l = hit.emitted;
         if hit.receiver {
             let material = &self.prepared.materials[hit.point.object.unwrap_or(0) as usize];
@@ -517,12 +530,28 @@ impl RenderContext {
         let (w, h, aa) = (settings.width, settings.height, settings.aa);
         let inv = 1.0 / (aa * aa) as f64;
         let collect = settings.collect_stats;
-        let pixels = render_tiles(w, h, cancel, ShadingScratch::default, |scratch, x, y| {
+        let share = self.prepared.tiles_share_candidates(method);
+        let begin = |s: &mut TileScratch, bounds: TileBounds| {
+            if share {
+                s.find_hits(self, basis, bounds, (w, h, aa));
+            }
+        };
+        let pixels = render_tiles_with(w, h, cancel, TileScratch::default, begin, |s, x, y| {
             let start = collect.then(Instant::now);
             let mut sum = DVec3::ZERO;
             let mut stats = PixelStats::default();
-            for ray in subpixel_rays(basis, x, y, aa, w, h) {
-                sum += self.radiance(&ray, method, scratch, &mut NoRecorder);
+            for (k, ray) in subpixel_rays(basis, x, y, aa, w, h).enumerate() {
+                let scratch = &mut s.shading;
+                sum += match share {
+                    true => match s.hits.hit(x, y, k) {
+                        Some((hit, region)) => {
+                            scratch.share_with_tile(region);
+                            self.radiance_at(hit, method, scratch, &mut NoRecorder)
+                        }
+                        None => DVec3::ZERO,
+                    },
+                    false => self.radiance(&ray, method, scratch, &mut NoRecorder),
+                };
                 stats.violations += scratch.stats.violations;
                 scratch.stats.violations = 0;
                 stats.fallbacks.add(&scratch.stats.fallbacks);
@@ -636,6 +665,22 @@ pub fn render_tiles<T, S>(
 where
     T: Default + Clone + Send + 'static,
 {
+    render_tiles_with(width, height, cancel, init, |_, _| {}, pixel)
+}
+
+/// [`render_tiles`] with `begin(scratch, bounds)` called before each tile's pixels: what the
+/// tile's pixels share is found there.
+pub fn render_tiles_with<T, S>(
+    width: u32,
+    height: u32,
+    cancel: Option<&AtomicBool>,
+    init: impl Fn() -> S + Sync + Send,
+    begin: impl Fn(&mut S, TileBounds) + Sync + Send,
+    pixel: impl Fn(&mut S, u32, u32) -> T + Sync + Send,
+) -> Option<Vec<T>>
+where
+    T: Default + Clone + Send + 'static,
+{
     let tiles = Tiles::new(width, height);
     let count = tiles.count();
     let progress = progress::TileProgress::current();
@@ -643,6 +688,7 @@ where
         p.started(count);
     }
     let tile = |scratch: &mut S, t: usize| {
+        begin(scratch, tiles.bounds(t));
         let out = tiles.evaluate(t, |x, y| pixel(scratch, x, y));
         if let Some(p) = &progress {
             p.finished_one();

@@ -36,8 +36,8 @@ use crate::geometry::horizon_split::HorizonSplit;
 use crate::geometry::spherical_polygon::clip_loop_to_half_spaces;
 use crate::geometry::{
     ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, ProjectionPlane,
-    SetDifference, Sidedness, SilhouettePoint, SphericalPolygon, classify_overlap, clip_to_horizon,
-    clip_to_window, contour_edges, face_polygon, window_cone,
+    SetDifference, Sidedness, SilhouettePoint, SphericalPolygon, TileQuery, TileRegion,
+    classify_overlap, clip_to_horizon, clip_to_window, contour_edges, face_polygon, window_cone,
 };
 use crate::ltc::{LtcEntry, form_factor};
 use crate::math::Frame;
@@ -149,6 +149,10 @@ pub struct ShadingScratch {
     /// The sampled correction of the LTC at the last shading point (`shade_corrected`), summed
     /// over lights and weighted by their radiance, and its variance.
     pub(super) correction_sum: CorrectionEstimate,
+    /// The region of the point's tile on its object, when the renderer shades tiles: windowed
+    /// outlines take their candidate edges from what the region shares
+    /// (`geometry::tile_candidates`), the same edges as alone.
+    tile_region: Option<TileRegion>,
     pub stats: ShadingStats,
 }
 
@@ -170,6 +174,18 @@ impl ShadingScratch {
     #[doc(hidden)]
     pub fn limit_set_difference_walks(&mut self, cap: Option<(usize, usize)>) {
         self.difference.limit_walks(cap);
+    }
+
+    /// The region of the tile the next shading points belong to (`None`: each point alone).
+    /// The points must lie in its ball; one that does not takes the whole hierarchy.
+    pub fn share_with_tile(&mut self, region: Option<TileRegion>) {
+        self.tile_region = region;
+    }
+
+    /// Subtrees of edge hierarchies built for tiles, and windowed queries that used one.
+    pub fn tile_sharing(&self) -> (u64, u64) {
+        let t = &self.outline.window.tile_candidates;
+        (t.built, t.shared)
     }
 
     /// Ends a shading point: the silhouette stage's fallbacks join the point's counters.
@@ -725,6 +741,24 @@ pub(super) fn subtract_occluder<R: Recorder>(
             }
         }
         let window = windowed.then(|| scratch.light_clip.loop_at(0));
+        // The window's points share their candidate edges within the tile's region: the
+        // light's bounding ball bounds every window of the region's points.
+        scratch.outline.window.tile = match (windowed, scratch.tile_region, piece) {
+            (true, Some(region), Some(p)) => {
+                let light = &scene.objects[scene.lights[p.light].0 as usize].poly;
+                let sph = &scratch.light_sph;
+                Some(TileQuery {
+                    region,
+                    light_centre: light.center,
+                    light_radius: light.radius,
+                    key: ((p.light as u64) << 32) | oi as u64,
+                    whole_light: p.face.is_none()
+                        && sph.loop_count() == 1
+                        && sph.loop_at(0).iter().all(|v| v.z > 0.0),
+                })
+            }
+            _ => None,
+        };
         let kept_outline = !R::ENABLED && scratch.occluder_cache[oi].sph_stamp == scratch.stamp;
         let outline = if kept_outline {
             scratch
@@ -932,6 +966,10 @@ fn subtract_split<R: Recorder>(
     let (scene, sp, frame) = (ctx.scene, ctx.sp, &ctx.frame);
     let occ = &scene.objects[scene.occluders[oi] as usize];
     if !scratch.split.upper.is_empty() {
+        // The upper part of the window is not the whole light.
+        if let Some(q) = &mut scratch.outline.window.tile {
+            q.whole_light = false;
+        }
         let outline = occ.spherical_polygon(
             sp.position,
             frame,

@@ -1280,6 +1280,16 @@ impl PreparedScene {
         (0..n).any(|o| self.occluders[o] != light && self.separations[l * n + o].is_none())
     }
 
+    /// Whether the points of a tile can share work with `method`: some occluder's outline is
+    /// found inside the light's window through an edge hierarchy (`geometry::tile_candidates`).
+    pub fn tiles_share_candidates(&self, method: super::Method) -> bool {
+        method == super::Method::Analytic
+            && self.occluders.iter().any(|&o| {
+                let obj = &self.objects[o as usize];
+                obj.path().is_windowed() && obj.poly.index.edge_hierarchy.is_some()
+            })
+    }
+
     /// The separating plane of light `l` and occluder `o` (indices into `lights`/`occluders`).
     #[inline]
     pub fn separation(&self, l: usize, o: usize) -> Option<&Plane> {

@@ -1,0 +1,98 @@
+//! Candidate edges shared by the shading points of a tile (`geometry::tile_candidates`)
+//! against each point on its own, whose window query of the edge hierarchy is a second
+//! enumeration of the same edges: at every camera sample of an image of Blender's monkey,
+//! shading with the point's region shared gives the radiance of shading it alone, bit for bit,
+//! for regions of 2 × 2-pixel blocks (the renderer's) and of whole 16 × 16 tiles (far looser
+//! lists); and the shared path does run.
+
+use glam::DVec3;
+use penumbra::geometry::TileRegion;
+use penumbra::render::{RenderContext, RenderMethod, RenderSettings, subpixel_rays};
+use penumbra::scene::scene_file::load_scene;
+use penumbra::shading::{Method, NoRecorder, ShadingScratch};
+use std::path::Path;
+
+/// Shades every sample of a `w` × `h` image (`aa` × `aa` samples a pixel) of `file` with and
+/// without sharing within regions of `block` × `block` pixels (per object) of each 16 × 16
+/// tile; panics where they differ. Returns the windowed queries that shared a list and the
+/// lists built.
+fn compare(file: &str, (w, h, aa): (u32, u32, u32), block: u32) -> (u64, u64) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/blender")
+        .join(file);
+    let scene = load_scene(&path).unwrap_or_else(|e| panic!("{file}: {e}"));
+    let camera = scene.camera.expect("a camera");
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        aa,
+        method: RenderMethod::Analytic,
+        ..RenderSettings::default()
+    };
+    let ctx = RenderContext::for_render(&scene, &settings);
+    let basis = camera.basis().unwrap();
+    let (mut shared, mut alone) = (ShadingScratch::default(), ShadingScratch::default());
+    for ty in (0..h).step_by(16) {
+        for tx in (0..w).step_by(16) {
+            // The tile's hits, and the box of each (object, block).
+            let mut hits = Vec::new();
+            let mut boxes: Vec<((u32, u32), DVec3, DVec3)> = Vec::new();
+            for y in ty..(ty + 16).min(h) {
+                for x in tx..(tx + 16).min(w) {
+                    for ray in subpixel_rays(&basis, x, y, aa, w, h) {
+                        let Some(hit) = ctx.primary_hit(&ray) else {
+                            continue;
+                        };
+                        let key = (
+                            hit.point.object.unwrap(),
+                            ((y - ty) / block) * 16 + (x - tx) / block,
+                        );
+                        let p = hit.point.position;
+                        let i = match boxes.iter().position(|b| b.0 == key) {
+                            Some(i) => i,
+                            None => {
+                                boxes.push((key, p, p));
+                                boxes.len() - 1
+                            }
+                        };
+                        boxes[i].1 = boxes[i].1.min(p);
+                        boxes[i].2 = boxes[i].2.max(p);
+                        hits.push((hit, i));
+                    }
+                }
+            }
+            let regions: Vec<TileRegion> = boxes
+                .iter()
+                .map(|&(_, lo, hi)| TileRegion::around(lo, hi))
+                .collect();
+            for (hit, i) in &hits {
+                shared.share_with_tile(Some(regions[*i]));
+                let a = ctx.radiance_at(hit, Method::Analytic, &mut shared, &mut NoRecorder);
+                let b = ctx.radiance_at(hit, Method::Analytic, &mut alone, &mut NoRecorder);
+                assert_eq!(
+                    a.to_array().map(f64::to_bits),
+                    b.to_array().map(f64::to_bits),
+                    "{file} at {} (region {:?}): {a} shared, {b} alone",
+                    hit.point.position,
+                    regions[*i]
+                );
+            }
+        }
+    }
+    let (built, used) = shared.tile_sharing();
+    assert_eq!(alone.tile_sharing(), (0, 0));
+    (used, built)
+}
+
+#[test]
+fn points_sharing_their_tiles_candidates_shade_as_alone() {
+    for (block, size) in [(2, (64, 48, 2)), (16, (96, 64, 1))] {
+        let (used, built) = compare("suzanne.toml", size, block);
+        // The monkey is in front of the light at many of these points: the lists are used,
+        // each by several points.
+        assert!(
+            used > 500 && used > 3 * built,
+            "block {block}: {used} uses of {built} lists"
+        );
+    }
+}
