@@ -370,6 +370,13 @@ pub fn probe_corrected(
     }
     let material = ctx.prepared.materials[object].clone();
     let mut scratch = ShadingScratch::default();
+    // Through its tile, as the renderer shades it (an `--aa 1` pixel): the region of its
+    // block shares what it can, and the recording says what.
+    if ctx.prepared.tiles_share_candidates(method) && pixel.0 >= 0.0 && pixel.1 >= 0.0 {
+        let basis = camera.basis()?;
+        let at = (pixel.0.floor() as u32, pixel.1.floor() as u32);
+        scratch.share_with_tile(ctx.tile_region_of(&basis, (size.0, size.1, 1), at));
+    }
     // The pixel's value: exactly what `RenderContext::radiance` computes, plus the
     // environment's term as `RenderContext::render_full` adds it.
     probe.radiance = match &correction {

@@ -96,3 +96,65 @@ fn points_sharing_their_tiles_candidates_shade_as_alone() {
         );
     }
 }
+
+/// The probe shades its pixel through its tile's region, as an `--aa 1` render does: the same
+/// value, and a recording of what the region shared, which the stepper names.
+#[test]
+fn the_probe_records_what_its_tile_shared() {
+    use penumbra::inspect::probe;
+    use penumbra::views::stages::probe_steps;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/blender/suzanne.toml");
+    let scene = load_scene(&path).unwrap();
+    let camera = scene.camera.unwrap();
+    let size = (128, 128);
+    let settings = RenderSettings {
+        width: size.0,
+        height: size.1,
+        aa: 1,
+        method: RenderMethod::Analytic,
+        ..RenderSettings::default()
+    };
+    let ctx = RenderContext::for_render(&scene, &settings);
+    let image = ctx.render(&camera, &settings, None).unwrap().0;
+    let mut recorded = 0;
+    // Floor points in the monkey's penumbra and shadow, and points on the monkey.
+    for (x, y) in [
+        (60, 100),
+        (72, 100),
+        (80, 96),
+        (40, 110),
+        (64, 64),
+        (70, 60),
+    ] {
+        let p = probe(
+            &ctx,
+            "suzanne",
+            &camera,
+            size,
+            (x as f64, y as f64),
+            Method::Analytic,
+            false,
+        )
+        .unwrap();
+        let pixel = image.pixels[(y * size.0 + x) as usize];
+        assert_eq!(p.radiance, pixel, "pixel ({x}, {y})");
+        let shares: Vec<_> = p
+            .recording
+            .lights
+            .iter()
+            .flat_map(|l| &l.tile_shares)
+            .collect();
+        for t in &shares {
+            if let Some(n) = t.shared_edges {
+                assert!(n < t.mesh_edges && t.radius > 0.0, "({x}, {y}): {t:?}");
+                recorded += 1;
+                let label = format!("the {n} of {} edges its tile's region", t.mesh_edges);
+                assert!(
+                    probe_steps(&p).iter().any(|s| s.label.contains(&label)),
+                    "({x}, {y}): no step names {label:?}"
+                );
+            }
+        }
+    }
+    assert!(recorded >= 3, "{recorded} probes shared their tile's edges");
+}

@@ -141,6 +141,8 @@ pub struct TileCandidates {
     /// Edge lists built, and queries that used one (for the measurements).
     pub built: u64,
     pub shared: u64,
+    /// The length of the list the last windowed query took, if it took one.
+    pub last: Option<u32>,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -211,6 +213,7 @@ impl TileCandidates {
             return None;
         }
         self.shared += 1;
+        self.last = Some(slot.edges.len() as u32);
         Some(&slot.edges)
     }
 }

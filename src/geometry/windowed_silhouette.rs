@@ -165,6 +165,7 @@ pub fn exact_silhouette_in_window(
     //    that may meet the cone and the pyramid of W' (all skip tests at once); without one,
     //    the edges of the faces whose boxes meet both.
     scratch.candidates.clear();
+    scratch.tile_candidates.last = None;
     if let Some(h) = poly.index.edge_hierarchy.as_deref() {
         let shared = match &scratch.tile {
             Some(q) => scratch.tile_candidates.edges(h, poly, q, x, &scratch.sides),

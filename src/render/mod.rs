@@ -533,7 +533,7 @@ impl RenderContext {
         let share = self.prepared.tiles_share_candidates(method);
         let begin = |s: &mut TileScratch, bounds: TileBounds| {
             if share {
-                s.find_hits(self, basis, bounds, (w, h, aa));
+                s.hits.find(self, basis, bounds, (w, h, aa));
             }
         };
         let pixels = render_tiles_with(w, h, cancel, TileScratch::default, begin, |s, x, y| {

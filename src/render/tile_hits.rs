@@ -38,18 +38,39 @@ pub(super) struct TileHits {
     regions: Vec<TileRegion>,
 }
 
-impl TileScratch {
+impl RenderContext {
+    /// The region the renderer puts the first camera sample of pixel (x, y) in, on an image of
+    /// `w` × `h` pixels with `aa` × `aa` samples each (what the probe shades its point
+    /// through); `None` off the image, where nothing is hit, or for a point that is not shaded.
+    pub fn tile_region_of(
+        &self,
+        basis: &CameraBasis,
+        (w, h, aa): (u32, u32, u32),
+        (x, y): (u32, u32),
+    ) -> Option<TileRegion> {
+        if x >= w || y >= h || aa == 0 {
+            return None;
+        }
+        let tiles = Tiles::new(w, h);
+        let t = (y / Tiles::SIDE) * w.div_ceil(Tiles::SIDE) + x / Tiles::SIDE;
+        let mut hits = TileHits::default();
+        hits.find(self, basis, tiles.bounds(t as usize), (w, h, aa));
+        hits.hit(x, y, 0).and_then(|(_, region)| region)
+    }
+}
+
+impl TileHits {
     /// Finds the hits of every camera sample of the tile `bounds` (an image of `w` × `h`
     /// pixels, `aa` × `aa` samples each) and the regions of its objects.
     /// Memory: one hit per sample of one tile (16 × 16 × aa² of them), reused.
-    pub(super) fn find_hits(
+    pub(super) fn find(
         &mut self,
         ctx: &RenderContext,
         basis: &CameraBasis,
         ((x0, y0), (x1, y1)): TileBounds,
         (w, h, aa): (u32, u32, u32),
     ) {
-        let t = &mut self.hits;
+        let t = self;
         t.origin = (x0, y0);
         t.width = x1 - x0;
         t.samples = aa * aa;

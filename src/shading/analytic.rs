@@ -30,7 +30,9 @@ use super::ltc_correction::{
     CorrectionEstimate, CorrectionSampling, CorrectionScratch, GlossyLobe, estimate_correction,
 };
 use super::outline::{Fallbacks, Outline, OutlineScratch, Role};
-use super::recorder::{ExactSilhouetteRecord, Lobe, Recorder, Stage, TreeLookupRecord};
+use super::recorder::{
+    ExactSilhouetteRecord, Lobe, Recorder, Stage, TileShareRecord, TreeLookupRecord,
+};
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::horizon_split::HorizonSplit;
 use crate::geometry::spherical_polygon::clip_loop_to_half_spaces;
@@ -781,6 +783,17 @@ pub(super) fn subtract_occluder<R: Recorder>(
                 &mut scratch.outline,
             )
         };
+        if R::ENABLED && windowed && !kept_outline {
+            if let Some(q) = &scratch.outline.window.tile {
+                rec.tile_share(&TileShareRecord {
+                    occluder: oi,
+                    centre: q.region.centre,
+                    radius: q.region.radius,
+                    shared_edges: scratch.outline.window.tile_candidates.last,
+                    mesh_edges: occ.poly.edges.len() as u32,
+                });
+            }
+        }
         // At a point on this mesh under a light that reaches the horizon, the windowed outline
         // cannot take the light's window (its own face's edges lie on the horizon): split the
         // window along a circle tilted just above the horizon, the outline in the part above

@@ -28,7 +28,7 @@ pub use prepared::{MeshPath, MoveReuse, PrepareOptions, PreparedObject, Prepared
 pub use recorder::{
     EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide, EnvironmentTerm,
     ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, RayOutcome, Recorder,
-    SetDifferenceRecord, Stage, StageRecording, TreeLookupRecord,
+    SetDifferenceRecord, Stage, StageRecording, TileShareRecord, TreeLookupRecord,
 };
 pub use tree_library::TreeLibrary;
 

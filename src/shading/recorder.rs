@@ -52,6 +52,9 @@ pub trait Recorder {
     /// How the exact silhouette of a closed non-convex light (`occluder == None`) or occluder
     /// was found at this point (001 Sect. 4.3, 5.2).
     fn exact_silhouette(&mut self, _record: &ExactSilhouetteRecord) {}
+    /// What the point's tile shared for an occluder's outline inside the light's window
+    /// (`geometry::tile_candidates`).
+    fn tile_share(&mut self, _record: &TileShareRecord) {}
     fn culled_occluders(&mut self, _kept: &[usize]) {}
     /// One `SetDifference` of Alg. 1 line 12 (its Greiner–Hormann phases, if recorded, were
     /// written into [`Recorder::gh_steps`] by the call itself).
@@ -118,6 +121,20 @@ pub struct ExactSilhouetteRecord {
     pub rejected: Vec<[DVec3; 2]>,
 }
 
+/// What the region of a point's tile shared for one occluder's outline inside a light's
+/// window (`geometry::tile_candidates`), for the debugger: the region's ball, and the edges it
+/// keeps as candidates for all its points (`None`: the point took the whole hierarchy, the
+/// region's cone being too wide or the point outside its ball).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TileShareRecord {
+    pub occluder: usize,
+    pub centre: DVec3,
+    pub radius: f64,
+    pub shared_edges: Option<u32>,
+    /// The mesh's edges, for scale.
+    pub mesh_edges: u32,
+}
+
 /// A lookup in a mesh's BSP tree of precomputed silhouettes (001 Sect. 5), for the debugger:
 /// which tree shading read (`PreparedObject::silhouette_tree`), the planes tested on the way
 /// to the point's leaf with the side taken, and whether that leaf answered (else the
@@ -168,6 +185,9 @@ pub struct LightRecord {
     /// How the exact silhouettes of non-convex meshes were found.
     #[serde(default)]
     pub exact: Vec<ExactSilhouetteRecord>,
+    /// What the point's tile shared for the occluders' windowed outlines.
+    #[serde(default)]
+    pub tile_shares: Vec<TileShareRecord>,
     pub occluder_polygons: Vec<(usize, Option<usize>, Stage, SphericalPolygon)>,
     pub set_differences: Vec<SetDifferenceRecord>,
     /// Per lobe: the transformed and the clipped polygon, and the lobe's integral (for the
@@ -352,6 +372,9 @@ impl Recorder for StageRecording {
     }
     fn exact_silhouette(&mut self, record: &ExactSilhouetteRecord) {
         self.current().exact.push(record.clone());
+    }
+    fn tile_share(&mut self, record: &TileShareRecord) {
+        self.current().tile_shares.push(record.clone());
     }
     fn culled_occluders(&mut self, kept: &[usize]) {
         self.current().occluders_kept = kept.to_vec();

@@ -86,6 +86,19 @@ pub fn steps(
             ),
             None => String::new(),
         };
+        // What the point's tile shared for an occluder's outline in the light's window.
+        let shared = |occluder: usize| match lr.tile_shares.iter().find(|t| t.occluder == occluder)
+        {
+            Some(t) => match t.shared_edges {
+                Some(n) => format!(
+                    "; inside the light's window, from the {n} of {} edges its tile's region \
+                     (radius {:.3}) keeps",
+                    t.mesh_edges, t.radius
+                ),
+                None => "; inside the light's window, its own candidate edges".into(),
+            },
+            None => String::new(),
+        };
         let mut push = |kind: StepKind, what: String| {
             out.push(Step {
                 record: r,
@@ -120,7 +133,11 @@ pub fn steps(
             match stage {
                 crate::shading::Stage::Silhouette => push(
                     StepKind::OccluderSilhouette { k },
-                    format!("occluder {name}: silhouette (line 9{})", exact(Some(*oi))),
+                    format!(
+                        "occluder {name}: silhouette (line 9{}{})",
+                        exact(Some(*oi)),
+                        piece.map_or_else(|| shared(*oi), |_| String::new())
+                    ),
                 ),
                 _ => push(
                     StepKind::OccluderClipped { k },
