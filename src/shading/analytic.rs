@@ -783,16 +783,17 @@ pub(super) fn subtract_occluder<R: Recorder>(
                 &mut scratch.outline,
             )
         };
-        if R::ENABLED && windowed && !kept_outline {
-            if let Some(q) = &scratch.outline.window.tile {
-                rec.tile_share(&TileShareRecord {
-                    occluder: oi,
-                    centre: q.region.centre,
-                    radius: q.region.radius,
-                    shared_edges: scratch.outline.window.tile_candidates.last,
-                    mesh_edges: occ.poly.edges.len() as u32,
-                });
-            }
+        if R::ENABLED
+            && windowed
+            && let Some(q) = &scratch.outline.window.tile
+        {
+            rec.tile_share(&TileShareRecord {
+                occluder: oi,
+                centre: q.region.centre,
+                radius: q.region.radius,
+                shared_edges: scratch.outline.window.tile_candidates.last,
+                mesh_edges: occ.poly.edges.len() as u32,
+            });
         }
         // At a point on this mesh under a light that reaches the horizon, the windowed outline
         // cannot take the light's window (its own face's edges lie on the horizon): split the
