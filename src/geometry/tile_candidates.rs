@@ -39,7 +39,7 @@
 //!   ([`RegionPyramid`]).
 
 use super::edge_hierarchy::{EdgeHierarchy, RegionCone, RegionPyramid};
-use super::polyhedron::Polyhedron;
+use super::polyhedron::{NO_FACE, Plane, Polyhedron};
 use glam::DVec3;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -155,23 +155,34 @@ struct Slot {
     centre: DVec3,
     radius: f64,
     edges: Vec<u32>,
+    /// The planes of the two faces of each edge of `edges[..planes.len()]` (the edges with
+    /// two faces; the boundary edges follow them), side by side for the points' own test.
+    planes: Vec<[Plane; 2]>,
 }
 
 impl TileCandidates {
-    /// The candidate edges of `poly` (through its `hierarchy`) for the window of a point `x`
-    /// of `query`'s region ([`EdgeHierarchy::tile_candidates`]), found or built; `None` when
-    /// `x` is outside the region or the region's cone is too wide.
+    /// Writes into `out` the candidate edges of `poly` (through its `hierarchy`) for the
+    /// window of the point `x` of `query`'s region: the region's list
+    /// ([`EdgeHierarchy::tile_candidates`], found or built) without the edges that the
+    /// windowed silhouette passes over at `x` as no contour edge (both faces present, seen
+    /// from the same side), by the same test on the same planes. `false` (and `out`
+    /// untouched) when `x` is outside the region or the region's cone is too wide.
     ///
     /// `sides`: the inward normals of the point's widened window (world directions); when the
-    /// window is the whole light, an edge list built here is restricted to its pyramid too.
-    pub fn edges(
+    /// window is the whole light, a list built here is restricted to its pyramid too.
+    /// `edge_on`: the coplanarity tolerance when `x` lies on the mesh (a face within it of `x`
+    /// is left out, and its edges count as boundary edges).
+    #[allow(clippy::too_many_arguments)]
+    pub fn fill(
         &mut self,
         hierarchy: &EdgeHierarchy,
         poly: &Polyhedron,
         query: &TileQuery,
         x: DVec3,
         sides: &[DVec3],
-    ) -> Option<&[u32]> {
+        edge_on: Option<f64>,
+        out: &mut Vec<u32>,
+    ) -> bool {
         self.clock += 1;
         let found = self
             .slots
@@ -198,6 +209,17 @@ impl TileCandidates {
                     Some(cone) => {
                         let pyramid = query.whole_light.then(|| query.pyramid(x, sides));
                         hierarchy.tile_candidates(poly, &cone, pyramid.as_ref(), &mut slot.edges);
+                        slot.planes.clear();
+                        for &e in &slot.edges {
+                            let [g0, g1] = poly.edges[e as usize].faces;
+                            if g0 == NO_FACE || g1 == NO_FACE {
+                                break; // the boundary edges, last
+                            }
+                            slot.planes.push([
+                                poly.face_planes[g0 as usize],
+                                poly.face_planes[g1 as usize],
+                            ]);
+                        }
                         true
                     }
                     None => false,
@@ -210,10 +232,19 @@ impl TileCandidates {
         slot.used = self.clock;
         let holds = (x - slot.centre).length_squared() <= slot.radius * slot.radius;
         if !(slot.valid && holds) {
-            return None;
+            return false;
         }
         self.shared += 1;
         self.last = Some(slot.edges.len() as u32);
-        Some(&slot.edges)
+        let (with_faces, boundary) = slot.edges.split_at(slot.planes.len());
+        for (&e, [p0, p1]) in with_faces.iter().zip(&slot.planes) {
+            let (s0, s1) = (p0.eval(x), p1.eval(x));
+            let absent = |s: f64| edge_on.is_some_and(|tol| s.abs() <= tol);
+            if absent(s0) || absent(s1) || (s0 > 0.0) != (s1 > 0.0) {
+                out.push(e);
+            }
+        }
+        out.extend_from_slice(boundary);
+        true
     }
 }

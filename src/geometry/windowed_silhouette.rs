@@ -167,22 +167,27 @@ pub fn exact_silhouette_in_window(
     scratch.candidates.clear();
     scratch.tile_candidates.last = None;
     if let Some(h) = poly.index.edge_hierarchy.as_deref() {
-        let shared = match &scratch.tile {
-            Some(q) => scratch.tile_candidates.edges(h, poly, q, x, &scratch.sides),
-            None => None,
-        };
-        match shared {
-            Some(edges) => scratch.candidates.extend_from_slice(edges),
-            None => {
-                h.candidates_in_window(
-                    x,
-                    centre,
-                    cos_cone,
-                    sin_cone,
-                    &scratch.sides,
-                    &mut scratch.candidates,
-                );
-            }
+        let edge_on = on_mesh.then_some(tol);
+        let shared = scratch.tile.as_ref().is_some_and(|q| {
+            scratch.tile_candidates.fill(
+                h,
+                poly,
+                q,
+                x,
+                &scratch.sides,
+                edge_on,
+                &mut scratch.candidates,
+            )
+        });
+        if !shared {
+            h.candidates_in_window(
+                x,
+                centre,
+                cos_cone,
+                sin_cone,
+                &scratch.sides,
+                &mut scratch.candidates,
+            );
         }
     } else {
         // One stamp per call: marks left by other meshes are older, so the buffer is shared
@@ -241,8 +246,12 @@ pub fn exact_silhouette_in_window(
         {
             return Err(Degenerate::Window); // a face plane through x
         }
-        let a = (poly.vertices[i as usize] - x).normalize();
-        let b = (poly.vertices[j as usize] - x).normalize();
+        let (va, vb) = (poly.vertices[i as usize] - x, poly.vertices[j as usize] - x);
+        if wholly_outside(&scratch.sides, va, vb) {
+            continue;
+        }
+        let a = va.normalize();
+        let b = vb.normalize();
         let Some(n) = a.cross(b).try_normalize() else {
             continue; // seen end-on
         };
@@ -479,6 +488,27 @@ impl WindowScratch {
     pub fn qi_counts(&self) -> impl Iterator<Item = (DVec3, [u32; 2], i32, bool)> + '_ {
         ContourPieces::qi_counts(&self.qi)
     }
+}
+
+/// Whether the arc from the direction of `va` to that of `vb` lies wholly outside the great
+/// circle of one of `sides`, with neither end within twice the boundary tolerance of any
+/// side's circle: without a square root, what the clipping of step 2 would find from the unit
+/// directions (both ends outside that side, and no end on a circle), hence a `continue` there.
+/// The margin `2 TOL` is far above the rounding of normalising (a few 1e-16), so the signs and
+/// the tolerance tests agree with the unit directions'.
+#[inline]
+fn wholly_outside(sides: &[DVec3], va: DVec3, vb: DVec3) -> bool {
+    let margin = 4.0 * TOL * TOL;
+    let (la, lb) = (margin * va.length_squared(), margin * vb.length_squared());
+    let mut outside = false;
+    for side in sides {
+        let (fa, fb) = (side.dot(va), side.dot(vb));
+        if fa * fa <= la || fb * fb <= lb {
+            return false;
+        }
+        outside |= fa < 0.0 && fb < 0.0;
+    }
+    outside
 }
 
 /// `W'`: the window (unit directions in `frame`) in world directions, scaled about its centre
