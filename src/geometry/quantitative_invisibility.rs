@@ -145,11 +145,18 @@ pub struct QiScratch {
     pub(crate) count: Vec<i32>,
     /// Whether the count came from a ray at the piece.
     pub(crate) from_ray: Vec<bool>,
+    /// Per piece whose count came across a mesh vertex: the piece it came from and the
+    /// vertex. The step back across that vertex is the same step negated, so it is not
+    /// evaluated again.
+    via_vertex: Vec<(u32, u32)>,
     tiny: Vec<bool>,
     /// Per crossing: the pieces that start at it (one on each edge).
     after: Vec<[u32; 2]>,
     /// (vertex, piece) for every piece end at a mesh vertex, sorted.
     at_vertex: Vec<(u32, u32)>,
+    /// Per piece end (2 q for its start, 2 q + 1 for its end) at a mesh vertex: where that
+    /// vertex's entries begin in `at_vertex`.
+    vertex_group: Vec<u32>,
     stack: Vec<u32>,
     parent: Vec<u32>,
     /// Count the connected sets of pieces too ([`QiStats::components`]), for tests and the
@@ -380,6 +387,8 @@ impl QiScratch {
         self.count.resize(n, UNKNOWN);
         self.from_ray.clear();
         self.from_ray.resize(n, false);
+        self.via_vertex.clear();
+        self.via_vertex.resize(n, (u32::MAX, u32::MAX));
         self.tiny.clear();
         self.tiny.extend(
             self.pieces
@@ -409,6 +418,21 @@ impl QiScratch {
             }
         }
         self.at_vertex.sort_unstable();
+        self.vertex_group.clear();
+        self.vertex_group.resize(2 * n, u32::MAX);
+        let mut group = 0;
+        for (k, &(v, q)) in self.at_vertex.iter().enumerate() {
+            if k > 0 && self.at_vertex[k - 1].0 != v {
+                group = k as u32;
+            }
+            let p = &self.pieces[q as usize];
+            if matches!(p.start, QiEnd::Vertex(w) if w == v) {
+                self.vertex_group[2 * q as usize] = group;
+            }
+            if matches!(p.end, QiEnd::Vertex(w) if w == v) {
+                self.vertex_group[2 * q as usize + 1] = group;
+            }
+        }
 
         let mut conflict = false;
         for q0 in 0..n {
@@ -479,14 +503,17 @@ impl QiScratch {
                 }
                 // Around the mesh vertices at its ends.
                 if let Some(star) = star {
-                    for end in [p.start, p.end] {
+                    for (i, end) in [p.start, p.end].into_iter().enumerate() {
                         let QiEnd::Vertex(v) = end else { continue };
-                        let from = self.at_vertex.partition_point(|&(w, _)| w < v);
-                        let mut k = from;
+                        let mut k = self.vertex_group[2 * q + i] as usize;
                         while k < self.at_vertex.len() && self.at_vertex[k].0 == v {
                             let r = self.at_vertex[k].1 as usize;
                             k += 1;
-                            if r == q {
+                            // The step q took its count by, back: `vertex_step` with its two
+                            // edges swapped is the negated step (each face's test is the same
+                            // pair of tests, and a tie in either is a tie in both), so the
+                            // check below could only agree.
+                            if r == q || self.via_vertex[q] == (r as u32, v) {
                                 continue;
                             }
                             let g = self.edges[self.pieces[r].edge as usize];
@@ -499,7 +526,11 @@ impl QiScratch {
                                 (other_end(&g, v), g.faces),
                                 &absent,
                             );
+                            let unknown = self.count[r] == UNKNOWN;
                             link(r, d, self);
+                            if unknown && self.count[r] != UNKNOWN {
+                                self.via_vertex[r] = (q as u32, v);
+                            }
                         }
                     }
                 }
