@@ -27,7 +27,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use tile_hits::{TileBounds, TileScratch};
+use tile_hits::TileScratch;
 use web_time::Instant;
 
 /// The camera rays of pixel (x, y): `aa`×`aa` stratified positions at the centres of the
@@ -667,6 +667,9 @@ where
 {
     render_tiles_with(width, height, cancel, init, |_, _| {}, pixel)
 }
+
+/// A tile's corner and its far corner (exclusive), in pixels.
+pub type TileBounds = ((u32, u32), (u32, u32));
 
 /// [`render_tiles`] with `begin(scratch, bounds)` called before each tile's pixels: what the
 /// tile's pixels share is found there.

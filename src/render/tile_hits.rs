@@ -2,7 +2,7 @@
 //! (balls) holding its shading points, one per object and block of pixels, which the shading
 //! stages share work within (`geometry::tile_candidates`).
 
-use super::{PrimaryHit, RenderContext, Tiles, subpixel_rays};
+use super::{PrimaryHit, RenderContext, TileBounds, Tiles, subpixel_rays};
 use crate::geometry::TileRegion;
 use crate::scene::camera::CameraBasis;
 use crate::shading::ShadingScratch;
@@ -14,9 +14,6 @@ use glam::DVec3;
 /// 12.1, 12.0, 13.1 and (at 128 × 128, 7.0 s against 3.7 s alone) far more
 /// (docs/silhouettes.md, "Candidates shared by a tile").
 const BLOCK: u32 = 2;
-
-/// A tile's corner and its far corner (exclusive), in pixels.
-pub type TileBounds = ((u32, u32), (u32, u32));
 
 /// What one worker thread of the analytic renderer reuses from tile to tile.
 #[derive(Default)]
