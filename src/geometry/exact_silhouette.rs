@@ -92,14 +92,26 @@ const SWEEP_MARGIN: f64 = 1e-8;
 /// along it (±(e_k − n n_k), normalised) where they lie on the arc.
 fn arc_box(a: DVec3, b: DVec3, n: DVec3) -> [DVec3; 2] {
     let (mut lo, mut hi) = (a.min(b), a.max(b));
+    // A direction c of the circle is on the arc iff (a × c) · n ≥ 0 and (c × b) · n ≥ 0, that
+    // is c · (n × a) ≥ 0 and c · (b × n) ≥ 0: signs that do not depend on c's length, so the
+    // extremes are normalised only when on the arc. (Where rounding could tell the normalised
+    // and the unnormalised direction apart, the extreme is within rounding of an end, which
+    // the box holds already up to far less than its margin.)
+    let (na, bn) = (n.cross(a), b.cross(n));
     for k in 0..3 {
         let mut axis = DVec3::ZERO;
         axis[k] = 1.0;
-        let Some(d) = (axis - n * n[k]).try_normalize() else {
+        let u = axis - n * n[k];
+        let (sa, sb) = (u.dot(na), u.dot(bn));
+        let (plus, minus) = (sa >= 0.0 && sb >= 0.0, sa <= 0.0 && sb <= 0.0);
+        if !(plus || minus) {
+            continue;
+        }
+        let Some(d) = u.try_normalize() else {
             continue; // the circle is perpendicular to the axis: constant along it
         };
-        for c in [d, -d] {
-            if a.cross(c).dot(n) >= 0.0 && c.cross(b).dot(n) >= 0.0 {
+        for (c, on) in [(d, plus), (-d, minus)] {
+            if on {
                 (lo, hi) = (lo.min(c), hi.max(c));
             }
         }
