@@ -23,6 +23,11 @@ use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_dis
 use crate::math::Frame;
 use glam::DVec3;
 
+/// How far (a sine) both ends of an arc must be on one side of another arc's circle for the
+/// pair to be passed over without its crossing test: far above the crossing test's tolerance
+/// (1e-10) and the rounding of unit vectors.
+const APART: f64 = 1e-8;
+
 /// Where a piece of a contour arc starts or ends: a mesh vertex, an apparent intersection (by
 /// id), or a point where the arc leaves the window (by id, windowed silhouette only).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -173,6 +178,18 @@ impl ContourPieces {
         let mut test = |i: usize, j: usize| -> Result<(), Degenerate> {
             let (e, g) = (&arcs[i], &arcs[j]);
             if e.v.iter().any(|v| g.v.contains(v)) {
+                return Ok(());
+            }
+            // An arc (shorter than π) whose ends lie on one side of the other's circle, both by
+            // more than `APART`, stays on that side by more than `APART` (its height over the
+            // circle is a sinusoid with no sign change on it): the circles' common points are
+            // then that far outside it, which `position` (tolerance 1e-10) calls outside. No
+            // square root for the pairs that cannot meet.
+            let apart = |n: DVec3, a: &ContourArc| {
+                let (s0, s1) = (n.dot(a.from), n.dot(a.to));
+                (s0 > APART && s1 > APART) || (s0 < -APART && s1 < -APART)
+            };
+            if apart(e.n, g) || apart(g.n, e) {
                 return Ok(());
             }
             let Some(mut p) = e.n.cross(g.n).try_normalize() else {
