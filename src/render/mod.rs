@@ -540,7 +540,9 @@ impl RenderContext {
             let start = collect.then(Instant::now);
             let mut sum = DVec3::ZERO;
             let mut stats = PixelStats::default();
-            for (k, ray) in subpixel_rays(basis, x, y, aa, w, h).enumerate() {
+            // Lazy: with a tile's hits found already, no camera ray is made again.
+            let mut rays = subpixel_rays(basis, x, y, aa, w, h);
+            for k in 0..(aa * aa) as usize {
                 let scratch = &mut s.shading;
                 sum += match share {
                     true => match s.hits.hit(x, y, k) {
@@ -550,7 +552,9 @@ impl RenderContext {
                         }
                         None => DVec3::ZERO,
                     },
-                    false => self.radiance(&ray, method, scratch, &mut NoRecorder),
+                    false => rays.next().map_or(DVec3::ZERO, |ray| {
+                        self.radiance(&ray, method, scratch, &mut NoRecorder)
+                    }),
                 };
                 stats.violations += scratch.stats.violations;
                 scratch.stats.violations = 0;

@@ -389,24 +389,26 @@ impl SetDifference {
         self.consistent
     }
 
-    /// Whether original node `c` is the tip of a spike of its loop (see [`is_spike`]).
-    fn node_is_spike(&self, c: usize) -> bool {
+    /// Original node `c`'s direction between those of its neighbours in its loop.
+    fn corner(&self, c: usize) -> (DVec3, DVec3, DVec3) {
         let node = &self.nodes[c];
-        is_spike(
+        (
             self.nodes[node.prev as usize].dir,
             node.dir,
             self.nodes[node.orig_next as usize].dir,
         )
     }
 
+    /// Whether original node `c` is the tip of a spike of its loop (see [`is_spike`]).
+    fn node_is_spike(&self, c: usize) -> bool {
+        let (a, b, d) = self.corner(c);
+        is_spike(a, b, d)
+    }
+
     /// Whether original node `c` is a straight vertex of its loop (see [`is_straight`]).
     fn node_is_straight(&self, c: usize) -> bool {
-        let node = &self.nodes[c];
-        is_straight(
-            self.nodes[node.prev as usize].dir,
-            node.dir,
-            self.nodes[node.orig_next as usize].dir,
-        )
+        let (a, b, d) = self.corner(c);
+        is_straight(a, b, d)
     }
 
     /// Total capacity of the scratch buffers, in elements (for allocation tests and tuning).
