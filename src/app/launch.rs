@@ -269,7 +269,14 @@ impl eframe::App for AutoScreenshot {
             16 => ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close),
             _ => {}
         }
-        ui.ctx().request_repaint();
+        // While the render runs, the workbench repaints at its own pace (as it does for a
+        // person); a driver that repainted every frame would take the render's cores.
+        if matches!(self.state, 0 | 5) {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
+        } else {
+            ui.ctx().request_repaint();
+        }
     }
 }
 

@@ -5,6 +5,7 @@ pub mod environment;
 pub mod progress;
 pub mod progressive;
 pub mod request;
+pub mod sample_grid;
 pub mod slicing;
 pub mod stochastic;
 mod tile_hits;
@@ -25,6 +26,7 @@ use crate::shading::{
 use crate::stochastic::{AreaLights, LightSampling};
 use glam::DVec3;
 use rayon::prelude::*;
+pub use sample_grid::{Coarser, SampleGrid};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use tile_hits::TileScratch;
@@ -497,7 +499,11 @@ impl RenderContext {
         }
         let start = Instant::now();
         let mut out = match settings.method.analytic() {
-            Some(method) => self.render_analytic(&basis, settings, method, cancel),
+            Some(method) => {
+                let grid = SampleGrid::full(settings.width, settings.height, settings.aa);
+                let collect = settings.collect_stats;
+                self.render_analytic(&basis, &grid, collect, method, cancel, None)
+            }
             None => stochastic::render(self, &basis, settings, cancel),
         };
         // The environment's term adds to the area lights' (both are linear in the radiance).
@@ -520,30 +526,101 @@ impl RenderContext {
         Ok(out)
     }
 
+    /// Whether a progressive render with `settings` can interlace its levels
+    /// ([`RenderContext::render_level`]): a deterministic method whose every sample is one
+    /// camera ray's, with no environment term (rendered on its own pixel grid) and no per-pixel
+    /// statistics (they would miss the samples taken over).
+    pub fn interlaces(&self, settings: &RenderSettings) -> bool {
+        settings.method.analytic().is_some()
+            && self.environment.is_none()
+            && !settings.collect_stats
+    }
+
+    /// One level of a progressive render of the analytic methods: the samples of `grid` (a
+    /// preview, or the full image at stride 1), taking over the samples a `coarser` level
+    /// computed already ([`sample_grid`]). At stride 1 the image equals
+    /// [`RenderContext::render_full`]'s bit for bit. `None` for the methods and settings whose
+    /// samples do not nest (stochastic methods, an environment term, per-pixel statistics):
+    /// render those with [`RenderContext::render_full`].
+    pub fn render_level(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        stride: u32,
+        coarser: Option<Coarser>,
+        cancel: Option<&AtomicBool>,
+    ) -> Option<Result<RenderOutput, String>> {
+        if !self.interlaces(settings) {
+            return None;
+        }
+        let method = settings.method.analytic()?;
+        let basis = match camera.basis() {
+            Ok(b) => b,
+            Err(e) => return Some(Err(e)),
+        };
+        if settings.width == 0 || settings.height == 0 || settings.aa == 0 || stride == 0 {
+            return Some(Err("image size and --aa must be positive".into()));
+        }
+        let grid = SampleGrid {
+            stride,
+            ..SampleGrid::full(settings.width, settings.height, settings.aa)
+        };
+        let start = Instant::now();
+        let mut out = self.render_analytic(&basis, &grid, false, method, cancel, coarser);
+        if let Some(c) = coarser {
+            c.add_counts_to(&grid, &mut out);
+        }
+        let seconds = start.elapsed().as_secs_f64();
+        let (w, h) = grid.size();
+        out.stats = RenderStats {
+            seconds,
+            pixels_per_second: (w * h) as f64 / seconds.max(1e-12),
+            violations: out.violations,
+            fallbacks: out.fallbacks,
+        };
+        Some(Ok(out))
+    }
+
+    /// The analytic methods' image of the samples of `grid`, sample 0 taken from `coarser`
+    /// where it has it. `collect`: per-pixel statistics (their time includes only the samples
+    /// computed here).
     fn render_analytic(
         &self,
         basis: &CameraBasis,
-        settings: &RenderSettings,
+        grid: &SampleGrid,
+        collect: bool,
         method: Method,
         cancel: Option<&AtomicBool>,
+        coarser: Option<Coarser>,
     ) -> RenderOutput {
-        let (w, h, aa) = (settings.width, settings.height, settings.aa);
-        let inv = 1.0 / (aa * aa) as f64;
-        let collect = settings.collect_stats;
+        let (w, h) = grid.size();
+        let samples = grid.samples();
+        let inv = 1.0 / samples as f64;
         let share = self.prepared.tiles_share_candidates(method);
         let begin = |s: &mut TileScratch, bounds: TileBounds| {
             if share {
-                s.hits.find(self, basis, bounds, (w, h, aa));
+                s.hits.find(self, basis, bounds, grid);
             }
         };
         let pixels = render_tiles_with(w, h, cancel, TileScratch::default, begin, |s, x, y| {
             let start = collect.then(Instant::now);
             let mut sum = DVec3::ZERO;
             let mut stats = PixelStats::default();
+            let known = coarser.and_then(|c| c.sample(grid, x, y));
             // Lazy: with a tile's hits found already, no camera ray is made again.
-            let mut rays = subpixel_rays(basis, x, y, aa, w, h);
-            for k in 0..(aa * aa) as usize {
+            let mut rays = grid.rays(basis, x, y);
+            for k in 0..samples as usize {
                 let scratch = &mut s.shading;
+                if k == 0
+                    && let Some(value) = known
+                {
+                    // The same sum as computing it: 0 + value.
+                    sum += value;
+                    if !share {
+                        rays.next();
+                    }
+                    continue;
+                }
                 sum += match share {
                     true => match s.hits.hit(x, y, k) {
                         Some((hit, region)) => {

@@ -1,13 +1,15 @@
 //! Progressive rendering for an interactive viewport: the same renderer at 1/8, 1/4, 1/2 and
 //! full resolution (a first image in milliseconds), then, for the stochastic methods, more
-//! passes with new seeds averaged into the buffers. Each step is handed to `emit` as soon as it
+//! passes with new seeds averaged into the buffers. The analytic methods' levels are
+//! interlaced (`super::sample_grid`): each finer level takes over the coarser one's samples,
+//! so all of them together cost one full image. Each step is handed to `emit` as soon as it
 //! is done; `cancel` stops the work between tiles.
 
 use super::environment::render_environment;
 use super::stochastic::{
     StochasticBuffers, compose, compose_cancellable, render_buffers, render_buffers_with,
 };
-use super::{RenderContext, RenderMethod, RenderOutput, RenderSettings, slicing};
+use super::{Coarser, RenderContext, RenderMethod, RenderOutput, RenderSettings, slicing};
 use crate::scene::Camera;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -22,6 +24,8 @@ pub struct ProgressiveFrame {
     pub passes: u32,
     /// Samples per camera ray in the image so far.
     pub spp: u32,
+    /// Camera rays per pixel of the image (1 in an interlaced preview, else `aa`²).
+    pub camera_samples: u32,
     pub output: RenderOutput,
     /// Seconds since the render started.
     pub elapsed: f64,
@@ -126,13 +130,24 @@ pub fn render_progressive_with(
             spp,
             ..*settings
         };
+        // An interlaced level is described by the full image's size and its stride.
+        let s_level = RenderSettings { spp, ..*settings };
         // Coarse levels are small enough to denoise at once: only full resolution is deferred.
         let defer_level = defer && scale == 1;
         // A step of its own: a sliced render (the browser's) does each level once, and skips
         // it once a finer level is done (`None`).
         let Some(output) = slicing::step(|| -> Result<Option<RenderOutput>, String> {
             if !defer_level {
-                return ctx.render_full(camera, &s, Some(cancel)).map(Some);
+                // The analytic methods' levels are interlaced: each takes over the samples
+                // of the coarser one before it (`super::sample_grid`).
+                let coarser = last.as_ref().map(|f: &ProgressiveFrame| Coarser {
+                    stride: f.scale,
+                    output: &f.output,
+                });
+                let level = ctx.render_level(camera, &s_level, scale, coarser, Some(cancel));
+                return level
+                    .unwrap_or_else(|| ctx.render_full(camera, &s, Some(cancel)))
+                    .map(Some);
             }
             let basis = camera.basis()?;
             let Some(buffers) = render_buffers(ctx, &basis, &s, Some(cancel)) else {
@@ -165,10 +180,16 @@ pub fn render_progressive_with(
             return Ok(last);
         }
         let full = k + 1 == all.len();
+        let interlaced_preview = scale > 1 && ctx.interlaces(settings);
         let frame = ProgressiveFrame {
             scale,
             passes: 1,
             spp: s.spp,
+            camera_samples: if interlaced_preview {
+                1
+            } else {
+                settings.aa * settings.aa
+            },
             output,
             elapsed: start.elapsed().as_secs_f64(),
             finished: full && (!settings.method.is_stochastic() || max_passes <= 1),
@@ -242,6 +263,7 @@ pub fn render_progressive_with(
             scale: 1,
             passes: pass + 1,
             spp: settings.spp * (pass + 1),
+            camera_samples: settings.aa * settings.aa,
             output,
             elapsed: start.elapsed().as_secs_f64(),
             finished: pass + 1 == max_passes,
@@ -256,7 +278,9 @@ pub fn render_progressive_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::SampleGrid;
     use crate::scene::scene_file;
+    use crate::shading::NoRecorder;
 
     #[test]
     fn coarse_to_fine_ends_with_the_full_render() {
@@ -279,6 +303,66 @@ mod tests {
         let direct = ctx.render(&cam, &settings, None).unwrap().0;
         assert_eq!(last.output.image.pixels, direct.pixels);
         assert!(last.finished);
+    }
+
+    /// The analytic levels are interlaced: each preview pixel is sample 0 of a full pixel,
+    /// computed along that sample's own camera ray (checked against shading that ray alone),
+    /// and the last level, which takes those samples over, is the one-shot render bit for bit.
+    /// Sizes that the strides do not divide and `--aa 2` included.
+    #[test]
+    fn interlaced_levels_are_samples_of_the_full_render() {
+        let scene = scene_file::load_embedded("fig4").unwrap();
+        let ctx = RenderContext::new(&scene);
+        let cam = scene.camera.unwrap();
+        let basis = cam.basis().unwrap();
+        for (width, height, aa) in [(263, 197, 1), (131, 130, 2)] {
+            let settings = RenderSettings {
+                width,
+                height,
+                aa,
+                ..RenderSettings::default()
+            };
+            let cancel = AtomicBool::new(false);
+            let mut levels = Vec::new();
+            let last = render_progressive(&ctx, &cam, &settings, 1, &cancel, |f| {
+                levels.push((f.scale, f.output.image.clone()))
+            })
+            .unwrap()
+            .unwrap();
+            assert!(levels.len() >= 2, "{levels:?}");
+            let mut scratch = crate::shading::ShadingScratch::default();
+            for (scale, image) in &levels[..levels.len() - 1] {
+                let grid = SampleGrid {
+                    stride: *scale,
+                    ..SampleGrid::full(width, height, aa)
+                };
+                assert_eq!((image.width, image.height), grid.size());
+                let mut lit = 0;
+                for (i, j) in [
+                    (0, 0),
+                    (image.width / 2, image.height / 2),
+                    (image.width - 1, 7),
+                ] {
+                    let ray = grid.rays(&basis, i, j).next().unwrap();
+                    let alone = ctx.radiance(
+                        &ray,
+                        crate::shading::Method::Analytic,
+                        &mut scratch,
+                        &mut NoRecorder,
+                    );
+                    let shown = image.pixels[(j * image.width + i) as usize];
+                    assert!(
+                        (alone - shown).abs().max_element() <= 1e-12 * alone.length().max(1e-300)
+                    );
+                    lit += (alone.max_element() > 0.0) as u32;
+                }
+                assert!(lit > 0);
+            }
+            let direct = ctx.render_full(&cam, &settings, None).unwrap();
+            assert_eq!(last.output.image.pixels, direct.image.pixels);
+            assert_eq!(last.output.violations, direct.violations);
+            assert_eq!(last.output.fallbacks, direct.fallbacks);
+        }
     }
 
     /// Deferring the denoiser changes nothing but who runs it: composing a deferred frame gives

@@ -2,7 +2,7 @@
 //! (balls) holding its shading points, one per object and block of pixels, which the shading
 //! stages share work within (`geometry::tile_candidates`).
 
-use super::{PrimaryHit, RenderContext, TileBounds, Tiles, subpixel_rays};
+use super::{PrimaryHit, RenderContext, SampleGrid, TileBounds, Tiles};
 use crate::geometry::TileRegion;
 use crate::scene::camera::CameraBasis;
 use crate::shading::ShadingScratch;
@@ -51,31 +51,32 @@ impl RenderContext {
         let tiles = Tiles::new(w, h);
         let t = (y / Tiles::SIDE) * w.div_ceil(Tiles::SIDE) + x / Tiles::SIDE;
         let mut hits = TileHits::default();
-        hits.find(self, basis, tiles.bounds(t as usize), (w, h, aa));
+        let grid = SampleGrid::full(w, h, aa);
+        hits.find(self, basis, tiles.bounds(t as usize), &grid);
         hits.hit(x, y, 0).and_then(|(_, region)| region)
     }
 }
 
 impl TileHits {
-    /// Finds the hits of every camera sample of the tile `bounds` (an image of `w` × `h`
-    /// pixels, `aa` × `aa` samples each) and the regions of its objects.
+    /// Finds the hits of every camera sample of `grid` in the tile `bounds` (of the image
+    /// `grid` renders) and the regions of its objects.
     /// Memory: one hit per sample of one tile (16 × 16 × aa² of them), reused.
     pub(super) fn find(
         &mut self,
         ctx: &RenderContext,
         basis: &CameraBasis,
         ((x0, y0), (x1, y1)): TileBounds,
-        (w, h, aa): (u32, u32, u32),
+        grid: &SampleGrid,
     ) {
         let t = self;
         t.origin = (x0, y0);
         t.width = x1 - x0;
-        t.samples = aa * aa;
+        t.samples = grid.samples();
         t.hits.clear();
         t.boxes.clear();
         for y in y0..y1 {
             for x in x0..x1 {
-                for ray in subpixel_rays(basis, x, y, aa, w, h) {
+                for ray in grid.rays(basis, x, y) {
                     let hit = ctx.primary_hit(&ray).map(|hit| {
                         let region = (hit.receiver).then(|| {
                             let block = ((y - y0) / BLOCK) * Tiles::SIDE + (x - x0) / BLOCK;

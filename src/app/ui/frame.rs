@@ -77,6 +77,10 @@ impl WorkbenchApp {
         self.advance_lesson_capture(&ctx);
         #[cfg(target_arch = "wasm32")]
         self.log_milestones();
+        // In the browser the render advances a time slice per frame, so the frames must keep
+        // coming while it runs. The native render thread wakes the UI itself with each frame
+        // it publishes and when it stops: polling would only take time from it.
+        #[cfg(target_arch = "wasm32")]
         if self.worker.is_busy() {
             ctx.request_repaint_after(std::time::Duration::from_millis(50));
         }

@@ -14,14 +14,19 @@ impl AppState {
                         (Some(_), c) => format!(" + environment {}", c.method.name()),
                         _ => String::new(),
                     };
+                    // The analytic methods take no samples but their camera rays'.
+                    let samples = if f.settings.method.is_stochastic() {
+                        format!("{} spp", fr.spp)
+                    } else {
+                        format!("{} camera rays/pixel", fr.camera_samples)
+                    };
                     ui.label(format!(
-                        "{}{env} {}×{} (1/{}), pass {}, {} spp, {:.2} s, {:.0} kpixels/s{}",
+                        "{}{env} {}×{} (1/{}), pass {}, {samples}, {:.2} s, {:.0} kpixels/s{}",
                         f.settings.method.name(),
                         w,
                         h,
                         fr.scale,
                         fr.passes,
-                        fr.spp,
                         fr.elapsed,
                         px / fr.elapsed.max(1e-9) / 1e3,
                         if self.worker.is_busy() {
