@@ -51,6 +51,7 @@ mod set_difference;
 mod set_difference_chains;
 mod set_difference_regressions;
 mod shading_oracles;
+mod sky_windows;
 mod stochastic;
 mod stress_exporter;
 mod thesis_polyhedra;

@@ -7,6 +7,7 @@
 //! each face it is handed. So a query with the hierarchy answers what the scan over all faces
 //! answers, bit for bit; it only skips faces whose box the ray misses.
 
+use super::polyhedron::Plane;
 use glam::DVec3;
 
 /// Meshes with fewer faces are scanned (the hierarchy does not pay).
@@ -140,27 +141,24 @@ impl FaceBvh {
 
     /// Calls `visit(face)` for every face whose box may meet the cone of directions within the
     /// angle θ (given by its cosine and sine) of the unit `axis` from `apex`: a superset of the
-    /// faces with a point in the cone (each box is tested through its bounding sphere).
+    /// faces with a point in the cone (each box is tested through its bounding sphere), and,
+    /// given `front_of`, with a point not strictly behind that plane.
     pub fn for_each_in_cone(
         &self,
         apex: DVec3,
         axis: DVec3,
         cos_theta: f64,
         sin_theta: f64,
+        front_of: Option<&Plane>,
         mut visit: impl FnMut(u32),
     ) {
         if self.nodes.is_empty() {
             return;
         }
         let meets = |n: &Node| {
-            sphere_meets_cone(
-                apex,
-                axis,
-                cos_theta,
-                sin_theta,
-                0.5 * (n.lo + n.hi),
-                0.5 * (n.hi - n.lo).length(),
-            )
+            let (c, r) = (0.5 * (n.lo + n.hi), 0.5 * (n.hi - n.lo).length());
+            sphere_meets_cone(apex, axis, cos_theta, sin_theta, c, r)
+                && front_of.is_none_or(|p| !ball_behind(p, c, r))
         };
         self.walk(meets, |f| {
             visit(f);
@@ -310,4 +308,13 @@ pub fn sphere_meets_cone(
         return true; // θ + φ past π: every direction
     }
     v.dot(axis) >= d * cos_sum - 1e-9 * d
+}
+
+/// Whether the ball (`c`, `r`) lies strictly behind `plane` (`eval < 0` at every point), by
+/// more than the rounding of `eval` at a point of it.
+#[inline]
+fn ball_behind(plane: &Plane, c: DVec3, r: f64) -> bool {
+    let n = plane.n.length();
+    let margin = 1e-9 * (n * (c.length() + r) + plane.d.abs());
+    plane.eval(c) + n * r < -margin
 }

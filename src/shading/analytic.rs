@@ -24,6 +24,8 @@
 //! there; with no occluder between, or every occluder disjoint from it, it is fully lit without
 //! a set difference; once an occluder covers it, the others are not looked at.
 
+use super::face_sides::{InFront, in_front, light_face_cut};
+mod sky_windows;
 use super::get_between::get_between;
 use super::invariant::visible_within_light;
 use super::ltc_correction::{
@@ -144,6 +146,9 @@ pub struct ShadingScratch {
     pub(super) split: HorizonSplit,
     /// A face clipped to the lower part of that split.
     pub(super) split_face: Vec<DVec3>,
+    /// A light face's image below the sky windows (`sky_windows`), and the faces that reach there.
+    pub(super) sky_face: Vec<DVec3>,
+    pub(super) sky_faces: Vec<u32>,
     pub(super) split_tmp: Vec<DVec3>,
     /// The faces of an occluder taken face by face under the environment (`environment`).
     pub(super) env_faces: Vec<u32>,
@@ -213,7 +218,7 @@ const WINDOW_CLIP_MIN_VERTICES: usize = 12;
 
 /// Relative distance below which a face is taken to contain the shading point (its spherical
 /// polygon is a sliver of zero area on the horizon).
-const COPLANAR: f64 = 1e-9;
+pub(super) const COPLANAR: f64 = 1e-9;
 
 /// The BRDF lobes of a material at one shading point.
 pub(super) struct Lobes {
@@ -399,8 +404,18 @@ fn shade_light<R: Recorder>(
                 light: l,
                 radiance,
                 face: None,
+                sky_window: None,
             };
             shade_light_piece(ctx, &whole, scratch, rec)
+        }
+        // At a point on a large closed light, the light's own image over the point's sky, window
+        // by window, instead of its faces one by one against each other.
+        Outline::Faces
+            if on_light
+                && let Some(own) = sky_windows::own_occluder(ctx, l)
+                && let Some(total) = sky_windows::shade_own_light(ctx, l, own, scratch, rec) =>
+        {
+            total
         }
         Outline::Faces => {
             // A stand-in is for the silhouette path: face by face, the mesh's own faces (its
@@ -411,22 +426,14 @@ fn shade_light<R: Recorder>(
                 if on_light && skip_own_face(light, f, sp) {
                     continue;
                 }
-                let plane = faces.face_planes[f];
-                if plane.eval(sp.position) <= 0.0 {
+                if faces.face_planes[f].eval(sp.position) <= 0.0 {
                     continue; // lights emit from the front only
                 }
-                // What lies within rounding of the light face's plane is not in front of it.
-                let tol = COPLANAR * faces.radius;
                 let piece = LightPiece {
                     light: l,
                     radiance,
-                    face: Some((
-                        f,
-                        Plane {
-                            n: plane.n,
-                            d: plane.d + tol,
-                        },
-                    )),
+                    face: Some((f, light_face_cut(faces, f))),
+                    sky_window: None,
                 };
                 rec.begin_light(l, Some(f));
                 face_polygon(
@@ -589,6 +596,9 @@ pub(super) struct LightPiece {
     light: usize,
     radiance: DVec3,
     face: Option<(usize, Plane)>,
+    /// A window of the sky at a point on the light itself (`sky_windows`): what lights the
+    /// point there is the part of the window the light's own mesh (this occluder) covers.
+    sky_window: Option<usize>,
 }
 
 /// Lines 5–16 of Alg. 1 for one light piece, whose spherical polygon is in `scratch.light_sph`.
@@ -674,7 +684,20 @@ fn shade_light_piece<R: Recorder>(
     {
         scratch.stats.violations += 1;
     }
-    let (diffuse, specular) = integrate_lobes(ctx, piece, scratch, rec);
+    let (mut diffuse, mut specular) = integrate_lobes(ctx, piece, scratch, rec);
+    if let Some(own) = piece.sky_window
+        && !scratch.visible.is_empty()
+    {
+        // The light's own image in the window (less the other occluders): the window, less
+        // what is left of it once the light's mesh is subtracted as well.
+        subtract_occluder(ctx, own, Some(piece), scratch, rec);
+        plane.reproject(&scratch.visible, &mut scratch.visible_sph);
+        rec.light_polygon(Stage::Visible, &scratch.visible_sph);
+        let (d, s) = integrate_lobes(ctx, piece, scratch, rec);
+        // Rounding can leave the difference of two equal integrals a few ulps below zero.
+        diffuse = (diffuse - d).max(DVec3::ZERO);
+        specular = (specular - s).max(DVec3::ZERO);
+    }
     rec.end_light(diffuse, specular);
     diffuse + specular
 }
@@ -703,20 +726,16 @@ pub(super) fn subtract_occluder<R: Recorder>(
         _ => None,
     };
     if let Some(pp) = cut {
-        let mut front = 0usize;
-        let mut total = 0usize;
-        let pieces = occ.face_pieces();
-        for &i in &pieces.face_indices {
-            total += 1;
-            if pp.eval(pieces.vertices[i as usize]) > 0.0 {
-                front += 1;
-            }
-        }
-        if front == 0 {
-            return; // entirely behind the light face
-        }
-        if front == total {
-            cut = None; // entirely in front: no cut needed
+        // The light's own mesh against its own face: decided when the scene was prepared.
+        let own_face = own_mesh.then(|| piece.and_then(|p| p.face)).flatten();
+        let side = match (own_face, &occ.face_sides) {
+            (Some((f, _)), Some(sides)) => sides.get(f),
+            _ => in_front(occ.face_pieces(), &pp),
+        };
+        match side {
+            InFront::Nothing => return, // entirely behind the light face
+            InFront::All => cut = None, // entirely in front: no cut needed
+            InFront::Part => {}
         }
     }
     let cut = cut.as_ref();
@@ -746,7 +765,8 @@ pub(super) fn subtract_occluder<R: Recorder>(
         // The window's points share their candidate edges within the tile's region: the
         // light's bounding ball bounds every window of the region's points.
         scratch.outline.window.tile = match (windowed, scratch.tile_region, piece) {
-            (true, Some(region), Some(p)) => {
+            // A sky window is not bounded by the light's cone (the region's lists assume so).
+            (true, Some(region), Some(p)) if p.sky_window.is_none() => {
                 let light = &scene.objects[scene.lights[p.light].0 as usize].poly;
                 let sph = &scratch.light_sph;
                 Some(TileQuery {
@@ -895,7 +915,8 @@ fn subtract_faces<R: Recorder>(
     match (cone, &faces.index.face_bvh) {
         (Some((axis, cos, sin)), Some(bvh)) => {
             let list = &mut scratch.face_list;
-            bvh.for_each_in_cone(sp.position, axis, cos, sin, |f| list.push(f));
+            // A face wholly behind the cut would be clipped away whole.
+            bvh.for_each_in_cone(sp.position, axis, cos, sin, cut, |f| list.push(f));
             list.sort_unstable();
         }
         _ => scratch.face_list.extend(0..faces.face_count() as u32),

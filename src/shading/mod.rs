@@ -4,6 +4,7 @@ pub mod analytic;
 pub mod brdf;
 pub mod cost_model;
 pub mod environment;
+pub mod face_sides;
 pub mod get_between;
 pub mod invariant;
 pub mod ltc_correction;

@@ -16,6 +16,7 @@
 //! orientations and are not shared.
 
 use super::cost_model::{DEFAULT_EXPECTED_RAYS, MeshCostClass, TreeBudget, tree_budget};
+use super::face_sides::{FaceSides, light_face_cut};
 use super::tree_cache::{CachedTree, TreeCache, tree_key};
 use super::tree_library::{LibraryEntry, TreeLibrary};
 use crate::geometry::bsp::face_planes_exceed;
@@ -69,6 +70,10 @@ pub struct PreparedObject {
     /// polyhedron's tolerance (a quad bent by the rounding of its digits): the face-by-face
     /// paths go over these ([`PreparedObject::face_pieces`]).
     pub fan: Option<FanMesh>,
+    /// A light that may go face by face (not convex): where its own mesh lies against each of
+    /// its face pieces' cutting planes, so that lighting its own points does not count the
+    /// mesh at every face (`face_sides`); `None` for other meshes and over the table's bound.
+    pub face_sides: Option<FaceSides>,
 }
 
 /// A mesh's faces as the triangles every ray sees (each face fanned from its first vertex,
@@ -323,6 +328,17 @@ impl PreparedObject {
             }
             (false, false, _) => MeshPath::PerFace,
         }
+    }
+
+    /// As a light, where its own mesh lies against each face piece's cutting plane
+    /// ([`PreparedObject::face_sides`]); `None` for a convex or flat light, which never goes
+    /// face by face against itself.
+    fn light_face_sides(&self) -> Option<FaceSides> {
+        if self.simple {
+            return None;
+        }
+        let pieces = self.face_pieces();
+        FaceSides::of(pieces, |f| light_face_cut(pieces, f))
     }
 
     /// The mesh's own faces, also when a hull stands in for it on the silhouette path.
@@ -923,7 +939,12 @@ impl PreparedScene {
                 triangulation: None,
                 stand_in,
                 fan,
+                face_sides: None,
             });
+            if is_light {
+                let o = objects.last_mut().expect("just pushed");
+                o.face_sides = o.light_face_sides();
+            }
             if is_light {
                 lights.push((id, obj.material.ke));
             }
@@ -1241,6 +1262,9 @@ impl PreparedScene {
                 }
             }
             o.simple = o.poly.has_simple_silhouette();
+            if out.lights.iter().any(|&(l, _)| l as usize == p) {
+                o.face_sides = o.light_face_sides();
+            }
         }
         // The separating planes of the moved object's pairs, and the notes of every pair.
         let n_occ = out.occluders.len();
