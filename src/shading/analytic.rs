@@ -146,9 +146,10 @@ pub struct ShadingScratch {
     pub(super) split: HorizonSplit,
     /// A face clipped to the lower part of that split.
     pub(super) split_face: Vec<DVec3>,
-    /// A light face's image below the sky windows (`sky_windows`), and the faces that reach there.
+    /// The images of a light's faces that reach below the sky windows (`sky_windows`), one
+    /// after another, and per face its index and the range of its image.
     pub(super) sky_face: Vec<DVec3>,
-    pub(super) sky_faces: Vec<u32>,
+    pub(super) sky_faces: Vec<(u32, u32, u32)>,
     pub(super) split_tmp: Vec<DVec3>,
     /// The faces of an occluder taken face by face under the environment (`environment`).
     pub(super) env_faces: Vec<u32>,

@@ -71,6 +71,9 @@ pub(super) fn own_occluder(ctx: &PointContext, l: usize) -> Option<usize> {
     through.then(|| scene.occluders.iter().position(|&o| o == light_id))?
 }
 
+/// The same at every point, in the point's own frame: computed once.
+static SKY: std::sync::LazyLock<Sky> = std::sync::LazyLock::new(Sky::new);
+
 /// The windows' corners and the bands' sides, in the point's frame (z the normal).
 struct Sky {
     corners: [DVec3; SECTORS],
@@ -123,10 +126,11 @@ pub(super) fn shade_own_light<R: Recorder>(
     let (light_id, radiance) = scene.lights[l];
     let light = &scene.objects[light_id as usize];
     let faces = light.face_pieces();
-    let sky = Sky::new();
+    let sky = &*SKY;
     // The faces turned toward the point that reach below the band's top (the lowest point of
     // a face's image above the horizon is at a corner, or on the horizon where it crosses).
     scratch.sky_faces.clear();
+    scratch.sky_face.clear();
     for f in 0..faces.face_count() {
         if skip_own_face(light, f, sp) || faces.face_planes[f].eval(sp.position) <= 0.0 {
             continue;
@@ -159,7 +163,14 @@ pub(super) fn shade_own_light<R: Recorder>(
         if !convex_face(faces, f) {
             return None;
         }
-        scratch.sky_faces.push(f as u32);
+        // Kept for the bands below (the light polygon is needed for the windows first).
+        let start = scratch.sky_face.len() as u32;
+        scratch
+            .sky_face
+            .extend_from_slice(scratch.light_sph.loop_at(0));
+        scratch
+            .sky_faces
+            .push((f as u32, start, scratch.sky_face.len() as u32));
     }
     let mut total = DVec3::ZERO;
     for k in 0..SECTORS {
@@ -176,24 +187,11 @@ pub(super) fn shade_own_light<R: Recorder>(
         total += shade_light_piece(ctx, &window, scratch, rec);
     }
     for i in 0..scratch.sky_faces.len() {
-        let f = scratch.sky_faces[i] as usize;
-        face_polygon(
-            faces,
-            f,
-            sp.position,
-            frame,
-            Sidedness::FrontOnly,
-            None,
-            &mut scratch.light_sph,
-            &mut scratch.face_buf,
-        );
-        scratch.sky_face.clear();
-        scratch
-            .sky_face
-            .extend_from_slice(scratch.light_sph.loop_at(0));
+        let (f, start, end) = scratch.sky_faces[i];
+        let f = f as usize;
         for band in &sky.bands {
             clip_loop_to_half_spaces(
-                &scratch.sky_face,
+                &scratch.sky_face[start as usize..end as usize],
                 band,
                 &mut scratch.split_face,
                 &mut scratch.split_tmp,
