@@ -76,8 +76,9 @@ pub struct ExactSilhouetteScratch {
 pub(crate) struct SweepScratch {
     /// Per arc: its box in direction space.
     boxes: Vec<[DVec3; 2]>,
-    order: Vec<u32>,
+    order: Vec<(i64, u32)>,
     active: Vec<u32>,
+    pairs: PairSortScratch,
 }
 
 /// Contour counts below which every pair is tested (the sweep does not pay).
@@ -138,14 +139,17 @@ pub(crate) fn candidate_pairs(
     sweep.boxes.clear();
     sweep.boxes.extend(arcs.map(|(a, b, n)| arc_box(a, b, n)));
     let boxes = &sweep.boxes;
+    // By the boxes' low x, as `f64::total_cmp` orders them: that order is the order of these
+    // integers, which compare without reading the boxes again.
     sweep.order.clear();
-    sweep.order.extend(0..boxes.len() as u32);
-    sweep
-        .order
-        .sort_unstable_by(|&a, &b| boxes[a as usize][0].x.total_cmp(&boxes[b as usize][0].x));
+    sweep.order.extend(boxes.iter().enumerate().map(|(i, b)| {
+        let bits = b[0].x.to_bits() as i64;
+        (bits ^ (((bits >> 63) as u64) >> 1) as i64, i as u32)
+    }));
+    sweep.order.sort_unstable();
     out.clear();
     sweep.active.clear();
-    for &i in &sweep.order {
+    for &(_, i) in &sweep.order {
         let [lo, hi] = boxes[i as usize];
         sweep.active.retain(|&j| boxes[j as usize][1].x >= lo.x);
         for &j in &sweep.active {
@@ -156,8 +160,52 @@ pub(crate) fn candidate_pairs(
         }
         sweep.active.push(i);
     }
-    out.sort_unstable();
+    sort_pairs(out, boxes.len(), &mut sweep.pairs);
     true
+}
+
+/// Sorts pairs `(i, j)` with `i < j < n`: counted into one bucket per `i` (a prefix sum over
+/// `n` counters), then each bucket's few `j` sorted in place. The order of `sort_unstable`, in
+/// linear time.
+fn sort_pairs(pairs: &mut Vec<(u32, u32)>, n: usize, scratch: &mut PairSortScratch) {
+    let PairSortScratch { next, sorted } = scratch;
+    next.clear();
+    next.resize(n + 1, 0);
+    for &(i, _) in pairs.iter() {
+        next[i as usize + 1] += 1;
+    }
+    for k in 0..n {
+        next[k + 1] += next[k];
+    }
+    sorted.clear();
+    sorted.resize(pairs.len(), (0, 0));
+    for &p in pairs.iter() {
+        let slot = &mut next[p.0 as usize];
+        sorted[*slot as usize] = p;
+        *slot += 1;
+    }
+    // Bucket i now ends at next[i]: it began where bucket i − 1 ended. Buckets hold a few
+    // pairs: insertion sort.
+    let mut begin = 0;
+    for &end in &next[..n] {
+        let bucket = &mut sorted[begin..end as usize];
+        for a in 1..bucket.len() {
+            let mut b = a;
+            while b > 0 && bucket[b - 1] > bucket[b] {
+                bucket.swap(b - 1, b);
+                b -= 1;
+            }
+        }
+        begin = end as usize;
+    }
+    std::mem::swap(pairs, sorted);
+}
+
+/// Reusable buffers of [`sort_pairs`].
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PairSortScratch {
+    next: Vec<u32>,
+    sorted: Vec<(u32, u32)>,
 }
 
 /// What [`exact_silhouette`] found, for statistics and the debugger.

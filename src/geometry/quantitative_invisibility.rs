@@ -152,10 +152,15 @@ pub struct QiScratch {
     tiny: Vec<bool>,
     /// Per crossing: the pieces that start at it (one on each edge).
     after: Vec<[u32; 2]>,
-    /// (vertex, piece) for every piece end at a mesh vertex, sorted.
+    /// (vertex, piece) for every piece end at a mesh vertex, and the next entry of the same
+    /// vertex (`u32::MAX`: none): each vertex's entries form a list in increasing piece order.
     at_vertex: Vec<(u32, u32)>,
-    /// Per piece end (2 q for its start, 2 q + 1 for its end) at a mesh vertex: where that
-    /// vertex's entries begin in `at_vertex`.
+    next_at_vertex: Vec<u32>,
+    /// Per mesh vertex: the first entry of its list while the lists are built (`u32::MAX`
+    /// otherwise: every entry set is reset before the lists are used).
+    vertex_head: Vec<u32>,
+    /// Per piece end (2 q for its start, 2 q + 1 for its end) at a mesh vertex: the first
+    /// entry of that vertex's list in `at_vertex`.
     vertex_group: Vec<u32>,
     stack: Vec<u32>,
     parent: Vec<u32>,
@@ -399,7 +404,6 @@ impl QiScratch {
         );
         self.after.clear();
         self.after.resize(crossings.len(), [u32::MAX; 2]);
-        self.at_vertex.clear();
         for (q, p) in self.pieces.iter().enumerate() {
             if let QiEnd::Crossing(id) = p.start {
                 let slot = &mut self.after[id as usize];
@@ -409,30 +413,8 @@ impl QiScratch {
                     slot[1] = q as u32;
                 }
             }
-            if star.is_some() {
-                for end in [p.start, p.end] {
-                    if let QiEnd::Vertex(v) = end {
-                        self.at_vertex.push((v, q as u32));
-                    }
-                }
-            }
         }
-        self.at_vertex.sort_unstable();
-        self.vertex_group.clear();
-        self.vertex_group.resize(2 * n, u32::MAX);
-        let mut group = 0;
-        for (k, &(v, q)) in self.at_vertex.iter().enumerate() {
-            if k > 0 && self.at_vertex[k - 1].0 != v {
-                group = k as u32;
-            }
-            let p = &self.pieces[q as usize];
-            if matches!(p.start, QiEnd::Vertex(w) if w == v) {
-                self.vertex_group[2 * q as usize] = group;
-            }
-            if matches!(p.end, QiEnd::Vertex(w) if w == v) {
-                self.vertex_group[2 * q as usize + 1] = group;
-            }
-        }
+        self.link_vertex_ends(star.is_some().then_some(poly.vertices.len()));
 
         let mut conflict = false;
         for q0 in 0..n {
@@ -505,10 +487,11 @@ impl QiScratch {
                 if let Some(star) = star {
                     for (i, end) in [p.start, p.end].into_iter().enumerate() {
                         let QiEnd::Vertex(v) = end else { continue };
-                        let mut k = self.vertex_group[2 * q + i] as usize;
-                        while k < self.at_vertex.len() && self.at_vertex[k].0 == v {
-                            let r = self.at_vertex[k].1 as usize;
-                            k += 1;
+                        let mut k = self.vertex_group[2 * q + i];
+                        // Bound: a list holds each piece end at `v` once.
+                        while k != u32::MAX {
+                            let r = self.at_vertex[k as usize].1 as usize;
+                            k = self.next_at_vertex[k as usize];
                             // The step q took its count by, back: `vertex_step` with its two
                             // edges swapped is the negated step (each face's test is the same
                             // pair of tests, and a tie in either is a tie in both), so the
@@ -556,6 +539,46 @@ impl QiScratch {
         }
     }
 
+    /// Lists, per mesh vertex, the piece ends at it in increasing piece order (the order a
+    /// sort of (vertex, piece) pairs gives, without the sort), for a mesh of `vertices`
+    /// vertices; none without vertex adjacency (`None`).
+    fn link_vertex_ends(&mut self, vertices: Option<usize>) {
+        let n = self.pieces.len();
+        self.at_vertex.clear();
+        self.next_at_vertex.clear();
+        self.vertex_group.clear();
+        self.vertex_group.resize(2 * n, u32::MAX);
+        let Some(vertices) = vertices else {
+            return;
+        };
+        if self.vertex_head.len() < vertices {
+            self.vertex_head.resize(vertices, u32::MAX);
+        }
+        // From the last piece to the first, each end put at the head of its vertex's list.
+        for q in (0..n).rev() {
+            let p = self.pieces[q];
+            for end in [p.start, p.end] {
+                if let QiEnd::Vertex(v) = end {
+                    let k = self.at_vertex.len() as u32;
+                    self.at_vertex.push((v, q as u32));
+                    self.next_at_vertex.push(self.vertex_head[v as usize]);
+                    self.vertex_head[v as usize] = k;
+                }
+            }
+        }
+        for q in 0..n {
+            let p = self.pieces[q];
+            for (i, end) in [p.start, p.end].into_iter().enumerate() {
+                if let QiEnd::Vertex(v) = end {
+                    self.vertex_group[2 * q + i] = self.vertex_head[v as usize];
+                }
+            }
+        }
+        for &(v, _) in &self.at_vertex {
+            self.vertex_head[v as usize] = u32::MAX;
+        }
+    }
+
     /// The other edge of crossing `id` (the edge of the other piece starting there).
     #[inline]
     fn crossing_partner(&self, id: u32, edge: u32) -> Option<usize> {
@@ -585,12 +608,13 @@ impl QiScratch {
                 union(&mut self.parent, a, b);
             }
         }
-        for k in 1..self.at_vertex.len() {
-            if self.at_vertex[k].0 == self.at_vertex[k - 1].0 {
+        for k in 0..self.at_vertex.len() {
+            let next = self.next_at_vertex[k];
+            if next != u32::MAX {
                 union(
                     &mut self.parent,
                     self.at_vertex[k].1,
-                    self.at_vertex[k - 1].1,
+                    self.at_vertex[next as usize].1,
                 );
             }
         }

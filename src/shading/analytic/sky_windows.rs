@@ -30,12 +30,12 @@ use std::f64::consts::TAU;
 
 /// Windows around the zenith. With their lower corners at [`CORNER_SIN`], every corner lies
 /// within 60° of the window's centre (the windowed silhouette's limit; the zenith is the
-/// farthest, at 58.3°), and the band below them stays under 0.36° of elevation.
+/// farthest, at 58.2°), and the band below them stays under 0.071° of elevation.
 const SECTORS: usize = 5;
 
 /// Sine of the elevation of the windows' lower corners: far above the windowed silhouette's
 /// margin from the horizon (1e-7), low enough that few faces reach into the band.
-const CORNER_SIN: f64 = 0.005;
+const CORNER_SIN: f64 = 0.001;
 
 /// Sine of an elevation within rounding of the horizon: a face whose corners all lie below it
 /// has no area above the horizon.
