@@ -38,13 +38,13 @@ pub(crate) enum End {
 }
 
 impl End {
-    /// A sort key: vertices, then crossings, then boundary points.
+    /// Its kind (vertex, crossing, boundary point) and its id among them.
     #[inline]
-    fn key(self) -> u64 {
+    fn kind_and_id(self) -> (usize, u32) {
         match self {
-            End::Vertex(v) => v as u64,
-            End::Crossing(id) => 1 << 32 | id as u64,
-            End::Boundary(id) => 2 << 32 | id as u64,
+            End::Vertex(v) => (0, v),
+            End::Crossing(id) => (1, id),
+            End::Boundary(id) => (2, id),
         }
     }
 }
@@ -130,8 +130,12 @@ pub(crate) struct ContourPieces {
     pub kept: Vec<u32>,
     /// The pieces of the closed loops in loop order, with whether the piece closes its loop.
     pub chain: Vec<(u32, bool)>,
-    /// Kept pieces by the end they start at: (key of the end, position in `kept`), sorted.
-    starts: Vec<(u64, u32)>,
+    /// Kept pieces by the end they start at: per kind of end and id, the call's stamp and
+    /// the first position in `kept` of a piece starting there; per position, the next one
+    /// starting at the same end (`u32::MAX`: none). Lists run in `kept` order.
+    start_heads: [Vec<(u32, u32)>; 3],
+    start_next: Vec<u32>,
+    start_stamp: u32,
     /// The sweep's boxes and active list ([`candidate_pairs`]), and the pairs it keeps.
     sweep: SweepScratch,
     pairs: Vec<(u32, u32)>,
@@ -333,25 +337,46 @@ impl ContourPieces {
 
     /// Indexes the kept pieces by the end they start at, for [`ContourPieces::next_piece`].
     pub fn index_starts(&mut self) {
-        self.starts.clear();
-        for (pos, &q) in self.kept.iter().enumerate() {
-            self.starts
-                .push((self.pieces[q as usize].start.key(), pos as u32));
+        // A new stamp marks every head of an earlier call stale, without clearing.
+        self.start_stamp = self.start_stamp.wrapping_add(1);
+        if self.start_stamp == 0 {
+            self.start_heads.iter_mut().for_each(Vec::clear);
+            self.start_stamp = 1;
         }
-        self.starts.sort_unstable();
+        let stamp = self.start_stamp;
+        self.start_next.clear();
+        self.start_next.resize(self.kept.len(), u32::MAX);
+        // From the last kept piece to the first, each put at the head of its end's list.
+        for pos in (0..self.kept.len()).rev() {
+            let (kind, id) = self.pieces[self.kept[pos] as usize].start.kind_and_id();
+            let heads = &mut self.start_heads[kind];
+            if heads.len() <= id as usize {
+                heads.resize(id as usize + 1, (0, u32::MAX));
+            }
+            let head = &mut heads[id as usize];
+            self.start_next[pos] = if head.0 == stamp { head.1 } else { u32::MAX };
+            *head = (stamp, pos as u32);
+        }
     }
 
     /// The kept piece that follows one ending at `end`: the first unused kept piece (in
     /// `kept` order) that starts there.
     #[inline]
     pub fn next_piece(&self, end: End) -> Option<usize> {
-        let key = end.key();
-        let from = self.starts.partition_point(|&(k, _)| k < key);
-        self.starts[from..]
-            .iter()
-            .take_while(|&&(k, _)| k == key)
-            .map(|&(_, pos)| self.kept[pos as usize] as usize)
-            .find(|&q| !self.pieces[q].used)
+        let (kind, id) = end.kind_and_id();
+        let mut pos = match self.start_heads[kind].get(id as usize) {
+            Some(&(stamp, first)) if stamp == self.start_stamp => first,
+            _ => return None,
+        };
+        // Bound: a list holds each kept piece at most once.
+        while pos != u32::MAX {
+            let q = self.kept[pos as usize] as usize;
+            if !self.pieces[q].used {
+                return Some(q);
+            }
+            pos = self.start_next[pos as usize];
+        }
+        None
     }
 
     /// Stage 4: chains the unused kept pieces into closed loops through their shared ends
