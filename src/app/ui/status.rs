@@ -18,7 +18,10 @@ impl AppState {
                     let samples = if f.settings.method.is_stochastic() {
                         format!("{} spp", fr.spp)
                     } else {
-                        format!("{} camera rays/pixel", fr.camera_samples)
+                        match fr.camera_samples {
+                            1 => "1 camera ray per pixel".to_string(),
+                            n => format!("{n} camera rays per pixel"),
+                        }
                     };
                     ui.label(format!(
                         "{}{env} {}×{} (1/{}), pass {}, {samples}, {:.2} s, {:.0} kpixels/s{}",
