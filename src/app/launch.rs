@@ -269,13 +269,19 @@ impl eframe::App for AutoScreenshot {
             16 => ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close),
             _ => {}
         }
-        // While the render runs, the workbench repaints at its own pace (as it does for a
-        // person); a driver that repainted every frame would take the render's cores.
-        if matches!(self.state, 0 | 5) {
-            ui.ctx()
-                .request_repaint_after(std::time::Duration::from_millis(100));
-        } else {
-            ui.ctx().request_repaint();
+        // While the render runs, the window is left alone, as a person's idle window is: the
+        // render thread wakes it with each frame and when it stops, and the deadline wakes it
+        // otherwise. A driver that repainted every frame would take the render's cores.
+        let deadline = match self.state {
+            0 => Some(self.after),
+            5 => Some(self.after + 60.0),
+            _ => None,
+        };
+        match deadline {
+            Some(d) => ui
+                .ctx()
+                .request_repaint_after(std::time::Duration::from_secs_f64((d - t).max(0.01))),
+            None => ui.ctx().request_repaint(),
         }
     }
 }
