@@ -102,6 +102,7 @@ fn main() {
                 .unwrap_or(1.0),
         };
         poly.index.edge_hierarchy = Some(Arc::new(EdgeHierarchy::build_with(&poly, params)));
+        poly.index.edge_hierarchy_per_point = true;
         let t = Instant::now();
         let h = EdgeHierarchy::build_with(&poly, params);
         let build_ms = t.elapsed().as_secs_f64() * 1e3;

@@ -32,6 +32,7 @@ fn with_hierarchy(mut poly: IndexedPolyhedron) -> IndexedPolyhedron {
     if poly.index.edge_hierarchy.is_none() {
         poly.index.edge_hierarchy = Some(Arc::new(EdgeHierarchy::build(&poly.mesh)));
     }
+    poly.index.edge_hierarchy_per_point = true;
     poly
 }
 

@@ -599,7 +599,7 @@ pub fn contour_edge_indices(
         e.faces[1] == NO_FACE || front(e.faces[0]) != front(e.faces[1])
     };
     match poly.index.edge_hierarchy.as_deref() {
-        Some(h) if !scratch.scan => {
+        Some(h) if !scratch.scan && poly.index.edge_hierarchy_per_point => {
             scratch.candidates.clear();
             scratch.stats = h.candidates(x, &mut scratch.candidates);
             if let Some(t) = tol {

@@ -29,6 +29,11 @@ pub struct MeshIndex {
     /// Normal cones over the edges, for finding the contour edges of a large mesh without a
     /// scan (`edge_hierarchy`); large convex meshes walk their contour instead.
     pub edge_hierarchy: Option<Arc<EdgeHierarchy>>,
+    /// The hierarchy also answers the queries of single points ([`EdgeHierarchy::pays`]
+    /// against the scan). Where it does not, it serves only the lists a tile's region shares
+    /// (`tile_candidates`), built once for many points; single points scan, or query the
+    /// faces' hierarchy in a window.
+    pub edge_hierarchy_per_point: bool,
 }
 
 impl MeshIndex {
@@ -42,36 +47,38 @@ impl MeshIndex {
         });
         let edge_hierarchy = (poly.edges.len() >= EDGE_HIERARCHY_MIN_EDGES
             && contour_walk.is_none())
-        .then(|| EdgeHierarchy::build(poly))
-        .filter(|h| h.pays(poly))
-        .map(Arc::new);
+        .then(|| EdgeHierarchy::build(poly));
+        let edge_hierarchy_per_point = edge_hierarchy.as_ref().is_some_and(|h| h.pays(poly));
         MeshIndex {
             face_bvh,
             face_edges,
             contour_walk,
             vertex_faces,
-            edge_hierarchy,
+            edge_hierarchy: edge_hierarchy.map(Arc::new),
+            edge_hierarchy_per_point,
         }
     }
 
     /// The index of `moved`, the mesh this index was built for with its vertices moved
     /// ([`Polyhedron::moved`]): the topology (faces at each vertex, the contour walk's
     /// adjacency, each face's edges) is kept, the geometry (the faces' hierarchy, the edges'
-    /// normal cones) built again. The cones are tried again only where the first build kept
-    /// them, so a mesh that keeps the scan does not try again.
+    /// normal cones) built again. The cones are built again only where the first build kept
+    /// them, and serve single points only where they did before and still pay.
     pub fn moved(&self, moved: &Polyhedron) -> Self {
         let (face_bvh, face_edges) = face_hierarchy(moved);
+        let edge_hierarchy = self
+            .edge_hierarchy
+            .as_ref()
+            .map(|_| EdgeHierarchy::build(moved));
+        let edge_hierarchy_per_point =
+            self.edge_hierarchy_per_point && edge_hierarchy.as_ref().is_some_and(|h| h.pays(moved));
         MeshIndex {
             face_bvh,
             face_edges: self.face_edges.clone().or(face_edges),
             contour_walk: self.contour_walk.clone(),
             vertex_faces: self.vertex_faces.clone(),
-            edge_hierarchy: self
-                .edge_hierarchy
-                .as_ref()
-                .map(|_| EdgeHierarchy::build(moved))
-                .filter(|h| h.pays(moved))
-                .map(Arc::new),
+            edge_hierarchy: edge_hierarchy.map(Arc::new),
+            edge_hierarchy_per_point,
         }
     }
 }

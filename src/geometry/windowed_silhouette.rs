@@ -166,30 +166,34 @@ pub fn exact_silhouette_in_window(
     //    the edges of the faces whose boxes meet both.
     scratch.candidates.clear();
     scratch.tile_candidates.last = None;
-    if let Some(h) = poly.index.edge_hierarchy.as_deref() {
-        let edge_on = on_mesh.then_some(tol);
-        let shared = scratch.tile.as_ref().is_some_and(|q| {
-            scratch.tile_candidates.fill(
-                h,
-                poly,
-                q,
-                x,
-                &scratch.sides,
-                edge_on,
-                &mut scratch.candidates,
-            )
-        });
-        if !shared {
-            h.candidates_in_window(
-                x,
-                centre,
-                cos_cone,
-                sin_cone,
-                &scratch.sides,
-                &mut scratch.candidates,
-            );
-        }
+    let hierarchy = poly.index.edge_hierarchy.as_deref();
+    let shared = match (hierarchy, &scratch.tile) {
+        (Some(h), Some(q)) => scratch.tile_candidates.fill(
+            h,
+            poly,
+            q,
+            x,
+            &scratch.sides,
+            on_mesh.then_some(tol),
+            &mut scratch.candidates,
+        ),
+        _ => false,
+    };
+    let per_point = hierarchy.filter(|_| poly.index.edge_hierarchy_per_point);
+    if shared {
+        // The region's list, filtered for this point: nothing more to find.
+    } else if let Some(h) = per_point {
+        // The point's own query, where the hierarchy pays for single points.
+        h.candidates_in_window(
+            x,
+            centre,
+            cos_cone,
+            sin_cone,
+            &scratch.sides,
+            &mut scratch.candidates,
+        );
     } else {
+        // Else through the faces' hierarchy.
         // One stamp per call: marks left by other meshes are older, so the buffer is shared
         // by every mesh this thread meets and only ever grows.
         if scratch.edge_stamp.len() < poly.edges.len() {
