@@ -255,6 +255,45 @@ fn chair_scene() -> SceneDef {
     }
 }
 
+/// The plainest shadow there is: one 0.8 m quad light 3 m above a 6 m floor, a 0.9 m cube
+/// turned about two axes between them. `penumbra bench --suite speed` times it, since a
+/// constant factor shows here before anywhere else.
+fn cube_scene() -> SceneDef {
+    let turn = DAffine3::from_translation(DVec3::new(0.1, 1.1, 0.0))
+        * DAffine3::from_rotation_y(35f64.to_radians())
+        * DAffine3::from_rotation_x(25f64.to_radians());
+    let mut cube = cuboid(DVec3::ZERO, DVec3::splat(0.45));
+    for p in &mut cube.positions {
+        *p = turn.transform_point3(*p);
+    }
+    let objects = vec![
+        Object {
+            toml: "occluder = false\n",
+            ..object(
+                "floor",
+                quad(DVec3::ZERO, DVec3::Z * 3.0, DVec3::X * 3.0),
+                &diffuse("floor", [0.7, 0.7, 0.7]),
+            )
+        },
+        object(
+            "light",
+            quad(DVec3::new(0.0, 3.0, 0.0), DVec3::X * 0.4, DVec3::Z * 0.4),
+            &emitter("light", [1.0, 1.0, 1.0], 1.0),
+        ),
+        object("cube", cube, &diffuse("cube", [0.7, 0.3, 0.25])),
+    ];
+    SceneDef {
+        name: "cube",
+        description: "One quad light (0.8 m, 3 m up) over a 6 m floor, a 0.9 m cube turned \
+                      35 degrees about y and 25 about x between them; Lambertian.",
+        camera: camera([2.6, 2.4, 3.4], [0.0, 0.4, 0.0], 45.0),
+        calibration_point: DVec3::ZERO,
+        target: 1.0,
+        objects,
+        extra_toml: "",
+    }
+}
+
 fn nonconvex_scene() -> SceneDef {
     let objects = vec![
         floor(&diffuse("floor", [0.7, 0.7, 0.7])),
@@ -713,6 +752,7 @@ fn main() -> anyhow::Result<()> {
         default_scene(),
         fig4_scene(),
         chair_scene(),
+        cube_scene(),
         nonconvex_scene(),
         polyhedra_scene(),
         letters_scene(),

@@ -38,6 +38,7 @@ fn every_embedded_scene_loads_cleanly_and_matches_the_files() {
             "default",
             "fig4",
             "chair",
+            "cube",
             "nonconvex",
             "polyhedra",
             "instances",

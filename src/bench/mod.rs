@@ -13,6 +13,8 @@
 //! * [`realworld`]: `--suite realworld`, the scenes users load ([`realworld_scenes`]).
 //! * [`environment`](mod@environment): `--env SCENE`, the environment light in the form of
 //!   002's Tables 1 and 2.
+//! * [`speed`]: `--suite speed`, the speed guard: ratios measured in one run against a
+//!   committed baseline.
 //! * [`memory`]: the peak resident memory of a row.
 //! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].
 
@@ -28,6 +30,7 @@ pub mod realworld;
 pub mod realworld_scenes;
 pub mod runner;
 pub mod scaling;
+pub mod speed;
 pub mod table;
 
 pub use equal_time::{EqualTimeRow, ErrorMetric, Estimate, Target, equal_time};

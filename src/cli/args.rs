@@ -222,6 +222,7 @@ impl StressFamily {
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
 pub(crate) enum BenchSuite {
     Realworld,
+    Speed,
 }
 
 #[derive(Args, Clone)]
@@ -274,9 +275,23 @@ pub(crate) struct BenchArgs {
     #[arg(long)]
     pub(crate) polyhedra: bool,
     /// Run a suite of scenes instead: `realworld` (exporter-style scenes and a scanned mesh;
-    /// analytic, per-triangle and unshadowed against the ray-cast reference).
+    /// analytic, per-triangle and unshadowed against the ray-cast reference), or `speed` (the
+    /// speed guard: every embedded scene, tests/data/blender and the bunny, each timed as
+    /// ratios to its unshadowed render and to a calibration workload measured in the same
+    /// run; 256x256 --aa 2, 2 threads, median of 5 rounds).
     #[arg(long, value_enum)]
     pub(crate) suite: Option<BenchSuite>,
+    /// --suite speed: compare with this baseline (its size, --aa, threads and rounds are
+    /// used) and exit with status 1 when a ratio grew by more than its tolerance, twice.
+    #[arg(long)]
+    pub(crate) baseline: Option<PathBuf>,
+    /// --suite speed: write the measured ratios as a new baseline to this file (a deliberate
+    /// commit; --why says why).
+    #[arg(long, requires = "why")]
+    pub(crate) write_baseline: Option<PathBuf>,
+    /// --suite speed: the reason written into a new baseline.
+    #[arg(long)]
+    pub(crate) why: Option<String>,
     /// Benchmark the environment light of this scene instead (002 Tables 1 and 2: per-pass
     /// times with and without culling, the ladder of rays against the exact method).
     #[arg(long)]

@@ -23,8 +23,10 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
         }
         return Ok(());
     }
-    if let Some(BenchSuite::Realworld) = args.suite {
-        return bench_realworld(args);
+    match args.suite {
+        Some(BenchSuite::Realworld) => return bench_realworld(args),
+        Some(BenchSuite::Speed) => return bench_speed(args),
+        None => {}
     }
     if let Some(name) = &args.env {
         return bench_environment(args, name);
@@ -245,6 +247,77 @@ pub(crate) fn bench_realworld(args: &BenchArgs) -> Result<()> {
     }
     for path in write(&report)? {
         say!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// `penumbra bench --suite speed`: the speed guard. Fails (exit status 1) when a ratio grew
+/// past the baseline's tolerance in two measurements of its scene.
+pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
+    use penumbra::bench::speed::{SpeedBaseline, SpeedConfig, run_speed, speed_markdown};
+    let baseline: Option<SpeedBaseline> = match &args.baseline {
+        Some(p) => Some(
+            serde_json::from_str(
+                &std::fs::read_to_string(p).with_context(|| format!("{}", p.display()))?,
+            )
+            .with_context(|| format!("{}: not a speed baseline", p.display()))?,
+        ),
+        None => None,
+    };
+    let config = baseline
+        .as_ref()
+        .map_or_else(SpeedConfig::default, |b| b.config.clone());
+    let dir = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out/bench/speed"));
+    std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
+    let outcome = run_speed(&config, baseline.as_ref(), &args.only, |m| eprintln!("{m}"))
+        .map_err(anyhow::Error::msg)?;
+    let md = speed_markdown(&outcome.report, baseline.as_ref());
+    say!("{md}");
+    for path in [
+        (dir.join("speed.md"), md),
+        (
+            dir.join("speed.json"),
+            serde_json::to_string_pretty(&outcome)?,
+        ),
+    ]
+    .into_iter()
+    .map(|(path, text)| {
+        std::fs::write(&path, text)
+            .with_context(|| format!("{}", path.display()))
+            .map(|()| path)
+    }) {
+        say!("wrote {}", path?.display());
+    }
+    if let Some(path) = &args.write_baseline {
+        let why = args.why.as_deref().unwrap_or_default();
+        let tolerance = baseline.as_ref().map_or(0.10, |b| b.tolerance);
+        let new = SpeedBaseline::from_report(&outcome.report, tolerance, why);
+        std::fs::write(path, serde_json::to_string_pretty(&new)? + "\n")
+            .with_context(|| format!("{}", path.display()))?;
+        say!("wrote {} (the new baseline)", path.display());
+    }
+    for u in &outcome.unmatched {
+        say!("note: {u}");
+    }
+    let violations: u64 = outcome.report.rows.iter().map(|r| r.violations).sum();
+    if violations > 0 {
+        bail!("{violations} invariant violations in the speed suite's renders");
+    }
+    if !outcome.regressions.is_empty() {
+        let lines: Vec<String> = outcome.regressions.iter().map(|r| r.to_string()).collect();
+        bail!(
+            "the speed guard failed: {} ratio(s) grew past the baseline's tolerance of {:.0} % \
+             in two measurements:\n  {}",
+            lines.len(),
+            100.0 * baseline.as_ref().map_or(0.0, |b| b.tolerance),
+            lines.join("\n  ")
+        );
+    }
+    if baseline.is_some() {
+        say!("speed guard: every ratio within the baseline's tolerance");
     }
     Ok(())
 }

@@ -84,18 +84,27 @@ impl SphericalPolygon {
     /// angles at `v` between the tangent directions to the ends of each arc, which is exact for
     /// arcs shorter than π not passing through `v` or `−v`.
     pub fn contains_within(&self, v: DVec3, tol: f64) -> bool {
+        // Near the boundary first: those tests are products, the winding number takes an
+        // atan2 per arc, and the points asked about (a visible polygon's vertices, by the
+        // invariant) mostly lie on the boundary.
+        let near_boundary = self.loops().any(|lp| {
+            let n = lp.len();
+            (0..n).any(|i| {
+                let (a, b) = (lp[i], lp[(i + 1) % n]);
+                let m = a.cross(b);
+                let on_circle = m.dot(v).abs() <= tol * m.length().max(f64::MIN_POSITIVE);
+                on_circle && a.cross(v).dot(m) >= 0.0 && v.cross(b).dot(m) >= 0.0
+                    || v.distance_squared(a) <= tol * tol
+            })
+        });
+        if near_boundary {
+            return true;
+        }
         let mut turn = 0.0;
         for lp in self.loops() {
             let n = lp.len();
             for i in 0..n {
                 let (a, b) = (lp[i], lp[(i + 1) % n]);
-                let m = a.cross(b);
-                let on_circle = m.dot(v).abs() <= tol * m.length().max(f64::MIN_POSITIVE);
-                if on_circle && a.cross(v).dot(m) >= 0.0 && v.cross(b).dot(m) >= 0.0
-                    || v.distance_squared(a) <= tol * tol
-                {
-                    return true;
-                }
                 let pa = a - v * v.dot(a);
                 let pb = b - v * v.dot(b);
                 turn += v.dot(pa.cross(pb)).atan2(pa.dot(pb));

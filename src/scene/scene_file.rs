@@ -63,6 +63,9 @@ const EMBEDDED_FILES: &[(&str, &str)] = &[
     ("chair.toml", include_str!("../../assets/scenes/chair.toml")),
     ("chair.obj", include_str!("../../assets/scenes/chair.obj")),
     ("chair.mtl", include_str!("../../assets/scenes/chair.mtl")),
+    ("cube.toml", include_str!("../../assets/scenes/cube.toml")),
+    ("cube.obj", include_str!("../../assets/scenes/cube.obj")),
+    ("cube.mtl", include_str!("../../assets/scenes/cube.mtl")),
     (
         "nonconvex.toml",
         include_str!("../../assets/scenes/nonconvex.toml"),
@@ -153,6 +156,7 @@ const EMBEDDED_SCENES: &[&str] = &[
     "default",
     "fig4",
     "chair",
+    "cube",
     "nonconvex",
     "polyhedra",
     "instances",

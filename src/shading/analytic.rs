@@ -679,13 +679,15 @@ fn shade_light_piece<R: Recorder>(
 
     plane.reproject(&scratch.visible, &mut scratch.visible_sph);
     rec.light_polygon(Stage::Visible, &scratch.visible_sph);
+    // The visible polygon's form factor: the diffuse lobe's integral, and the invariant's.
+    let f_visible = form_factor(scratch.visible_sph.loops());
     // Without a set difference the visible polygon is the light's: nothing to check.
     if scratch.stats.set_differences > differences_before
-        && !visible_within_light(&scratch.light_clip, &scratch.visible_sph)
+        && !visible_within_light(&scratch.light_clip, &scratch.visible_sph, f_visible)
     {
         scratch.stats.violations += 1;
     }
-    let (mut diffuse, mut specular) = integrate_lobes(ctx, piece, scratch, rec);
+    let (mut diffuse, mut specular) = integrate_lobes(ctx, piece, f_visible, scratch, rec);
     if let Some(own) = piece.sky_window
         && !scratch.visible.is_empty()
     {
@@ -694,7 +696,8 @@ fn shade_light_piece<R: Recorder>(
         subtract_occluder(ctx, own, Some(piece), scratch, rec);
         plane.reproject(&scratch.visible, &mut scratch.visible_sph);
         rec.light_polygon(Stage::Visible, &scratch.visible_sph);
-        let (d, s) = integrate_lobes(ctx, piece, scratch, rec);
+        let f_rest = form_factor(scratch.visible_sph.loops());
+        let (d, s) = integrate_lobes(ctx, piece, f_rest, scratch, rec);
         // Rounding can leave the difference of two equal integrals a few ulps below zero.
         diffuse = (diffuse - d).max(DVec3::ZERO);
         specular = (specular - s).max(DVec3::ZERO);
@@ -1228,17 +1231,19 @@ fn subtract_planar<R: Recorder>(oi: usize, scratch: &mut ShadingScratch, rec: &m
 }
 
 /// Lines 14–16 of Alg. 1: the diffuse lobe integrates the clamped cosine over the visible
-/// polygon directly (the identity LTC, exact); the specular lobe transforms it by M⁻¹, clips it
-/// to the horizon again and integrates. Returns (diffuse, specular) radiance.
+/// polygon directly (the identity LTC, exact: `f_visible`, the visible polygon's form factor);
+/// the specular lobe transforms it by M⁻¹, clips it to the horizon again and integrates.
+/// Returns (diffuse, specular) radiance.
 fn integrate_lobes<R: Recorder>(
     ctx: &PointContext,
     piece: &LightPiece,
+    f_visible: f64,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> (DVec3, DVec3) {
     let (lobes, radiance) = (&ctx.lobes, piece.radiance);
     // Rounding can leave a value a few ulps below zero for an empty visible region.
-    let e_diffuse = form_factor(scratch.visible_sph.loops()).max(0.0);
+    let e_diffuse = f_visible.max(0.0);
     rec.lobe(
         Lobe::Diffuse,
         &scratch.visible_sph,

@@ -19,35 +19,56 @@ const OUTSIDE_TOLERANCE: f64 = 1e-9;
 
 /// Whether `visible` (the part of `light` left after the set differences, both clipped to the
 /// horizon, in the shading frame) lies inside `light` up to f64 rounding: every vertex of it
-/// inside or on `light`, and 0 ≤ F(visible) ≤ F(light) for the form factors.
-pub fn visible_within_light(light: &SphericalPolygon, visible: &SphericalPolygon) -> bool {
+/// inside or on `light`, and 0 ≤ F(visible) ≤ F(light) for the form factors. `f_visible` is
+/// `form_factor(visible.loops())`, which the diffuse lobe has computed already.
+pub fn visible_within_light(
+    light: &SphericalPolygon,
+    visible: &SphericalPolygon,
+    f_visible: f64,
+) -> bool {
     let f_light = form_factor(light.loops());
-    let f_visible = form_factor(visible.loops());
     // The edge integrals' rounding, relative to the light's (a sum of a few terms of its size).
     let tol = 1e-10 * f_light.abs() + 1e-15;
     if !(f_visible >= -tol && f_visible <= f_light + tol) {
         return false;
     }
-    // Most visible vertices lie strictly inside the light. For a light of one positively
-    // turning (convex) loop, inside every edge's half-space is inside the light: a sign per
-    // edge instead of the winding number's angles, which are left to the vertices on or near
-    // its boundary.
+    // Most visible vertices lie strictly inside the light, and most others on its boundary.
+    // For a light of one positively turning (convex) loop, inside every edge's half-space is
+    // inside the light, and `contains_within`'s test of the arcs is taken here with the
+    // edges' normals formed once: a sign per edge, then the same products, instead of the
+    // winding number's angles, which are left to the rest.
+    const MAX_CONVEX: usize = 16;
+    let mut normals = [(DVec3::ZERO, 0.0); MAX_CONVEX];
     let convex = (light.loop_count() == 1)
         .then(|| light.loop_at(0))
         .filter(|lp| {
             let n = lp.len();
-            n >= 3 && (0..n).all(|k| lp[k].cross(lp[(k + 1) % n]).dot(lp[(k + 2) % n]) > 0.0)
+            (3..=MAX_CONVEX).contains(&n)
+                && (0..n).all(|k| lp[k].cross(lp[(k + 1) % n]).dot(lp[(k + 2) % n]) > 0.0)
         });
-    let strictly_inside = |v: DVec3| {
-        convex.is_some_and(|lp| {
-            let n = lp.len();
-            (0..n).all(|k| lp[k].cross(lp[(k + 1) % n]).dot(v) > 0.0)
+    if let Some(lp) = convex {
+        for (k, slot) in normals.iter_mut().take(lp.len()).enumerate() {
+            let m = lp[k].cross(lp[(k + 1) % lp.len()]);
+            *slot = (m, m.length().max(f64::MIN_POSITIVE));
+        }
+    }
+    let inside_convex = |lp: &[DVec3], v: DVec3| {
+        let n = lp.len();
+        let normals = &normals[..n];
+        if normals.iter().all(|(m, _)| m.dot(v) > 0.0) {
+            return true;
+        }
+        // `SphericalPolygon::contains_within`'s boundary test, term for term.
+        let tol = OUTSIDE_TOLERANCE;
+        (0..n).any(|i| {
+            let (a, b, (m, len)) = (lp[i], lp[(i + 1) % n], normals[i]);
+            m.dot(v).abs() <= tol * len && a.cross(v).dot(m) >= 0.0 && v.cross(b).dot(m) >= 0.0
+                || v.distance_squared(a) <= tol * tol
         })
     };
-    visible
-        .vertices()
-        .iter()
-        .all(|&v| strictly_inside(v) || light.contains_within(v, OUTSIDE_TOLERANCE))
+    visible.vertices().iter().all(|&v| {
+        convex.is_some_and(|lp| inside_convex(lp, v)) || light.contains_within(v, OUTSIDE_TOLERANCE)
+    })
 }
 
 #[cfg(test)]
@@ -67,22 +88,42 @@ mod tests {
         light.push_loop(square((0.0, 0.0), 0.5));
         let mut part = SphericalPolygon::new();
         part.push_loop(square((0.2, 0.0), 0.3));
-        assert!(visible_within_light(&light, &part));
-        assert!(visible_within_light(&light, &light));
-        assert!(visible_within_light(&light, &SphericalPolygon::new()));
+        assert!(visible_within_light(
+            &light,
+            &part,
+            form_factor(part.loops())
+        ));
+        assert!(visible_within_light(
+            &light,
+            &light,
+            form_factor(light.loops())
+        ));
+        assert!(visible_within_light(&light, &SphericalPolygon::new(), 0.0));
         // Sticking out on one side.
         let mut out = SphericalPolygon::new();
         out.push_loop(square((0.3, 0.0), 0.3));
-        assert!(!visible_within_light(&light, &out));
+        assert!(!visible_within_light(
+            &light,
+            &out,
+            form_factor(out.loops())
+        ));
         // Inside, but the wrong way round (negative area: a hole with no loop around it).
         let mut reversed = part.clone();
         reversed.reverse_loops();
-        assert!(!visible_within_light(&light, &reversed));
+        assert!(!visible_within_light(
+            &light,
+            &reversed,
+            form_factor(reversed.loops())
+        ));
         // Inside, but counted twice (more than the light).
         let mut twice = SphericalPolygon::new();
         twice.push_loop(square((0.0, 0.0), 0.45));
         twice.push_loop(square((0.0, 0.0), 0.45));
-        assert!(!visible_within_light(&light, &twice));
+        assert!(!visible_within_light(
+            &light,
+            &twice,
+            form_factor(twice.loops())
+        ));
     }
 
     /// A non-convex light (an L) takes the winding number for every vertex: a polygon in its
@@ -101,9 +142,17 @@ mod tests {
         ]);
         let mut inside = SphericalPolygon::new();
         inside.push_loop([d(0.05, 0.05), d(0.15, 0.05), d(0.15, 0.15), d(0.05, 0.15)]);
-        assert!(visible_within_light(&light, &inside));
+        assert!(visible_within_light(
+            &light,
+            &inside,
+            form_factor(inside.loops())
+        ));
         let mut notch = SphericalPolygon::new();
         notch.push_loop([d(0.25, 0.25), d(0.35, 0.25), d(0.35, 0.35), d(0.25, 0.35)]);
-        assert!(!visible_within_light(&light, &notch));
+        assert!(!visible_within_light(
+            &light,
+            &notch,
+            form_factor(notch.loops())
+        ));
     }
 }

@@ -1,0 +1,545 @@
+//! `penumbra bench --suite speed`: the speed guard (docs/benchmarks.md, "The speed guard").
+//!
+//! A machine's speed is not a constant: CI machines of one kind differ by 20 %, and one
+//! machine's speed drifts within a run. So the guard compares no time with a time measured
+//! elsewhere. It measures, in one run and side by side, each scene's analytic render, its
+//! unshadowed render and a fixed calibration workload (a loop of LTC edge integrals, the
+//! innermost operation of every analytic method), and keeps three ratios per scene:
+//!
+//! * analytic / unshadowed: the shadow's cost over the stages both share (camera rays, BVH,
+//!   lights' LTC, accumulation);
+//! * analytic / calibration and unshadowed / calibration: the stages the first ratio is blind
+//!   to, against work whose speed follows the machine's.
+//!
+//! Each ratio is the median over `runs` rounds, every round measuring the three workloads one
+//! after another. [`check`] compares the medians with a baseline committed in the repository
+//! (`tests/data/speed_baseline.json`) and reports every ratio that grew by more than the
+//! baseline's tolerance. A scene that crosses it is measured again and fails only when the
+//! second median crosses it too, so that one noisy round of a shared machine is not a failure,
+//! while a real slowdown (which every round sees) is.
+
+use crate::ltc::edge_integral::form_factor;
+use crate::render::{RenderContext, RenderMethod, RenderSettings};
+use crate::scene::Scene;
+use crate::scene::scene_file::{embedded_scene_names, load_embedded, load_scene};
+use crate::stochastic::LightSampling;
+use glam::DVec3;
+use rayon::prelude::*;
+use std::path::PathBuf;
+use web_time::Instant;
+
+/// What the suite measures, and how.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SpeedConfig {
+    pub width: u32,
+    pub height: u32,
+    pub aa: u32,
+    /// Rounds per scene; each ratio is the median over them.
+    pub runs: u32,
+    /// Worker threads of the suite's own pool (renders and calibration alike), so that the
+    /// ratios do not depend on how many cores the machine has.
+    pub threads: usize,
+    /// A workload shorter than this is repeated until it has taken this long, and its time is
+    /// the mean per repetition: timer and thread start-up stay below 1 % of what is measured.
+    pub min_seconds: f64,
+}
+
+impl Default for SpeedConfig {
+    fn default() -> Self {
+        Self {
+            width: 256,
+            height: 256,
+            aa: 2,
+            runs: 5,
+            threads: 2,
+            min_seconds: 0.2,
+        }
+    }
+}
+
+/// Where a scene of the suite comes from.
+#[derive(Clone, Debug)]
+pub enum SpeedScene {
+    Embedded(&'static str),
+    File(PathBuf),
+}
+
+/// The suite's scenes, by name: every embedded scene (the `cube` scene among them, the
+/// plainest shadow there is), every file of `tests/data/blender` as OBJ and as glTF, and the
+/// bunny. Files not found beside the working directory or the source tree are left out.
+pub fn speed_scenes() -> Vec<(String, SpeedScene)> {
+    let mut scenes: Vec<(String, SpeedScene)> = embedded_scene_names()
+        .iter()
+        .map(|&n| (n.to_string(), SpeedScene::Embedded(n)))
+        .collect();
+    for (stem, _) in super::realworld::BLENDER_SCENES {
+        for (ext, kind) in [("toml", "obj"), ("glb", "glb")] {
+            let rel = format!("tests/data/blender/{stem}.{ext}");
+            if let Some(p) = super::realworld::source_path(&rel) {
+                scenes.push((format!("blender_{stem}_{kind}"), SpeedScene::File(p)));
+            }
+        }
+    }
+    if let Some(p) = super::realworld::source_path("assets/scenes/bunny.toml") {
+        scenes.push(("bunny".into(), SpeedScene::File(p)));
+    }
+    scenes
+}
+
+/// One scene's ratios: medians over the rounds.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SpeedRatios {
+    pub analytic_to_unshadowed: f64,
+    pub analytic_to_calibration: f64,
+    pub unshadowed_to_calibration: f64,
+}
+
+impl SpeedRatios {
+    /// The three ratios with their names, in the report's order.
+    pub fn named(&self) -> [(&'static str, f64); 3] {
+        [
+            ("analytic/unshadowed", self.analytic_to_unshadowed),
+            ("analytic/calibration", self.analytic_to_calibration),
+            ("unshadowed/calibration", self.unshadowed_to_calibration),
+        ]
+    }
+}
+
+/// One scene of the report.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SpeedRow {
+    pub scene: String,
+    pub ratios: SpeedRatios,
+    /// Median seconds per render and per calibration (for reading, not for the guard).
+    pub analytic_seconds: f64,
+    pub unshadowed_seconds: f64,
+    pub calibration_seconds: f64,
+    /// Invariant violations of the analytic renders (a bug wherever not 0).
+    pub violations: u64,
+    /// The process's peak resident memory over the scene's renders, in MB (Linux).
+    pub peak_mb: Option<f64>,
+}
+
+/// What `penumbra bench --suite speed` writes (`speed.json`).
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SpeedReport {
+    pub config: SpeedConfig,
+    pub rows: Vec<SpeedRow>,
+}
+
+/// The committed reference the guard compares with. Updating it is a deliberate commit whose
+/// `why` says what changed.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SpeedBaseline {
+    pub why: String,
+    /// A ratio may grow by this fraction before the guard fails (0.10: 10 %).
+    pub tolerance: f64,
+    pub config: SpeedConfig,
+    pub scenes: Vec<BaselineRow>,
+}
+
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct BaselineRow {
+    pub scene: String,
+    pub ratios: SpeedRatios,
+}
+
+impl SpeedBaseline {
+    /// The baseline that `report` would be, with the reason for the update.
+    pub fn from_report(report: &SpeedReport, tolerance: f64, why: &str) -> Self {
+        Self {
+            why: why.into(),
+            tolerance,
+            config: report.config.clone(),
+            scenes: report
+                .rows
+                .iter()
+                .map(|r| BaselineRow {
+                    scene: r.scene.clone(),
+                    ratios: r.ratios.clone(),
+                })
+                .collect(),
+        }
+    }
+
+    pub fn ratios(&self, scene: &str) -> Option<&SpeedRatios> {
+        self.scenes
+            .iter()
+            .find(|r| r.scene == scene)
+            .map(|r| &r.ratios)
+    }
+}
+
+/// A ratio that grew past the tolerance.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Regression {
+    pub scene: String,
+    pub ratio: String,
+    pub baseline: f64,
+    pub measured: f64,
+}
+
+impl Regression {
+    /// `measured / baseline − 1`.
+    pub fn growth(&self) -> f64 {
+        self.measured / self.baseline - 1.0
+    }
+}
+
+impl std::fmt::Display for Regression {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: {} {:.4} against the baseline's {:.4} (+{:.1} %)",
+            self.scene,
+            self.ratio,
+            self.measured,
+            self.baseline,
+            100.0 * self.growth()
+        )
+    }
+}
+
+/// The ratios of `row` that grew by more than `tolerance` over `baseline`'s.
+pub fn regressions(
+    scene: &str,
+    measured: &SpeedRatios,
+    baseline: &SpeedRatios,
+    tolerance: f64,
+) -> Vec<Regression> {
+    measured
+        .named()
+        .into_iter()
+        .zip(baseline.named())
+        .filter(|((_, m), (_, b))| *m > b * (1.0 + tolerance))
+        .map(|((name, m), (_, b))| Regression {
+            scene: scene.into(),
+            ratio: name.into(),
+            baseline: b,
+            measured: m,
+        })
+        .collect()
+}
+
+/// The median of `v` (the mean of the middle two for an even count); NaN when empty.
+pub fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    match s.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => s[n / 2],
+        n => 0.5 * (s[n / 2 - 1] + s[n / 2]),
+    }
+}
+
+/// Quadrilaterals in the upper hemisphere, the same on every machine: a fixed lattice of
+/// centres and sizes (no random numbers, so the workload never changes).
+fn calibration_quads() -> Vec<[DVec3; 4]> {
+    let mut quads = Vec::with_capacity(1024);
+    for i in 0..32 {
+        for j in 0..32 {
+            let (u, v) = ((i as f64 + 0.5) / 32.0, (j as f64 + 0.5) / 32.0);
+            let centre = DVec3::new(2.0 * u - 1.0, 2.0 * v - 1.0, 0.3 + u * v);
+            let h = 0.05 + 0.3 * ((i * 7 + j * 3) % 11) as f64 / 11.0;
+            let (a, b) = (DVec3::X * h, DVec3::Y * h * (0.5 + v));
+            quads.push(
+                [
+                    centre - a - b,
+                    centre + a - b,
+                    centre + a + b,
+                    centre - a + b,
+                ]
+                .map(|p| p.normalize()),
+            );
+        }
+    }
+    quads
+}
+
+/// The calibration workload: `passes` × 1024 quadrilaterals' LTC form factors (4 edge
+/// integrals each), split over the current rayon pool as a render is. Returns its sum, which
+/// the caller keeps so that nothing is optimised away.
+pub fn calibration_work(quads: &[[DVec3; 4]], passes: u32) -> f64 {
+    (0..passes)
+        .into_par_iter()
+        .map(|pass| {
+            let tilt = 1.0 + 1e-3 * pass as f64;
+            quads
+                .iter()
+                .map(|q| {
+                    let q = q.map(|p| DVec3::new(p.x * tilt, p.y, p.z));
+                    form_factor([&q[..]])
+                })
+                .sum::<f64>()
+        })
+        .sum()
+}
+
+/// Seconds per call of `work`, repeated until `min_seconds` have passed.
+fn timed(min_seconds: f64, mut work: impl FnMut() -> Result<f64, String>) -> Result<f64, String> {
+    let start = Instant::now();
+    let mut calls = 0u32;
+    let mut sink = 0.0;
+    loop {
+        sink += work()?;
+        calls += 1;
+        let spent = start.elapsed().as_secs_f64();
+        if spent >= min_seconds {
+            std::hint::black_box(sink);
+            return Ok(spent / calls as f64);
+        }
+    }
+}
+
+/// Measures one scene: `config.runs` rounds of calibration, unshadowed and analytic.
+pub fn measure_scene(scene: &Scene, name: &str, config: &SpeedConfig) -> Result<SpeedRow, String> {
+    let camera = scene.camera.ok_or_else(|| format!("{name}: no camera"))?;
+    let settings = |method| RenderSettings {
+        width: config.width,
+        height: config.height,
+        aa: config.aa,
+        method,
+        spp: 1,
+        seed: 1,
+        light_sampling: LightSampling::SolidAngle,
+        collect_stats: false,
+        exact_u: false,
+    };
+    let ctx = RenderContext::for_render(scene, &settings(RenderMethod::Analytic));
+    let quads = calibration_quads();
+    let (analytic, unshadowed) = (
+        settings(RenderMethod::Analytic),
+        settings(RenderMethod::Unshadowed),
+    );
+    let mut violations = 0;
+    let render = |s: &RenderSettings, violations: &mut u64| -> Result<f64, String> {
+        let out = ctx.render_full(&camera, s, None)?;
+        *violations = (*violations).max(out.stats.violations);
+        Ok(out.stats.seconds)
+    };
+    super::memory::reset_peak();
+    let (mut a, mut u, mut c) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..config.runs.max(1) {
+        c.push(timed(config.min_seconds, || {
+            Ok(calibration_work(&quads, 512))
+        })?);
+        u.push(timed(config.min_seconds, || {
+            render(&unshadowed, &mut 0).map(|_| 0.0)
+        })?);
+        a.push(timed(config.min_seconds, || {
+            render(&analytic, &mut violations).map(|_| 0.0)
+        })?);
+    }
+    let per_round = |x: &[f64], y: &[f64]| -> f64 {
+        median(&x.iter().zip(y).map(|(x, y)| x / y).collect::<Vec<_>>())
+    };
+    Ok(SpeedRow {
+        scene: name.into(),
+        ratios: SpeedRatios {
+            analytic_to_unshadowed: per_round(&a, &u),
+            analytic_to_calibration: per_round(&a, &c),
+            unshadowed_to_calibration: per_round(&u, &c),
+        },
+        analytic_seconds: median(&a),
+        unshadowed_seconds: median(&u),
+        calibration_seconds: median(&c),
+        violations,
+        peak_mb: super::memory::peak_mb(),
+    })
+}
+
+/// Loads a scene of the suite.
+pub fn load(source: &SpeedScene) -> Result<Scene, String> {
+    match source {
+        SpeedScene::Embedded(n) => load_embedded(n).map_err(|e| e.to_string()),
+        SpeedScene::File(p) => load_scene(p).map_err(|e| format!("{}: {e}", p.display())),
+    }
+}
+
+/// The outcome of a guarded run.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct GuardOutcome {
+    pub report: SpeedReport,
+    /// Ratios past the tolerance twice in a row.
+    pub regressions: Vec<Regression>,
+    /// Scenes of the baseline the run did not measure, and measured scenes it lacks.
+    pub unmatched: Vec<String>,
+}
+
+/// Runs the suite on its own pool of `config.threads` threads. With a baseline, a scene
+/// whose ratios grew past its tolerance is measured once more, and only ratios past it both
+/// times are regressions. `only` keeps the scenes of those names (all when empty).
+pub fn run_speed(
+    config: &SpeedConfig,
+    baseline: Option<&SpeedBaseline>,
+    only: &[String],
+    mut progress: impl FnMut(&str),
+) -> Result<GuardOutcome, String> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(config.threads.max(1))
+        .build()
+        .map_err(|e| e.to_string())?;
+    let mut scenes = speed_scenes();
+    scenes.retain(|(n, _)| only.is_empty() || only.contains(n));
+    let mut rows = Vec::new();
+    let mut regressed = Vec::new();
+    let mut unmatched = Vec::new();
+    for (name, source) in &scenes {
+        let scene = load(source)?;
+        let row = pool.install(|| measure_scene(&scene, name, config))?;
+        progress(&row_line(&row));
+        let Some(base) = baseline else {
+            rows.push(row);
+            continue;
+        };
+        let Some(want) = base.ratios(name) else {
+            unmatched.push(format!("{name}: not in the baseline"));
+            rows.push(row);
+            continue;
+        };
+        let first = regressions(name, &row.ratios, want, base.tolerance);
+        if first.is_empty() {
+            rows.push(row);
+            continue;
+        }
+        for r in &first {
+            progress(&format!("{r}; measuring {name} again"));
+        }
+        let again = pool.install(|| measure_scene(&scene, name, config))?;
+        progress(&row_line(&again));
+        let second = regressions(name, &again.ratios, want, base.tolerance);
+        // A ratio fails when both measurements crossed; its report is the smaller of the two.
+        for r in second {
+            if let Some(f) = first.iter().find(|f| f.ratio == r.ratio) {
+                regressed.push(if f.measured < r.measured {
+                    f.clone()
+                } else {
+                    r
+                });
+            }
+        }
+        rows.push(again);
+    }
+    if let Some(base) = baseline {
+        for b in &base.scenes {
+            let wanted = only.is_empty() || only.contains(&b.scene);
+            if wanted && !rows.iter().any(|r| r.scene == b.scene) {
+                unmatched.push(format!("{}: in the baseline, not measured", b.scene));
+            }
+        }
+    }
+    Ok(GuardOutcome {
+        report: SpeedReport {
+            config: config.clone(),
+            rows,
+        },
+        regressions: regressed,
+        unmatched,
+    })
+}
+
+/// One line per scene, as the progress and the table give it.
+pub fn row_line(r: &SpeedRow) -> String {
+    format!(
+        "{}: analytic/unshadowed {:.3}, analytic/calibration {:.3}, unshadowed/calibration {:.3} \
+         (analytic {:.4} s, unshadowed {:.4} s, calibration {:.4} s; {} violations{})",
+        r.scene,
+        r.ratios.analytic_to_unshadowed,
+        r.ratios.analytic_to_calibration,
+        r.ratios.unshadowed_to_calibration,
+        r.analytic_seconds,
+        r.unshadowed_seconds,
+        r.calibration_seconds,
+        r.violations,
+        r.peak_mb
+            .map_or(String::new(), |m| format!(", peak {m:.0} MB"))
+    )
+}
+
+/// The report as a Markdown table, with the baseline's ratios beside the measured ones.
+pub fn speed_markdown(report: &SpeedReport, baseline: Option<&SpeedBaseline>) -> String {
+    use std::fmt::Write;
+    let c = &report.config;
+    let mut md = format!(
+        "Speed guard: {}×{} `--aa {}`, {} threads, median of {} rounds\n\n\
+         | scene | analytic/unshadowed | analytic/calibration | unshadowed/calibration | \
+         analytic | unshadowed | calibration | violations | peak memory |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+        c.width, c.height, c.aa, c.threads, c.runs
+    );
+    for r in &report.rows {
+        let base = baseline.and_then(|b| b.ratios(&r.scene));
+        let cell = |i: usize| {
+            let m = r.ratios.named()[i].1;
+            match base {
+                Some(b) => {
+                    let b = b.named()[i].1;
+                    format!("{m:.3} ({:+.1} %)", 100.0 * (m / b - 1.0))
+                }
+                None => format!("{m:.3}"),
+            }
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.4} s | {:.4} s | {:.4} s | {} | {} |",
+            r.scene,
+            cell(0),
+            cell(1),
+            cell(2),
+            r.analytic_seconds,
+            r.unshadowed_seconds,
+            r.calibration_seconds,
+            r.violations,
+            r.peak_mb.map_or("n/a".into(), |m| format!("{m:.0} MB"))
+        );
+    }
+    md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ratios(a: f64, b: f64, c: f64) -> SpeedRatios {
+        SpeedRatios {
+            analytic_to_unshadowed: a,
+            analytic_to_calibration: b,
+            unshadowed_to_calibration: c,
+        }
+    }
+
+    #[test]
+    fn a_ratio_past_the_tolerance_is_a_regression_and_one_within_is_not() {
+        let base = ratios(10.0, 4.0, 0.4);
+        assert!(regressions("s", &ratios(10.99, 4.39, 0.439), &base, 0.10).is_empty());
+        let r = regressions("s", &ratios(11.01, 3.0, 0.5), &base, 0.10);
+        let names: Vec<&str> = r.iter().map(|r| r.ratio.as_str()).collect();
+        assert_eq!(names, ["analytic/unshadowed", "unshadowed/calibration"]);
+        assert!((r[1].growth() - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_median_of_odd_and_even_counts() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert!(median(&[]).is_nan());
+    }
+
+    #[test]
+    fn the_calibration_is_the_same_work_on_any_pool() {
+        // The workload's result is fixed by its inputs: one thread or two, the same sum
+        // (each pass is summed on its own, then the passes in a fixed tree order).
+        let quads = calibration_quads();
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| calibration_work(&quads, 8));
+        let two = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap()
+            .install(|| calibration_work(&quads, 8));
+        assert!(one > 0.0 && (one - two).abs() <= 1e-12 * one, "{one} {two}");
+    }
+}
