@@ -37,7 +37,7 @@ pub fn visible_within_light(
     // inside the light, and `contains_within`'s test of the arcs is taken here with the
     // edges' normals formed once: a sign per edge, then the same products, instead of the
     // winding number's angles, which are left to the rest.
-    const MAX_CONVEX: usize = 16;
+    const MAX_CONVEX: usize = 64;
     let mut normals = [(DVec3::ZERO, 0.0); MAX_CONVEX];
     let convex = (light.loop_count() == 1)
         .then(|| light.loop_at(0))
