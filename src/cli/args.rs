@@ -292,6 +292,12 @@ pub(crate) struct BenchArgs {
     /// --suite speed: the reason written into a new baseline.
     #[arg(long)]
     pub(crate) why: Option<String>,
+    /// --suite speed, internal: measure this one scene in this process with the settings of
+    /// --speed-config (JSON), and print its row as JSON. The suite runs each scene so.
+    #[arg(long, hide = true, requires = "speed_config")]
+    pub(crate) measure_scene: Option<String>,
+    #[arg(long, hide = true)]
+    pub(crate) speed_config: Option<String>,
     /// Benchmark the environment light of this scene instead (002 Tables 1 and 2: per-pass
     /// times with and without culling, the ladder of rays against the exact method).
     #[arg(long)]

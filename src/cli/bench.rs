@@ -254,7 +254,15 @@ pub(crate) fn bench_realworld(args: &BenchArgs) -> Result<()> {
 /// `penumbra bench --suite speed`: the speed guard. Fails (exit status 1) when a ratio grew
 /// past the baseline's tolerance in two measurements of its scene.
 pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
-    use penumbra::bench::speed::{SpeedBaseline, SpeedConfig, run_speed, speed_markdown};
+    use penumbra::bench::speed::{
+        SpeedBaseline, SpeedConfig, SpeedRow, measure_named, run_speed_with, speed_markdown,
+    };
+    if let (Some(name), Some(config)) = (&args.measure_scene, &args.speed_config) {
+        let config: SpeedConfig = serde_json::from_str(config).context("--speed-config")?;
+        let row = measure_named(name, &config).map_err(anyhow::Error::msg)?;
+        println!("{}", serde_json::to_string(&row)?);
+        return Ok(());
+    }
     let baseline: Option<SpeedBaseline> = match &args.baseline {
         Some(p) => Some(
             serde_json::from_str(
@@ -272,8 +280,32 @@ pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("out/bench/speed"));
     std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
-    let outcome = run_speed(&config, baseline.as_ref(), &args.only, |m| eprintln!("{m}"))
-        .map_err(anyhow::Error::msg)?;
+    // Each scene in a process of its own: one scene's render ran 20 % slower after the
+    // scenes before it than in a fresh process, with the same code (docs/speed.md).
+    let exe = std::env::current_exe().context("the path of this program")?;
+    let config_json = serde_json::to_string(&config)?;
+    let measure = |name: &str| -> Result<SpeedRow, String> {
+        let out = std::process::Command::new(&exe)
+            .args(["bench", "--suite", "speed", "--measure-scene", name])
+            .args(["--speed-config", &config_json])
+            .stderr(std::process::Stdio::inherit())
+            .output()
+            .map_err(|e| format!("{}: {e}", exe.display()))?;
+        if !out.status.success() {
+            return Err(format!("measuring {name}: {}", out.status));
+        }
+        let text = String::from_utf8_lossy(&out.stdout);
+        let line = text.lines().last().unwrap_or_default();
+        serde_json::from_str(line).map_err(|e| format!("measuring {name}: {e}: {line}"))
+    };
+    let outcome = run_speed_with(
+        baseline.as_ref(),
+        &args.only,
+        |m| eprintln!("{m}"),
+        measure,
+        &config,
+    )
+    .map_err(anyhow::Error::msg)?;
     let md = speed_markdown(&outcome.report, baseline.as_ref());
     say!("{md}");
     for path in [
