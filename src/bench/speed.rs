@@ -398,34 +398,18 @@ pub fn measure_named(name: &str, config: &SpeedConfig) -> Result<SpeedRow, Strin
     pool.install(|| measure_scene(&scene, name, config))
 }
 
-/// Runs the suite, every scene measured in this process ([`measure_named`]). With a baseline,
-/// a scene whose ratios grew past its tolerance is measured once more after the others, and
-/// only ratios past it both times are regressions. `only` keeps the scenes of those names (all
-/// when empty).
+/// Runs the suite with `config`, each scene measured by `measure` (by name): the command line
+/// measures each in a process of its own, so that no scene runs in the heap and page state
+/// the scenes before it left (docs/speed.md, "The check"); [`measure_named`] measures in this
+/// process. With a baseline, a scene whose ratios grew past its tolerance is measured once
+/// more after the others, and only ratios past it both times are regressions. `only` keeps
+/// the scenes of those names (all when empty).
 pub fn run_speed(
     config: &SpeedConfig,
     baseline: Option<&SpeedBaseline>,
     only: &[String],
-    progress: impl FnMut(&str),
-) -> Result<GuardOutcome, String> {
-    run_speed_with(
-        baseline,
-        only,
-        progress,
-        |name| measure_named(name, config),
-        config,
-    )
-}
-
-/// [`run_speed`] with the measurement of a scene (by name) left to `measure`: the command
-/// line measures each in a process of its own, so that no scene runs in the heap and page
-/// state the scenes before it left (docs/speed.md, "The check").
-pub fn run_speed_with(
-    baseline: Option<&SpeedBaseline>,
-    only: &[String],
     mut progress: impl FnMut(&str),
     mut measure: impl FnMut(&str) -> Result<SpeedRow, String>,
-    config: &SpeedConfig,
 ) -> Result<GuardOutcome, String> {
     let mut scenes = speed_scenes();
     scenes.retain(|(n, _)| only.is_empty() || only.contains(n));

@@ -255,7 +255,7 @@ pub(crate) fn bench_realworld(args: &BenchArgs) -> Result<()> {
 /// past the baseline's tolerance in two measurements of its scene.
 pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
     use penumbra::bench::speed::{
-        SpeedBaseline, SpeedConfig, SpeedRow, measure_named, run_speed_with, speed_markdown,
+        SpeedBaseline, SpeedConfig, SpeedRow, measure_named, run_speed, speed_markdown,
     };
     if let (Some(name), Some(config)) = (&args.measure_scene, &args.speed_config) {
         let config: SpeedConfig = serde_json::from_str(config).context("--speed-config")?;
@@ -298,12 +298,12 @@ pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
         let line = text.lines().last().unwrap_or_default();
         serde_json::from_str(line).map_err(|e| format!("measuring {name}: {e}: {line}"))
     };
-    let outcome = run_speed_with(
+    let outcome = run_speed(
+        &config,
         baseline.as_ref(),
         &args.only,
         |m| eprintln!("{m}"),
         measure,
-        &config,
     )
     .map_err(anyhow::Error::msg)?;
     let md = speed_markdown(&outcome.report, baseline.as_ref());
