@@ -1,4 +1,4 @@
-//! `penumbra bench --suite speed`: the speed guard (docs/benchmarks.md, "The speed guard").
+//! `penumbra bench --suite speed`: the speed guard (docs/speed.md).
 //!
 //! A machine's speed is not a constant: CI machines of one kind differ by 20 %, and one
 //! machine's speed drifts within a run. So the guard compares no time with a time measured
@@ -12,7 +12,7 @@
 //!   to, against work whose speed follows the machine's.
 //!
 //! Each ratio is the median over `runs` rounds, every round measuring the three workloads one
-//! after another. [`check`] compares the medians with a baseline committed in the repository
+//! after another. [`run_speed`] compares the medians with a baseline committed in the repository
 //! (`tests/data/speed_baseline.json`) and reports every workload whose cost grew by more than
 //! the baseline's tolerance against its yardsticks ([`regressions`]). A scene that crosses it
 //! is measured again after the others and fails only when the second measurement crosses it
