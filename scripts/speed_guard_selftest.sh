@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The speed guard's test of itself (docs/benchmarks.md, "The speed guard"): a build whose
+# The speed guard's test of itself (docs/speed.md): a build whose
 # SetDifference::subtract repeats its work (feature `speed-guard-selftest`) must fail
 # `penumbra bench --suite speed` against the committed baseline, naming a slowed scene.
 # Run after the guard itself: it rebuilds target/release/penumbra with the feature and then

@@ -92,9 +92,7 @@ impl SphericalPolygon {
             (0..n).any(|i| {
                 let (a, b) = (lp[i], lp[(i + 1) % n]);
                 let m = a.cross(b);
-                let on_circle = m.dot(v).abs() <= tol * m.length().max(f64::MIN_POSITIVE);
-                on_circle && a.cross(v).dot(m) >= 0.0 && v.cross(b).dot(m) >= 0.0
-                    || v.distance_squared(a) <= tol * tol
+                near_arc_start(a, b, m, m.length().max(f64::MIN_POSITIVE), v, tol)
             })
         });
         if near_boundary {
@@ -112,6 +110,16 @@ impl SphericalPolygon {
         }
         turn > std::f64::consts::PI
     }
+}
+
+/// [`SphericalPolygon::contains_within`]'s boundary test for the arc a → b, whose normal
+/// `m = a × b` has length `len`: `v` lies on the arc to within the angle `tol`, or within
+/// `tol` of its start `a`.
+#[inline]
+pub fn near_arc_start(a: DVec3, b: DVec3, m: DVec3, len: f64, v: DVec3, tol: f64) -> bool {
+    let on_circle = m.dot(v).abs() <= tol * len;
+    on_circle && a.cross(v).dot(m) >= 0.0 && v.cross(b).dot(m) >= 0.0
+        || v.distance_squared(a) <= tol * tol
 }
 
 /// The convex loop `subject` (unit directions) clipped to the half-spaces `d·n ≥ 0` of `normals`

@@ -10,6 +10,7 @@
 //! is a bug, never a tolerance to widen.
 
 use crate::geometry::SphericalPolygon;
+use crate::geometry::spherical_polygon::near_arc_start;
 use crate::ltc::form_factor;
 use glam::DVec3;
 
@@ -58,12 +59,10 @@ pub fn visible_within_light(
         if normals.iter().all(|(m, _)| m.dot(v) > 0.0) {
             return true;
         }
-        // `SphericalPolygon::contains_within`'s boundary test, term for term.
-        let tol = OUTSIDE_TOLERANCE;
+        // `SphericalPolygon::contains_within`'s boundary test, with the normals formed once.
         (0..n).any(|i| {
-            let (a, b, (m, len)) = (lp[i], lp[(i + 1) % n], normals[i]);
-            m.dot(v).abs() <= tol * len && a.cross(v).dot(m) >= 0.0 && v.cross(b).dot(m) >= 0.0
-                || v.distance_squared(a) <= tol * tol
+            let (m, len) = normals[i];
+            near_arc_start(lp[i], lp[(i + 1) % n], m, len, v, OUTSIDE_TOLERANCE)
         })
     };
     visible.vertices().iter().all(|&v| {
