@@ -184,6 +184,7 @@ pub fn numbers(probe: &Probe, step: &Step) -> Vec<(&'static str, String)> {
                 let (bv, _) = loops_of(&sd.before);
                 let (av, al) = loops_of(&sd.after);
                 out.push(("occluder", occluder(sd.occluder)));
+                out.push(("method", format!("{:?}", sd.method)));
                 out.push(("before_vertices", bv.to_string()));
                 out.push(("after_vertices", av.to_string()));
                 out.push(("after_loops", al.to_string()));

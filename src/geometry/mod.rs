@@ -14,6 +14,7 @@ pub mod edge_hierarchy;
 pub mod exact_predicates;
 pub mod exact_silhouette;
 pub mod face_bvh;
+pub mod hole_difference;
 pub mod horizon;
 pub mod horizon_split;
 pub mod kernel;
@@ -47,6 +48,7 @@ pub use exact_silhouette::{
     Degenerate, EDGE_PAIRS_MAX_EDGES, ExactSilhouetteScratch, ExactSilhouetteStats, PointCoding,
     SilhouettePoint, count_ray_hits, exact_silhouette, symbolic_loops,
 };
+pub use hole_difference::{HoleScratch, part_inside_convex};
 pub use horizon::{HorizonScratch, clip_to_horizon};
 pub use kernel::{kernel, star_centre};
 pub use mesh_index::{IndexedPolyhedron, MeshIndex};

@@ -33,17 +33,19 @@ use super::ltc_correction::{
 };
 use super::outline::{Fallbacks, Outline, OutlineScratch, Role};
 use super::recorder::{
-    ExactSilhouetteRecord, Lobe, Recorder, Stage, TileShareRecord, TreeLookupRecord,
+    DifferenceMethod, ExactSilhouetteRecord, Lobe, Recorder, Stage, TileShareRecord,
+    TreeLookupRecord,
 };
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::horizon_split::HorizonSplit;
 use crate::geometry::spherical_polygon::clip_loop_to_half_spaces;
 use crate::geometry::{
-    ExactSilhouetteScratch, HorizonScratch, Overlap, PlanarPolygon, Plane, ProjectionPlane,
-    SetDifference, Sidedness, SilhouettePoint, SphericalPolygon, TileQuery, TileRegion,
-    classify_overlap, clip_to_horizon, clip_to_window, contour_edges, face_polygon, window_cone,
+    ExactSilhouetteScratch, HoleScratch, HorizonScratch, Overlap, PlanarPolygon, Plane,
+    PolygonLoops, ProjectionPlane, SetDifference, Sidedness, SilhouettePoint, SphericalPolygon,
+    TileQuery, TileRegion, classify_overlap, clip_to_horizon, clip_to_window, contour_edges,
+    face_polygon, part_inside_convex, window_cone,
 };
-use crate::ltc::{LtcEntry, form_factor};
+use crate::ltc::{LtcEntry, form_factor, form_factor_terms};
 use crate::math::Frame;
 use crate::scene::Material;
 use glam::DVec3;
@@ -122,6 +124,24 @@ pub struct ShadingScratch {
     pub(super) outline: OutlineScratch,
     pub(super) horizon: HorizonScratch,
     pub(super) difference: SetDifference,
+    pub(super) hole: HoleScratch,
+    /// The part of the last occluder inside a convex visible polygon, when the last set
+    /// difference was taken as a hole (`geometry::hole_difference`): the visible region is
+    /// `visible` less it. Empty otherwise.
+    pub(super) visible_hole: PlanarPolygon,
+    /// The occluder polygon the hole came from, and its index: what [`settle_hole`] subtracts.
+    pub(super) hole_occluder: PlanarPolygon,
+    pub(super) hole_oi: usize,
+    pub(super) hole_sph: SphericalPolygon,
+    /// The region the LTC's correction samples when it is held with a hole (`sampled_region`).
+    pub(super) sampled: SphericalPolygon,
+    /// Kept aside while [`settle_hole`] takes an occluder face by face.
+    pub(super) occ_plane_aside: PlanarPolygon,
+    pub(super) face_list_aside: Vec<u32>,
+    pub(super) hole_lobe: SphericalPolygon,
+    pub(super) hole_lobe_clip: SphericalPolygon,
+    /// The visible region with its hole as one polygon (the hole reversed), for the recorder.
+    pub(super) visible_shown: SphericalPolygon,
     pub(super) light_sph: SphericalPolygon,
     pub(super) light_clip: SphericalPolygon,
     pub(super) occ_sph: SphericalPolygon,
@@ -624,6 +644,7 @@ fn shade_light_piece<R: Recorder>(
     scratch.stats.light_edges += scratch.light_clip.vertex_count() as u32;
     let plane = ProjectionPlane::NORMAL;
     plane.project(&scratch.light_clip, &mut scratch.visible);
+    scratch.visible_hole.clear();
 
     // A light handled face by face hides parts of itself.
     let self_occluding = piece.face.is_some();
@@ -677,13 +698,14 @@ fn shade_light_piece<R: Recorder>(
         shortcuts.all_disjoint += 1;
     }
 
-    plane.reproject(&scratch.visible, &mut scratch.visible_sph);
-    rec.light_polygon(Stage::Visible, &scratch.visible_sph);
-    // The visible polygon's form factor: the diffuse lobe's integral, and the invariant's.
-    let f_visible = form_factor(scratch.visible_sph.loops());
+    let f_visible = visible_on_sphere(scratch, rec);
     // Without a set difference the visible polygon is the light's: nothing to check.
     if scratch.stats.set_differences > differences_before
-        && !visible_within_light(&scratch.light_clip, &scratch.visible_sph, f_visible)
+        && !visible_within_light(
+            &scratch.light_clip,
+            [&scratch.visible_sph, &scratch.hole_sph],
+            f_visible,
+        )
     {
         scratch.stats.violations += 1;
     }
@@ -694,9 +716,7 @@ fn shade_light_piece<R: Recorder>(
         // The light's own image in the window (less the other occluders): the window, less
         // what is left of it once the light's mesh is subtracted as well.
         subtract_occluder(ctx, own, Some(piece), scratch, rec);
-        plane.reproject(&scratch.visible, &mut scratch.visible_sph);
-        rec.light_polygon(Stage::Visible, &scratch.visible_sph);
-        let f_rest = form_factor(scratch.visible_sph.loops());
+        let f_rest = visible_on_sphere(scratch, rec);
         let (d, s) = integrate_lobes(ctx, piece, f_rest, scratch, rec);
         // Rounding can leave the difference of two equal integrals a few ulps below zero.
         diffuse = (diffuse - d).max(DVec3::ZERO);
@@ -704,6 +724,75 @@ fn shade_light_piece<R: Recorder>(
     }
     rec.end_light(diffuse, specular);
     diffuse + specular
+}
+
+/// The visible region on the sphere (`visible_sph`, less `hole_sph` where the last difference
+/// left a hole), recorded, and its form factor: the diffuse lobe's integral, and the
+/// invariant's.
+fn visible_on_sphere<R: Recorder>(scratch: &mut ShadingScratch, rec: &mut R) -> f64 {
+    let plane = ProjectionPlane::NORMAL;
+    plane.reproject(&scratch.visible, &mut scratch.visible_sph);
+    if scratch.visible_hole.is_empty() {
+        scratch.hole_sph.clear();
+        rec.light_polygon(Stage::Visible, &scratch.visible_sph);
+        return form_factor(scratch.visible_sph.loops());
+    }
+    plane.reproject(&scratch.visible_hole, &mut scratch.hole_sph);
+    let (f_region, scale_region) = form_factor_and_scale(&scratch.visible_sph);
+    let (f_hole, scale_hole) = form_factor_and_scale(&scratch.hole_sph);
+    let f = f_region - f_hole;
+    if f <= HOLE_COVERS * (scale_region + scale_hole) {
+        // The hole is the whole region, up to the rounding of two equal integrals: empty, as
+        // Greiner–Hormann's difference is there.
+        for poly in [&mut scratch.visible, &mut scratch.visible_hole] {
+            poly.clear();
+        }
+        scratch.visible_sph.clear();
+        scratch.hole_sph.clear();
+        rec.light_polygon(Stage::Visible, &scratch.visible_sph);
+        return 0.0;
+    }
+    if R::ENABLED {
+        with_hole(
+            &scratch.visible_sph,
+            &scratch.hole_sph,
+            &mut scratch.visible_shown,
+        );
+        rec.light_polygon(Stage::Visible, &scratch.visible_shown);
+    }
+    f
+}
+
+/// A region less a hole is empty when its form factor is below this fraction of the sum of the
+/// magnitudes of the edge terms (both polygons'): that is the rounding of the difference of two
+/// nearly equal integrals (a region covered with contacts along its boundary, which
+/// `geometry::overlap` cannot call covered). Each term carries a few ulps (acos, a cross
+/// product, a normalisation: under 8ε) and the sum one per term, so for up to 64 edges the
+/// rounding stays below 72ε ≈ 1.6e-14 of the magnitudes. Near the horizon the terms are far
+/// larger than the integral (their cosine factors cancel), which a bound relative to the
+/// region's integral would not see.
+const HOLE_COVERS: f64 = 1e-13;
+
+/// The form factor of `poly` (000 Eq. 9) and the sum of the magnitudes of its terms, on the
+/// same scale: the size of its rounding.
+fn form_factor_and_scale(poly: &SphericalPolygon) -> (f64, f64) {
+    let (mut sum, mut magnitude) = (0.0, 0.0);
+    form_factor_terms(poly.loops(), |_, _, t| {
+        sum += t;
+        magnitude += t.abs();
+    });
+    (
+        sum / std::f64::consts::TAU,
+        magnitude / std::f64::consts::TAU,
+    )
+}
+
+/// `region` and `hole` reversed, as one polygon: what a recording shows of a region with a hole.
+fn with_hole(region: &PolygonLoops, hole: &PolygonLoops, out: &mut PolygonLoops) {
+    out.copy_from(region);
+    for lp in hole.loops() {
+        out.push_loop(lp.iter().rev().copied());
+    }
 }
 
 /// Lines 9–12 of Alg. 1 for occluder `oi` (index into `scene.occluders`).
@@ -759,7 +848,7 @@ pub(super) fn subtract_occluder<R: Recorder>(
             piece.is_some() && occ.path().is_windowed() && scratch.light_clip.loop_count() == 1;
         if !R::ENABLED && !windowed && scratch.occluder_cache[oi].stamp == scratch.stamp {
             std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-            let done = subtract_planar(oi, scratch, rec);
+            let done = subtract_planar(ctx, piece, oi, piece.is_some(), scratch, rec);
             std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
             if done {
                 return;
@@ -874,7 +963,7 @@ pub(super) fn subtract_occluder<R: Recorder>(
                 std::mem::swap(&mut scratch.occ_sph, &mut scratch.occ_clip);
             }
             clip_and_project(oi, None, scratch, rec);
-            let done = subtract_planar(oi, scratch, rec);
+            let done = subtract_planar(ctx, piece, oi, piece.is_some(), scratch, rec);
             if !R::ENABLED && !windowed && !clipped {
                 std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
                 scratch.occluder_cache[oi].stamp = scratch.stamp;
@@ -973,7 +1062,7 @@ fn subtract_faces<R: Recorder>(
             }
         }
         if !scratch.occ_sph.is_empty() {
-            subtract_polygon(oi, Some(g), scratch, rec);
+            subtract_polygon(ctx, piece, oi, g, scratch, rec);
         }
     }
 }
@@ -1033,7 +1122,7 @@ fn subtract_split<R: Recorder>(
             frame,
         );
         clip_and_project(oi, None, scratch, rec);
-        if !subtract_planar(oi, scratch, rec) {
+        if !subtract_planar(ctx, piece, oi, false, scratch, rec) {
             return false;
         }
     }
@@ -1154,19 +1243,21 @@ pub(super) fn subtract_face<R: Recorder>(
     rec: &mut R,
 ) {
     project_face(ctx, oi, g, scratch, rec);
-    subtract_planar(oi, scratch, rec);
+    subtract_planar(ctx, None, oi, false, scratch, rec);
 }
 
-/// Clips the occluder polygon in `scratch.occ_sph`, projects it and subtracts it from the
-/// visible polygon.
+/// Clips face `g`'s polygon of occluder `oi` in `scratch.occ_sph`, projects it and subtracts it
+/// from the visible polygon.
 fn subtract_polygon<R: Recorder>(
+    ctx: &PointContext,
+    piece: Option<&LightPiece>,
     oi: usize,
-    piece: Option<usize>,
+    g: usize,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) {
-    clip_and_project(oi, piece, scratch, rec);
-    subtract_planar(oi, scratch, rec);
+    clip_and_project(oi, Some(g), scratch, rec);
+    subtract_planar(ctx, piece, oi, false, scratch, rec);
 }
 
 /// Alg. 1 lines 10–11: `scratch.occ_sph` clipped to the horizon and projected into
@@ -1190,44 +1281,191 @@ fn clip_and_project<R: Recorder>(
 /// Subtracts the projected occluder polygon in `scratch.occ_plane` from the visible polygon.
 /// Returns false, with the visible polygon unchanged and the crossing counted, when the set
 /// difference crossed the bound of one of its walks.
-fn subtract_planar<R: Recorder>(oi: usize, scratch: &mut ShadingScratch, rec: &mut R) -> bool {
+///
+/// `holes`: the difference may be taken as a hole (`geometry::hole_difference`), when the
+/// visible polygon is one convex loop and the occluder one loop: the visible region is then
+/// `visible` less `visible_hole`, and stays so while the next occluders miss `visible` or hide
+/// all of it, and until it is integrated. An occluder that overlaps it first turns it back into
+/// a polygon ([`settle_hole`]). `ctx` and `piece` are what that needs.
+fn subtract_planar<R: Recorder>(
+    ctx: &PointContext,
+    piece: Option<&LightPiece>,
+    oi: usize,
+    holes: bool,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> bool {
     if scratch.occ_plane.is_empty() {
         return true;
     }
-    // Exact fast paths for convex clips; Greiner–Hormann for the rest.
+    // Exact fast paths for convex clips; the difference for the rest. With a hole, `visible`
+    // holds the region: missing it misses the region, and hiding it hides the region.
     let relation = if scratch.occ_plane.loop_count() == 1 {
         classify_overlap(&scratch.visible, scratch.occ_plane.loop_at(0))
     } else {
         Overlap::Unknown
     };
-    match relation {
+    let method = match relation {
         Overlap::Disjoint => {
-            rec.set_difference(oi, &scratch.visible, &scratch.occ_plane, &scratch.visible);
+            rec.set_difference(
+                oi,
+                DifferenceMethod::Classified,
+                &scratch.visible,
+                &scratch.occ_plane,
+                &scratch.visible,
+            );
             return true;
         }
-        Overlap::SubjectInside => scratch.visible_next.clear(),
+        Overlap::SubjectInside => {
+            scratch.visible_hole.clear();
+            scratch.visible_next.clear();
+            DifferenceMethod::Classified
+        }
         Overlap::Unknown => {
+            if !scratch.visible_hole.is_empty() {
+                settle_hole(ctx, piece, scratch, rec);
+                if scratch.visible.is_empty() {
+                    rec.set_difference(
+                        oi,
+                        DifferenceMethod::Classified,
+                        &scratch.visible,
+                        &scratch.occ_plane,
+                        &scratch.visible,
+                    );
+                    return true;
+                }
+            }
+            scratch.stats.set_differences += 1;
+            if holes
+                && part_inside_convex(
+                    &scratch.visible,
+                    &scratch.occ_plane,
+                    &mut scratch.visible_hole,
+                    &mut scratch.hole,
+                )
+            {
+                // The visible region is `visible` less the hole: `visible` stays.
+                if !scratch.visible_hole.is_empty() {
+                    scratch.hole_occluder.copy_from(&scratch.occ_plane);
+                    scratch.hole_oi = oi;
+                }
+                if R::ENABLED {
+                    with_hole(
+                        &scratch.visible,
+                        &scratch.visible_hole,
+                        &mut scratch.visible_next,
+                    );
+                    rec.set_difference(
+                        oi,
+                        DifferenceMethod::Hole,
+                        &scratch.visible,
+                        &scratch.occ_plane,
+                        &scratch.visible_next,
+                    );
+                }
+                return true;
+            }
             scratch.difference.subtract(
                 &scratch.visible,
                 &scratch.occ_plane,
                 &mut scratch.visible_next,
                 rec.gh_steps(),
             );
-            scratch.stats.set_differences += 1;
             if scratch.difference.last_bound_crossed() {
                 scratch.stats.fallbacks.bounds_crossed += 1;
                 return false;
             }
+            DifferenceMethod::GreinerHormann
         }
-    }
+    };
     rec.set_difference(
         oi,
+        method,
         &scratch.visible,
         &scratch.occ_plane,
         &scratch.visible_next,
     );
     std::mem::swap(&mut scratch.visible, &mut scratch.visible_next);
     true
+}
+
+/// Turns a visible region held as `visible` less `visible_hole` back into a polygon, for
+/// another difference to be taken from it: Greiner–Hormann's difference of `visible` and the
+/// occluder the hole came from (`hole_occluder`), which is what [`subtract_planar`] would have
+/// computed without the hole. Should that cross a bound, the occluder is subtracted face by face
+/// instead (exact too), with the current occluder's polygon and face list kept aside.
+fn settle_hole<R: Recorder>(
+    ctx: &PointContext,
+    piece: Option<&LightPiece>,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) {
+    scratch.visible_hole.clear();
+    let oi = scratch.hole_oi;
+    scratch.difference.subtract(
+        &scratch.visible,
+        &scratch.hole_occluder,
+        &mut scratch.visible_next,
+        rec.gh_steps(),
+    );
+    if !scratch.difference.last_bound_crossed() {
+        rec.set_difference(
+            oi,
+            DifferenceMethod::HoleSettled,
+            &scratch.visible,
+            &scratch.hole_occluder,
+            &scratch.visible_next,
+        );
+        std::mem::swap(&mut scratch.visible, &mut scratch.visible_next);
+        return;
+    }
+    scratch.stats.fallbacks.bounds_crossed += 1;
+    std::mem::swap(&mut scratch.occ_plane, &mut scratch.occ_plane_aside);
+    std::mem::swap(&mut scratch.face_list, &mut scratch.face_list_aside);
+    subtract_faces(ctx, oi, piece, None, None, false, scratch, rec);
+    std::mem::swap(&mut scratch.occ_plane, &mut scratch.occ_plane_aside);
+    std::mem::swap(&mut scratch.face_list, &mut scratch.face_list_aside);
+}
+
+/// The visible region held with a hole, as the polygon the LTC's correction samples, into
+/// `scratch.sampled`: Greiner–Hormann's difference, as without the hole (the same samples), or
+/// the region and the hole reversed should that cross a bound (the fan's signed triangles
+/// sample that as well).
+fn sampled_region(scratch: &mut ShadingScratch) {
+    scratch.difference.subtract(
+        &scratch.visible,
+        &scratch.hole_occluder,
+        &mut scratch.visible_next,
+        None,
+    );
+    if scratch.difference.last_bound_crossed() {
+        with_hole(
+            &scratch.visible_sph,
+            &scratch.hole_sph,
+            &mut scratch.sampled,
+        );
+    } else {
+        ProjectionPlane::NORMAL.reproject(&scratch.visible_next, &mut scratch.sampled);
+    }
+}
+
+/// The LTC integral of `poly` for one lobe (000 Eq. 9 after M⁻¹): `poly` transformed into
+/// `transformed`, clipped to the horizon again into `clipped`, and integrated.
+fn lobe_form_factor(
+    entry: &LtcEntry,
+    poly: &SphericalPolygon,
+    transformed: &mut SphericalPolygon,
+    clipped: &mut SphericalPolygon,
+    horizon: &mut HorizonScratch,
+) -> f64 {
+    transformed.copy_from(poly);
+    transformed.map_vertices(|w| entry.transform(w));
+    // A linear map with negative determinant mirrors the sphere and flips orientation.
+    if entry.m_inv.determinant() < 0.0 {
+        transformed.reverse_loops();
+    }
+    clip_to_horizon(transformed, clipped, horizon);
+    form_factor(clipped.loops())
 }
 
 /// Lines 14–16 of Alg. 1: the diffuse lobe integrates the clamped cosine over the visible
@@ -1244,30 +1482,49 @@ fn integrate_lobes<R: Recorder>(
     let (lobes, radiance) = (&ctx.lobes, piece.radiance);
     // Rounding can leave a value a few ulps below zero for an empty visible region.
     let e_diffuse = f_visible.max(0.0);
-    rec.lobe(
-        Lobe::Diffuse,
-        &scratch.visible_sph,
-        &scratch.visible_sph,
-        e_diffuse,
-    );
+    let hole = !scratch.hole_sph.is_empty();
+    if R::ENABLED {
+        let shown = if hole {
+            &scratch.visible_shown
+        } else {
+            &scratch.visible_sph
+        };
+        rec.lobe(Lobe::Diffuse, shown, shown, e_diffuse);
+    }
     let diffuse = lobes.kd * radiance * e_diffuse;
     let mut specular = DVec3::ZERO;
     let mut lobe_mass = 0.0;
     if let Some((entry, scale)) = &lobes.specular {
-        scratch.lobe_poly.copy_from(&scratch.visible_sph);
-        scratch.lobe_poly.map_vertices(|w| entry.transform(w));
-        // A linear map with negative determinant mirrors the sphere and flips orientation.
-        if entry.m_inv.determinant() < 0.0 {
-            scratch.lobe_poly.reverse_loops();
-        }
-        clip_to_horizon(
-            &scratch.lobe_poly,
+        let mut f_lobe = lobe_form_factor(
+            entry,
+            &scratch.visible_sph,
+            &mut scratch.lobe_poly,
             &mut scratch.lobe_clip,
             &mut scratch.horizon,
         );
+        if hole {
+            // Each clipped to the horizon on its own (`geometry::hole_difference`).
+            f_lobe -= lobe_form_factor(
+                entry,
+                &scratch.hole_sph,
+                &mut scratch.hole_lobe,
+                &mut scratch.hole_lobe_clip,
+                &mut scratch.horizon,
+            );
+            if R::ENABLED {
+                for (whole, part) in [
+                    (&mut scratch.lobe_poly, &scratch.hole_lobe),
+                    (&mut scratch.lobe_clip, &scratch.hole_lobe_clip),
+                ] {
+                    for lp in part.loops() {
+                        whole.push_loop(lp.iter().rev().copied());
+                    }
+                }
+            }
+        }
         // The fitted distribution: the LTC plus its cosine tail, whose integral over the
         // visible polygon is the diffuse form factor (LtcEntry::mix).
-        let e_spec = entry.mix(form_factor(scratch.lobe_clip.loops()).max(0.0), e_diffuse);
+        let e_spec = entry.mix(f_lobe.max(0.0), e_diffuse);
         rec.lobe(
             Lobe::Specular,
             &scratch.lobe_poly,
@@ -1279,8 +1536,14 @@ fn integrate_lobes<R: Recorder>(
     }
     if let (Some(glossy), Some(sampling)) = (&lobes.glossy, &ctx.correction) {
         let mut rng = sampling.rng(piece.light, piece.face.map(|(f, _)| f));
+        let region = if hole {
+            sampled_region(scratch);
+            &scratch.sampled
+        } else {
+            &scratch.visible_sph
+        };
         let c = estimate_correction(
-            &scratch.visible_sph,
+            region,
             glossy,
             lobe_mass,
             sampling.samples,

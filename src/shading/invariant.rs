@@ -18,13 +18,15 @@ use glam::DVec3;
 /// intersections, projections and reprojections it went through, far below any feature.
 const OUTSIDE_TOLERANCE: f64 = 1e-9;
 
-/// Whether `visible` (the part of `light` left after the set differences, both clipped to the
-/// horizon, in the shading frame) lies inside `light` up to f64 rounding: every vertex of it
-/// inside or on `light`, and 0 ≤ F(visible) ≤ F(light) for the form factors. `f_visible` is
-/// `form_factor(visible.loops())`, which the diffuse lobe has computed already.
-pub fn visible_within_light(
+/// Whether the visible region (the part of `light` left after the set differences, both
+/// clipped to the horizon, in the shading frame) lies inside `light` up to f64 rounding: every
+/// vertex of its polygons `visible` inside or on `light`, and 0 ≤ F(visible) ≤ F(light) for
+/// the form factors. `f_visible` is the region's form factor, which the diffuse lobe has
+/// computed already. (A region written as a polygon less a hole, `geometry::hole_difference`,
+/// passes both polygons.)
+pub fn visible_within_light<'a>(
     light: &SphericalPolygon,
-    visible: &SphericalPolygon,
+    visible: impl IntoIterator<Item = &'a SphericalPolygon>,
     f_visible: f64,
 ) -> bool {
     let f_light = form_factor(light.loops());
@@ -65,8 +67,11 @@ pub fn visible_within_light(
             near_arc_start(lp[i], lp[(i + 1) % n], m, len, v, OUTSIDE_TOLERANCE)
         })
     };
-    visible.vertices().iter().all(|&v| {
-        convex.is_some_and(|lp| inside_convex(lp, v)) || light.contains_within(v, OUTSIDE_TOLERANCE)
+    visible.into_iter().all(|poly| {
+        poly.vertices().iter().all(|&v| {
+            convex.is_some_and(|lp| inside_convex(lp, v))
+                || light.contains_within(v, OUTSIDE_TOLERANCE)
+        })
     })
 }
 
@@ -89,21 +94,25 @@ mod tests {
         part.push_loop(square((0.2, 0.0), 0.3));
         assert!(visible_within_light(
             &light,
-            &part,
+            [&part],
             form_factor(part.loops())
         ));
         assert!(visible_within_light(
             &light,
-            &light,
+            [&light],
             form_factor(light.loops())
         ));
-        assert!(visible_within_light(&light, &SphericalPolygon::new(), 0.0));
+        assert!(visible_within_light(
+            &light,
+            [&SphericalPolygon::new()],
+            0.0
+        ));
         // Sticking out on one side.
         let mut out = SphericalPolygon::new();
         out.push_loop(square((0.3, 0.0), 0.3));
         assert!(!visible_within_light(
             &light,
-            &out,
+            [&out],
             form_factor(out.loops())
         ));
         // Inside, but the wrong way round (negative area: a hole with no loop around it).
@@ -111,7 +120,7 @@ mod tests {
         reversed.reverse_loops();
         assert!(!visible_within_light(
             &light,
-            &reversed,
+            [&reversed],
             form_factor(reversed.loops())
         ));
         // Inside, but counted twice (more than the light).
@@ -120,7 +129,7 @@ mod tests {
         twice.push_loop(square((0.0, 0.0), 0.45));
         assert!(!visible_within_light(
             &light,
-            &twice,
+            [&twice],
             form_factor(twice.loops())
         ));
     }
@@ -143,14 +152,14 @@ mod tests {
         inside.push_loop([d(0.05, 0.05), d(0.15, 0.05), d(0.15, 0.15), d(0.05, 0.15)]);
         assert!(visible_within_light(
             &light,
-            &inside,
+            [&inside],
             form_factor(inside.loops())
         ));
         let mut notch = SphericalPolygon::new();
         notch.push_loop([d(0.25, 0.25), d(0.35, 0.25), d(0.35, 0.35), d(0.25, 0.35)]);
         assert!(!visible_within_light(
             &light,
-            &notch,
+            [&notch],
             form_factor(notch.loops())
         ));
     }

@@ -27,8 +27,8 @@ pub use ltc_correction::CorrectionSampling;
 pub use outline::{Fallbacks, Outline, OutlineScratch, Role};
 pub use prepared::{MeshPath, MoveReuse, PrepareOptions, PreparedObject, PreparedScene};
 pub use recorder::{
-    EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide, EnvironmentTerm,
-    ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, RayOutcome, Recorder,
+    DifferenceMethod, EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide,
+    EnvironmentTerm, ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, RayOutcome, Recorder,
     SetDifferenceRecord, Stage, StageRecording, TileShareRecord, TreeLookupRecord,
 };
 pub use tree_library::TreeLibrary;

@@ -56,11 +56,12 @@ pub trait Recorder {
     /// (`geometry::tile_candidates`).
     fn tile_share(&mut self, _record: &TileShareRecord) {}
     fn culled_occluders(&mut self, _kept: &[usize]) {}
-    /// One `SetDifference` of Alg. 1 line 12 (its Greiner–Hormann phases, if recorded, were
-    /// written into [`Recorder::gh_steps`] by the call itself).
+    /// One `SetDifference` of Alg. 1 line 12, taken by `method` (its Greiner–Hormann phases,
+    /// if recorded, were written into [`Recorder::gh_steps`] by the call itself).
     fn set_difference(
         &mut self,
         _occluder: usize,
+        _method: DifferenceMethod,
         _before: &PlanarPolygon,
         _clip: &PlanarPolygon,
         _after: &PlanarPolygon,
@@ -156,10 +157,30 @@ pub enum Lobe {
     Specular,
 }
 
+/// How a set difference was taken (`shading::analytic::subtract_planar`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum DifferenceMethod {
+    /// Decided before any clipping (`geometry::overlap`): the occluder misses the visible
+    /// polygon (`after` is `before`) or covers it (`after` is empty).
+    Classified,
+    /// Greiner–Hormann (`geometry::set_difference`), its phases in `steps` when recorded.
+    #[default]
+    GreinerHormann,
+    /// The convex visible polygon with the occluder's part inside it for a hole
+    /// (`geometry::hole_difference`): `after` is `before` and that part, reversed.
+    Hole,
+    /// Greiner–Hormann's difference of a region held with a hole and the occluder the hole
+    /// came from, taken when the next occluder overlaps it (`shading::analytic::settle_hole`);
+    /// its phases in `steps` when recorded.
+    HoleSettled,
+}
+
 /// One recorded set difference.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct SetDifferenceRecord {
     pub occluder: usize,
+    #[serde(default)]
+    pub method: DifferenceMethod,
     pub before: PlanarPolygon,
     pub clip: PlanarPolygon,
     pub after: PlanarPolygon,
@@ -382,15 +403,23 @@ impl Recorder for StageRecording {
     fn set_difference(
         &mut self,
         occluder: usize,
+        method: DifferenceMethod,
         before: &PlanarPolygon,
         clip: &PlanarPolygon,
         after: &PlanarPolygon,
     ) {
         let steps = self
             .record_gh_steps
-            .then(|| std::mem::take(&mut self.steps));
+            .then(|| std::mem::take(&mut self.steps))
+            .filter(|_| {
+                matches!(
+                    method,
+                    DifferenceMethod::GreinerHormann | DifferenceMethod::HoleSettled
+                )
+            });
         self.current().set_differences.push(SetDifferenceRecord {
             occluder,
+            method,
             before: before.clone(),
             clip: clip.clone(),
             after: after.clone(),

@@ -2,7 +2,7 @@
 //! the recording the renderer's own `shade` call produced (never recomputed here).
 
 use crate::inspect::Probe;
-use crate::shading::{LightRecord, Lobe, SetDifferenceRecord, StageRecording};
+use crate::shading::{DifferenceMethod, LightRecord, Lobe, SetDifferenceRecord, StageRecording};
 
 /// The three Greiner–Hormann phases, stepped one by one inside a set difference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -147,9 +147,17 @@ pub fn steps(
         }
         for (k, sd) in lr.set_differences.iter().enumerate() {
             let name = occluder_name(sd.occluder);
+            let how = match sd.method {
+                DifferenceMethod::Classified => ", decided before clipping",
+                DifferenceMethod::GreinerHormann => "",
+                DifferenceMethod::Hole => ": its part inside the light, integrated as a hole",
+                DifferenceMethod::HoleSettled => {
+                    ", again: its hole made a polygon for the next occluder"
+                }
+            };
             push(
                 StepKind::SetDifference { k, phase: None },
-                format!("set difference − {name} (line 12)"),
+                format!("set difference − {name}{how} (line 12)"),
             );
             if sd.steps.is_some() {
                 for (phase, what) in [
@@ -389,16 +397,18 @@ mod tests {
     /// include the GH phases when they were recorded.
     #[test]
     fn steps_follow_the_pipeline() {
-        let scene = scene_file::load_embedded("fig4").unwrap();
+        // The default scene: fig4's occluders are convex and take every last difference as a
+        // hole; here a region held with a hole meets a second occluder.
+        let scene = scene_file::load_embedded("default").unwrap();
         let ctx = RenderContext::new(&scene);
         let cam = scene.camera.unwrap();
-        // Scan for a pixel whose recording has a set difference.
+        // Scan for a pixel whose recording has a Greiner–Hormann difference.
         let mut found = None;
-        'scan: for y in (20..60).step_by(4) {
+        'scan: for y in (20..64).step_by(4) {
             for x in (0..64).step_by(4) {
                 let p = probe(
                     &ctx,
-                    "fig4",
+                    "default",
                     &cam,
                     (64, 64),
                     (x as f64, y as f64),
@@ -409,14 +419,14 @@ mod tests {
                 if p.recording
                     .lights
                     .iter()
-                    .any(|l| !l.set_differences.is_empty())
+                    .any(|l| l.set_differences.iter().any(|sd| sd.steps.is_some()))
                 {
                     found = Some(p);
                     break 'scan;
                 }
             }
         }
-        let p = found.expect("fig4 has penumbra pixels");
+        let p = found.expect("default has Greiner–Hormann differences");
         let s = steps(&p.recording, |i| format!("L{i}"), |i| format!("#{i}"));
         let gh = s
             .iter()
@@ -465,6 +475,7 @@ mod tests {
         }
         let sd = |occluder| SetDifferenceRecord {
             occluder,
+            method: DifferenceMethod::GreinerHormann,
             before: PlanarPolygon::default(),
             clip: PlanarPolygon::default(),
             after: PlanarPolygon::default(),
