@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The speed guard's test of itself (docs/speed.md): a build whose
-# SetDifference::subtract repeats its work (feature `speed-guard-selftest`) must fail
-# `penumbra bench --suite speed` against the committed baseline, naming a slowed scene.
+# The speed guard's test of itself (docs/speed.md): a build whose set differences repeat
+# their work (feature `speed-guard-selftest`: SetDifference::subtract and the hole's clip,
+# hole_difference::part_inside_convex) must fail `penumbra bench --suite speed` against the
+# committed baseline, naming a slowed scene.
 # Run after the guard itself: it rebuilds target/release/penumbra with the feature and then
 # without it again.
 set -uo pipefail
