@@ -125,8 +125,8 @@ pub struct ShadingScratch {
     pub(super) horizon: HorizonScratch,
     pub(super) difference: SetDifference,
     pub(super) hole: HoleScratch,
-    /// The part of the last occluder inside a convex visible polygon, when the last set
-    /// difference was taken as a hole (`geometry::hole_difference`): the visible region is
+    /// The part of an occluder inside a convex visible polygon, while that difference is held
+    /// as a hole (`geometry::hole_difference`, [`subtract_planar`]): the visible region is
     /// `visible` less it. Empty otherwise.
     pub(super) visible_hole: PlanarPolygon,
     /// The occluder polygon the hole came from, and its index: what [`settle_hole`] subtracts.
@@ -138,6 +138,7 @@ pub struct ShadingScratch {
     /// Kept aside while [`settle_hole`] takes an occluder face by face.
     pub(super) occ_plane_aside: PlanarPolygon,
     pub(super) face_list_aside: Vec<u32>,
+    /// The hole through a lobe's transform, and clipped again (`integrate_lobes`).
     pub(super) hole_lobe: SphericalPolygon,
     pub(super) hole_lobe_clip: SphericalPolygon,
     /// The visible region with its hole as one polygon (the hole reversed), for the recorder.
