@@ -727,9 +727,8 @@ fn shade_light_piece<R: Recorder>(
     diffuse + specular
 }
 
-/// The visible region on the sphere (`visible_sph`, less `hole_sph` where the last difference
-/// left a hole), recorded, and its form factor: the diffuse lobe's integral, and the
-/// invariant's.
+/// The visible region on the sphere (`visible_sph`, less `hole_sph` while a difference is held
+/// as a hole), recorded, and its form factor: the diffuse lobe's integral, and the invariant's.
 fn visible_on_sphere<R: Recorder>(scratch: &mut ShadingScratch, rec: &mut R) -> f64 {
     let plane = ProjectionPlane::NORMAL;
     plane.reproject(&scratch.visible, &mut scratch.visible_sph);
