@@ -24,6 +24,7 @@
 //!   (-inf, inf).
 
 use glam::{DVec3, Vec3};
+use std::mem::MaybeUninit;
 
 use super::ray::Ray;
 use super::triangle::{PreparedRay, RawHit, is_degenerate};
@@ -800,8 +801,10 @@ impl Bvh {
         if tr.box_entry(&self.nodes[0], t_min, limit).is_none() {
             return;
         }
-        let mut stack_node = [0u32; STACK_SIZE];
-        let mut stack_t = [0.0f64; STACK_SIZE];
+        // Deferred subtrees and their entry distances. Left uninitialised: zeroing 1 KiB per
+        // ray cost more than the traversal of a small scene, and only entries below `sp`,
+        // each written before it is counted, are ever read.
+        let mut stack = [const { MaybeUninit::<(u32, f64)>::uninit() }; STACK_SIZE];
         let mut sp = 0usize;
         let mut cur = 0usize;
         loop {
@@ -816,8 +819,7 @@ impl Bvh {
                 match (a < f64::INFINITY, b < f64::INFINITY) {
                     (true, true) => {
                         let (near, far, t_far) = if b < a { (l + 1, l, a) } else { (l, l + 1, b) };
-                        stack_node[sp] = far as u32;
-                        stack_t[sp] = t_far;
+                        stack[sp].write((far as u32, t_far));
                         sp += 1;
                         cur = near;
                         continue;
@@ -839,8 +841,10 @@ impl Bvh {
                     return;
                 }
                 sp -= 1;
-                if stack_t[sp] <= limit {
-                    cur = stack_node[sp] as usize;
+                // SAFETY: `stack[sp]` was written when `sp` was last raised past it.
+                let (node, t_entry) = unsafe { stack[sp].assume_init() };
+                if t_entry <= limit {
+                    cur = node as usize;
                     break;
                 }
             }
