@@ -7,6 +7,7 @@ use super::edge_hierarchy::{EDGE_HIERARCHY_MIN_EDGES, EdgeHierarchy};
 use super::face_bvh::{FACE_BVH_MIN_FACES, FaceBvh, FaceEdges};
 use super::polyhedron::Polyhedron;
 use super::quantitative_invisibility::VertexFaces;
+use super::silhouette::PlanarOutline;
 use super::silhouette_walk::ContourWalk;
 use glam::DVec3;
 use std::sync::Arc;
@@ -34,6 +35,9 @@ pub struct MeshIndex {
     /// (`tile_candidates`), built once for many points; single points scan, or query the
     /// faces' hierarchy in a window.
     pub edge_hierarchy_per_point: bool,
+    /// The outline of a flat mesh (a quad light, a card occluder), chained once: per point
+    /// only the side of its plane is decided.
+    pub planar_outline: Option<Arc<PlanarOutline>>,
 }
 
 impl MeshIndex {
@@ -49,6 +53,7 @@ impl MeshIndex {
             && contour_walk.is_none())
         .then(|| EdgeHierarchy::build(poly));
         let edge_hierarchy_per_point = edge_hierarchy.as_ref().is_some_and(|h| h.pays(poly));
+        let planar_outline = PlanarOutline::new(poly).map(Arc::new);
         MeshIndex {
             face_bvh,
             face_edges,
@@ -56,6 +61,7 @@ impl MeshIndex {
             vertex_faces,
             edge_hierarchy: edge_hierarchy.map(Arc::new),
             edge_hierarchy_per_point,
+            planar_outline,
         }
     }
 
@@ -79,6 +85,7 @@ impl MeshIndex {
             vertex_faces: self.vertex_faces.clone(),
             edge_hierarchy: edge_hierarchy.map(Arc::new),
             edge_hierarchy_per_point,
+            planar_outline: PlanarOutline::new(moved).map(Arc::new),
         }
     }
 }

@@ -80,6 +80,12 @@ pub fn silhouette(
         return;
     }
     out.clear();
+    if let Some(outline) = &poly.index.planar_outline
+        && let Some(loops) = outline.seen_from(poly, x, sidedness)
+    {
+        emit_loops(poly, x, frame, loops, out);
+        return;
+    }
     let nf = poly.face_count();
     let nv = poly.vertices.len();
     scratch.front.clear();
@@ -112,6 +118,29 @@ fn chain_contour(
     reversed: bool,
     out: &mut SphericalPolygon,
     scratch: &mut SilhouetteScratch,
+) {
+    chain_contour_indices(poly, reversed, scratch, |v| match v {
+        Some(a) => {
+            if let Some(d) = frame
+                .to_local(poly.vertices[a as usize] - x)
+                .try_normalize()
+            {
+                out.push_vertex(d);
+            }
+        }
+        None => {
+            out.close_loop();
+        }
+    });
+}
+
+/// The contour edges of the faces marked in `scratch.front` chained into loops: `emit(Some(v))`
+/// for each loop's vertices in order, `emit(None)` at the end of each loop.
+fn chain_contour_indices(
+    poly: &Polyhedron,
+    reversed: bool,
+    scratch: &mut SilhouetteScratch,
+    mut emit: impl FnMut(Option<u32>),
 ) {
     let nv = poly.vertices.len();
     if scratch.head.len() < nv {
@@ -149,12 +178,7 @@ fn chain_contour(
         loop {
             scratch.used[e as usize] = true;
             let (a, b, _) = scratch.contour[e as usize];
-            if let Some(d) = frame
-                .to_local(poly.vertices[a as usize] - x)
-                .try_normalize()
-            {
-                out.push_vertex(d);
-            }
+            emit(Some(a));
             if b == first_vertex {
                 break;
             }
@@ -168,10 +192,92 @@ fn chain_contour(
             }
             e = cand;
         }
-        out.close_loop();
+        emit(None);
     }
     for &(a, _, _) in &scratch.contour {
         scratch.head[a as usize] = NONE;
+    }
+}
+
+/// Marks the end of a loop in [`PlanarOutline`]'s vertex lists.
+const LOOP_END: u32 = u32::MAX;
+
+/// The outline of a flat mesh, chained once when the mesh is indexed: seen from either side of
+/// its plane the contour is the boundary of all its faces, so only the side is decided per
+/// point. The loops are those [`silhouette`]'s chaining would produce (the same edges, the same
+/// order), so the result is the same to the bit.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PlanarOutline {
+    /// Vertex indices of the loops seen from the front (every face front-facing), each loop
+    /// ended by `LOOP_END`.
+    front: Vec<u32>,
+    /// The same seen from behind, wound the other way (a two-sided occluder's back).
+    behind: Vec<u32>,
+}
+
+impl PlanarOutline {
+    /// The outline of `poly` if it is flat (every face in one plane), else `None`.
+    pub fn new(poly: &Polyhedron) -> Option<Self> {
+        if !poly.diagnostics.planar || poly.face_count() == 0 {
+            return None;
+        }
+        let mut scratch = SilhouetteScratch::default();
+        scratch.front = vec![true; poly.face_count()];
+        let mut chain = |reversed: bool| {
+            let mut loops = Vec::new();
+            chain_contour_indices(poly, reversed, &mut scratch, |v| {
+                loops.push(v.unwrap_or(LOOP_END))
+            });
+            loops
+        };
+        Some(PlanarOutline {
+            front: chain(false),
+            behind: chain(true),
+        })
+    }
+
+    /// The loops seen from `x` when every face is strictly on one side of it, and that side
+    /// shows an outline: `Some(&[])` where `x` sees no outline (behind a light, in the plane of
+    /// a two-sided occluder's faces), `None` where the faces' planes disagree (within
+    /// rounding of the plane: the caller then decides face by face).
+    fn seen_from(&self, poly: &Polyhedron, x: DVec3, sidedness: Sidedness) -> Option<&[u32]> {
+        let (mut front, mut behind) = (0usize, 0usize);
+        for plane in &poly.face_planes {
+            let s = plane.eval(x);
+            front += (s > 0.0) as usize;
+            behind += (s < 0.0) as usize;
+        }
+        let n = poly.face_planes.len();
+        if front == n {
+            Some(&self.front)
+        } else if front > 0 {
+            None
+        } else if sidedness == Sidedness::TwoSided && behind == n {
+            Some(&self.behind)
+        } else {
+            Some(&[])
+        }
+    }
+}
+
+/// Writes `loops` (vertex indices, as in [`PlanarOutline`]) seen from `x` into `out`, as
+/// `chain_contour` does: vertices that coincide with `x` are dropped.
+fn emit_loops(
+    poly: &Polyhedron,
+    x: DVec3,
+    frame: &Frame,
+    loops: &[u32],
+    out: &mut SphericalPolygon,
+) {
+    for &v in loops {
+        if v == LOOP_END {
+            out.close_loop();
+        } else if let Some(d) = frame
+            .to_local(poly.vertices[v as usize] - x)
+            .try_normalize()
+        {
+            out.push_vertex(d);
+        }
     }
 }
 
@@ -267,6 +373,52 @@ mod tests {
             4.0 * std::f64::consts::PI * p,
             4.0 * std::f64::consts::PI * (p * (1.0 - p) / n as f64).sqrt(),
         )
+    }
+
+    /// A flat mesh's outline chained once is the outline chained at the point: the same
+    /// loops to the bit, from the front, from behind (two-sided or not) and from its plane.
+    #[test]
+    fn planar_outline_is_the_chained_outline() {
+        // A square ring of eight quads in the plane y = 0.5 (two loops: outside and the hole),
+        // facing +y.
+        let g = |i: usize, j: usize| DVec3::new(i as f64 - 1.5, 0.5, j as f64 - 1.5);
+        let positions: Vec<DVec3> = (0..16).map(|k| g(k % 4, k / 4)).collect();
+        let id = |i: usize, j: usize| (j * 4 + i) as u32;
+        let mut faces = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                if (i, j) != (1, 1) {
+                    faces.push(vec![id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)]);
+                }
+            }
+        }
+        let once = IndexedPolyhedron::from(Polyhedron::new(&positions, &faces));
+        assert!(once.index.planar_outline.is_some());
+        let mut each = once.clone();
+        each.index.planar_outline = None;
+        let mut rng = Pcg32::new(5, 11);
+        let frame = Frame::from_z(DVec3::new(0.3, 0.8, -0.2).normalize());
+        let (mut a, mut b) = (SphericalPolygon::new(), SphericalPolygon::new());
+        let mut scratch = SilhouetteScratch::default();
+        let mut loops_seen = [0usize; 3];
+        for k in 0..300 {
+            let mut x = rng.unit_vector() * rng.range(0.2, 4.0);
+            if k % 10 == 0 {
+                x.y = 0.5; // in the plane
+            }
+            if k % 10 == 1 {
+                x = g(1, 1) + DVec3::new(0.5, 0.0, 0.5); // a vertex-free point of the plane
+            }
+            for sidedness in [Sidedness::FrontOnly, Sidedness::TwoSided] {
+                silhouette(&once, x, &frame, sidedness, &mut a, &mut scratch);
+                silhouette(&each, x, &frame, sidedness, &mut b, &mut scratch);
+                assert_eq!(a.loop_count(), b.loop_count(), "{x} {sidedness:?}");
+                assert_eq!(a.vertices(), b.vertices(), "{x} {sidedness:?}");
+                loops_seen[a.loop_count().min(2)] += 1;
+            }
+        }
+        // Every case was met: nothing seen, and the ring's two loops.
+        assert!(loops_seen[0] > 0 && loops_seen[2] > 0, "{loops_seen:?}");
     }
 
     #[test]
