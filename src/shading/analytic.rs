@@ -145,6 +145,8 @@ pub struct ShadingScratch {
     pub(super) visible_shown: SphericalPolygon,
     pub(super) light_sph: SphericalPolygon,
     pub(super) light_clip: SphericalPolygon,
+    /// The light's edge normals, for the invariant's check.
+    pub(super) light_normals: Vec<(DVec3, f64)>,
     pub(super) occ_sph: SphericalPolygon,
     pub(super) occ_clip: SphericalPolygon,
     pub(super) occ_plane: PlanarPolygon,
@@ -706,6 +708,7 @@ fn shade_light_piece<R: Recorder>(
             &scratch.light_clip,
             [&scratch.visible_sph, &scratch.hole_sph],
             f_visible,
+            &mut scratch.light_normals,
         )
     {
         scratch.stats.violations += 1;

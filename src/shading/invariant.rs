@@ -23,11 +23,12 @@ const OUTSIDE_TOLERANCE: f64 = 1e-9;
 /// vertex of its polygons `visible` inside or on `light`, and 0 ≤ F(visible) ≤ F(light) for
 /// the form factors. `f_visible` is the region's form factor, which the diffuse lobe has
 /// computed already. (A region written as a polygon less a hole, `geometry::hole_difference`,
-/// passes both polygons.)
+/// passes both polygons.) `normals` is scratch, reused between calls.
 pub fn visible_within_light<'a>(
     light: &SphericalPolygon,
     visible: impl IntoIterator<Item = &'a SphericalPolygon>,
     f_visible: f64,
+    normals: &mut Vec<(DVec3, f64)>,
 ) -> bool {
     let f_light = form_factor(light.loops());
     // The edge integrals' rounding, relative to the light's (a sum of a few terms of its size).
@@ -40,24 +41,21 @@ pub fn visible_within_light<'a>(
     // inside the light, and `contains_within`'s test of the arcs is taken here with the
     // edges' normals formed once: a sign per edge, then the same products, instead of the
     // winding number's angles, which are left to the rest.
-    const MAX_CONVEX: usize = 64;
-    let mut normals = [(DVec3::ZERO, 0.0); MAX_CONVEX];
+    normals.clear();
     let convex = (light.loop_count() == 1)
         .then(|| light.loop_at(0))
         .filter(|lp| {
             let n = lp.len();
-            (3..=MAX_CONVEX).contains(&n)
-                && (0..n).all(|k| lp[k].cross(lp[(k + 1) % n]).dot(lp[(k + 2) % n]) > 0.0)
+            n >= 3
+                && (0..n).all(|k| {
+                    let m = lp[k].cross(lp[(k + 1) % n]);
+                    normals.push((m, m.length().max(f64::MIN_POSITIVE)));
+                    m.dot(lp[(k + 2) % n]) > 0.0
+                })
         });
-    if let Some(lp) = convex {
-        for (k, slot) in normals.iter_mut().take(lp.len()).enumerate() {
-            let m = lp[k].cross(lp[(k + 1) % lp.len()]);
-            *slot = (m, m.length().max(f64::MIN_POSITIVE));
-        }
-    }
+    let normals = &normals[..];
     let inside_convex = |lp: &[DVec3], v: DVec3| {
         let n = lp.len();
-        let normals = &normals[..n];
         if normals.iter().all(|(m, _)| m.dot(v) > 0.0) {
             return true;
         }
@@ -95,17 +93,20 @@ mod tests {
         assert!(visible_within_light(
             &light,
             [&part],
-            form_factor(part.loops())
+            form_factor(part.loops()),
+            &mut Vec::new()
         ));
         assert!(visible_within_light(
             &light,
             [&light],
-            form_factor(light.loops())
+            form_factor(light.loops()),
+            &mut Vec::new()
         ));
         assert!(visible_within_light(
             &light,
             [&SphericalPolygon::new()],
-            0.0
+            0.0,
+            &mut Vec::new()
         ));
         // Sticking out on one side.
         let mut out = SphericalPolygon::new();
@@ -113,7 +114,8 @@ mod tests {
         assert!(!visible_within_light(
             &light,
             [&out],
-            form_factor(out.loops())
+            form_factor(out.loops()),
+            &mut Vec::new()
         ));
         // Inside, but the wrong way round (negative area: a hole with no loop around it).
         let mut reversed = part.clone();
@@ -121,7 +123,8 @@ mod tests {
         assert!(!visible_within_light(
             &light,
             [&reversed],
-            form_factor(reversed.loops())
+            form_factor(reversed.loops()),
+            &mut Vec::new()
         ));
         // Inside, but counted twice (more than the light).
         let mut twice = SphericalPolygon::new();
@@ -130,7 +133,8 @@ mod tests {
         assert!(!visible_within_light(
             &light,
             [&twice],
-            form_factor(twice.loops())
+            form_factor(twice.loops()),
+            &mut Vec::new()
         ));
     }
 
@@ -153,14 +157,16 @@ mod tests {
         assert!(visible_within_light(
             &light,
             [&inside],
-            form_factor(inside.loops())
+            form_factor(inside.loops()),
+            &mut Vec::new()
         ));
         let mut notch = SphericalPolygon::new();
         notch.push_loop([d(0.25, 0.25), d(0.35, 0.25), d(0.35, 0.35), d(0.25, 0.35)]);
         assert!(!visible_within_light(
             &light,
             [&notch],
-            form_factor(notch.loops())
+            form_factor(notch.loops()),
+            &mut Vec::new()
         ));
     }
 }
