@@ -5,7 +5,7 @@
 
 Probes every STEP-th pixel (default 4) of a SIZE x SIZE image (default 64) with both binaries
 and prints the largest absolute and relative difference of the radiance, and how many pixels'
-recordings (the new binary's) took a set difference as a hole. The images penumbra writes are
+recordings (the new binary's) took a set difference as a hole, and how many two holes. The images penumbra writes are
 f32; a change meant to move results by rounding only is checked here, in f64.
 """
 import json
@@ -32,20 +32,22 @@ def main():
     size = int(sys.argv[5]) if len(sys.argv) > 5 else 64
     out = os.path.join(tempfile.mkdtemp(), "probe.json")
     worst_rel = worst_abs = 0.0
-    pixels = holes = 0
+    pixels = holes = two_holes = 0
     for y in range(0, size, step):
         for x in range(0, size, step):
             a = radiance(old, scene, size, x, y, out)["radiance"]
             d = radiance(new, scene, size, x, y, out)
             pixels += 1
-            holes += any(sd.get("method") == "Hole"
-                         for lr in d["recording"]["lights"] for sd in lr["set_differences"])
+            per_light = [sum(sd.get("method") == "Hole" for sd in lr["set_differences"])
+                         for lr in d["recording"]["lights"]]
+            holes += any(n > 0 for n in per_light)
+            two_holes += any(n > 1 for n in per_light)
             for p, q in zip(a, d["radiance"]):
                 worst_abs = max(worst_abs, abs(p - q))
                 m = max(abs(p), abs(q))
                 if m > 0:
                     worst_rel = max(worst_rel, abs(p - q) / m)
-    print(f"{scene}: {pixels} pixels, {holes} with a hole difference, "
+    print(f"{scene}: {pixels} pixels, {holes} with a hole difference ({two_holes} with two), "
           f"max abs difference {worst_abs:.3e}, max relative {worst_rel:.3e}")
 
 

@@ -165,6 +165,51 @@ fn silhouette_path_equals_per_triangle_path_on_convex_scenes() {
     }
 }
 
+/// Where two occluders overlap inside the light, the region is held as the light less both
+/// holes plus their overlap (inclusion–exclusion): the chair's seat and back, and its legs,
+/// overlap so from points of the floor. Those points agree with the per-triangle path (a
+/// second algorithm, no holes) as every other point does, and the case is met.
+#[test]
+fn two_overlapping_holes_equal_the_per_triangle_path() {
+    use penumbra::shading::recorder::{DifferenceMethod, StageRecording};
+    let scene = scene_file::load_embedded("chair").unwrap();
+    let ctx = RenderContext::new(&scene);
+    let mut scratch = ShadingScratch::default();
+    let (mut two, mut worst) = (0, 0.0f64);
+    for sp in points(&ctx, 2000, 17) {
+        let mat = &ctx.prepared.materials[sp.object.unwrap() as usize];
+        let mut rec = StageRecording::new(false);
+        let a = shade(
+            &ctx.prepared,
+            &sp,
+            mat,
+            Method::Analytic,
+            &mut scratch,
+            &mut rec,
+        );
+        let holes = |l: &penumbra::shading::recorder::LightRecord| {
+            l.set_differences
+                .iter()
+                .filter(|d| d.method == DifferenceMethod::Hole)
+                .count()
+        };
+        if !rec.lights.iter().any(|l| holes(l) >= 2) {
+            continue;
+        }
+        two += 1;
+        let b = shade_at(&ctx, &sp, Method::PerTriangle, &mut scratch);
+        let d = (a - b).abs().max_element() / a.max_element().max(1e-3);
+        worst = worst.max(d);
+        assert!(
+            d < 1e-9,
+            "{:?}: two holes {a} vs per-triangle {b}",
+            sp.position
+        );
+    }
+    eprintln!("{two} points with two holes, worst relative difference {worst:.2e}");
+    assert!(two >= 20, "only {two} of 2000 points took two holes");
+}
+
 #[test]
 fn embedded_scenes_render_without_invalid_pixels() {
     for name in scene_file::embedded_scene_names() {

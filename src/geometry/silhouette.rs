@@ -221,8 +221,10 @@ impl PlanarOutline {
         if !poly.diagnostics.planar || poly.face_count() == 0 {
             return None;
         }
-        let mut scratch = SilhouetteScratch::default();
-        scratch.front = vec![true; poly.face_count()];
+        let mut scratch = SilhouetteScratch {
+            front: vec![true; poly.face_count()],
+            ..Default::default()
+        };
         let mut chain = |reversed: bool| {
             let mut loops = Vec::new();
             chain_contour_indices(poly, reversed, &mut scratch, |v| {

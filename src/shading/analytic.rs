@@ -132,6 +132,18 @@ pub struct ShadingScratch {
     /// The occluder polygon the hole came from, and its index: what [`settle_hole`] subtracts.
     pub(super) hole_occluder: PlanarPolygon,
     pub(super) hole_oi: usize,
+    /// A second occluder's, while `visible_hole` holds two holes and their overlap
+    /// ([`second_hole`]: its loop count is then above one).
+    pub(super) hole_occluder2: PlanarPolygon,
+    pub(super) hole_oi2: usize,
+    /// The first hole alone, the second hole and the two holes' overlap, while a second hole
+    /// is taken; and the first difference of a region with two holes (`sampled_region`).
+    pub(super) hole_first: PlanarPolygon,
+    pub(super) hole_second: PlanarPolygon,
+    pub(super) hole_overlap: PlanarPolygon,
+    pub(super) sampled_plane: PlanarPolygon,
+    /// One loop of the holes, for the specular lobe (`integrate_lobes`).
+    pub(super) hole_loop: SphericalPolygon,
     pub(super) hole_sph: SphericalPolygon,
     /// The region the LTC's correction samples when it is held with a hole (`sampled_region`).
     pub(super) sampled: SphericalPolygon,
@@ -1325,6 +1337,27 @@ fn subtract_planar<R: Recorder>(
             DifferenceMethod::Classified
         }
         Overlap::Unknown => {
+            if holes && scratch.visible_hole.loop_count() == 1 && second_hole(oi, scratch) {
+                // The visible region is `visible` less both holes plus their overlap.
+                scratch.stats.set_differences += 1;
+                if R::ENABLED {
+                    let mut before = PlanarPolygon::new();
+                    with_hole(&scratch.visible, &scratch.hole_first, &mut before);
+                    with_hole(
+                        &scratch.visible,
+                        &scratch.visible_hole,
+                        &mut scratch.visible_next,
+                    );
+                    rec.set_difference(
+                        oi,
+                        DifferenceMethod::Hole,
+                        &before,
+                        &scratch.occ_plane,
+                        &scratch.visible_next,
+                    );
+                }
+                return true;
+            }
             if !scratch.visible_hole.is_empty() {
                 settle_hole(ctx, piece, scratch, rec);
                 if scratch.visible.is_empty() {
@@ -1392,22 +1425,87 @@ fn subtract_planar<R: Recorder>(
     true
 }
 
+/// A second hole in a region that holds one (`visible` less the first hole, `hole_first`):
+/// with `H₁ = A ∩ O₁` and `H₂ = A ∩ O₂`, `A ∖ (O₁ ∪ O₂)` is `A − H₁ − H₂ + H₁ ∩ H₂` in winding
+/// number (inclusion–exclusion), and `H₁ ∩ H₂ = H₁ ∩ O₂` is one more convex clip, as `H₁` is
+/// convex when `O₁` is. `visible_hole` then holds `H₁`, `H₂` and the overlap reversed, so
+/// that the integral of its loops is `∫H₁ + ∫H₂ − ∫H₁∩H₂` and every integral of the region
+/// stays `∫A − ∫holes`. Returns `false`, with nothing changed, where either clip declines (a
+/// first hole that is not strictly convex, an occluder of more than one loop); an occluder
+/// with nothing inside `A` adds nothing and is done.
+fn second_hole(oi: usize, scratch: &mut ShadingScratch) -> bool {
+    if !part_inside_convex(
+        &scratch.visible,
+        &scratch.occ_plane,
+        &mut scratch.hole_second,
+        &mut scratch.hole,
+    ) {
+        return false;
+    }
+    scratch.hole_first.clear();
+    scratch
+        .hole_first
+        .push_loop(scratch.visible_hole.loop_at(0).iter().copied());
+    if scratch.hole_second.is_empty() {
+        return true;
+    }
+    if !part_inside_convex(
+        &scratch.hole_first,
+        &scratch.occ_plane,
+        &mut scratch.hole_overlap,
+        &mut scratch.hole,
+    ) {
+        return false;
+    }
+    scratch
+        .visible_hole
+        .push_loop(scratch.hole_second.loop_at(0).iter().copied());
+    if !scratch.hole_overlap.is_empty() {
+        scratch
+            .visible_hole
+            .push_loop(scratch.hole_overlap.loop_at(0).iter().rev().copied());
+    }
+    scratch.hole_occluder2.copy_from(&scratch.occ_plane);
+    scratch.hole_oi2 = oi;
+    true
+}
+
 /// Turns a visible region held as `visible` less `visible_hole` back into a polygon, for
-/// another difference to be taken from it: Greiner–Hormann's difference of `visible` and the
-/// occluder the hole came from (`hole_occluder`), which is what [`subtract_planar`] would have
-/// computed without the hole. Should that cross a bound, the occluder is subtracted face by face
-/// instead (exact too), with the current occluder's polygon and face list kept aside.
+/// another difference to be taken from it: Greiner–Hormann's differences of `visible` and the
+/// occluders the holes came from (`hole_occluder`, then `hole_occluder2` where there are two
+/// holes), which is what [`subtract_planar`] would have computed without the holes. Should one
+/// cross a bound, that occluder is subtracted face by face instead (exact too), with the
+/// current occluder's polygon and face list kept aside.
 fn settle_hole<R: Recorder>(
     ctx: &PointContext,
     piece: Option<&LightPiece>,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) {
+    let two = scratch.visible_hole.loop_count() > 1;
     scratch.visible_hole.clear();
-    let oi = scratch.hole_oi;
+    settle_one(ctx, piece, false, scratch, rec);
+    if two && !scratch.visible.is_empty() {
+        settle_one(ctx, piece, true, scratch, rec);
+    }
+}
+
+/// One occluder of [`settle_hole`]: the first hole's, or the second's.
+fn settle_one<R: Recorder>(
+    ctx: &PointContext,
+    piece: Option<&LightPiece>,
+    second: bool,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) {
+    let (oi, occluder) = if second {
+        (scratch.hole_oi2, &scratch.hole_occluder2)
+    } else {
+        (scratch.hole_oi, &scratch.hole_occluder)
+    };
     scratch.difference.subtract(
         &scratch.visible,
-        &scratch.hole_occluder,
+        occluder,
         &mut scratch.visible_next,
         rec.gh_steps(),
     );
@@ -1416,7 +1514,7 @@ fn settle_hole<R: Recorder>(
             oi,
             DifferenceMethod::HoleSettled,
             &scratch.visible,
-            &scratch.hole_occluder,
+            occluder,
             &scratch.visible_next,
         );
         std::mem::swap(&mut scratch.visible, &mut scratch.visible_next);
@@ -1441,14 +1539,27 @@ fn sampled_region(scratch: &mut ShadingScratch) {
         &mut scratch.visible_next,
         None,
     );
-    if scratch.difference.last_bound_crossed() {
+    let mut crossed = scratch.difference.last_bound_crossed();
+    let region = if scratch.visible_hole.loop_count() > 1 && !crossed {
+        scratch.difference.subtract(
+            &scratch.visible_next,
+            &scratch.hole_occluder2,
+            &mut scratch.sampled_plane,
+            None,
+        );
+        crossed = scratch.difference.last_bound_crossed();
+        &scratch.sampled_plane
+    } else {
+        &scratch.visible_next
+    };
+    if crossed {
         with_hole(
             &scratch.visible_sph,
             &scratch.hole_sph,
             &mut scratch.sampled,
         );
     } else {
-        ProjectionPlane::NORMAL.reproject(&scratch.visible_next, &mut scratch.sampled);
+        ProjectionPlane::NORMAL.reproject(region, &mut scratch.sampled);
     }
 }
 
@@ -1505,11 +1616,17 @@ fn integrate_lobes<R: Recorder>(
             &mut scratch.lobe_clip,
             &mut scratch.horizon,
         );
-        if hole {
-            // Each clipped to the horizon on its own (`geometry::hole_difference`).
+        // Each loop of the holes clipped to the horizon on its own, apart from the region
+        // (`geometry::hole_difference`): loops that touch along a boundary where they cross
+        // the horizon would leave the pairing of their crossings to rounding.
+        for k in 0..scratch.hole_sph.loop_count() {
+            scratch.hole_loop.clear();
+            scratch
+                .hole_loop
+                .push_loop(scratch.hole_sph.loop_at(k).iter().copied());
             f_lobe -= lobe_form_factor(
                 entry,
-                &scratch.hole_sph,
+                &scratch.hole_loop,
                 &mut scratch.hole_lobe,
                 &mut scratch.hole_lobe_clip,
                 &mut scratch.horizon,
