@@ -78,16 +78,29 @@ impl ProjectionPlane {
         self.frame.to_world(h).normalize()
     }
 
+    /// Whether this is [`ProjectionPlane::NORMAL`], whose frame is the identity: projecting
+    /// keeps the coordinates and reprojecting only normalises.
+    #[inline]
+    fn is_normal(&self) -> bool {
+        self.frame.x == DVec3::X && self.frame.y == DVec3::Y && self.frame.z == DVec3::Z
+    }
+
     /// `project` of Alg. 1 (lines 6 and 11).
     pub fn project(&self, sphere: &SphericalPolygon, out: &mut PlanarPolygon) {
         out.copy_from(sphere);
-        out.map_vertices(|v| self.project_point(v));
+        if !self.is_normal() {
+            out.map_vertices(|v| self.project_point(v));
+        }
     }
 
     /// `reproject` of Alg. 1 (line 13).
     pub fn reproject(&self, plane: &PlanarPolygon, out: &mut SphericalPolygon) {
         out.copy_from(plane);
-        out.map_vertices(|h| self.reproject_point(h));
+        if self.is_normal() {
+            out.map_vertices(DVec3::normalize);
+        } else {
+            out.map_vertices(|h| self.reproject_point(h));
+        }
     }
 
     /// Euclidean plane coordinates of a homogeneous point (for display); `None` at infinity.

@@ -159,6 +159,8 @@ pub struct ShadingScratch {
     pub(super) light_clip: SphericalPolygon,
     /// The light's edge normals, for the invariant's check.
     pub(super) light_normals: Vec<(DVec3, f64)>,
+    /// The form factor of `visible_sph` where the region is held with holes (`visible_on_sphere`).
+    pub(super) f_region: Option<f64>,
     pub(super) occ_sph: SphericalPolygon,
     pub(super) occ_clip: SphericalPolygon,
     pub(super) occ_plane: PlanarPolygon,
@@ -718,8 +720,10 @@ fn shade_light_piece<R: Recorder>(
     if scratch.stats.set_differences > differences_before
         && !visible_within_light(
             &scratch.light_clip,
-            [&scratch.visible_sph, &scratch.hole_sph],
+            &scratch.visible_sph,
+            &scratch.hole_sph,
             f_visible,
+            scratch.f_region,
             &mut scratch.light_normals,
         )
     {
@@ -747,6 +751,7 @@ fn shade_light_piece<R: Recorder>(
 fn visible_on_sphere<R: Recorder>(scratch: &mut ShadingScratch, rec: &mut R) -> f64 {
     let plane = ProjectionPlane::NORMAL;
     plane.reproject(&scratch.visible, &mut scratch.visible_sph);
+    scratch.f_region = None;
     if scratch.visible_hole.is_empty() {
         scratch.hole_sph.clear();
         rec.light_polygon(Stage::Visible, &scratch.visible_sph);
@@ -756,6 +761,7 @@ fn visible_on_sphere<R: Recorder>(scratch: &mut ShadingScratch, rec: &mut R) -> 
     let (f_region, scale_region) = form_factor_and_scale(&scratch.visible_sph);
     let (f_hole, scale_hole) = form_factor_and_scale(&scratch.hole_sph);
     let f = f_region - f_hole;
+    scratch.f_region = Some(f_region);
     if f <= HOLE_COVERS * (scale_region + scale_hole) {
         // The hole is the whole region, up to the rounding of two equal integrals: empty, as
         // Greiner–Hormann's difference is there.
@@ -1425,6 +1431,9 @@ fn subtract_planar<R: Recorder>(
     true
 }
 
+/// The loop of `visible_hole` that holds the two holes' overlap, reversed ([`second_hole`]).
+const OVERLAP_LOOP: usize = 2;
+
 /// A second hole in a region that holds one (`visible` less the first hole, `hole_first`):
 /// with `H₁ = A ∩ O₁` and `H₂ = A ∩ O₂`, `A ∖ (O₁ ∪ O₂)` is `A − H₁ − H₂ + H₁ ∩ H₂` in winding
 /// number (inclusion–exclusion), and `H₁ ∩ H₂ = H₁ ∩ O₂` is one more convex clip, as `H₁` is
@@ -1618,26 +1627,38 @@ fn integrate_lobes<R: Recorder>(
         );
         // Each loop of the holes clipped to the horizon on its own, apart from the region
         // (`geometry::hole_difference`): loops that touch along a boundary where they cross
-        // the horizon would leave the pairing of their crossings to rounding.
+        // the horizon would leave the pairing of their crossings to rounding. The clip keeps
+        // a positively oriented loop's inside, so the two holes' overlap, held reversed, is
+        // turned back, clipped and added.
         for k in 0..scratch.hole_sph.loop_count() {
+            let overlap = k == OVERLAP_LOOP;
+            let lp = scratch.hole_sph.loop_at(k);
             scratch.hole_loop.clear();
-            scratch
-                .hole_loop
-                .push_loop(scratch.hole_sph.loop_at(k).iter().copied());
-            f_lobe -= lobe_form_factor(
-                entry,
-                &scratch.hole_loop,
-                &mut scratch.hole_lobe,
-                &mut scratch.hole_lobe_clip,
-                &mut scratch.horizon,
-            );
+            if overlap {
+                scratch.hole_loop.push_loop(lp.iter().rev().copied());
+            } else {
+                scratch.hole_loop.push_loop(lp.iter().copied());
+            }
+            let sign = if overlap { -1.0 } else { 1.0 };
+            f_lobe -= sign
+                * lobe_form_factor(
+                    entry,
+                    &scratch.hole_loop,
+                    &mut scratch.hole_lobe,
+                    &mut scratch.hole_lobe_clip,
+                    &mut scratch.horizon,
+                );
             if R::ENABLED {
                 for (whole, part) in [
                     (&mut scratch.lobe_poly, &scratch.hole_lobe),
                     (&mut scratch.lobe_clip, &scratch.hole_lobe_clip),
                 ] {
                     for lp in part.loops() {
-                        whole.push_loop(lp.iter().rev().copied());
+                        if overlap {
+                            whole.push_loop(lp.iter().copied());
+                        } else {
+                            whole.push_loop(lp.iter().rev().copied());
+                        }
                     }
                 }
             }

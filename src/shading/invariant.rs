@@ -20,17 +20,39 @@ const OUTSIDE_TOLERANCE: f64 = 1e-9;
 
 /// Whether the visible region (the part of `light` left after the set differences, both
 /// clipped to the horizon, in the shading frame) lies inside `light` up to f64 rounding: every
-/// vertex of its polygons `visible` inside or on `light`, and 0 ≤ F(visible) ≤ F(light) for
-/// the form factors. `f_visible` is the region's form factor, which the diffuse lobe has
-/// computed already. (A region written as a polygon less a hole, `geometry::hole_difference`,
-/// passes both polygons.) `normals` is scratch, reused between calls.
-pub fn visible_within_light<'a>(
+/// vertex of its polygons inside or on `light`, and 0 ≤ F(visible) ≤ F(light) for the form
+/// factors. The region is `region` less `holes` (`geometry::hole_difference`; `holes` empty
+/// where it is one polygon). `f_visible` is its form factor, which the diffuse lobe has
+/// computed already, and `f_region` that of `region` where known. `normals` is scratch,
+/// reused between calls.
+///
+/// When `region` is `light` itself up to the rounding of the projection (the same vertices in
+/// the same order, each within 1e-14) and its form factor is known, its vertices need no test
+/// and its form factor is the light's up to rounding, far within the tolerance: the check is
+/// then that the holes lie in the light and integrate to at least zero.
+pub fn visible_within_light(
     light: &SphericalPolygon,
-    visible: impl IntoIterator<Item = &'a SphericalPolygon>,
+    region: &SphericalPolygon,
+    holes: &SphericalPolygon,
     f_visible: f64,
+    f_region: Option<f64>,
     normals: &mut Vec<(DVec3, f64)>,
 ) -> bool {
-    let f_light = form_factor(light.loops());
+    let region_is_light = || {
+        region.loop_count() == light.loop_count()
+            && region.vertex_count() == light.vertex_count()
+            && region
+                .loops()
+                .zip(light.loops())
+                .all(|(a, b)| a.len() == b.len())
+            && region
+                .vertices()
+                .iter()
+                .zip(light.vertices())
+                .all(|(a, b)| a.distance_squared(*b) <= 1e-28)
+    };
+    let known = f_region.filter(|_| region_is_light());
+    let f_light = known.unwrap_or_else(|| form_factor(light.loops()));
     // The edge integrals' rounding, relative to the light's (a sum of a few terms of its size).
     let tol = 1e-10 * f_light.abs() + 1e-15;
     if !(f_visible >= -tol && f_visible <= f_light + tol) {
@@ -65,12 +87,13 @@ pub fn visible_within_light<'a>(
             near_arc_start(lp[i], lp[(i + 1) % n], m, len, v, OUTSIDE_TOLERANCE)
         })
     };
-    visible.into_iter().all(|poly| {
+    let inside = |poly: &SphericalPolygon| {
         poly.vertices().iter().all(|&v| {
             convex.is_some_and(|lp| inside_convex(lp, v))
                 || light.contains_within(v, OUTSIDE_TOLERANCE)
         })
-    })
+    };
+    (known.is_some() || inside(region)) && inside(holes)
 }
 
 #[cfg(test)]
@@ -92,20 +115,26 @@ mod tests {
         part.push_loop(square((0.2, 0.0), 0.3));
         assert!(visible_within_light(
             &light,
-            [&part],
+            &part,
+            &SphericalPolygon::new(),
             form_factor(part.loops()),
+            None,
             &mut Vec::new()
         ));
         assert!(visible_within_light(
             &light,
-            [&light],
+            &light,
+            &SphericalPolygon::new(),
             form_factor(light.loops()),
+            None,
             &mut Vec::new()
         ));
         assert!(visible_within_light(
             &light,
-            [&SphericalPolygon::new()],
+            &SphericalPolygon::new(),
+            &SphericalPolygon::new(),
             0.0,
+            None,
             &mut Vec::new()
         ));
         // Sticking out on one side.
@@ -113,8 +142,10 @@ mod tests {
         out.push_loop(square((0.3, 0.0), 0.3));
         assert!(!visible_within_light(
             &light,
-            [&out],
+            &out,
+            &SphericalPolygon::new(),
             form_factor(out.loops()),
+            None,
             &mut Vec::new()
         ));
         // Inside, but the wrong way round (negative area: a hole with no loop around it).
@@ -122,8 +153,10 @@ mod tests {
         reversed.reverse_loops();
         assert!(!visible_within_light(
             &light,
-            [&reversed],
+            &reversed,
+            &SphericalPolygon::new(),
             form_factor(reversed.loops()),
+            None,
             &mut Vec::new()
         ));
         // Inside, but counted twice (more than the light).
@@ -132,10 +165,49 @@ mod tests {
         twice.push_loop(square((0.0, 0.0), 0.45));
         assert!(!visible_within_light(
             &light,
-            [&twice],
+            &twice,
+            &SphericalPolygon::new(),
             form_factor(twice.loops()),
+            None,
             &mut Vec::new()
         ));
+    }
+
+    /// A region held as the light less holes: the light's own vertices (after a projection's
+    /// rounding) need no test and its form factor stands for the light's; the holes are still
+    /// tested, and a hole that adds area or sticks out fails.
+    #[test]
+    fn a_region_that_is_the_light_less_holes() {
+        let mut light = SphericalPolygon::new();
+        light.push_loop(square((0.0, 0.0), 0.5));
+        let mut region = light.clone();
+        region.map_vertices(|v| (v * (1.0 + 1e-16)).normalize());
+        let f_region = form_factor(region.loops());
+        let check = |holes: &SphericalPolygon, region: &SphericalPolygon| {
+            let f = form_factor(region.loops()) - form_factor(holes.loops());
+            visible_within_light(
+                &light,
+                region,
+                holes,
+                f,
+                Some(form_factor(region.loops())),
+                &mut Vec::new(),
+            )
+        };
+        let mut hole = SphericalPolygon::new();
+        hole.push_loop(square((0.1, 0.0), 0.2));
+        assert!(check(&hole, &region));
+        let mut out = SphericalPolygon::new();
+        out.push_loop(square((0.4, 0.0), 0.2));
+        assert!(!check(&out, &region));
+        let mut reversed = hole.clone();
+        reversed.reverse_loops();
+        assert!(!check(&reversed, &region));
+        // A region that is not the light is tested vertex by vertex, its form factor given or not.
+        let mut bigger = SphericalPolygon::new();
+        bigger.push_loop(square((0.0, 0.0), 0.6));
+        assert!(!check(&hole, &bigger));
+        assert!(f_region > 0.0);
     }
 
     /// A non-convex light (an L) takes the winding number for every vertex: a polygon in its
@@ -156,16 +228,20 @@ mod tests {
         inside.push_loop([d(0.05, 0.05), d(0.15, 0.05), d(0.15, 0.15), d(0.05, 0.15)]);
         assert!(visible_within_light(
             &light,
-            [&inside],
+            &inside,
+            &SphericalPolygon::new(),
             form_factor(inside.loops()),
+            None,
             &mut Vec::new()
         ));
         let mut notch = SphericalPolygon::new();
         notch.push_loop([d(0.25, 0.25), d(0.35, 0.25), d(0.35, 0.35), d(0.25, 0.35)]);
         assert!(!visible_within_light(
             &light,
-            [&notch],
+            &notch,
+            &SphericalPolygon::new(),
             form_factor(notch.loops()),
+            None,
             &mut Vec::new()
         ));
     }
