@@ -27,8 +27,8 @@
 //! it is `A` and the part reversed, with non-zero fill.
 
 use super::PlanarPolygon;
-use super::orient;
 use super::spherical_polygon::clip_loop_to_half_spaces;
+use super::spherical_polygon::{edges_of, turns};
 use glam::DVec3;
 
 /// Whether a loop is convex for [`part_inside_convex`]: a strict left turn at every vertex.
@@ -36,8 +36,7 @@ use glam::DVec3;
 /// along a segment and back: a half turn whose determinant is zero too), and clipping by the
 /// spike's two opposite half-spaces would leave nothing of the clip.
 fn turns_left_everywhere(lp: &[DVec3]) -> bool {
-    let n = lp.len();
-    n >= 3 && (0..n).all(|i| orient(lp[(i + n - 1) % n], lp[i], lp[(i + 1) % n]) > 0.0)
+    lp.len() >= 3 && turns(lp).all(|t| t > 0.0)
 }
 
 /// The shortest edge (sine of its angle) of a subject [`part_inside_convex`] takes.
@@ -76,11 +75,8 @@ pub fn part_inside_convex(
         return false;
     }
     // The inside of edge a_i → a_{i+1} of a positively oriented loop: n·v ≥ 0, n = a_i × a_{i+1}.
-    let n = a.len();
     scratch.normals.clear();
-    scratch
-        .normals
-        .extend((0..n).map(|i| a[i].cross(a[(i + 1) % n])));
+    scratch.normals.extend(edges_of(a).map(|(p, q)| p.cross(q)));
     // An edge's plane is as well determined as the edge is long: the cross product of two
     // unit vectors at angle L carries a rounding of about ε/L in its direction, which moves the
     // clipped points by that much across the clip. Below 1e-6 that could reach the invariant's

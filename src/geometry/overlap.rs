@@ -4,7 +4,8 @@
 //! both are decided with orientation determinants in O(|subject|·|clip|), far cheaper than the
 //! three phases of Greiner–Hormann.
 
-use super::{PolygonLoops, orient};
+use super::PolygonLoops;
+use super::spherical_polygon::{edges_of, turns};
 use glam::DVec3;
 
 /// How a subject region relates to a convex clip loop.
@@ -21,8 +22,7 @@ pub enum Overlap {
 /// Is the loop convex (no right turn)? Collinear vertices, e.g. the points that split a long
 /// horizon arc, are allowed.
 pub fn is_convex_loop(lp: &[DVec3]) -> bool {
-    let n = lp.len();
-    n >= 3 && (0..n).all(|i| orient(lp[(i + n - 1) % n], lp[i], lp[(i + 1) % n]) >= 0.0)
+    lp.len() >= 3 && turns(lp).all(|t| t >= 0.0)
 }
 
 /// Classifies `subject` against the loop `clip` (positively oriented, within the hemisphere
@@ -38,10 +38,8 @@ pub fn classify(subject: &PolygonLoops, clip: &[DVec3]) -> Overlap {
             Overlap::Unknown
         };
     }
-    let n = clip.len();
     let mut all_inside = true;
-    for i in 0..n {
-        let (a, b) = (clip[i], clip[(i + 1) % n]);
+    for (a, b) in edges_of(clip) {
         let ab = a.cross(b);
         let mut all_outside = true;
         for &v in verts {

@@ -112,6 +112,25 @@ impl SphericalPolygon {
     }
 }
 
+/// The edges `(p_i, p_{i+1})` of a closed loop, the last one back to the first (no modulo per
+/// step: these loops are walked per shading point).
+#[inline]
+pub(crate) fn edges_of(lp: &[DVec3]) -> impl Iterator<Item = (DVec3, DVec3)> + '_ {
+    lp.iter()
+        .zip(lp.iter().skip(1).chain(lp.first()))
+        .map(|(&p, &q)| (p, q))
+}
+
+/// The turn [`orient`]`(p_{i−1}, p_i, p_{i+1})` at every vertex of a closed loop, in order.
+#[inline]
+pub(crate) fn turns(lp: &[DVec3]) -> impl Iterator<Item = f64> + '_ {
+    lp.last()
+        .into_iter()
+        .chain(lp.iter())
+        .zip(lp.iter().zip(lp.iter().skip(1).chain(lp.first())))
+        .map(|(&a, (&b, &c))| orient(a, b, c))
+}
+
 /// [`SphericalPolygon::contains_within`]'s boundary test for the arc a → b, whose normal
 /// `m = a × b` has length `len`: `v` lies on the arc to within the angle `tol`, or within
 /// `tol` of its start `a`.
@@ -142,12 +161,21 @@ pub fn clip_loop_to_half_spaces(
     };
     out.clear();
     out.extend_from_slice(subject);
-    for &n in normals {
+    for (pass, &n) in normals.iter().enumerate() {
+        // A loop wholly inside the half-space is kept as it is: after the first pass it has no
+        // repeated neighbours left to drop, so the pass would copy it unchanged.
+        if pass > 0 && out.iter().all(|&p| n.dot(p) >= 0.0) {
+            continue;
+        }
         tmp.clear();
         let k = out.len();
+        let Some(&first) = out.first() else {
+            break;
+        };
+        let (mut p, mut dp) = (first, n.dot(first));
         for j in 0..k {
-            let (p, q) = (out[j], out[(j + 1) % k]);
-            let (dp, dq) = (n.dot(p), n.dot(q));
+            let q = if j + 1 == k { first } else { out[j + 1] };
+            let dq = n.dot(q);
             if dp >= 0.0 {
                 push_distinct(tmp, p);
             }
@@ -157,6 +185,7 @@ pub fn clip_loop_to_half_spaces(
                     push_distinct(tmp, v);
                 }
             }
+            (p, dp) = (q, dq);
         }
         while tmp.len() > 1 && (tmp[0] - tmp[tmp.len() - 1]).length_squared() <= 1e-24 {
             tmp.pop();

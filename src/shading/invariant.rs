@@ -10,7 +10,7 @@
 //! is a bug, never a tolerance to widen.
 
 use crate::geometry::SphericalPolygon;
-use crate::geometry::spherical_polygon::near_arc_start;
+use crate::geometry::spherical_polygon::{edges_of, near_arc_start};
 use crate::ltc::form_factor;
 use glam::DVec3;
 
@@ -67,25 +67,24 @@ pub fn visible_within_light(
     let convex = (light.loop_count() == 1)
         .then(|| light.loop_at(0))
         .filter(|lp| {
-            let n = lp.len();
-            n >= 3
-                && (0..n).all(|k| {
-                    let m = lp[k].cross(lp[(k + 1) % n]);
-                    normals.push((m, m.length().max(f64::MIN_POSITIVE)));
-                    m.dot(lp[(k + 2) % n]) > 0.0
-                })
+            lp.len() >= 3
+                && edges_of(lp)
+                    .zip(lp.iter().cycle().skip(2))
+                    .all(|((a, b), &c)| {
+                        let m = a.cross(b);
+                        normals.push((m, m.length().max(f64::MIN_POSITIVE)));
+                        m.dot(c) > 0.0
+                    })
         });
     let normals = &normals[..];
     let inside_convex = |lp: &[DVec3], v: DVec3| {
-        let n = lp.len();
         if normals.iter().all(|(m, _)| m.dot(v) > 0.0) {
             return true;
         }
         // `SphericalPolygon::contains_within`'s boundary test, with the normals formed once.
-        (0..n).any(|i| {
-            let (m, len) = normals[i];
-            near_arc_start(lp[i], lp[(i + 1) % n], m, len, v, OUTSIDE_TOLERANCE)
-        })
+        edges_of(lp)
+            .zip(normals)
+            .any(|((a, b), &(m, len))| near_arc_start(a, b, m, len, v, OUTSIDE_TOLERANCE))
     };
     let inside = |poly: &SphericalPolygon| {
         poly.vertices().iter().all(|&v| {
