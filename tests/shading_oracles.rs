@@ -116,7 +116,9 @@ fn a_bound_crossed_in_the_set_difference_falls_back_face_by_face() {
     let ctx = RenderContext::new(&scene);
     let mut scratch = ShadingScratch::default();
     let (mut fell_back, mut face_capped) = (0, 0);
-    for sp in points(&ctx, 300, 5) {
+    // Most differences are holes now, which take no walk: enough points that the ones left to
+    // Greiner–Hormann (a third overlapping occluder, a non-convex outline) cross the cap.
+    for sp in points(&ctx, 1200, 5) {
         scratch.limit_set_difference_walks(Some((1, 5)));
         let exact = shade_at(&ctx, &sp, Method::PerTriangle, &mut scratch);
         if scratch.stats.fallbacks.bounds_crossed > 0 {
@@ -136,9 +138,10 @@ fn a_bound_crossed_in_the_set_difference_falls_back_face_by_face() {
         );
     }
     scratch.limit_set_difference_walks(None);
+    eprintln!("the fallback ran at {fell_back} of 1200 points ({face_capped} without an oracle)");
     assert!(
-        fell_back >= 30 && face_capped < 30,
-        "the fallback ran at {fell_back} of 300 points ({face_capped} without an oracle)"
+        fell_back >= 30 && face_capped < 120,
+        "the fallback ran at {fell_back} of 1200 points ({face_capped} without an oracle)"
     );
 }
 
