@@ -352,16 +352,7 @@ impl SilhouetteBsp {
             return false;
         };
         out.clear();
-        for &v in data {
-            if v == LOOP_END {
-                out.close_loop();
-            } else if let Some(d) = frame
-                .to_local(poly.vertices[v as usize] - x)
-                .try_normalize()
-            {
-                out.push_vertex(d);
-            }
-        }
+        super::silhouette::emit_loops(poly, x, frame, data, out);
         true
     }
 }

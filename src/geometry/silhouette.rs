@@ -8,6 +8,7 @@
 //! and independent of any projection.
 
 use super::SphericalPolygon;
+use super::bsp::LOOP_END;
 use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::{NO_FACE, Plane, Polyhedron};
 use super::silhouette_walk::{WalkScratch, walk_silhouette};
@@ -199,9 +200,6 @@ fn chain_contour_indices(
     }
 }
 
-/// Marks the end of a loop in [`PlanarOutline`]'s vertex lists.
-const LOOP_END: u32 = u32::MAX;
-
 /// The outline of a flat mesh, chained once when the mesh is indexed: seen from either side of
 /// its plane the contour is the boundary of all its faces, so only the side is decided per
 /// point. The loops are those [`silhouette`]'s chaining would produce (the same edges, the same
@@ -262,9 +260,10 @@ impl PlanarOutline {
     }
 }
 
-/// Writes `loops` (vertex indices, as in [`PlanarOutline`]) seen from `x` into `out`, as
-/// `chain_contour` does: vertices that coincide with `x` are dropped.
-fn emit_loops(
+/// Appends `loops` (vertex indices, each loop ended by `LOOP_END`, as a silhouette tree's leaf
+/// and [`PlanarOutline`] hold them) seen from `x` to `out`, as `chain_contour` writes them:
+/// vertices that coincide with `x` are dropped.
+pub(crate) fn emit_loops(
     poly: &Polyhedron,
     x: DVec3,
     frame: &Frame,

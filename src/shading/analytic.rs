@@ -1349,18 +1349,7 @@ fn subtract_planar<R: Recorder>(
                 if R::ENABLED {
                     let mut before = PlanarPolygon::new();
                     with_hole(&scratch.visible, &scratch.hole_first, &mut before);
-                    with_hole(
-                        &scratch.visible,
-                        &scratch.visible_hole,
-                        &mut scratch.visible_next,
-                    );
-                    rec.set_difference(
-                        oi,
-                        DifferenceMethod::Hole,
-                        &before,
-                        &scratch.occ_plane,
-                        &scratch.visible_next,
-                    );
+                    record_hole(rec, oi, &before, scratch);
                 }
                 return true;
             }
@@ -1392,18 +1381,8 @@ fn subtract_planar<R: Recorder>(
                     scratch.hole_oi = oi;
                 }
                 if R::ENABLED {
-                    with_hole(
-                        &scratch.visible,
-                        &scratch.visible_hole,
-                        &mut scratch.visible_next,
-                    );
-                    rec.set_difference(
-                        oi,
-                        DifferenceMethod::Hole,
-                        &scratch.visible,
-                        &scratch.occ_plane,
-                        &scratch.visible_next,
-                    );
+                    let before = scratch.visible.clone();
+                    record_hole(rec, oi, &before, scratch);
                 }
                 return true;
             }
@@ -1429,6 +1408,29 @@ fn subtract_planar<R: Recorder>(
     );
     std::mem::swap(&mut scratch.visible, &mut scratch.visible_next);
     true
+}
+
+/// Records occluder `oi`'s difference taken as a hole: the region `before` it, the occluder,
+/// and the region after it, `visible` with the holes reversed (filled non-zero), shown in
+/// `visible_next`.
+fn record_hole<R: Recorder>(
+    rec: &mut R,
+    oi: usize,
+    before: &PlanarPolygon,
+    scratch: &mut ShadingScratch,
+) {
+    with_hole(
+        &scratch.visible,
+        &scratch.visible_hole,
+        &mut scratch.visible_next,
+    );
+    rec.set_difference(
+        oi,
+        DifferenceMethod::Hole,
+        before,
+        &scratch.occ_plane,
+        &scratch.visible_next,
+    );
 }
 
 /// The loop of `visible_hole` that holds the two holes' overlap, reversed ([`second_hole`]).
