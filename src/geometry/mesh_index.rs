@@ -24,8 +24,9 @@ pub struct MeshIndex {
     pub face_edges: Option<Arc<FaceEdges>>,
     /// Adjacency for walking the contour of a large convex mesh (`silhouette_walk`).
     pub contour_walk: Option<Arc<ContourWalk>>,
-    /// The faces at each vertex, for manifold meshes, closed or open (quantitative
-    /// invisibility needs the star of each vertex, and no edge with more than two faces).
+    /// The star of each vertex (its faces' fan triangles' corners there), for manifold meshes,
+    /// closed or open (quantitative invisibility's vertex rule needs it, and no edge with more
+    /// than two faces).
     pub vertex_faces: Option<Arc<VertexFaces>>,
     /// Normal cones over the edges, for finding the contour edges of a large mesh without a
     /// scan (`edge_hierarchy`); large convex meshes walk their contour instead.
@@ -45,10 +46,8 @@ impl MeshIndex {
     pub fn build(poly: &Polyhedron) -> Self {
         let (face_bvh, face_edges) = face_hierarchy(poly);
         let contour_walk = ContourWalk::new(poly).map(Arc::new);
-        let vertex_faces = (poly.diagnostics.nonmanifold_edges == 0).then(|| {
-            let faces = (0..poly.face_count()).map(|f| poly.face(f));
-            Arc::new(VertexFaces::build(poly.vertices.len(), faces))
-        });
+        let vertex_faces =
+            (poly.diagnostics.nonmanifold_edges == 0).then(|| Arc::new(VertexFaces::build(poly)));
         let edge_hierarchy = (poly.edges.len() >= EDGE_HIERARCHY_MIN_EDGES
             && contour_walk.is_none())
         .then(|| EdgeHierarchy::build(poly));
@@ -66,9 +65,10 @@ impl MeshIndex {
     }
 
     /// The index of `moved`, the mesh this index was built for with its vertices moved
-    /// ([`Polyhedron::moved`]): the topology (faces at each vertex, the contour walk's
-    /// adjacency, each face's edges) is kept, the geometry (the faces' hierarchy, the edges'
-    /// normal cones) built again. The cones are built again only where the first build kept
+    /// ([`Polyhedron::moved`]): the topology (the contour walk's adjacency, each face's
+    /// edges) is kept, the geometry (the faces' hierarchy, the edges' normal cones, the
+    /// vertices' stars, whose degenerate fan triangles may change with a move's rounding)
+    /// built again. The cones are built again only where the first build kept
     /// them, and serve single points only where they did before and still pay.
     pub fn moved(&self, moved: &Polyhedron) -> Self {
         let (face_bvh, face_edges) = face_hierarchy(moved);
@@ -82,7 +82,11 @@ impl MeshIndex {
             face_bvh,
             face_edges: self.face_edges.clone().or(face_edges),
             contour_walk: self.contour_walk.clone(),
-            vertex_faces: self.vertex_faces.clone(),
+            // Which fan triangles are degenerate may change with the rounding of a move.
+            vertex_faces: self
+                .vertex_faces
+                .as_ref()
+                .map(|_| Arc::new(VertexFaces::build(moved))),
             edge_hierarchy: edge_hierarchy.map(Arc::new),
             edge_hierarchy_per_point,
             planar_outline: PlanarOutline::new(moved).map(Arc::new),

@@ -37,48 +37,82 @@ pub fn qi_disabled() -> bool {
     *OFF.get_or_init(|| std::env::var("PENUMBRA_QI").is_ok_and(|v| v == "off"))
 }
 
-/// Faces at each vertex (each face once), for the vertex rule.
+/// The star of each vertex, for the vertex rule: per vertex, the wedges at it of its faces'
+/// fan triangles (those the ray test uses), grouped by face.
 #[derive(Clone, Debug, Default)]
 pub struct VertexFaces {
     start: Vec<u32>,
-    faces: Vec<u32>,
+    wedges: Vec<Wedge>,
+}
+
+/// The corner at a vertex `v` of one fan triangle `(v, p, q)` (in the face's order) of
+/// `face`. Degenerate triangles are left out, as the ray test skips them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Wedge {
+    pub face: u32,
+    pub p: u32,
+    pub q: u32,
 }
 
 impl VertexFaces {
-    /// The faces at every vertex of a mesh of `vertex_count` vertices and faces `face(f)`.
-    pub fn build<'a>(vertex_count: usize, faces: impl Iterator<Item = &'a [u32]> + Clone) -> Self {
-        let mut start = vec![0u32; vertex_count + 1];
-        let mut seen: Vec<u32> = Vec::new();
-        for idx in faces.clone() {
-            seen.clear();
-            for &v in idx {
-                if !seen.contains(&v) {
-                    seen.push(v);
+    /// The stars of every vertex of `poly`. Built from its geometry as well as its topology
+    /// (which fan triangles are degenerate): a moved mesh builds its own.
+    pub fn build(poly: &Polyhedron) -> Self {
+        // Each fan triangle, in face order, with whether it is degenerate.
+        let fans = || {
+            (0..poly.face_count()).flat_map(move |f| {
+                let idx = poly.face(f);
+                (1..idx.len().saturating_sub(1))
+                    .map(move |k| (f as u32, [idx[0], idx[k], idx[k + 1]]))
+            })
+        };
+        let degenerate: Vec<bool> = fans()
+            .map(|(_, tri)| {
+                let [a, b, c] = tri.map(|i| poly.vertices[i as usize]);
+                is_degenerate(a, b, c)
+            })
+            .collect();
+        // Three wedges per fan triangle that is not degenerate, placed by a counting sort on
+        // their vertex: each vertex's wedges stay in face order, grouped by face.
+        let mut start = vec![0u32; poly.vertices.len() + 1];
+        for ((_, tri), &skip) in fans().zip(&degenerate) {
+            if !skip {
+                for v in tri {
                     start[v as usize + 1] += 1;
                 }
             }
         }
-        for i in 0..vertex_count {
+        for i in 0..poly.vertices.len() {
             start[i + 1] += start[i];
         }
         let mut fill = start.clone();
-        let mut out = vec![0u32; start[vertex_count] as usize];
-        for (f, idx) in faces.enumerate() {
-            seen.clear();
-            for &v in idx {
-                if !seen.contains(&v) {
-                    seen.push(v);
-                    out[fill[v as usize] as usize] = f as u32;
-                    fill[v as usize] += 1;
-                }
+        let empty = Wedge {
+            face: 0,
+            p: 0,
+            q: 0,
+        };
+        let mut wedges = vec![empty; start[poly.vertices.len()] as usize];
+        for ((face, tri), &skip) in fans().zip(&degenerate) {
+            if skip {
+                continue; // the ray test skips it too
+            }
+            for at in 0..3 {
+                let v = tri[at] as usize;
+                wedges[fill[v] as usize] = Wedge {
+                    face,
+                    p: tri[(at + 1) % 3],
+                    q: tri[(at + 2) % 3],
+                };
+                fill[v] += 1;
             }
         }
-        VertexFaces { start, faces: out }
+        VertexFaces { start, wedges }
     }
 
+    /// The wedges at `v`, grouped by face.
     #[inline]
-    pub fn of(&self, v: u32) -> &[u32] {
-        &self.faces[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
+    pub(crate) fn wedges(&self, v: u32) -> &[Wedge] {
+        &self.wedges[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
     }
 }
 
@@ -235,52 +269,40 @@ impl Toward {
     }
 }
 
-/// Whether the face `f` at the mesh vertex `v` (direction `vd = v − x`) covers the directions
-/// from `x` just off `v` toward `t` (`t − x`, any point but `v` on the arc's great circle), for
-/// each of the two `t` asked (`None`: not asked, answered `false`): is `t`'s direction strictly
-/// inside the wedge at `v` of one of the face's fan triangles (those the ray test uses) that
-/// have `v` as a corner? `None` within rounding of a wedge's side. Both directions share the
-/// fan triangles' tests; the sign tests compare squares, so no square root is taken.
+/// Whether a face covers the directions from `x` just off the mesh vertex `v` (direction
+/// `vd = v − x`) toward `t` (`t − x`, any point but `v` on the arc's great circle), for each
+/// of the two `t` asked (`None`: not asked, answered `false`): is `t`'s direction strictly
+/// inside one of the face's `wedges` at `v` (the corners at `v` of its fan triangles)? `None`
+/// within rounding of a wedge's side. With `v × p` and `q × v` formed once per wedge, the
+/// three determinants of its test are dot products (`det(v, p, t) = (v × p) · t`,
+/// `det(v, t, q) = (q × v) · t`); the sign tests compare squares, so no square root is taken.
 fn covers(
     poly: &Polyhedron,
     x: DVec3,
-    f: u32,
-    v: u32,
     vd: Toward,
+    wedges: &[Wedge],
     toward: [Option<Toward>; 2],
 ) -> Option<[bool; 2]> {
-    let idx = poly.face(f as usize);
-    let det = |a: DVec3, b: DVec3, c: DVec3| a.dot(b.cross(c));
     // |det| ≤ SIGN_TOL |a| |b| |c|, squared.
     let tol2 = SIGN_TOL * SIGN_TOL;
     let near = |s: f64, l2: f64| s * s <= tol2 * l2;
     let mut hit = [false; 2];
-    for k in 1..idx.len() - 1 {
-        let tri = [idx[0], idx[k], idx[k + 1]];
-        let Some(at) = tri.iter().position(|&w| w == v) else {
-            continue;
-        };
-        let (p, q) = (tri[(at + 1) % 3], tri[(at + 2) % 3]);
-        let (pv, qv) = (poly.vertices[p as usize], poly.vertices[q as usize]);
-        if is_degenerate(
-            poly.vertices[tri[0] as usize],
-            poly.vertices[tri[1] as usize],
-            poly.vertices[tri[2] as usize],
-        ) {
-            continue; // the ray test skips it too
-        }
-        let (pd, qd) = (pv - x, qv - x);
+    for w in wedges {
+        let pd = poly.vertices[w.p as usize] - x;
+        let qd = poly.vertices[w.q as usize] - x;
         let (lp2, lq2) = (pd.length_squared(), qd.length_squared());
-        let s = det(vd.d, pd, qd);
+        let vp = vd.d.cross(pd);
+        let s = vp.dot(qd);
         if near(s, vd.len2 * lp2 * lq2) {
             return None;
         }
+        let qv = qd.cross(vd.d);
         for (t, hit) in toward.iter().zip(&mut hit) {
             let Some(t) = t else {
                 continue;
             };
-            let sp = det(vd.d, pd, t.d);
-            let sq = det(vd.d, t.d, qd);
+            let sp = vp.dot(t.d);
+            let sq = qv.dot(t.d);
             if near(sp, vd.len2 * lp2 * t.len2) || near(sq, vd.len2 * t.len2 * lq2) {
                 return None;
             }
@@ -309,7 +331,13 @@ pub(crate) fn vertex_step(
     let ad = Toward::new(poly.vertices[a as usize] - x);
     let bd = Toward::new(poly.vertices[b as usize] - x);
     let mut delta = 0;
-    for &f in star.of(v) {
+    let mut rest = star.wedges(v);
+    // Bound: each pass takes at least one wedge off `rest`.
+    while let Some(first) = rest.first() {
+        let f = first.face;
+        let n = rest.iter().take_while(|w| w.face == f).count();
+        let (wedges, tail) = rest.split_at(n);
+        rest = tail;
         if absent(f) {
             continue; // never met by the rays (seen edge-on)
         }
@@ -320,7 +348,7 @@ pub(crate) fn vertex_step(
         if asked.iter().all(Option::is_none) {
             continue;
         }
-        let [by_a, by_b] = covers(poly, x, f, v, vd, asked)?;
+        let [by_a, by_b] = covers(poly, x, vd, wedges, asked)?;
         delta += by_b as i32 - by_a as i32;
     }
     Some(delta)
