@@ -39,7 +39,6 @@ use super::exact_silhouette::{Degenerate, blocked_ray};
 use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::NO_FACE;
 use super::quantitative_invisibility::QiScratch;
-use super::silhouette::is_front_facing;
 use super::spherical_polygon::clip_loop_to_half_spaces;
 use super::tile_candidates::{TileCandidates, TileQuery};
 use crate::math::Frame;
@@ -227,27 +226,30 @@ pub fn exact_silhouette_in_window(
     for &e in &scratch.candidates {
         let edge = &poly.edges[e as usize];
         let [g0, g1] = edge.faces;
-        let front = |f: u32| is_front_facing(poly, f as usize, x);
+        // Each face's plane at x, evaluated once (front facing: positive).
+        let side = |f: u32| match f {
+            NO_FACE => f64::NAN,
+            f => poly.face_planes[f as usize].eval(x),
+        };
+        let (s0, s1) = (side(g0), side(g1));
+        let left_out = |f: u32, s: f64| f == NO_FACE || on_mesh && s.abs() <= tol;
+        let (out0, out1) = (left_out(g0, s0), left_out(g1, s1));
         // The mesh to the left: a contour edge between a front and a back face; a boundary edge
         // (of an open mesh, or next to a face left out) whichever way its one face turns.
-        let [i, j] = match (absent(g0), absent(g1)) {
+        let [i, j] = match (out0, out1) {
             (true, true) => continue,
-            (false, false) => match (front(g0), front(g1)) {
+            (false, false) => match (s0 > 0.0, s1 > 0.0) {
                 (true, false) => [edge.v[1], edge.v[0]],
                 (false, true) => [edge.v[0], edge.v[1]],
                 _ => continue,
             },
-            (false, true) if front(g0) => [edge.v[1], edge.v[0]],
+            (false, true) if s0 > 0.0 => [edge.v[1], edge.v[0]],
             (false, true) => [edge.v[0], edge.v[1]],
             // Its face runs along it the other way.
-            (true, false) if front(g1) => [edge.v[0], edge.v[1]],
+            (true, false) if s1 > 0.0 => [edge.v[0], edge.v[1]],
             (true, false) => [edge.v[1], edge.v[0]],
         };
-        if edge
-            .faces
-            .iter()
-            .any(|&f| !absent(f) && poly.face_planes[f as usize].eval(x).abs() <= tol)
-        {
+        if (!out0 && s0.abs() <= tol) || (!out1 && s1.abs() <= tol) {
             return Err(Degenerate::Window); // a face plane through x
         }
         let (va, vb) = (poly.vertices[i as usize] - x, poly.vertices[j as usize] - x);
