@@ -237,13 +237,18 @@ impl TileCandidates {
         self.shared += 1;
         self.last = Some(slot.edges.len() as u32);
         let (with_faces, boundary) = slot.edges.split_at(slot.planes.len());
+        // Written without a branch per edge (few of them are kept, at no predictable place):
+        // every edge is stored, and the end moves past the kept ones only.
+        let tol = edge_on.unwrap_or(-1.0);
+        let mut end = out.len();
+        out.resize(end + with_faces.len(), 0);
         for (&e, [p0, p1]) in with_faces.iter().zip(&slot.planes) {
             let (s0, s1) = (p0.eval(x), p1.eval(x));
-            let absent = |s: f64| edge_on.is_some_and(|tol| s.abs() <= tol);
-            if absent(s0) || absent(s1) || (s0 > 0.0) != (s1 > 0.0) {
-                out.push(e);
-            }
+            let keep = (s0.abs() <= tol) | (s1.abs() <= tol) | ((s0 > 0.0) != (s1 > 0.0));
+            out[end] = e;
+            end += keep as usize;
         }
+        out.truncate(end);
         out.extend_from_slice(boundary);
         true
     }
