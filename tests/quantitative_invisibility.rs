@@ -350,7 +350,7 @@ fn qi_on_open_meshes_is_the_per_piece_rays() {
     for (name, poly) in [("cut bunny", cut_bunny(0.7)), ("suzanne", suzanne())] {
         assert!(poly.diagnostics.boundary_edges > 0, "{name} is open");
         assert!(
-            poly.index.vertex_faces.is_some(),
+            poly.index.vertex_stars.is_some(),
             "{name} has its vertex stars"
         );
         let mut qi = ExactSilhouetteScratch::default();

@@ -302,7 +302,7 @@ impl ContourPieces {
         qi: &mut QiScratch,
     ) -> u32 {
         self.kept.clear();
-        if per_piece || poly.index.vertex_faces.is_none() || qi_disabled() {
+        if per_piece || poly.index.vertex_stars.is_none() || qi_disabled() {
             for (pi, p) in self.pieces.iter().enumerate() {
                 let mid = (p.from + p.to).normalize();
                 let faces = self.arcs[p.arc as usize].faces;

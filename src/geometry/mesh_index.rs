@@ -6,7 +6,7 @@
 use super::edge_hierarchy::{EDGE_HIERARCHY_MIN_EDGES, EdgeHierarchy};
 use super::face_bvh::{FACE_BVH_MIN_FACES, FaceBvh, FaceEdges};
 use super::polyhedron::Polyhedron;
-use super::quantitative_invisibility::VertexFaces;
+use super::quantitative_invisibility::VertexStars;
 use super::silhouette::PlanarOutline;
 use super::silhouette_walk::ContourWalk;
 use glam::DVec3;
@@ -27,7 +27,7 @@ pub struct MeshIndex {
     /// The star of each vertex (its faces' fan triangles' corners there), for manifold meshes,
     /// closed or open (quantitative invisibility's vertex rule needs it, and no edge with more
     /// than two faces).
-    pub vertex_faces: Option<Arc<VertexFaces>>,
+    pub vertex_stars: Option<Arc<VertexStars>>,
     /// Normal cones over the edges, for finding the contour edges of a large mesh without a
     /// scan (`edge_hierarchy`); large convex meshes walk their contour instead.
     pub edge_hierarchy: Option<Arc<EdgeHierarchy>>,
@@ -46,8 +46,8 @@ impl MeshIndex {
     pub fn build(poly: &Polyhedron) -> Self {
         let (face_bvh, face_edges) = face_hierarchy(poly);
         let contour_walk = ContourWalk::new(poly).map(Arc::new);
-        let vertex_faces =
-            (poly.diagnostics.nonmanifold_edges == 0).then(|| Arc::new(VertexFaces::build(poly)));
+        let vertex_stars =
+            (poly.diagnostics.nonmanifold_edges == 0).then(|| Arc::new(VertexStars::build(poly)));
         let edge_hierarchy = (poly.edges.len() >= EDGE_HIERARCHY_MIN_EDGES
             && contour_walk.is_none())
         .then(|| EdgeHierarchy::build(poly));
@@ -57,7 +57,7 @@ impl MeshIndex {
             face_bvh,
             face_edges,
             contour_walk,
-            vertex_faces,
+            vertex_stars,
             edge_hierarchy: edge_hierarchy.map(Arc::new),
             edge_hierarchy_per_point,
             planar_outline,
@@ -83,10 +83,10 @@ impl MeshIndex {
             face_edges: self.face_edges.clone().or(face_edges),
             contour_walk: self.contour_walk.clone(),
             // Which fan triangles are degenerate may change with the rounding of a move.
-            vertex_faces: self
-                .vertex_faces
+            vertex_stars: self
+                .vertex_stars
                 .as_ref()
-                .map(|_| Arc::new(VertexFaces::build(moved))),
+                .map(|_| Arc::new(VertexStars::build(moved))),
             edge_hierarchy: edge_hierarchy.map(Arc::new),
             edge_hierarchy_per_point,
             planar_outline: PlanarOutline::new(moved).map(Arc::new),

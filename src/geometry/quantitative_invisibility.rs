@@ -40,7 +40,7 @@ pub fn qi_disabled() -> bool {
 /// The star of each vertex, for the vertex rule: per vertex, the wedges at it of its faces'
 /// fan triangles (those the ray test uses), grouped by face.
 #[derive(Clone, Debug, Default)]
-pub struct VertexFaces {
+pub struct VertexStars {
     start: Vec<u32>,
     wedges: Vec<Wedge>,
 }
@@ -54,7 +54,7 @@ pub(crate) struct Wedge {
     pub q: u32,
 }
 
-impl VertexFaces {
+impl VertexStars {
     /// The stars of every vertex of `poly`. Built from its geometry as well as its topology
     /// (which fan triangles are degenerate): a moved mesh builds its own.
     pub fn build(poly: &Polyhedron) -> Self {
@@ -106,7 +106,7 @@ impl VertexFaces {
                 fill[v] += 1;
             }
         }
-        VertexFaces { start, wedges }
+        VertexStars { start, wedges }
     }
 
     /// The wedges at `v`, grouped by face.
@@ -320,7 +320,7 @@ fn covers(
 /// not being degenerate for the caller). Faces `absent` are left out, as the rays leave them.
 pub(crate) fn vertex_step(
     poly: &Polyhedron,
-    star: &VertexFaces,
+    star: &VertexStars,
     x: DVec3,
     v: u32,
     (a, fa): (u32, [u32; 2]),
@@ -386,7 +386,7 @@ impl QiScratch {
             |f: u32| edge_on.is_some_and(|t| poly.face_planes[f as usize].eval(x).abs() <= t);
         self.solve(
             poly,
-            poly.index.vertex_faces.as_deref(),
+            poly.index.vertex_stars.as_deref(),
             x,
             crossings,
             absent,
@@ -408,7 +408,7 @@ impl QiScratch {
     pub(crate) fn solve(
         &mut self,
         poly: &IndexedPolyhedron,
-        star: Option<&VertexFaces>,
+        star: Option<&VertexStars>,
         x: DVec3,
         crossings: &[DVec3],
         absent: impl Fn(u32) -> bool,
