@@ -157,8 +157,14 @@ pub fn exact_silhouette_in_window(
     if on_mesh && scratch.window.iter().any(|w| w.dot(frame.z) <= 1e3 * TOL) {
         return Err(Degenerate::Window);
     }
-    let absent =
-        |f: u32| f == NO_FACE || on_mesh && poly.face_planes[f as usize].eval(x).abs() <= tol;
+    // A face's plane at x (front facing: positive), and whether the face is left out: none,
+    // or seen edge-on from a point on the mesh.
+    let side = |f: u32| match f {
+        NO_FACE => f64::NAN,
+        f => poly.face_planes[f as usize].eval(x),
+    };
+    let left_out = |f: u32, s: f64| f == NO_FACE || on_mesh && s.abs() <= tol;
+    let absent = |f: u32| left_out(f, side(f));
 
     // 1. Candidate edges: through the mesh's edge hierarchy, the contour and boundary edges
     //    that may meet the cone and the pyramid of W' (all skip tests at once); without one,
@@ -226,13 +232,8 @@ pub fn exact_silhouette_in_window(
     for &e in &scratch.candidates {
         let edge = &poly.edges[e as usize];
         let [g0, g1] = edge.faces;
-        // Each face's plane at x, evaluated once (front facing: positive).
-        let side = |f: u32| match f {
-            NO_FACE => f64::NAN,
-            f => poly.face_planes[f as usize].eval(x),
-        };
+        // Each face's plane at x, evaluated once.
         let (s0, s1) = (side(g0), side(g1));
-        let left_out = |f: u32, s: f64| f == NO_FACE || on_mesh && s.abs() <= tol;
         let (out0, out1) = (left_out(g0, s0), left_out(g1, s1));
         // The mesh to the left: a contour edge between a front and a back face; a boundary edge
         // (of an open mesh, or next to a face left out) whichever way its one face turns.
