@@ -21,13 +21,13 @@ fn main() {
         let mut seen = HashSet::new();
         let (mut trees, mut bytes) = (0, 0);
         for o in &p.objects {
-            if let Some(t) = &o.bsp
+            if let Some(t) = o.convex_tree()
                 && seen.insert(std::sync::Arc::as_ptr(t) as usize)
             {
                 trees += 1;
                 bytes += t.stored_bytes();
             }
-            if let Some(t) = &o.exact_bsp
+            if let Some(t) = o.exact_tree()
                 && seen.insert(std::sync::Arc::as_ptr(t) as usize)
             {
                 trees += 1;

@@ -37,7 +37,7 @@ fn main() {
             .prepared
             .objects
             .iter()
-            .filter(|o| o.bsp.is_some() || o.exact_bsp.is_some())
+            .filter(|o| o.path.tree().is_some())
             .count();
         println!(
             "{name}: {:.3} s, {trees} of {} meshes with a tree",

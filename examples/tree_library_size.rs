@@ -3,6 +3,7 @@
 use glam::DVec3;
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use penumbra::shading::TreeLibrary;
+use penumbra::shading::prepared::BuiltTree;
 
 fn main() {
     let args: Vec<f64> = std::env::args()
@@ -20,11 +21,10 @@ fn main() {
             let t = std::time::Instant::now();
             let lib = TreeLibrary::build(&[m], (DVec3::splat(-b), DVec3::splat(b)), factor);
             let e = &lib.entries[0];
-            let nodes = e.trees.bsp.as_ref().map(|t| t.nodes.len()).or(e
-                .trees
-                .exact_bsp
-                .as_ref()
-                .map(|t| t.nodes.len()));
+            let nodes = e.trees.tree.as_ref().map(|t| match t {
+                BuiltTree::Convex(t) => t.nodes.len(),
+                BuiltTree::Exact(t) => t.nodes.len(),
+            });
             println!(
                 "B {b:5} {:14} {:8.3} s nodes {:?} tri {}",
                 p.name,

@@ -43,9 +43,11 @@ fn run() -> Result<()> {
     let cli = Cli::from_arg_matches(&command_line().get_matches()).unwrap_or_else(|e| e.exit());
     match cli.command {
         #[cfg(feature = "gui")]
-        None => penumbra::app::run(Default::default()).map_err(|e| anyhow::anyhow!("{e}")),
+        None => penumbra::app::run(Default::default(), cli::process_env::prepare_config())
+            .map_err(|e| anyhow::anyhow!("{e}")),
         #[cfg(feature = "gui")]
-        Some(Command::Gui(opts)) => penumbra::app::run(opts).map_err(|e| anyhow::anyhow!("{e}")),
+        Some(Command::Gui(opts)) => penumbra::app::run(opts, cli::process_env::prepare_config())
+            .map_err(|e| anyhow::anyhow!("{e}")),
         // Built without the workbench (`--no-default-features`): the command line only.
         #[cfg(not(feature = "gui"))]
         None => {

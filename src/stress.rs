@@ -990,12 +990,12 @@ pub fn tree_library() -> &'static TreeLibrary {
 fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratch) -> Outcome {
     let options = PrepareOptions {
         share_instances: true,
-        disk_cache: false,
         library: Some(tree_library()),
         // Shaded at one point: a tree of its own could never pay for itself.
         build_trees: false,
         expected_rays: rays as u64,
-        environment: false,
+        // Generated and thrown away: nothing is read from or written to a disk cache.
+        ..PrepareOptions::default()
     };
     let prepared = PreparedScene::prepare(&case.scene, LtcTable::embedded(), options);
     if case.kind == CaseKind::Environment {

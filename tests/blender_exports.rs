@@ -16,7 +16,7 @@ use penumbra::reference::render_reference;
 use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
 use penumbra::scene::scene_file::load_scene;
 use penumbra::scene::{Camera, Scene};
-use penumbra::shading::MeshPath;
+use penumbra::shading::PathKind;
 use std::path::Path;
 
 const SCENES: [&str; 10] = [
@@ -84,11 +84,11 @@ fn blender_meshes_keep_their_topology_and_take_the_open_path() {
             .objects
             .iter()
             .find(|o| o.name == object)
-            .map(|o| o.path());
+            .map(|o| o.kind());
         assert!(
             matches!(
                 path,
-                Some(MeshPath::OpenAtPoint) | Some(MeshPath::OpenInWindow)
+                Some(PathKind::OpenAtPoint) | Some(PathKind::OpenInWindow)
             ),
             "{file}: {path:?}"
         );
@@ -150,7 +150,11 @@ fn analytic_matches_ray_casting_on_blender_exports() {
     for file in SCENES {
         let scene = lambertian(load(file));
         let camera: Camera = scene.camera.expect("Blender's files have a camera");
-        let ctx = RenderContext::for_render(&scene, &settings(RenderMethod::Analytic));
+        let ctx = RenderContext::for_render(
+            &scene,
+            &settings(RenderMethod::Analytic),
+            &Default::default(),
+        );
         let render = |m: RenderMethod| {
             ctx.render_full(&camera, &settings(m), None)
                 .unwrap_or_else(|e| panic!("{file}: {e}"))
@@ -223,8 +227,8 @@ fn the_stress_family_of_blender_like_meshes() {
     use penumbra::stress::{CaseKind, KIND_PERIOD, blender_like_meshes, kind_of, run_one};
     // Open (the outline of contour and boundary edges), or closed and not convex (the exact
     // silhouette): at the point, or inside the light's window for the larger ones.
-    let open = [MeshPath::OpenAtPoint, MeshPath::OpenInWindow];
-    let closed = [MeshPath::ExactAtPoint, MeshPath::ExactInWindow];
+    let open = [PathKind::OpenAtPoint, PathKind::OpenInWindow];
+    let closed = [PathKind::ExactAtPoint, PathKind::ExactInWindow];
     let expected = [
         ("bumpy_sheet", open),
         ("open_box", open),
@@ -249,12 +253,11 @@ fn the_stress_family_of_blender_like_meshes() {
             ..Scene::default()
         };
         let options = PrepareOptions {
-            disk_cache: false,
             build_trees: false,
             ..PrepareOptions::default()
         };
         let p = PreparedScene::prepare(&scene, LtcTable::embedded(), options);
-        let path = p.objects[0].path();
+        let path = p.objects[0].kind();
         assert!(want.contains(&path), "{name}: {path:?}");
     }
     // Case by case (`stress::run` would silence every test's panic messages while it runs).
@@ -384,9 +387,9 @@ fn the_uv_sphere_is_convex_up_to_its_rounding_in_both_files() {
             .objects
             .iter()
             .find(|o| o.name == "UVSphere")
-            .map(|o| o.path());
+            .map(|o| o.kind());
         assert!(
-            matches!(path, Some(MeshPath::HullTree | MeshPath::HullAtPoint)),
+            matches!(path, Some(PathKind::HullTree | PathKind::HullAtPoint)),
             "{file}: {path:?}"
         );
     }

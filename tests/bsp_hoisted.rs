@@ -185,7 +185,7 @@ fn the_renderer_on_hoisted_trees_renders_the_same_image() {
             .prepared
             .objects
             .iter()
-            .filter(|o| o.hoisted.is_some())
+            .filter(|o| o.hoisted_tree().is_some())
             .count();
         assert!(n >= 5, "{name}: {n} hoisted trees");
         let cam = scene.camera.unwrap();

@@ -309,7 +309,7 @@ fn bsp_outlines_of_open_meshes_equal_the_outline_on_the_fly() {
 fn open_occluders_shade_from_their_trees_as_face_by_face() {
     use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
     use penumbra::scene::camera::Camera;
-    use penumbra::shading::MeshPath;
+    use penumbra::shading::PathKind;
     let obj = "\
 o floor
 v -3 0 -3
@@ -371,7 +371,11 @@ f 21 22 23 24
         method,
         ..RenderSettings::default()
     };
-    let ctx = RenderContext::for_render(&scene, &settings(RenderMethod::Analytic));
+    let ctx = RenderContext::for_render(
+        &scene,
+        &settings(RenderMethod::Analytic),
+        &Default::default(),
+    );
     // The box's tree pays at this size; the sheet's does not (the cost model), and it
     // computes its outline at each point.
     let path = |name: &str| {
@@ -381,12 +385,17 @@ f 21 22 23 24
             .iter()
             .find(|o| o.name == name)
             .unwrap();
-        o.path()
+        o.kind()
     };
-    assert_eq!(path("box"), MeshPath::OpenTree, "{:?}", ctx.prepared.notes);
+    assert_eq!(
+        path("box"),
+        PathKind::OpenTree,
+        "{:?}",
+        ctx.prepared.report.lines()
+    );
     assert!(matches!(
         path("sheet"),
-        MeshPath::OpenTree | MeshPath::OpenAtPoint
+        PathKind::OpenTree | PathKind::OpenAtPoint
     ));
     let camera = scene.camera.unwrap();
     let render = |m| ctx.render_full(&camera, &settings(m), None).unwrap();

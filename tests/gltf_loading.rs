@@ -692,7 +692,7 @@ fn split_cube_is_welded_closed_and_takes_the_silhouette_path() {
         .unwrap();
     let d = prepared.poly.diagnostics;
     assert!(d.closed_manifold && d.convex, "{d:?}");
-    assert!(prepared.simple);
+    assert!(prepared.path.is_simple());
 }
 
 #[test]

@@ -42,15 +42,16 @@ fn the_instances_scene_shares_one_tree_per_mesh() {
             first.to_tree.is_none(),
             "the first member is the tree's frame"
         );
-        assert!(
-            first.bsp.is_some() || first.exact_bsp.is_some(),
-            "{}",
-            first.name
-        );
+        assert!(first.path.tree().is_some(), "{}", first.name);
         for &m in &g[1..] {
             let o = &p.objects[m as usize];
             assert!(o.to_tree.is_some());
-            match (&first.bsp, &o.bsp, &first.exact_bsp, &o.exact_bsp) {
+            match (
+                first.convex_tree(),
+                o.convex_tree(),
+                first.exact_tree(),
+                o.exact_tree(),
+            ) {
                 (Some(a), Some(b), None, None) => assert!(Arc::ptr_eq(a, b)),
                 (None, None, Some(a), Some(b)) => assert!(Arc::ptr_eq(a, b)),
                 _ => panic!("{}: not the same tree as {}", o.name, first.name),
@@ -58,12 +59,13 @@ fn the_instances_scene_shares_one_tree_per_mesh() {
         }
         if g.len() > 1 {
             assert!(
-                p.notes
+                p.report
+                    .lines()
                     .iter()
                     .any(|n| n.contains("share one silhouette tree")
                         && n.contains(&format!("'{}'", first.name))),
                 "{:?}",
-                p.notes
+                p.report.lines()
             );
         }
     }
@@ -168,7 +170,7 @@ fn the_shared_tree_gives_each_instance_its_own_silhouette() {
                     continue;
                 }
                 let tx = o.tree_point(x);
-                if let Some(t) = &o.bsp {
+                if let Some(t) = o.convex_tree() {
                     checked += 1;
                     assert!(
                         t.silhouette_at(&o.poly, x, tx, &frame, &mut a),
@@ -184,7 +186,7 @@ fn the_shared_tree_gives_each_instance_its_own_silhouette() {
                         &mut b,
                         &mut convex,
                     );
-                } else if let Some(t) = &o.exact_bsp {
+                } else if let Some(t) = o.exact_tree() {
                     if exact_silhouette(&o.poly, x, &frame, &mut b, &mut exact).is_err() {
                         continue;
                     }

@@ -175,3 +175,52 @@ fn the_reader_finds_uses_and_skips_comments_and_unit_tests() {
         ]
     );
 }
+
+/// Where the library reads its process's environment, outside comments and unit tests: the
+/// lines of `file` that call `env::var` or `env::var_os`.
+fn environment_reads(file: &Path) -> Vec<usize> {
+    let text = std::fs::read_to_string(file).unwrap();
+    let mut out = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let code = line.trim_start();
+        if code.starts_with("#[cfg(test)]") {
+            break;
+        }
+        if !code.starts_with("//") && (code.contains("env::var(") || code.contains("env::var_os("))
+        {
+            out.push(n + 1);
+        }
+    }
+    out
+}
+
+/// The library reads no configuration from the environment: its callers do (the command line,
+/// `src/cli`, and Python, outside `src/`) and pass it in; only the workbench's launch reads the
+/// one variable that picks the window's painter before any scene exists.
+#[test]
+fn only_the_callers_read_the_environment() {
+    let launch = root().join("src/app/launch.rs");
+    let mut reads = Vec::new();
+    for files in modules().values() {
+        for file in files {
+            let lines = environment_reads(file);
+            if *file == launch {
+                assert_eq!(lines.len(), 1, "the launch reads PENUMBRA_RENDERER only");
+                continue;
+            }
+            for line in lines {
+                reads.push(format!(
+                    "{}:{line}",
+                    file.strip_prefix(root()).unwrap().display()
+                ));
+            }
+        }
+    }
+    assert!(
+        reads.is_empty(),
+        "the library reads the environment at:\n{}",
+        reads.join("\n")
+    );
+    // Not vacuous: the reader sees the command line's reads.
+    assert!(!environment_reads(&root().join("src/cli/process_env.rs")).is_empty());
+}

@@ -436,7 +436,6 @@ fn check_scene(s: &Scene, shade_it: bool) {
         return;
     }
     let options = PrepareOptions {
-        disk_cache: false,
         ..PrepareOptions::default()
     };
     let prepared = PreparedScene::prepare(s, LtcTable::embedded(), options);
@@ -614,7 +613,7 @@ fn debug_dumps_under_fuzzing_load_or_fail_with_file_and_line_and_replay() {
                     scene: "no-such-scene.toml".into(),
                     ..Persisted::default()
                 };
-                let app = WorkbenchApp::new(state, || {});
+                let app = WorkbenchApp::new(state, Default::default(), || {});
                 let mut h = Harness::builder()
                     .with_size((1280.0, 800.0))
                     .build_ui_state(|ui, app: &mut WorkbenchApp| app.frame_ui(ui), app);

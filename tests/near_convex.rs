@@ -108,7 +108,6 @@ fn shading_with_stand_ins_is_within_the_bound_of_the_exact_path() {
         o.mesh.rounding = 0.0;
     }
     let options = PrepareOptions {
-        disk_cache: false,
         ..PrepareOptions::default()
     };
     let ltc = LtcTable::embedded();
@@ -117,14 +116,14 @@ fn shading_with_stand_ins_is_within_the_bound_of_the_exact_path() {
     let stand_ins: Vec<&str> = a
         .objects
         .iter()
-        .filter(|o| o.stand_in.is_some())
+        .filter(|o| o.stand_in().is_some())
         .map(|o| o.name.as_str())
         .collect();
     assert!(
         stand_ins.contains(&"Sphere") && stand_ins.contains(&"Cylinder"),
         "{stand_ins:?}"
     );
-    assert!(b.objects.iter().all(|o| o.stand_in.is_none()));
+    assert!(b.objects.iter().all(|o| o.stand_in().is_none()));
     let floor = with_rounding
         .objects
         .iter()
@@ -162,10 +161,9 @@ fn shading_with_stand_ins_is_within_the_bound_of_the_exact_path() {
         // Each stand-in changes the visible solid angle of each light by at most its bound, and
         // the diffuse radiance by kd · Le / π times that.
         let mut bound = 0.0;
-        for o in a.objects.iter().filter(|o| o.stand_in.is_some()) {
+        for o in a.objects.iter().filter(|o| o.stand_in().is_some()) {
             let omega = o
-                .stand_in
-                .as_ref()
+                .stand_in()
                 .unwrap()
                 .solid_angle_bound(distance_below(&o.poly, x));
             for &(_, le) in &a.lights {

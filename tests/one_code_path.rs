@@ -43,11 +43,11 @@ fn the_bench_renders_the_analytic_image_that_render_renders() {
             collect_stats: false,
             exact_u: false,
         };
-        let render_ctx = RenderContext::for_render(&scene, &settings);
+        let render_ctx = RenderContext::for_render(&scene, &settings, &Default::default());
         // The same preparation: every mesh takes the same path and the same trees (the notes
         // say which). `RenderContext::new`, which the bench used before, sizes the trees for
         // 256×256×16 rays and differs here on default, fig4 and polyhedra.
-        assert_eq!(render_ctx.prepared.notes, ctx.prepared.notes, "{name}");
+        assert_eq!(render_ctx.prepared.report, ctx.prepared.report, "{name}");
         let render = render_ctx.render_full(&camera, &settings, None).unwrap();
         let bits = |img: &penumbra::render::Image| -> Vec<[u64; 3]> {
             img.pixels

@@ -9,7 +9,7 @@ use penumbra::inspect::probe;
 use penumbra::render::{RenderContext, RenderSettings};
 use penumbra::scene::edit::{EditHistory, Rigid, resolve_object};
 use penumbra::scene::{Camera, Scene, scene_file};
-use penumbra::shading::{MeshPath, Method, MoveReuse};
+use penumbra::shading::{Method, MoveReuse, PathKind};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -116,7 +116,7 @@ fn check_move(scene: Scene, name: &str, rotate_deg: f64, translate: DVec3) -> Mo
             .objects
             .iter()
             .find(|o| o.object == index as u32)
-            .map(|o| o.path())
+            .map(|o| o.kind())
     };
     assert_eq!(path(&current), path(&fresh), "{name}: path");
     let what = format!("{name} rotated {rotate_deg}°, moved by {translate}");
@@ -146,7 +146,7 @@ fn default_occluder_translated_and_rotated() {
         .iter()
         .find(|o| o.name == "back")
         .unwrap();
-    assert_eq!(back.path(), MeshPath::ConvexTree);
+    assert_eq!(back.kind(), PathKind::ConvexTree);
     let r = check_move(
         embedded("default"),
         "back",
@@ -190,7 +190,7 @@ fn exact_silhouette_trees_move_with_their_mesh() {
     let scene = embedded("nonconvex");
     let ctx = RenderContext::new(&scene);
     for o in &ctx.prepared.objects {
-        assert_eq!(o.path(), MeshPath::ExactTree, "{}", o.name);
+        assert_eq!(o.kind(), PathKind::ExactTree, "{}", o.name);
     }
     let occluder = ctx.prepared.objects[ctx.prepared.occluders[0] as usize]
         .name
@@ -234,7 +234,7 @@ fn moved_trees_are_shared_not_rebuilt() {
         .unwrap();
     let next = ctx.with_moved_object(index, Arc::new(moved)).unwrap();
     for (a, b) in ctx.prepared.objects.iter().zip(&next.prepared.objects) {
-        match (&a.bsp, &b.bsp) {
+        match (a.convex_tree(), b.convex_tree()) {
             (Some(x), Some(y)) => assert!(Arc::ptr_eq(x, y), "{}", a.name),
             (None, None) => {}
             _ => panic!("{}: a tree appeared or vanished", a.name),

@@ -22,7 +22,7 @@ fn the_sky_windows_light_a_point_on_the_torus_as_its_faces_do() {
         method: RenderMethod::Analytic,
         ..RenderSettings::default()
     };
-    let ctx = RenderContext::for_render(&scene, &settings);
+    let ctx = RenderContext::for_render(&scene, &settings, &Default::default());
     let torus = scene
         .objects
         .iter()

@@ -5,7 +5,7 @@
 //! take: a hull standing in, the exact silhouette, the plain convex one.
 
 use penumbra::ltc::LtcTable;
-use penumbra::shading::{MeshPath, PrepareOptions, PreparedScene};
+use penumbra::shading::{PathKind, PrepareOptions, PreparedScene};
 use penumbra::stress::{CaseKind, KIND_PERIOD, exporter_meshes, generate, kind_of, run_one};
 
 #[test]
@@ -34,35 +34,34 @@ fn exporter_meshes_load_without_geometry_warnings_and_take_their_paths() {
             environment: None,
         };
         let options = PrepareOptions {
-            disk_cache: false,
             build_trees: false,
             ..PrepareOptions::default()
         };
         let p = PreparedScene::prepare(&scene, ltc, options);
-        paths.push((*name, p.objects[0].path()));
+        paths.push((*name, p.objects[0].kind()));
     }
     let path = |n: &str| paths.iter().find(|(m, _)| *m == n).map(|p| p.1);
     // Convex as meant, not as written: the hull stands in.
     assert_eq!(
         path("uv_sphere_32x16"),
-        Some(MeshPath::HullAtPoint),
+        Some(PathKind::HullAtPoint),
         "{paths:?}"
     );
     assert_eq!(
         path("cylinder_32"),
-        Some(MeshPath::HullAtPoint),
+        Some(PathKind::HullAtPoint),
         "{paths:?}"
     );
     // Dented and large (more faces than `WINDOWED_MIN_FACES`): the exact silhouette inside
     // each light's window.
     assert_eq!(
         path("twisted_ellipsoid"),
-        Some(MeshPath::ExactInWindow),
+        Some(PathKind::ExactInWindow),
         "{paths:?}"
     );
     assert_eq!(
         path("displaced_icosphere"),
-        Some(MeshPath::ExactInWindow),
+        Some(PathKind::ExactInWindow),
         "{paths:?}"
     );
 }

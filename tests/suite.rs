@@ -56,6 +56,8 @@ mod stochastic;
 mod stress_exporter;
 mod thesis_polyhedra;
 mod tile_candidates;
+mod tree_cache;
+mod tree_cache_bound;
 mod tree_library;
 mod windowed_silhouette;
 #[cfg(feature = "gui")]

@@ -1,10 +1,12 @@
 //! The disk cache of silhouette trees: a second preparation reads what the first stored and
 //! renders the same image bit for bit (trees and triangulations); a damaged file (bad JSON, or an index out of range) is
-//! ignored and the tree rebuilt, never trusted; `PENUMBRA_CACHE_DIR=off` disables it.
-//! (One test: the cache directory is process-wide state.)
+//! ignored and the tree rebuilt, never trusted; without one (the default) nothing is written.
 
 use penumbra::render::{RenderContext, RenderSettings};
 use penumbra::scene::scene_file;
+use penumbra::shading::PrepareConfig;
+use penumbra::shading::tree_cache::TreeCache;
+use std::sync::Arc;
 
 fn render(ctx: &RenderContext) -> Vec<glam::DVec3> {
     let cam = ctx.scene.camera.unwrap();
@@ -20,7 +22,7 @@ fn trees(ctx: &RenderContext) -> usize {
     ctx.prepared
         .objects
         .iter()
-        .filter(|o| o.bsp.is_some() || o.exact_bsp.is_some())
+        .filter(|o| o.path.tree().is_some())
         .count()
 }
 
@@ -36,11 +38,16 @@ fn triangulations(ctx: &RenderContext) -> usize {
 fn trees_round_trip_through_the_cache_and_damaged_files_are_rebuilt() {
     let dir = std::env::temp_dir().join(format!("penumbra-tree-cache-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    // SAFETY: this test binary has this one test; nothing else reads the environment
-    // concurrently.
-    unsafe { std::env::set_var("PENUMBRA_CACHE_DIR", &dir) };
-    let scene = scene_file::load_embedded("nonconvex").unwrap();
-    let built = RenderContext::new(&scene);
+    let config = PrepareConfig {
+        tree_cache: Some(TreeCache {
+            dir: dir.clone(),
+            max_bytes: penumbra::shading::tree_cache::DEFAULT_MAX_BYTES,
+        }),
+        ..PrepareConfig::default()
+    };
+    let scene = Arc::new(scene_file::load_embedded("nonconvex").unwrap());
+    let prepare = || RenderContext::configured(scene.clone(), &config);
+    let built = prepare();
     let files: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().collect();
     // Two trees, and the triangulations of the light that is not star-shaped.
     assert_eq!(
@@ -48,7 +55,7 @@ fn trees_round_trip_through_the_cache_and_damaged_files_are_rebuilt() {
         3,
         "one file per tree and per set of triangulations"
     );
-    let read = RenderContext::new(&scene);
+    let read = prepare();
     assert_eq!(trees(&read), 2);
     assert_eq!(triangulations(&read), 1);
     assert_eq!(render(&built), render(&read));
@@ -61,12 +68,14 @@ fn trees_round_trip_through_the_cache_and_damaged_files_are_rebuilt() {
     let damaged = text.replacen("\"back\":", "\"back\":99999999,\"x\":", 1);
     assert_ne!(damaged, text);
     std::fs::write(&paths[1], damaged).unwrap();
-    let rebuilt = RenderContext::new(&scene);
+    let rebuilt = prepare();
     assert_eq!(trees(&rebuilt), 2);
     assert_eq!(triangulations(&rebuilt), 1);
     assert_eq!(render(&built), render(&rebuilt));
 
-    unsafe { std::env::set_var("PENUMBRA_CACHE_DIR", "off") };
-    assert!(penumbra::shading::tree_cache::cache_dir().is_none());
-    let _ = std::fs::remove_dir_all(&dir);
+    // Without a cache (the library's default) nothing is read or written.
+    std::fs::remove_dir_all(&dir).unwrap();
+    let uncached = RenderContext::configured(scene.clone(), &PrepareConfig::default());
+    assert!(uncached.prepared.trees_built > 0);
+    assert!(!dir.exists());
 }

@@ -1,14 +1,14 @@
 //! The disk cache of silhouette trees stays within its bound however many scenes are
 //! prepared, evicting the least recently used trees first; a stress run writes nothing to it.
-//! (One test: the cache directory and bound are process-wide state.)
 
 use glam::{DAffine3, DQuat, DVec3};
+use penumbra::ltc::LtcTable;
 use penumbra::math::Pcg32;
 use penumbra::scene::shapes::quad;
 use penumbra::scene::thesis_polyhedra::thesis_polyhedron;
 use penumbra::scene::{Material, ObjectFlags, Scene, SceneObject};
-use penumbra::shading::PreparedScene;
 use penumbra::shading::tree_cache::TreeCache;
+use penumbra::shading::{PrepareOptions, PreparedScene};
 
 /// A quad light over a "hole" polyhedron turned at random: a scene whose two trees (the
 /// hole's exact-silhouette tree and the light's) are new files.
@@ -55,17 +55,20 @@ fn the_cache_stays_within_its_bound_and_evicts_the_least_recently_used() {
     let dir = std::env::temp_dir().join(format!("penumbra-cache-bound-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let bound: u64 = 400 << 10;
-    // SAFETY: this test binary has this one test; nothing else reads the environment
-    // concurrently.
-    unsafe {
-        std::env::set_var("PENUMBRA_CACHE_DIR", &dir);
-        std::env::set_var("PENUMBRA_CACHE_MAX", bound.to_string());
-    }
-    let cache = TreeCache::from_env().unwrap().unwrap();
-    assert_eq!(cache.max_bytes, bound);
+    let cache = TreeCache {
+        dir: dir.clone(),
+        max_bytes: bound,
+    };
+    let prepare = |scene: &Scene| {
+        let options = PrepareOptions {
+            cache: Some(&cache),
+            ..PrepareOptions::default()
+        };
+        PreparedScene::prepare(scene, LtcTable::embedded(), options)
+    };
 
     // One scene's files, to learn their size.
-    let first = PreparedScene::new(&scene(0));
+    let first = prepare(&scene(0));
     assert!(first.trees_built > 0);
     let per_scene = cache.usage().bytes;
     assert!(per_scene > 0 && per_scene < bound / 3, "{per_scene} bytes");
@@ -73,11 +76,11 @@ fn the_cache_stays_within_its_bound_and_evicts_the_least_recently_used() {
     // Scene 0 is read again after every new scene: it stays recently used.
     let mut peak = 0;
     for k in 1..40 {
-        let p = PreparedScene::new(&scene(k));
+        let p = prepare(&scene(k));
         assert!(p.trees_built > 0, "scene {k} is new");
         peak = peak.max(cache.usage().bytes);
         assert!(cache.usage().bytes <= bound, "after scene {k}");
-        let again = PreparedScene::new(&scene(0));
+        let again = prepare(&scene(0));
         assert_eq!(
             again.trees_built, 0,
             "scene 0 is still cached after scene {k}"
@@ -88,9 +91,9 @@ fn the_cache_stays_within_its_bound_and_evicts_the_least_recently_used() {
         "the bound was reached ({peak} bytes)"
     );
     // Scene 1 was the least recently used long ago: evicted, so it is built again.
-    assert!(PreparedScene::new(&scene(1)).trees_built > 0);
+    assert!(prepare(&scene(1)).trees_built > 0);
     // The most recent scene is still there.
-    assert_eq!(PreparedScene::new(&scene(39)).trees_built, 0);
+    assert_eq!(prepare(&scene(39)).trees_built, 0);
 
     // A stress run writes nothing to the cache.
     cache.clear();

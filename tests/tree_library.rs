@@ -31,7 +31,6 @@ fn borrowed_trees_shade_like_own_trees_and_like_the_silhouette_at_the_point() {
             &case.scene,
             ltc,
             PrepareOptions {
-                disk_cache: false,
                 library: Some(library),
                 ..PrepareOptions::default()
             },
@@ -39,7 +38,7 @@ fn borrowed_trees_shade_like_own_trees_and_like_the_silhouette_at_the_point() {
         assert_eq!(lent.trees_built, 0, "case {index}: every tree is borrowed");
         for o in lent.objects.iter().filter(|o| library.lends_to(o)) {
             borrowed_objects += 1;
-            let (lo, hi) = match (&o.bsp, &o.exact_bsp) {
+            let (lo, hi) = match (o.convex_tree(), o.exact_tree()) {
                 (Some(t), _) => (t.lo, t.hi),
                 (_, Some(t)) => (t.lo, t.hi),
                 _ => unreachable!("a lent object has a tree"),
@@ -55,7 +54,6 @@ fn borrowed_trees_shade_like_own_trees_and_like_the_silhouette_at_the_point() {
                 &case.scene,
                 ltc,
                 PrepareOptions {
-                    disk_cache: false,
                     ..PrepareOptions::default()
                 },
             )

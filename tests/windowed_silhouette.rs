@@ -14,7 +14,7 @@ use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::shapes::quad;
 use penumbra::scene::{Material, ObjectFlags, Scene, SceneObject};
 use penumbra::shading::{
-    MeshPath, Method, NoRecorder, PrepareOptions, PreparedScene, ShadingPoint, ShadingScratch,
+    Method, NoRecorder, PathKind, PrepareOptions, PreparedScene, ShadingPoint, ShadingScratch,
     shade,
 };
 
@@ -60,7 +60,6 @@ fn compare(scene: &Scene, points: &[ShadingPoint]) -> (f64, usize) {
 /// [`compare`] for the occluder called `name`.
 fn compare_object(scene: &Scene, name: &str, points: &[ShadingPoint]) -> (f64, usize) {
     let options = PrepareOptions {
-        disk_cache: false,
         ..PrepareOptions::default()
     };
     let windowed = PreparedScene::prepare(scene, LtcTable::embedded(), options);
@@ -70,8 +69,8 @@ fn compare_object(scene: &Scene, name: &str, points: &[ShadingPoint]) -> (f64, u
         .find(|o| o.name == name)
         .expect("the occluder");
     assert!(matches!(
-        occ.path(),
-        MeshPath::ExactInWindow | MeshPath::OpenInWindow
+        occ.kind(),
+        PathKind::ExactInWindow | PathKind::OpenInWindow
     ));
     let mut whole = windowed.clone();
     for o in &mut whole.objects {

@@ -13,7 +13,7 @@ use penumbra::views::stages::StepKind;
 use std::time::{Duration, Instant};
 
 pub(crate) fn harness(state: Persisted) -> Harness<'static, WorkbenchApp> {
-    let app = WorkbenchApp::new(state, || {});
+    let app = WorkbenchApp::new(state, Default::default(), || {});
     Harness::builder()
         .with_size((1280.0, 800.0))
         .build_ui_state(|ui, app: &mut WorkbenchApp| app.frame_ui(ui), app)
@@ -285,7 +285,7 @@ fn the_light_view_draws_the_bsp_planes_of_a_non_convex_light() {
         .expect("the U-shaped light");
     let obj = &ctx.prepared.objects[ctx.prepared.lights[light].0 as usize];
     assert!(
-        obj.exact_bsp.is_some(),
+        obj.exact_tree().is_some(),
         "a closed non-convex light has a tree"
     );
     let (x, record) = probe_through_the_tree(&ctx, &scene, light);
@@ -363,7 +363,7 @@ fn the_light_view_shows_the_tree_the_renderer_used() {
                     obj.name
                 );
             }
-            stand_ins += obj.stand_in.is_some() as usize;
+            stand_ins += obj.stand_in().is_some() as usize;
             let (x, record) = probe_through_the_tree(&ctx, &scene, light);
             let lookup = record.trees.iter().find(|t| t.occluder.is_none());
             assert_eq!(
@@ -388,7 +388,7 @@ fn the_light_view_shows_the_tree_the_renderer_used() {
                 Some(TreeKind::Exact | TreeKind::HoistedExact)
             );
             assert_eq!(recorded == 0, exact, "{name}: {}", obj.name);
-            if let Some(s) = &obj.stand_in {
+            if let Some(s) = obj.stand_in() {
                 // The hull is what was shaded and what is drawn: its vertices, not the mesh's.
                 assert!(obj.poly.vertices.len() <= s.mesh_vertices);
                 let on_hull = |p: glam::DVec3| obj.poly.vertices.contains(&p);

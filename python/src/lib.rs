@@ -6,6 +6,8 @@
 
 use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
 use penumbra::render::request::{self, EnvironmentOptions};
+use penumbra::shading::PrepareConfig;
+use penumbra::shading::tree_cache::CacheVars;
 use penumbra::render::{RenderMethod, RenderSettings};
 use penumbra::scene::environment_spec::EnvironmentOverrides;
 use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyValueError};
@@ -273,7 +275,34 @@ fn prepared(
     settings: &RenderSettings,
     options: &EnvironmentOptions,
 ) -> Result<request::PreparedRender, String> {
-    request::resolve_and_prepare(scene, settings, options, request::ltc_table("embedded")?)
+    request::resolve_and_prepare(
+        scene,
+        settings,
+        options,
+        request::ltc_table("embedded")?,
+        &prepare_config(),
+    )
+}
+
+/// How the process's environment asks scenes to be prepared (the tree cache, the measuring
+/// switches), read here since the library reads no environment; as the command line reads it.
+fn prepare_config() -> PrepareConfig {
+    use std::env::var_os;
+    let cache = CacheVars {
+        cache_dir: var_os("PENUMBRA_CACHE_DIR"),
+        cache_max: std::env::var("PENUMBRA_CACHE_MAX").ok(),
+        xdg_cache_home: var_os("XDG_CACHE_HOME"),
+        home: var_os("HOME"),
+    };
+    let (config, warning) = PrepareConfig::from_vars(
+        &cache,
+        var_os("PENUMBRA_HOISTED_TREES").as_deref(),
+        var_os("PENUMBRA_QI").as_deref(),
+    );
+    if let Some(w) = warning {
+        eprintln!("penumbra: {w}");
+    }
+    config
 }
 
 /// The settings and environment options of a render or probe, checked.
@@ -553,6 +582,7 @@ fn bench_report(
     config.reference_spp = reference_spp;
     config.seed = seed;
     config.repeats = repeats;
+    config.prepare = prepare_config();
     let loaded = scene.scene.clone();
     let report = interruptible(py, move |cancel| -> Result<_, String> {
         let ctx = config.prepare(&loaded);

@@ -75,7 +75,7 @@ fn parse_preset(s: &str) -> Result<Preset, String> {
 pub use crate::inspect::parse_pair;
 
 /// Opens the workbench window.
-pub fn run(opts: RunOptions) -> eframe::Result {
+pub fn run(opts: RunOptions, prepare: crate::shading::PrepareConfig) -> eframe::Result {
     // The glow (OpenGL) painter by default: on machines without a GPU (Mesa llvmpipe) it
     // paints a 1280×800 window several times faster than wgpu's GL backend (measured with
     // `penumbra gui --measure`, docs/workbench.md). PENUMBRA_RENDERER=wgpu picks wgpu.
@@ -95,7 +95,7 @@ pub fn run(opts: RunOptions) -> eframe::Result {
         "penumbra",
         options,
         Box::new(move |cc| {
-            let mut app = WorkbenchApp::from_creation_context(cc);
+            let mut app = WorkbenchApp::from_creation_context(cc, prepare);
             if let Some(p) = opts.preset {
                 app.set_preset(p);
             }

@@ -160,7 +160,7 @@ impl LightView {
                 }
             }
         }
-        if let Some(s) = &obj.stand_in {
+        if let Some(s) = obj.stand_in() {
             ui.small(format!(
                 "drawn and shaded: the convex hull standing in for the mesh ({} vertices, {} \
                  faces; every point of the hull within {:.2e} of it)",

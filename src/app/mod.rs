@@ -210,6 +210,8 @@ pub struct AppState {
     /// silhouette is computed at its point, and the recording then holds the contour pieces
     /// the exact silhouette's ray test rejected there.
     pub use_trees: bool,
+    /// How scenes are prepared (the tree cache): the launch's choice.
+    prepare: crate::shading::PrepareConfig,
     /// An error from the last load of the environment's map (the environment pane shows it).
     env_error: Option<String>,
     env_maps: environment_panel::MapCache,
@@ -226,8 +228,13 @@ struct WebLog {
 }
 
 impl AppState {
-    /// A workbench on `state.scene`; `repaint` wakes the UI when a frame is ready.
-    pub fn new(state: Persisted, repaint: impl Fn() + Send + Sync + 'static) -> Self {
+    /// A workbench on `state.scene`, its scenes prepared as `prepare` says; `repaint` wakes
+    /// the UI when a frame is ready.
+    pub fn new(
+        state: Persisted,
+        prepare: crate::shading::PrepareConfig,
+        repaint: impl Fn() + Send + Sync + 'static,
+    ) -> Self {
         let wake: Arc<dyn Fn() + Send + Sync> = Arc::new(repaint);
         let mut app = AppState {
             orbit: OrbitCamera {
@@ -278,6 +285,7 @@ impl AppState {
             viewport_rect: None,
             selected_light: None,
             use_trees: true,
+            prepare,
             env_error: None,
             env_maps: Default::default(),
             settings: state,
@@ -359,7 +367,7 @@ impl AppState {
     /// The render context of `scene`, with or without its silhouette trees, lit by the
     /// environment panel's choice.
     fn context(&mut self, scene: Arc<crate::scene::Scene>) -> Arc<RenderContext> {
-        let mut ctx = RenderContext::from_arc(scene);
+        let mut ctx = RenderContext::configured(scene, &self.prepare);
         if !self.use_trees {
             ctx.prepared.drop_silhouette_trees();
         }
@@ -753,22 +761,30 @@ impl std::ops::DerefMut for WorkbenchApp {
 }
 
 impl WorkbenchApp {
-    /// A workbench on `state.scene`; `repaint` wakes the UI when a frame is ready.
-    pub fn new(state: Persisted, repaint: impl Fn() + Send + Sync + 'static) -> Self {
+    /// A workbench on `state.scene`, its scenes prepared as `prepare` says; `repaint` wakes
+    /// the UI when a frame is ready.
+    pub fn new(
+        state: Persisted,
+        prepare: crate::shading::PrepareConfig,
+        repaint: impl Fn() + Send + Sync + 'static,
+    ) -> Self {
         WorkbenchApp {
-            app: AppState::new(state, repaint),
+            app: AppState::new(state, prepare, repaint),
             panes: ui::Panes::default(),
         }
     }
 
     /// Creates the app inside eframe (restoring the persisted state).
-    pub fn from_creation_context(cc: &eframe::CreationContext<'_>) -> Self {
+    pub fn from_creation_context(
+        cc: &eframe::CreationContext<'_>,
+        prepare: crate::shading::PrepareConfig,
+    ) -> Self {
         let state: Persisted = cc
             .storage
             .and_then(|s| eframe::get_value(s, eframe::APP_KEY))
             .unwrap_or_default();
         let ctx = cc.egui_ctx.clone();
-        let app = WorkbenchApp::new(state, move || ctx.request_repaint());
+        let app = WorkbenchApp::new(state, prepare, move || ctx.request_repaint());
         app.apply_theme(&cc.egui_ctx);
         app
     }

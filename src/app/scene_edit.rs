@@ -285,7 +285,7 @@ impl SceneEditor {
                 .objects
                 .iter()
                 .find(|p| p.object == i as u32)
-                .map(|p| p.path().label())
+                .map(|p| p.kind().label())
                 .unwrap_or("receiver only");
             let text = format!("{}  ·  {}  ·  {}", o.name, flags.join(", "), shape);
             if ui

@@ -33,7 +33,7 @@ pub fn start() {
                     ..Default::default()
                 },
                 Box::new(move |cc| {
-                    let mut app = WorkbenchApp::from_creation_context(cc);
+                    let mut app = WorkbenchApp::from_creation_context(cc, Default::default());
                     // A scene remembered from a dropped file cannot be read again (the page
                     // keeps no files): start on the default scene instead of an error.
                     let embedded = crate::scene::scene_file::embedded_scene_names();

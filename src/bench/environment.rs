@@ -74,6 +74,8 @@ pub struct EnvBenchOptions {
     pub ladder: Vec<u32>,
     pub repeats: u32,
     pub seed: u64,
+    /// How the scene is prepared (the tree cache).
+    pub prepare: crate::shading::PrepareConfig,
 }
 
 /// Runs Tables 1 and 2 on `scene` (its camera: `camera`). `log` receives progress lines.
@@ -104,7 +106,7 @@ pub fn run_environment_bench(
     // Prepared as `penumbra render` prepares this image (the scene has an environment: checked
     // above).
     let t = web_time::Instant::now();
-    let mut ctx = RenderContext::for_render(scene, &settings);
+    let mut ctx = RenderContext::for_render(scene, &settings, &opts.prepare);
     let prepare_seconds = t.elapsed().as_secs_f64();
     let stderr: std::cell::RefCell<Option<Image>> = std::cell::RefCell::new(None);
     let prt: std::cell::Cell<Option<PrtReport>> = std::cell::Cell::new(None);

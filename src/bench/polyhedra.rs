@@ -18,6 +18,7 @@ use crate::math::Pcg32;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
 use crate::scene::{Camera, Material, ObjectFlags, Scene, SceneObject, shapes};
+use crate::shading::PrepareConfig;
 use glam::{DAffine3, DVec3};
 use web_time::Instant;
 
@@ -333,6 +334,7 @@ pub fn run_polyhedra(
     width: u32,
     height: u32,
     repeats: u32,
+    prepare: &PrepareConfig,
     progress: impl Fn(&str),
 ) -> Result<PolyhedraReport, String> {
     let mut rows = Vec::new();
@@ -342,11 +344,12 @@ pub fn run_polyhedra(
         let cam = scene.camera.ok_or("no camera")?;
         // The trees whatever their size (the renderer's limits would leave the larger ones to
         // the on-the-fly path, which the middle column measures).
-        let mut with_trees = RenderContext::new(&scene);
+        let scene = std::sync::Arc::new(scene);
+        let mut with_trees = RenderContext::configured(scene.clone(), prepare);
         with_trees
             .prepared
             .rebuild_silhouette_trees(usize::MAX, usize::MAX);
-        let mut on_the_fly = RenderContext::new(&scene);
+        let mut on_the_fly = RenderContext::configured(scene.clone(), prepare);
         on_the_fly.prepared.drop_silhouette_trees();
         let settings = |method: RenderMethod| RenderSettings {
             width,

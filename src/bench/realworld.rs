@@ -26,6 +26,9 @@ pub struct RealWorldConfig {
     pub seed: u64,
     /// Run only the scenes with these names (all when empty).
     pub only: Vec<String>,
+    /// How scenes are prepared (the tree cache): the caller's, not part of the report.
+    #[serde(skip)]
+    pub prepare: crate::shading::PrepareConfig,
 }
 
 /// One mesh of a scene and the path it took.
@@ -35,7 +38,7 @@ pub struct MeshRow {
     pub vertices: usize,
     pub faces: usize,
     pub light: bool,
-    pub path: crate::shading::MeshPath,
+    pub path: crate::shading::PathKind,
     pub path_text: String,
 }
 
@@ -234,8 +237,11 @@ pub fn run_realworld(
         };
         let t = Instant::now();
         // Sized for one render of the suite's camera rays, as `penumbra render` prepares.
-        let ctx =
-            RenderContext::for_render(&scene, &settings(RenderMethod::Analytic, 1, config.seed));
+        let ctx = RenderContext::for_render(
+            &scene,
+            &settings(RenderMethod::Analytic, 1, config.seed),
+            &config.prepare,
+        );
         let prepare_seconds = t.elapsed().as_secs_f64();
         let camera: Camera = scene
             .camera
@@ -253,8 +259,8 @@ pub fn run_realworld(
                     .lights
                     .iter()
                     .any(|&(l, _)| ctx.prepared.objects[l as usize].object == o.object),
-                path: o.path(),
-                path_text: o.path().describe().into(),
+                path: o.kind(),
+                path_text: o.kind().describe().into(),
             })
             .collect();
         progress(&format!(
@@ -346,7 +352,7 @@ pub fn run_realworld(
             trees_built: ctx.prepared.trees_built,
             meshes,
             warnings: scene.warnings.clone(),
-            notes: ctx.prepared.notes.clone(),
+            notes: ctx.prepared.report.lines(),
             methods,
             reference_seconds: reference.stats.seconds,
         });

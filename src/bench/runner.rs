@@ -42,6 +42,9 @@ pub struct BenchConfig {
     /// its sampled correction), reported as `ratio+exact-u` and `control-variate+exact-u`.
     #[serde(default)]
     pub exact_u_variants: bool,
+    /// How scenes are prepared (the tree cache): the caller's, not part of the report.
+    #[serde(skip)]
+    pub prepare: crate::shading::PrepareConfig,
 }
 
 impl BenchConfig {
@@ -64,6 +67,7 @@ impl BenchConfig {
             repeats: 2,
             area_baseline: true,
             exact_u_variants: true,
+            prepare: Default::default(),
         }
     }
 
@@ -71,7 +75,11 @@ impl BenchConfig {
     /// (`RenderContext::for_render`: the cost model sizes the trees for its camera rays), so
     /// that what the benchmark times is what a render of the same settings runs.
     pub fn prepare(&self, scene: &crate::scene::Scene) -> RenderContext {
-        RenderContext::for_render(scene, &self.settings(RenderMethod::Analytic, 1, self.seed))
+        RenderContext::for_render(
+            scene,
+            &self.settings(RenderMethod::Analytic, 1, self.seed),
+            &self.prepare,
+        )
     }
 
     fn settings(&self, method: RenderMethod, spp: u32, seed: u64) -> RenderSettings {

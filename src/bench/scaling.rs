@@ -13,6 +13,7 @@
 use super::fit::{LineFit, fit_line};
 use crate::render::{RenderContext, RenderMethod, RenderSettings};
 use crate::scene::{Camera, Material, ObjectFlags, Scene, SceneObject, shapes};
+use crate::shading::PrepareConfig;
 use glam::DVec3;
 
 /// One timed render of a scaling series.
@@ -152,8 +153,9 @@ fn time_render(
     width: u32,
     height: u32,
     repeats: u32,
+    prepare: &PrepareConfig,
 ) -> Result<f64, String> {
-    let ctx = RenderContext::new(scene);
+    let ctx = RenderContext::configured(std::sync::Arc::new(scene.clone()), prepare);
     let cam = scene.camera.ok_or("the scene has no camera")?;
     let settings = RenderSettings {
         width,
@@ -198,18 +200,36 @@ fn fit_series(points: &[ScalingPoint], series: &str, method: &str, x: &str) -> O
     })
 }
 
-/// Runs Fig. 5 on `fig5_base` (duplicating its lights, then its occluders, up to
-/// `max_copies` copies) and Fig. 7 up to `max_level` subdivisions, at `width`×`height`.
-/// `progress(message)` is called before every render.
+/// What the scaling study runs.
+#[derive(Clone, Debug, Default)]
+pub struct ScalingConfig {
+    /// Fig. 5 duplicates the lights, then the occluders, up to this many copies.
+    pub max_copies: u32,
+    /// Fig. 7 subdivides the light up to this level.
+    pub max_level: u32,
+    pub width: u32,
+    pub height: u32,
+    /// Each render is timed as the best of this many.
+    pub repeats: u32,
+    /// How the scenes are prepared (the tree cache).
+    pub prepare: PrepareConfig,
+}
+
+/// Runs Fig. 5 on `fig5_base` and Fig. 7 as `config` says. `progress(message)` is called
+/// before every render.
 pub fn run_scaling(
     fig5_base: &Scene,
-    max_copies: u32,
-    max_level: u32,
-    width: u32,
-    height: u32,
-    repeats: u32,
+    config: &ScalingConfig,
     mut progress: impl FnMut(&str),
 ) -> Result<ScalingReport, String> {
+    let ScalingConfig {
+        max_copies,
+        max_level,
+        width,
+        height,
+        repeats,
+        ref prepare,
+    } = *config;
     let mut report = ScalingReport {
         width,
         height,
@@ -231,7 +251,7 @@ pub fn run_scaling(
                 step: k,
                 light_vertices: vertices(&scene, is_light),
                 occluder_vertices: vertices(&scene, is_occluder),
-                seconds: time_render(&scene, analytic, width, height, repeats)?,
+                seconds: time_render(&scene, analytic, width, height, repeats, prepare)?,
             });
         }
     }
@@ -246,7 +266,7 @@ pub fn run_scaling(
                 step: level,
                 light_vertices: vertices(&scene, is_light),
                 occluder_vertices: 0,
-                seconds: time_render(&scene, method, width, height, repeats)?,
+                seconds: time_render(&scene, method, width, height, repeats, prepare)?,
             });
         }
     }

@@ -43,6 +43,9 @@ pub struct SpeedConfig {
     /// A workload shorter than this is repeated until it has taken this long, and its time is
     /// the mean per repetition: timer and thread start-up stay below 1 % of what is measured.
     pub min_seconds: f64,
+    /// How scenes are prepared (the tree cache): the caller's, not part of the report.
+    #[serde(skip)]
+    pub prepare: crate::shading::PrepareConfig,
 }
 
 impl Default for SpeedConfig {
@@ -54,6 +57,7 @@ impl Default for SpeedConfig {
             runs: 5,
             threads: 2,
             min_seconds: 0.2,
+            prepare: Default::default(),
         }
     }
 }
@@ -323,7 +327,7 @@ pub fn measure_scene(scene: &Scene, name: &str, config: &SpeedConfig) -> Result<
         collect_stats: false,
         exact_u: false,
     };
-    let ctx = RenderContext::for_render(scene, &settings(RenderMethod::Analytic));
+    let ctx = RenderContext::for_render(scene, &settings(RenderMethod::Analytic), &config.prepare);
     let quads = calibration_quads();
     let (analytic, unshadowed) = (
         settings(RenderMethod::Analytic),

@@ -36,6 +36,7 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
             args.size.0,
             args.size.1,
             args.repeats,
+            &super::process_env::prepare_config(),
             |m| eprintln!("{m}"),
         )
         .map_err(anyhow::Error::msg)?;
@@ -61,16 +62,16 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
     }
     if args.scaling {
         let base = scene_file::load_embedded("fig4")?;
-        let report = scaling::run_scaling(
-            &base,
-            args.max_copies.max(2),
-            args.max_level,
-            args.size.0,
-            args.size.1,
-            args.repeats,
-            |m| eprintln!("{m}"),
-        )
-        .map_err(anyhow::Error::msg)?;
+        let config = scaling::ScalingConfig {
+            max_copies: args.max_copies.max(2),
+            max_level: args.max_level,
+            width: args.size.0,
+            height: args.size.1,
+            repeats: args.repeats,
+            prepare: super::process_env::prepare_config(),
+        };
+        let report = scaling::run_scaling(&base, &config, |m| eprintln!("{m}"))
+            .map_err(anyhow::Error::msg)?;
         let dir = args
             .out_dir
             .clone()
@@ -103,6 +104,7 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
     config.reference_spp = args.reference_spp;
     config.seed = args.seed;
     config.repeats = args.repeats;
+    config.prepare = super::process_env::prepare_config();
     let ctx = config.prepare(&scene);
     let reference = match &args.reference {
         Some(path) => {
@@ -170,6 +172,7 @@ pub(crate) fn bench_environment(args: &BenchArgs, name: &str) -> Result<()> {
         ladder,
         repeats: args.repeats,
         seed: args.seed,
+        prepare: super::process_env::prepare_config(),
     };
     let report = run_environment_bench(name, &scene, &cam, &opts, |m| eprintln!("{m}"))
         .map_err(anyhow::Error::msg)?;
@@ -207,6 +210,7 @@ pub(crate) fn bench_realworld(args: &BenchArgs) -> Result<()> {
         repeats: args.repeats,
         seed: args.seed,
         only: args.only.clone(),
+        prepare: super::process_env::prepare_config(),
     };
     let dir = args
         .out_dir
@@ -258,7 +262,8 @@ pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
         SpeedBaseline, SpeedConfig, SpeedRow, measure_named, run_speed, speed_markdown,
     };
     if let (Some(name), Some(config)) = (&args.measure_scene, &args.speed_config) {
-        let config: SpeedConfig = serde_json::from_str(config).context("--speed-config")?;
+        let mut config: SpeedConfig = serde_json::from_str(config).context("--speed-config")?;
+        config.prepare = super::process_env::prepare_config();
         let row = measure_named(name, &config).map_err(anyhow::Error::msg)?;
         println!("{}", serde_json::to_string(&row)?);
         return Ok(());
@@ -272,9 +277,10 @@ pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
         ),
         None => None,
     };
-    let config = baseline
+    let mut config = baseline
         .as_ref()
         .map_or_else(SpeedConfig::default, |b| b.config.clone());
+    config.prepare = super::process_env::prepare_config();
     let dir = args
         .out_dir
         .clone()

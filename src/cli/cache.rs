@@ -6,7 +6,9 @@ use std::path::Path;
 /// `penumbra cache`: the tree cache's place, contents and bound; `--trim`, `--clear`.
 pub(crate) fn cache(clear: bool, trim: bool, json: Option<&Path>) -> Result<()> {
     use penumbra::shading::tree_cache::{CacheUsage, TreeCache};
-    let Some(cache) = TreeCache::from_env().map_err(anyhow::Error::msg)? else {
+    let Some(cache) =
+        TreeCache::configured(&super::process_env::cache_vars()).map_err(anyhow::Error::msg)?
+    else {
         say!("the tree cache is disabled (PENUMBRA_CACHE_DIR=off, or no home directory)");
         return Ok(());
     };

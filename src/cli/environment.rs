@@ -34,9 +34,15 @@ pub(crate) fn prepared_scene(
     let mut scene = super::render::load_scene(&args.scene)?;
     let ltc = super::ltc::ltc_table(&args.ltc_table)?;
     let settings = super::render::settings(args);
-    let prepared =
-        request::resolve_and_prepare(&mut scene, &settings, &environment_options(args), ltc)
-            .map_err(anyhow::Error::msg)?;
+    let config = super::process_env::prepare_config();
+    let prepared = request::resolve_and_prepare(
+        &mut scene,
+        &settings,
+        &environment_options(args),
+        ltc,
+        &config,
+    )
+    .map_err(anyhow::Error::msg)?;
     for n in &prepared.notes {
         eprintln!("note: {n}");
     }

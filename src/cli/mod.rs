@@ -8,6 +8,7 @@ pub(crate) mod environment;
 pub(crate) mod figure;
 pub(crate) mod ltc;
 pub(crate) mod probe;
+pub(crate) mod process_env;
 pub(crate) mod progress;
 pub(crate) mod render;
 pub(crate) mod stress;

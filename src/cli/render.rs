@@ -161,7 +161,7 @@ pub(crate) fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()
     let scene = load_scene(&args.scene)?;
     let cam = camera(&args.camera, &scene)?;
     let settings = settings(args);
-    let ctx = RenderContext::for_render(&scene, &settings);
+    let ctx = RenderContext::for_render(&scene, &settings, &super::process_env::prepare_config());
     let start = web_time::Instant::now();
     let (img, err) = penumbra::reference::render_reference(&ctx, &cam, &settings, samples, seed)
         .map_err(anyhow::Error::msg)?;

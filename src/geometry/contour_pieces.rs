@@ -19,7 +19,7 @@ use super::SphericalPolygon;
 use super::exact_silhouette::{Degenerate, SweepScratch, blocked_ray, candidate_pairs};
 use super::mesh_index::IndexedPolyhedron;
 use super::polyhedron::NO_FACE;
-use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch, qi_disabled};
+use super::quantitative_invisibility::{QiEdge, QiEnd, QiPiece, QiScratch};
 use crate::math::Frame;
 use glam::DVec3;
 
@@ -302,7 +302,7 @@ impl ContourPieces {
         qi: &mut QiScratch,
     ) -> u32 {
         self.kept.clear();
-        if per_piece || poly.index.vertex_stars.is_none() || qi_disabled() {
+        if per_piece || poly.index.vertex_stars.is_none() {
             for (pi, p) in self.pieces.iter().enumerate() {
                 let mid = (p.from + p.to).normalize();
                 let faces = self.arcs[p.arc as usize].faces;

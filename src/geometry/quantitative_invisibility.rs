@@ -30,13 +30,6 @@ use super::polyhedron::{NO_FACE, Polyhedron};
 use super::triangle::is_degenerate;
 use glam::DVec3;
 
-/// Whether the environment turns quantitative invisibility off (`PENUMBRA_QI=off`): one ray
-/// per piece everywhere, for measuring what the propagation saves end to end.
-pub fn qi_disabled() -> bool {
-    static OFF: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *OFF.get_or_init(|| std::env::var("PENUMBRA_QI").is_ok_and(|v| v == "off"))
-}
-
 /// The star of each vertex, for the vertex rule: per vertex, the wedges at it of its faces'
 /// fan triangles (those the ray test uses), grouped by face.
 #[derive(Clone, Debug, Default)]

@@ -19,10 +19,10 @@ use crate::accel::{Bvh, Ray};
 use crate::ltc::LtcTable;
 use crate::scene::camera::CameraBasis;
 use crate::scene::{Camera, Scene};
-use crate::shading::PrepareOptions;
 use crate::shading::{
     Method, NoRecorder, PreparedScene, Recorder, ShadingPoint, ShadingScratch, shade,
 };
+use crate::shading::{PrepareConfig, PrepareOptions};
 use crate::stochastic::{AreaLights, LightSampling};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -272,24 +272,30 @@ impl RenderContext {
         Self::from_arc(Arc::new(scene.clone()))
     }
 
-    /// Prepares `scene`: shading data, BVH, area-sampling tables.
+    /// Prepares `scene`: shading data, BVH, area-sampling tables (no disk cache: see
+    /// [`RenderContext::configured`]).
     pub fn from_arc(scene: Arc<Scene>) -> Self {
+        Self::configured(scene, &PrepareConfig::default())
+    }
+
+    /// Prepares `scene` with the caller's `config` (the tree cache, the measuring switches).
+    pub fn configured(scene: Arc<Scene>, config: &PrepareConfig) -> Self {
         let options = PrepareOptions {
             environment: scene.environment.is_some(),
-            ..PrepareOptions::default()
+            ..config.options()
         };
         Self::with_options(scene, options)
     }
 
     /// Prepares `scene` for about `settings`' camera rays (the cost model sizes the trees of
-    /// precomputed silhouettes for them: `shading::cost_model`).
-    pub fn for_render(scene: &Scene, settings: &RenderSettings) -> Self {
+    /// precomputed silhouettes for them: `shading::cost_model`), with the caller's `config`.
+    pub fn for_render(scene: &Scene, settings: &RenderSettings, config: &PrepareConfig) -> Self {
         let rays =
             u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.aa).pow(2);
         let options = PrepareOptions {
             expected_rays: rays,
             environment: scene.environment.is_some(),
-            ..PrepareOptions::default()
+            ..config.options()
         };
         Self::with_options(Arc::new(scene.clone()), options)
     }

@@ -8,6 +8,7 @@ use crate::environment::EnvironmentLight;
 use crate::ltc::LtcTable;
 use crate::scene::Scene;
 use crate::scene::environment_spec::EnvironmentOverrides;
+use crate::shading::PrepareConfig;
 
 /// The environment options of a request (`--env*` on the command line).
 #[derive(Clone, Debug, Default)]
@@ -58,16 +59,17 @@ pub fn resolve_environment(scene: &mut Scene, env: &EnvironmentOptions) -> Resul
 
 /// Prepares `scene` (its environment already resolved, [`resolve_environment`]) for
 /// `settings`: the context, the LTC table, and the environment loaded and attached with the
-/// request's options and `settings.seed`.
+/// request's options and `settings.seed`; `config` is the caller's (the tree cache).
 pub fn prepare(
     scene: &Scene,
     settings: &RenderSettings,
     env: &EnvironmentOptions,
     ltc: &'static LtcTable,
+    config: &PrepareConfig,
 ) -> Result<PreparedRender, String> {
-    let mut ctx = RenderContext::for_render(scene, settings);
+    let mut ctx = RenderContext::for_render(scene, settings, config);
     ctx.prepared.ltc = ltc;
-    let mut notes = ctx.prepared.notes.clone();
+    let mut notes = ctx.prepared.report.lines();
     let mut environment = None;
     if let Some(spec) = &scene.environment {
         let light = EnvironmentLight::load(spec).map_err(|e| format!("{e:#}"))?;
@@ -103,7 +105,8 @@ pub fn resolve_and_prepare(
     settings: &RenderSettings,
     env: &EnvironmentOptions,
     ltc: &'static LtcTable,
+    config: &PrepareConfig,
 ) -> Result<PreparedRender, String> {
     resolve_environment(scene, env)?;
-    prepare(scene, settings, env, ltc)
+    prepare(scene, settings, env, ltc, config)
 }

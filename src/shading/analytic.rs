@@ -866,7 +866,7 @@ pub(super) fn subtract_occluder<R: Recorder>(
         // same numbers.)
         // A large mesh's polygon is found inside the light's window: not kept for other lights.
         let windowed =
-            piece.is_some() && occ.path().is_windowed() && scratch.light_clip.loop_count() == 1;
+            piece.is_some() && occ.kind().is_windowed() && scratch.light_clip.loop_count() == 1;
         if !R::ENABLED && !windowed && scratch.occluder_cache[oi].stamp == scratch.stamp {
             std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
             let done = subtract_planar(ctx, piece, oi, piece.is_some(), scratch, rec);

@@ -122,7 +122,7 @@ pub fn environment_integrals<R: Recorder>(
 fn reaches_hemisphere(ctx: &PointContext, oi: u32) -> bool {
     let (scene, sp) = (ctx.scene, ctx.sp);
     let occ = &scene.objects[scene.occluders[oi as usize] as usize];
-    !(occ.simple && sp.object == Some(occ.object))
+    !(occ.path.is_simple() && sp.object == Some(occ.object))
         && sp.normal.dot(occ.poly.center - sp.position) >= -occ.poly.radius
 }
 

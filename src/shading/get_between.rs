@@ -51,7 +51,7 @@ pub fn get_between(
             continue;
         }
         // A convex or flat mesh cannot shadow a point on itself.
-        if occ.simple && sp.object == Some(occ.object) {
+        if occ.path.is_simple() && sp.object == Some(occ.object) {
             continue;
         }
         let (c, r) = (occ.poly.center, occ.poly.radius);

@@ -25,7 +25,10 @@ pub use environment::{
 pub use invariant::visible_within_light;
 pub use ltc_correction::CorrectionSampling;
 pub use outline::{Fallbacks, Outline, OutlineScratch, Role};
-pub use prepared::{MeshPath, MoveReuse, PrepareOptions, PreparedObject, PreparedScene};
+pub use prepared::{
+    MeshPath, MoveReuse, PathKind, PrepareConfig, PrepareNote, PrepareOptions, PrepareReport,
+    PreparedObject, PreparedScene,
+};
 pub use recorder::{
     DifferenceMethod, EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide,
     EnvironmentTerm, ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, RayOutcome, Recorder,

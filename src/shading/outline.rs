@@ -104,11 +104,11 @@ impl PreparedObject {
         if method == Method::PerTriangle {
             return Outline::Faces;
         }
-        match self.path() {
-            MeshPath::ConvexTree
+        match &self.path {
+            MeshPath::ConvexTree(_)
             | MeshPath::ConvexAtPoint
-            | MeshPath::HullTree
-            | MeshPath::HullAtPoint => {
+            | MeshPath::HullTree { .. }
+            | MeshPath::HullAtPoint { .. } => {
                 // A convex or flat light does not light points on itself.
                 if on_it && role == Role::Light {
                     return Outline::Nothing;
@@ -159,13 +159,13 @@ impl PreparedObject {
             }
             // At points on the mesh itself its own face lies in the tangent plane: the
             // face-by-face path skips that face exactly. An open light goes face by face.
-            path @ (MeshPath::ExactTree
+            path @ (MeshPath::ExactTree(_)
             | MeshPath::ExactAtPoint
             | MeshPath::ExactInWindow
-            | MeshPath::OpenTree
+            | MeshPath::OpenTree(_)
             | MeshPath::OpenAtPoint
             | MeshPath::OpenInWindow)
-                if !on_it && (role == Role::Occluder || !path.is_open()) =>
+                if !on_it && (role == Role::Occluder || !path.kind().is_open()) =>
             {
                 match self.exact_silhouette(x, frame, out, &mut scratch.exact) {
                     Ok(from_tree) => Outline::Whole {
@@ -178,10 +178,10 @@ impl PreparedObject {
                     }
                 }
             }
-            MeshPath::ExactTree
+            MeshPath::ExactTree(_)
             | MeshPath::ExactAtPoint
             | MeshPath::ExactInWindow
-            | MeshPath::OpenTree
+            | MeshPath::OpenTree(_)
             | MeshPath::OpenAtPoint
             | MeshPath::OpenInWindow
             | MeshPath::PerFace => Outline::Faces,

@@ -4,7 +4,8 @@
 //! attempted again.
 //!
 //! The directory is `$PENUMBRA_CACHE_DIR` (`off` disables the cache), else
-//! `$XDG_CACHE_HOME/penumbra/trees`, else `~/.cache/penumbra/trees`. A file is used only if it
+//! `$XDG_CACHE_HOME/penumbra/trees`, else `~/.cache/penumbra/trees` ([`default_dir`], from the
+//! values the caller read: [`CacheVars`]). A file is used only if it
 //! names the same key and format and its tree is well formed (every index in range); anything
 //! else is ignored and rebuilt. Writes go to a temporary file renamed into place. Failing to
 //! read or write the cache is never an error: the tree is then built in memory.
@@ -13,10 +14,11 @@
 //! default [`DEFAULT_MAX_BYTES`]). After every write, the least recently used files (by
 //! modification time, which a read refreshes) are deleted until the directory is within the
 //! bound; a tree larger than the bound is not written at all. Scenes that are generated and
-//! thrown away (stress cases) do not use the cache (`PrepareOptions::disk_cache`).
+//! thrown away (stress cases) do not use the cache (`PrepareOptions::cache`).
 
 use crate::geometry::{ExactSilhouetteBsp, Polyhedron, SilhouetteBsp, SilhouetteTriangulation};
 use glam::DVec3;
+use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
@@ -69,14 +71,32 @@ pub struct CacheUsage {
     pub bytes: u64,
 }
 
-/// The cache directory, if any (`$PENUMBRA_CACHE_DIR`, `$XDG_CACHE_HOME`, `~/.cache`).
-pub fn cache_dir() -> Option<PathBuf> {
-    match std::env::var_os("PENUMBRA_CACHE_DIR") {
+/// What configures the cache, as the caller read it from its environment (`None`: unset). The
+/// library reads no environment: the command line, Python and the workbench's launch fill
+/// this in.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CacheVars {
+    /// `$PENUMBRA_CACHE_DIR`: the directory, or `off`.
+    pub cache_dir: Option<OsString>,
+    /// `$PENUMBRA_CACHE_MAX`: the bound, as [`parse_size`] reads it.
+    pub cache_max: Option<String>,
+    /// `$XDG_CACHE_HOME`.
+    pub xdg_cache_home: Option<OsString>,
+    /// `$HOME`.
+    pub home: Option<OsString>,
+}
+
+/// The cache directory `vars` name: `cache_dir` (none when it is `off`), else
+/// `xdg_cache_home/penumbra/trees`, else `home/.cache/penumbra/trees`.
+pub fn default_dir(vars: &CacheVars) -> Option<PathBuf> {
+    match &vars.cache_dir {
         Some(d) if d == "off" => None,
         Some(d) => Some(PathBuf::from(d)),
-        None => std::env::var_os("XDG_CACHE_HOME")
+        None => vars
+            .xdg_cache_home
+            .as_ref()
             .map(PathBuf::from)
-            .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+            .or_else(|| vars.home.as_ref().map(|h| PathBuf::from(h).join(".cache")))
             .map(|d| d.join("penumbra").join("trees")),
     }
 }
@@ -106,14 +126,14 @@ pub fn parse_size(text: &str) -> Result<u64, String> {
 }
 
 impl TreeCache {
-    /// The cache the environment configures: `Ok(None)` when it is disabled, `Err` when
-    /// `$PENUMBRA_CACHE_MAX` is not a size.
-    pub fn from_env() -> Result<Option<TreeCache>, String> {
-        let max_bytes = match std::env::var("PENUMBRA_CACHE_MAX") {
-            Ok(v) => parse_size(&v).map_err(|e| format!("PENUMBRA_CACHE_MAX: {e}"))?,
-            Err(_) => DEFAULT_MAX_BYTES,
+    /// The cache `vars` configure: `Ok(None)` when it is off or no directory is named, `Err`
+    /// when the bound is not a size.
+    pub fn configured(vars: &CacheVars) -> Result<Option<TreeCache>, String> {
+        let max_bytes = match &vars.cache_max {
+            Some(v) => parse_size(v).map_err(|e| format!("PENUMBRA_CACHE_MAX: {e}"))?,
+            None => DEFAULT_MAX_BYTES,
         };
-        Ok(cache_dir().map(|dir| TreeCache { dir, max_bytes }))
+        Ok(default_dir(vars).map(|dir| TreeCache { dir, max_bytes }))
     }
 
     fn path(&self, key: u64) -> PathBuf {
@@ -334,6 +354,56 @@ mod tests {
         for bad in ["", "-1M", "12Q", "M", "nan", "1e400"] {
             assert!(parse_size(bad).is_err(), "{bad}");
         }
+    }
+
+    /// `PENUMBRA_CACHE_DIR` wins (`off` turns the cache off), then `XDG_CACHE_HOME`, then
+    /// `HOME`; a bound that is not a size is an error naming its variable.
+    #[test]
+    fn the_directory_and_bound_follow_the_values_passed() {
+        let vars = |dir: Option<&str>, xdg: Option<&str>, home: Option<&str>| CacheVars {
+            cache_dir: dir.map(OsString::from),
+            cache_max: None,
+            xdg_cache_home: xdg.map(OsString::from),
+            home: home.map(OsString::from),
+        };
+        let dir = |v: &CacheVars| default_dir(v).map(|d| d.to_string_lossy().into_owned());
+        assert_eq!(
+            dir(&vars(Some("/c"), Some("/x"), Some("/h"))),
+            Some("/c".into())
+        );
+        assert_eq!(dir(&vars(Some("off"), Some("/x"), Some("/h"))), None);
+        assert_eq!(
+            dir(&vars(None, Some("/x"), Some("/h"))),
+            Some("/x/penumbra/trees".into())
+        );
+        assert_eq!(
+            dir(&vars(None, None, Some("/h"))),
+            Some("/h/.cache/penumbra/trees".into())
+        );
+        assert_eq!(dir(&vars(None, None, None)), None);
+        let bounded = CacheVars {
+            cache_max: Some("4K".into()),
+            ..vars(Some("/c"), None, None)
+        };
+        assert_eq!(
+            TreeCache::configured(&bounded)
+                .unwrap()
+                .map(|c| c.max_bytes),
+            Some(4096)
+        );
+        let bad = CacheVars {
+            cache_max: Some("lots".into()),
+            ..bounded
+        };
+        assert!(
+            TreeCache::configured(&bad)
+                .unwrap_err()
+                .contains("PENUMBRA_CACHE_MAX")
+        );
+        assert_eq!(
+            TreeCache::configured(&vars(Some("off"), None, None)),
+            Ok(None)
+        );
     }
 
     #[test]

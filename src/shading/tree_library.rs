@@ -14,7 +14,6 @@ use crate::geometry::{IndexedPolyhedron, Polyhedron, star_centre};
 use crate::scene::Mesh;
 use glam::{DAffine3, DVec3};
 use rayon::prelude::*;
-use std::sync::Arc;
 
 /// One mesh of a library with its trees, in its own frame.
 #[derive(Clone, Debug)]
@@ -65,7 +64,7 @@ impl TreeLibrary {
     /// into the entry's.
     pub fn find(&self, poly: &Polyhedron) -> Option<(&LibraryEntry, DAffine3)> {
         self.entries.iter().find_map(|e| {
-            let has_tree = e.trees.bsp.is_some() || e.trees.exact_bsp.is_some();
+            let has_tree = e.trees.tree.is_some();
             has_tree
                 .then(|| instance_map(&e.poly, poly))
                 .flatten()
@@ -75,12 +74,14 @@ impl TreeLibrary {
 
     /// Whether `o` reads a tree of this library.
     pub fn lends_to(&self, o: &PreparedObject) -> bool {
+        let Some(tree) = o.path.tree() else {
+            return false;
+        };
         self.entries.iter().any(|e| {
-            matches!((&e.trees.bsp, &o.bsp), (Some(a), Some(b)) if Arc::ptr_eq(a, b))
-                || matches!(
-                    (&e.trees.exact_bsp, &o.exact_bsp),
-                    (Some(a), Some(b)) if Arc::ptr_eq(a, b)
-                )
+            e.trees
+                .tree
+                .as_ref()
+                .is_some_and(|t| t.is_same(&tree.built))
         })
     }
 }

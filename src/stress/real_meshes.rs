@@ -220,11 +220,10 @@ pub fn group(seed: u64, g: u64) -> Result<Group, String> {
     };
     let options = PrepareOptions {
         share_instances: false,
-        disk_cache: false,
         library: None,
         build_trees: false,
         expected_rays: GROUP,
-        environment: false,
+        ..PrepareOptions::default()
     };
     Ok(Group {
         mesh,

@@ -59,7 +59,13 @@ impl PaneView for ScenePane {
             .id_salt("objects")
             .max_height(260.0)
             .show(ui, |ui| app.editor.list_ui(ui, &ctx));
-        for w in ctx.scene.warnings.iter().chain(&ctx.prepared.notes) {
+        for w in ctx
+            .scene
+            .warnings
+            .iter()
+            .cloned()
+            .chain(ctx.prepared.report.lines())
+        {
             ui.small(w);
         }
     }

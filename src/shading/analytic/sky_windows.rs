@@ -24,7 +24,7 @@ use super::{COPLANAR, LightPiece, PointContext, ShadingScratch, shade_light_piec
 use crate::geometry::spherical_polygon::clip_loop_to_half_spaces;
 use crate::geometry::{IndexedPolyhedron, Sidedness, face_polygon};
 use crate::shading::face_sides::light_face_cut;
-use crate::shading::{MeshPath, Method, Recorder};
+use crate::shading::{Method, PathKind, Recorder};
 use glam::DVec3;
 use std::f64::consts::TAU;
 
@@ -49,7 +49,7 @@ pub(super) fn own_occluder(ctx: &PointContext, l: usize) -> Option<usize> {
     let scene = ctx.scene;
     let light_id = scene.lights[l].0;
     let light = &scene.objects[light_id as usize];
-    if light.path() != MeshPath::ExactInWindow
+    if light.kind() != PathKind::ExactInWindow
         || ctx.method == Method::PerTriangle
         || ctx.correction.is_some()
     {
