@@ -9,9 +9,9 @@ use crate::render::RenderContext;
 use crate::render::environment::{EnvironmentSettings, environment_pixel};
 use crate::scene::{Camera, Material};
 use crate::shading::{
-    CorrectionSampling, EnvironmentPass, EnvironmentSample, EnvironmentTerm, Method, NoRecorder,
-    ShadingPoint, ShadingScratch, ShadingStats, Stage, StageRecording, environment_integrals,
-    shade, shade_corrected,
+    CorrectionSampling, EnvironmentPass, EnvironmentSample, EnvironmentTerm, Method, ShadingPoint,
+    ShadingScratch, ShadingStats, Stage, StageRecording, environment_integrals, shade,
+    shade_corrected,
 };
 use crate::stochastic::{EstimatorScratch, LightSampling, direct_samples};
 use glam::DVec3;
@@ -535,24 +535,6 @@ pub fn monte_carlo(
         mean: sums.s_n(),
         stderr: sums.s_variance_of_mean().map(f64::sqrt),
     }
-}
-
-/// Shades `point` without recording (used by tests to check that recording changes nothing).
-pub fn shade_plain(
-    ctx: &RenderContext,
-    point: &ShadingPoint,
-    material: &Material,
-    method: Method,
-) -> DVec3 {
-    let mut scratch = ShadingScratch::default();
-    shade(
-        &ctx.prepared,
-        point,
-        material,
-        method,
-        &mut scratch,
-        &mut NoRecorder,
-    )
 }
 
 /// A pixel worth inspecting first: on a receiver in the penumbra of a light, where the

@@ -73,10 +73,6 @@ impl SceneEditor {
         self.history.as_ref().is_some_and(|h| h.can_redo())
     }
 
-    pub fn is_dragging(&self) -> bool {
-        self.drag.is_some()
-    }
-
     /// The object at image position (x, y), as the renderer's primary ray hits it.
     pub fn object_at(
         ctx: &RenderContext,

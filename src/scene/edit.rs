@@ -22,7 +22,7 @@
 //! ```
 
 use super::Scene;
-use glam::{DAffine3, DMat3, DQuat, DVec3};
+use glam::{DMat3, DQuat, DVec3};
 
 /// A rigid motion `p ↦ R p + t` (a rotation, then a translation), in f64.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -105,11 +105,6 @@ impl Rigid {
     /// The rotation matrix `R`.
     pub fn matrix(&self) -> DMat3 {
         DMat3::from_quat(self.rotation)
-    }
-
-    /// As an affine map.
-    pub fn to_affine(&self) -> DAffine3 {
-        DAffine3::from_mat3_translation(self.matrix(), self.translation)
     }
 
     /// `self` applied to the point `p`.

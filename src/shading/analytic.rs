@@ -25,6 +25,7 @@
 //! a set difference; once an occluder covers it, the others are not looked at.
 
 use super::face_sides::{InFront, in_front, light_face_cut};
+mod occluder_cache;
 mod sky_windows;
 use super::get_between::get_between;
 use super::invariant::visible_within_light;
@@ -49,6 +50,7 @@ use crate::ltc::{LtcEntry, form_factor, form_factor_terms};
 use crate::math::Frame;
 use crate::scene::Material;
 use glam::DVec3;
+use occluder_cache::OccluderCache;
 
 /// Counters of the work done at the last shading point (for AOVs and benchmarks).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -170,10 +172,8 @@ pub struct ShadingScratch {
     pub(super) lobe_poly: SphericalPolygon,
     pub(super) lobe_clip: SphericalPolygon,
     pub(super) kept: Vec<u32>,
-    /// Per occluder: its projected, horizon-clipped silhouette at the shading point `stamp`.
-    pub(super) occluder_cache: Vec<CachedOccluder>,
-    /// Counts shading points, to invalidate `occluder_cache` without clearing it.
-    pub(super) stamp: u64,
+    /// What this point keeps of each occluder for its next lights.
+    occluders: OccluderCache,
     pub(super) face_buf: Vec<DVec3>,
     /// The faces of an occluder taken face by face that can overlap the light.
     pub(super) face_list: Vec<u32>,
@@ -207,11 +207,7 @@ impl ShadingScratch {
         self.stats = ShadingStats::default();
         self.outline.fallbacks = Fallbacks::default();
         self.correction_sum = CorrectionEstimate::default();
-        self.stamp += 1;
-        if self.occluder_cache.len() < scene.occluders.len() {
-            self.occluder_cache
-                .resize_with(scene.occluders.len(), CachedOccluder::default);
-        }
+        self.occluders.begin_point(scene.occluders.len());
     }
 
     /// Caps the set difference's walks at `steps` when the polygon subtracted has more than
@@ -238,16 +234,6 @@ impl ShadingScratch {
         self.stats.fallbacks.add(&self.outline.fallbacks);
         self.outline.fallbacks = Fallbacks::default();
     }
-}
-
-#[derive(Default)]
-pub(super) struct CachedOccluder {
-    stamp: u64,
-    poly: PlanarPolygon,
-    /// A convex outline clipped to each light's window: the whole outline, kept at `sph_stamp`
-    /// so that the next light clips it again instead of finding it again.
-    sph_stamp: u64,
-    sph: SphericalPolygon,
 }
 
 /// Convex occluder outlines with more vertices than this are clipped to the light's window
@@ -816,11 +802,8 @@ fn with_hole(region: &PolygonLoops, hole: &PolygonLoops, out: &mut PolygonLoops)
     }
 }
 
-/// Lines 9–12 of Alg. 1 for occluder `oi` (index into `scene.occluders`).
-///
-/// `piece` is `None` for the environment (`super::environment`): the region to subtract from
-/// is then the whole hemisphere, at infinity behind every occluder, so there is no depth cut
-/// and no window.
+/// Subtracts occluder `oi` from the light piece (000 Alg. 1, lines 8–10): as a whole where it
+/// has one outline at the point, else face by face.
 pub(super) fn subtract_occluder<R: Recorder>(
     ctx: &PointContext,
     oi: usize,
@@ -828,175 +811,223 @@ pub(super) fn subtract_occluder<R: Recorder>(
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) {
-    let (scene, sp, frame) = (ctx.scene, ctx.sp, &ctx.frame);
+    let scene = ctx.scene;
     let occ_id = scene.occluders[oi];
-    let occ = &scene.objects[occ_id as usize];
     let own_mesh = piece.is_some_and(|p| occ_id == scene.lights[p.light].0);
-    // Depth against a light face: an occluder separated from the whole light by a plane is in
-    // front of it wherever they overlap (get_between checked the side of x); otherwise, and for
-    // the light's own mesh, keep only what lies in front of the light face's plane.
-    let mut cut = match piece.and_then(|p| p.face.map(|(_, plane)| (p.light, plane))) {
-        Some((l, plane)) if own_mesh || scene.separation(l, oi).is_none() => Some(plane),
+    let cut = match depth_cut(ctx, oi, own_mesh, piece) {
+        DepthCut::Behind => return,
+        DepthCut::InFront => None,
+        DepthCut::Across(plane) => Some(plane),
+    };
+    let skip_face = piece
+        .filter(|_| own_mesh)
+        .and_then(|p| p.face.map(|(f, _)| f));
+    if cut.is_none() && skip_face.is_none() && subtract_whole(ctx, oi, piece, scratch, rec) {
+        return;
+    }
+    subtract_faces(ctx, oi, piece, cut.as_ref(), skip_face, false, scratch, rec);
+}
+
+/// Where an occluder lies against the face of the light piece, for depth.
+enum DepthCut {
+    /// Wholly behind the face's plane: it hides nothing of it.
+    Behind,
+    /// In front wherever it overlaps the light: no cut.
+    InFront,
+    /// On both sides: only its part in front of this plane counts.
+    Across(Plane),
+}
+
+/// How occluder `oi` must be cut for depth against the light piece. An occluder separated from
+/// the whole light by a plane is in front of it wherever they overlap (`get_between` checked
+/// the side of the point); otherwise, and for the light's own mesh, only what lies in front of
+/// the light face's plane hides it.
+fn depth_cut(
+    ctx: &PointContext,
+    oi: usize,
+    own_mesh: bool,
+    piece: Option<&LightPiece>,
+) -> DepthCut {
+    let Some((l, (f, plane))) = piece.and_then(|p| p.face.map(|face| (p.light, face))) else {
+        return DepthCut::InFront;
+    };
+    if !own_mesh && ctx.scene.separation(l, oi).is_some() {
+        return DepthCut::InFront;
+    }
+    let occ = &ctx.scene.objects[ctx.scene.occluders[oi] as usize];
+    // The light's own mesh against its own face: decided when the scene was prepared.
+    let side = match (own_mesh, &occ.face_sides) {
+        (true, Some(sides)) => sides.get(f),
+        _ => in_front(occ.face_pieces(), &plane),
+    };
+    match side {
+        InFront::Nothing => DepthCut::Behind,
+        InFront::All => DepthCut::InFront,
+        InFront::Part => DepthCut::Across(plane),
+    }
+}
+
+/// Subtracts occluder `oi` as a whole: its outline at the point, clipped to the horizon,
+/// projected and subtracted. Its projection, and a convex outline before a window clipped it,
+/// do not depend on the light: the point keeps them for its next lights
+/// ([`OccluderCache`]). `false` when it must go face by face: no single outline here, or the
+/// set difference crossed a bound.
+fn subtract_whole<R: Recorder>(
+    ctx: &PointContext,
+    oi: usize,
+    piece: Option<&LightPiece>,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> bool {
+    let occ = &ctx.scene.objects[ctx.scene.occluders[oi] as usize];
+    // A large mesh's polygon is found inside the light's window: not kept for other lights.
+    let windowed =
+        piece.is_some() && occ.kind().is_windowed() && scratch.light_clip.loop_count() == 1;
+    if !windowed
+        && scratch
+            .occluders
+            .lend_projected::<R>(oi, &mut scratch.occ_plane)
+    {
+        let done = subtract_planar(ctx, piece, oi, piece.is_some(), scratch, rec);
+        scratch.occluders.take_back(oi, &mut scratch.occ_plane);
+        if done {
+            return true;
+        }
+    }
+    let (outline, kept_outline) = whole_outline(ctx, oi, piece, windowed, scratch, rec);
+    // At a point on this mesh under a light that reaches the horizon, the windowed outline
+    // cannot take the light's window (its own face's edges lie on the horizon): split the
+    // window along a circle tilted just above the horizon, the outline in the part above it
+    // and the faces one by one in the thin part below.
+    if windowed
+        && ctx.sp.object == Some(occ.object)
+        && matches!(outline, Outline::Faces)
+        && scratch.split.split(scratch.light_clip.loop_at(0))
+        && subtract_split(ctx, oi, piece, scratch, rec)
+    {
+        return true;
+    }
+    let Outline::Whole { exact, from_tree } = outline else {
+        return false;
+    };
+    let (sp, frame) = (ctx.sp, &ctx.frame);
+    record_contour(
+        rec,
+        Some(oi),
+        occ,
+        outline,
+        windowed,
+        &scratch.occ_sph,
+        sp,
+        frame,
+    );
+    if exact && !windowed {
+        record_exact(
+            occ,
+            Some(oi),
+            from_tree,
+            sp,
+            frame,
+            &scratch.outline.exact,
+            rec,
+        );
+    }
+    // A convex outline of many vertices around a small light: only its part near the light
+    // reaches the set difference (the same difference, far fewer vertices).
+    let clipped = piece.is_some()
+        && !exact
+        && scratch.occ_sph.vertex_count() > WINDOW_CLIP_MIN_VERTICES
+        && scratch.light_clip.loop_count() == 1
+        && clip_to_window(
+            &scratch.occ_sph,
+            scratch.light_clip.loop_at(0),
+            &mut scratch.occ_clip,
+            &mut scratch.window_bufs,
+        );
+    if clipped {
+        if !windowed && !kept_outline {
+            scratch.occluders.keep_outline::<R>(oi, &scratch.occ_sph);
+        }
+        std::mem::swap(&mut scratch.occ_sph, &mut scratch.occ_clip);
+    }
+    clip_and_project(oi, None, scratch, rec);
+    let done = subtract_planar(ctx, piece, oi, piece.is_some(), scratch, rec);
+    if !windowed && !clipped {
+        scratch
+            .occluders
+            .keep_projected::<R>(oi, &mut scratch.occ_plane);
+    }
+    // Not done: the set difference with the whole outline crossed a bound; face by face,
+    // which is exact too.
+    done
+}
+
+/// Occluder `oi`'s outline at the point into `scratch.occ_sph`, found inside the light's
+/// window when `windowed` (with the tile's shared candidate edges), or the outline this point
+/// kept (the second value); the tile's sharing recorded.
+fn whole_outline<R: Recorder>(
+    ctx: &PointContext,
+    oi: usize,
+    piece: Option<&LightPiece>,
+    windowed: bool,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> (Outline, bool) {
+    let scene = ctx.scene;
+    let occ = &scene.objects[scene.occluders[oi] as usize];
+    // The window's points share their candidate edges within the tile's region: the light's
+    // bounding ball bounds every window of the region's points.
+    scratch.outline.window.tile = match (windowed, scratch.tile_region, piece) {
+        // A sky window is not bounded by the light's cone (the region's lists assume so).
+        (true, Some(region), Some(p)) if p.sky_window.is_none() => {
+            let light = &scene.objects[scene.lights[p.light].0 as usize].poly;
+            let sph = &scratch.light_sph;
+            Some(TileQuery {
+                region,
+                light_centre: light.center,
+                light_radius: light.radius,
+                key: ((p.light as u64) << 32) | oi as u64,
+                whole_light: p.face.is_none()
+                    && sph.loop_count() == 1
+                    && sph.loop_at(0).iter().all(|v| v.z > 0.0),
+            })
+        }
         _ => None,
     };
-    if let Some(pp) = cut {
-        // The light's own mesh against its own face: decided when the scene was prepared.
-        let own_face = own_mesh.then(|| piece.and_then(|p| p.face)).flatten();
-        let side = match (own_face, &occ.face_sides) {
-            (Some((f, _)), Some(sides)) => sides.get(f),
-            _ => in_front(occ.face_pieces(), &pp),
+    if scratch
+        .occluders
+        .copy_outline::<R>(oi, &mut scratch.occ_sph)
+    {
+        let kept = Outline::Whole {
+            exact: false,
+            from_tree: false,
         };
-        match side {
-            InFront::Nothing => return, // entirely behind the light face
-            InFront::All => cut = None, // entirely in front: no cut needed
-            InFront::Part => {}
-        }
+        return (kept, true);
     }
-    let cut = cut.as_ref();
-    let skip_face = if own_mesh {
-        piece.and_then(|p| p.face.map(|(f, _)| f))
-    } else {
-        None
-    };
-    let on_this = sp.object == Some(occ.object);
-    if cut.is_none() && skip_face.is_none() {
-        // The occluder as a whole. Its projected silhouette depends on the shading point and
-        // frame only, not on the light: computed once per shading point and kept for the next
-        // lights. (With a recorder every stage is recomputed so that it reaches the recording;
-        // same numbers.)
-        // A large mesh's polygon is found inside the light's window: not kept for other lights.
-        let windowed =
-            piece.is_some() && occ.kind().is_windowed() && scratch.light_clip.loop_count() == 1;
-        if !R::ENABLED && !windowed && scratch.occluder_cache[oi].stamp == scratch.stamp {
-            std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-            let done = subtract_planar(ctx, piece, oi, piece.is_some(), scratch, rec);
-            std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-            if done {
-                return;
-            }
-        }
-        let window = windowed.then(|| scratch.light_clip.loop_at(0));
-        // The window's points share their candidate edges within the tile's region: the
-        // light's bounding ball bounds every window of the region's points.
-        scratch.outline.window.tile = match (windowed, scratch.tile_region, piece) {
-            // A sky window is not bounded by the light's cone (the region's lists assume so).
-            (true, Some(region), Some(p)) if p.sky_window.is_none() => {
-                let light = &scene.objects[scene.lights[p.light].0 as usize].poly;
-                let sph = &scratch.light_sph;
-                Some(TileQuery {
-                    region,
-                    light_centre: light.center,
-                    light_radius: light.radius,
-                    key: ((p.light as u64) << 32) | oi as u64,
-                    whole_light: p.face.is_none()
-                        && sph.loop_count() == 1
-                        && sph.loop_at(0).iter().all(|v| v.z > 0.0),
-                })
-            }
-            _ => None,
-        };
-        let kept_outline = !R::ENABLED && scratch.occluder_cache[oi].sph_stamp == scratch.stamp;
-        let outline = if kept_outline {
-            scratch
-                .occ_sph
-                .0
-                .copy_from(&scratch.occluder_cache[oi].sph.0);
-            Outline::Whole {
-                exact: false,
-                from_tree: false,
-            }
-        } else {
-            occ.spherical_polygon(
-                sp.position,
-                frame,
-                Role::Occluder,
-                ctx.method,
-                on_this,
-                window,
-                &mut scratch.occ_sph,
-                &mut scratch.outline,
-            )
-        };
-        if R::ENABLED
-            && windowed
-            && let Some(q) = &scratch.outline.window.tile
-        {
-            rec.tile_share(&TileShareRecord {
-                occluder: oi,
-                centre: q.region.centre,
-                radius: q.region.radius,
-                shared_edges: scratch.outline.window.tile_candidates.last,
-                mesh_edges: occ.poly.edges.len() as u32,
-            });
-        }
-        // At a point on this mesh under a light that reaches the horizon, the windowed outline
-        // cannot take the light's window (its own face's edges lie on the horizon): split the
-        // window along a circle tilted just above the horizon, the outline in the part above
-        // it and the faces one by one in the thin part below.
-        if windowed
-            && on_this
-            && matches!(outline, Outline::Faces)
-            && scratch.split.split(scratch.light_clip.loop_at(0))
-            && subtract_split(ctx, oi, piece, scratch, rec)
-        {
-            return;
-        }
-        if let Outline::Whole { exact, from_tree } = outline {
-            record_contour(
-                rec,
-                Some(oi),
-                occ,
-                outline,
-                windowed,
-                &scratch.occ_sph,
-                sp,
-                frame,
-            );
-            if exact && !windowed {
-                record_exact(
-                    occ,
-                    Some(oi),
-                    from_tree,
-                    sp,
-                    frame,
-                    &scratch.outline.exact,
-                    rec,
-                );
-            }
-            // A convex outline of many vertices around a small light: only its part near the
-            // light reaches the set difference (the same difference, far fewer vertices).
-            let clipped = piece.is_some()
-                && !exact
-                && scratch.occ_sph.vertex_count() > WINDOW_CLIP_MIN_VERTICES
-                && scratch.light_clip.loop_count() == 1
-                && clip_to_window(
-                    &scratch.occ_sph,
-                    scratch.light_clip.loop_at(0),
-                    &mut scratch.occ_clip,
-                    &mut scratch.window_bufs,
-                );
-            if clipped {
-                if !R::ENABLED && !windowed && !kept_outline {
-                    let kept = &mut scratch.occluder_cache[oi];
-                    kept.sph.0.copy_from(&scratch.occ_sph.0);
-                    kept.sph_stamp = scratch.stamp;
-                }
-                std::mem::swap(&mut scratch.occ_sph, &mut scratch.occ_clip);
-            }
-            clip_and_project(oi, None, scratch, rec);
-            let done = subtract_planar(ctx, piece, oi, piece.is_some(), scratch, rec);
-            if !R::ENABLED && !windowed && !clipped {
-                std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-                scratch.occluder_cache[oi].stamp = scratch.stamp;
-            }
-            if done {
-                return;
-            }
-            // The set difference with the whole outline crossed a bound: face by face below,
-            // which is exact too.
-        }
+    let window = windowed.then(|| scratch.light_clip.loop_at(0));
+    let outline = occ.spherical_polygon(
+        ctx.sp.position,
+        &ctx.frame,
+        Role::Occluder,
+        ctx.method,
+        ctx.sp.object == Some(occ.object),
+        window,
+        &mut scratch.occ_sph,
+        &mut scratch.outline,
+    );
+    if R::ENABLED
+        && windowed
+        && let Some(q) = &scratch.outline.window.tile
+    {
+        rec.tile_share(&TileShareRecord {
+            occluder: oi,
+            centre: q.region.centre,
+            radius: q.region.radius,
+            shared_edges: scratch.outline.window.tile_candidates.last,
+            mesh_edges: occ.poly.edges.len() as u32,
+        });
     }
-    subtract_faces(ctx, oi, piece, cut, skip_face, false, scratch, rec);
+    (outline, false)
 }
 
 /// Subtracts occluder `oi` face by face: the faces the face hierarchy finds in a cone around
@@ -1164,8 +1195,10 @@ pub(super) fn load_occluder<R: Recorder>(
 ) -> bool {
     let (scene, sp, frame) = (ctx.scene, ctx.sp, &ctx.frame);
     let occ = &scene.objects[scene.occluders[oi] as usize];
-    if !R::ENABLED && scratch.occluder_cache[oi].stamp == scratch.stamp {
-        scratch.visible.copy_from(&scratch.occluder_cache[oi].poly);
+    if scratch
+        .occluders
+        .copy_projected::<R>(oi, &mut scratch.visible)
+    {
         return true;
     }
     let on_this = sp.object == Some(occ.object);
@@ -1199,10 +1232,9 @@ pub(super) fn load_occluder<R: Recorder>(
             }
             clip_and_project(oi, None, scratch, rec);
             scratch.visible.copy_from(&scratch.occ_plane);
-            if !R::ENABLED {
-                std::mem::swap(&mut scratch.occ_plane, &mut scratch.occluder_cache[oi].poly);
-                scratch.occluder_cache[oi].stamp = scratch.stamp;
-            }
+            scratch
+                .occluders
+                .keep_projected::<R>(oi, &mut scratch.occ_plane);
             true
         }
     }
