@@ -3,7 +3,6 @@
 //! every tree is built.
 //!
 //!     cargo run --release --example instance_sharing
-use penumbra::ltc::LtcTable;
 use penumbra::scene::scene_file;
 use penumbra::shading::PreparedScene;
 use std::collections::HashSet;
@@ -15,7 +14,13 @@ fn main() {
     let scene = scene_file::load_embedded("instances").expect("embedded");
     for share in [true, false] {
         let t = Instant::now();
-        let p = PreparedScene::with_options(&scene, LtcTable::embedded(), share);
+        let p = PreparedScene::prepare(
+            &scene,
+            penumbra::shading::PrepareOptions {
+                share_instances: share,
+                ..penumbra::shading::PrepareOptions::default()
+            },
+        );
         let seconds = t.elapsed().as_secs_f64();
         // Distinct trees, by address: shared ones counted once.
         let mut seen = HashSet::new();

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fingerprints of what penumbra computes, for checking that a change of structure changes no
-# result (issue 27): every embedded scene's image for the analytic methods, analytic-exact and
+# result: every embedded scene's image for the analytic methods, analytic-exact and
 # the environment's analytic and ray-traced methods at a fixed seed, and `stress` at a fixed
 # seed. One line per output: "<what> <sha256 of the PFM or of the report without its timing>".
 #

@@ -1,5 +1,15 @@
 //! penumbra: analytic shading and soft shadows from polyhedral area lights.
 //!
+//! The four papers it implements are cited by number throughout (`000 Alg. 1`, `001 Sect.
+//! 4.3`):
+//!
+//! | number | paper |
+//! |---|---|
+//! | 000 | Aakash KT, P. Sakurikar, P. J. Narayanan: *Fast Analytic Soft Shadows from Area Lights*, EGSR 2021 |
+//! | 001 | A bachelor's thesis on the silhouettes of polyhedral light sources for real-time shading: contour and silhouette, exact silhouettes of non-convex polyhedra, BSP trees of precomputed silhouettes, solid-angle sampling of triangulated silhouettes |
+//! | 002 | Y. Xu et al.: *Real-Time Ray-Traced Soft Shadows of Environmental Lighting by Conical Ray Culling*, I3D 2022 |
+//! | 003 | E. Heitz, S. Hill, M. McGuire: *Combining Analytic Direct Illumination and Stochastic Shadows*, I3D 2018 |
+//!
 //! The modules follow the pipeline of KT et al. 2021 (paper 000, Alg. 1):
 //!
 //! * [`app`]: the egui workbench (viewport, picked point, sphere view, stepping, plots, exports).

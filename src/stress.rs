@@ -16,7 +16,6 @@
 
 use crate::accel::{Bvh, Ray};
 use crate::environment::{PolygonMoments, Sh9, cosine_weighted_integral_local};
-use crate::ltc::LtcTable;
 use crate::math::{Frame, Pcg32};
 use crate::render::FallbackTotals;
 use crate::scene::shapes::{cuboid, cylinder, icosahedron, quad};
@@ -997,7 +996,7 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         // Generated and thrown away: nothing is read from or written to a disk cache.
         ..PrepareOptions::default()
     };
-    let prepared = PreparedScene::prepare(&case.scene, LtcTable::embedded(), options);
+    let prepared = PreparedScene::prepare(&case.scene, options);
     if case.kind == CaseKind::Environment {
         return run_environment_case(case, &prepared, rays, rng, scratch);
     }

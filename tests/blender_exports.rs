@@ -13,6 +13,7 @@
 use glam::DVec3;
 use penumbra::geometry::IndexedPolyhedron;
 use penumbra::reference::render_reference;
+use penumbra::render::request::RenderRequest;
 use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
 use penumbra::scene::scene_file::load_scene;
 use penumbra::scene::{Camera, Scene};
@@ -152,8 +153,7 @@ fn analytic_matches_ray_casting_on_blender_exports() {
         let camera: Camera = scene.camera.expect("Blender's files have a camera");
         let ctx = RenderContext::for_render(
             &scene,
-            &settings(RenderMethod::Analytic),
-            &Default::default(),
+            &RenderRequest::with_settings(settings(RenderMethod::Analytic)),
         );
         let render = |m: RenderMethod| {
             ctx.render_full(&camera, &settings(m), None)
@@ -222,7 +222,6 @@ fn analytic_matches_ray_casting_on_blender_exports() {
 /// silhouette), and a run of the family breaks no invariant and stays within 6σ of ray casting.
 #[test]
 fn the_stress_family_of_blender_like_meshes() {
-    use penumbra::ltc::LtcTable;
     use penumbra::shading::{PrepareOptions, PreparedScene};
     use penumbra::stress::{CaseKind, KIND_PERIOD, blender_like_meshes, kind_of, run_one};
     // Open (the outline of contour and boundary edges), or closed and not convex (the exact
@@ -256,7 +255,7 @@ fn the_stress_family_of_blender_like_meshes() {
             build_trees: false,
             ..PrepareOptions::default()
         };
-        let p = PreparedScene::prepare(&scene, LtcTable::embedded(), options);
+        let p = PreparedScene::prepare(&scene, options);
         let path = p.objects[0].kind();
         assert!(want.contains(&path), "{name}: {path:?}");
     }

@@ -215,7 +215,7 @@ fn cut_above(mesh: &penumbra::scene::Mesh, z: f64) -> IndexedPolyhedron {
     IndexedPolyhedron::new(&mesh.positions, &faces)
 }
 
-/// Trees of open meshes (issue 26): the leaves hold the outline of contour *and* boundary
+/// Trees of open meshes: the leaves hold the outline of contour *and* boundary
 /// edges, and at random points of the box it equals the outline computed on the fly (the
 /// same `exact_silhouette`, an open mesh's oracle tested against face-by-face shading in
 /// `tests/blender_exports.rs`): an open box, a bowl, a tube and a folded sheet, seen from
@@ -307,6 +307,7 @@ fn bsp_outlines_of_open_meshes_equal_the_outline_on_the_fly() {
 /// folded sheet over a floor, under a quad light.
 #[test]
 fn open_occluders_shade_from_their_trees_as_face_by_face() {
+    use penumbra::render::request::RenderRequest;
     use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
     use penumbra::scene::camera::Camera;
     use penumbra::shading::PathKind;
@@ -373,8 +374,7 @@ f 21 22 23 24
     };
     let ctx = RenderContext::for_render(
         &scene,
-        &settings(RenderMethod::Analytic),
-        &Default::default(),
+        &RenderRequest::with_settings(settings(RenderMethod::Analytic)),
     );
     // The box's tree pays at this size; the sheet's does not (the cost model), and it
     // computes its outline at each point.

@@ -182,7 +182,7 @@ fn the_cache_command_shows_trims_and_clears_only_its_files() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `penumbra figure` (issue 28): the projected plane of a set difference, live and from the
+/// `penumbra figure`: the projected plane of a set difference, live and from the
 /// debug dump `probe` wrote of the same pixel, is the same figure; as SVG it parses, with the
 /// light's, the occluder's and the visible region as translucent fills; a set difference the
 /// recording does not have, or an unknown view, is a one-line error.

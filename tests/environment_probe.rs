@@ -1,4 +1,4 @@
-//! The environment light at a probed pixel (issue 13 item 6): what the probe records is what
+//! The environment light at a probed pixel: what the probe records is what
 //! the renderer computed, checked against independent oracles: a brute-force ray count of the
 //! region the exact method integrates, dot-product geometry for `rt`'s culling, and the
 //! rendered image itself.

@@ -1,5 +1,5 @@
 //! The workbench paints a view's figure (`app::figure_painter`) as an independent SVG renderer
-//! (resvg) draws the same figure's SVG (issue 28): on the sphere at a penumbra point of fig4,
+//! (resvg) draws the same figure's SVG: on the sphere at a penumbra point of fig4,
 //! the two images agree up to anti-aliasing, and leaving one layer out of the SVG (the visible
 //! region, the light's region) shows as a difference several times larger. Labels are left
 //! out of both: egui draws its own font, a headless resvg has none.

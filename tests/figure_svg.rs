@@ -1,4 +1,4 @@
-//! Figures as SVG (issue 28): a chart's one description, written as SVG, parses (usvg), and
+//! Figures as SVG: a chart's one description, written as SVG, parses (usvg), and
 //! drawn by an independent SVG renderer (resvg) it shows what the PNG back end draws from the
 //! same description: the same pixels up to anti-aliasing, and a layer left out of the SVG shows.
 

@@ -1,4 +1,4 @@
-//! The debugger's views as figures (issue 28), on every embedded scene at the point the
+//! The debugger's views as figures, on every embedded scene at the point the
 //! workbench picks on its own: each view's figure, at every stage, parses as SVG (usvg) and
 //! as PDF (its objects and content stream), no two of its labels overlap, and the sphere's
 //! default framing holds every light's silhouette, facing the eye.

@@ -9,7 +9,6 @@ use penumbra::geometry::{
     ExactSilhouetteScratch, Sidedness, SilhouetteScratch, SphericalPolygon, exact_silhouette,
     silhouette,
 };
-use penumbra::ltc::LtcTable;
 use penumbra::math::{Frame, Pcg32};
 use penumbra::render::{RenderContext, RenderSettings};
 use penumbra::scene::scene_file;
@@ -69,7 +68,13 @@ fn the_instances_scene_shares_one_tree_per_mesh() {
             );
         }
     }
-    let unshared = PreparedScene::with_options(&scene, LtcTable::embedded(), false);
+    let unshared = PreparedScene::prepare(
+        &scene,
+        penumbra::shading::PrepareOptions {
+            share_instances: false,
+            ..penumbra::shading::PrepareOptions::default()
+        },
+    );
     assert!(unshared.tree_groups.iter().all(|g| g.len() == 1));
     assert!(unshared.objects.iter().all(|o| o.to_tree.is_none()));
 }
@@ -118,7 +123,13 @@ fn an_instanced_scene_renders_as_with_sharing_disabled() {
     let scene = scene_file::load_embedded("instances").unwrap();
     let shared = RenderContext::new(&scene);
     let mut unshared = RenderContext::new(&scene);
-    unshared.prepared = PreparedScene::with_options(&scene, LtcTable::embedded(), false);
+    unshared.prepared = PreparedScene::prepare(
+        &scene,
+        penumbra::shading::PrepareOptions {
+            share_instances: false,
+            ..penumbra::shading::PrepareOptions::default()
+        },
+    );
     let cam = scene.camera.unwrap();
     let settings = RenderSettings {
         width: 64,

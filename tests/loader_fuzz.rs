@@ -12,7 +12,6 @@
 //! A failing input is written to the temp directory, named in the message.
 
 use glam::DVec3;
-use penumbra::ltc::LtcTable;
 use penumbra::math::Pcg32;
 use penumbra::scene::obj::{ALPHA_MAX, ALPHA_MIN, load_obj_str};
 use penumbra::scene::scene_file::load_scene_str;
@@ -438,7 +437,7 @@ fn check_scene(s: &Scene, shade_it: bool) {
     let options = PrepareOptions {
         ..PrepareOptions::default()
     };
-    let prepared = PreparedScene::prepare(s, LtcTable::embedded(), options);
+    let prepared = PreparedScene::prepare(s, options);
     let mut scratch = ShadingScratch::default();
     for (k, o) in s.objects.iter().enumerate().take(6) {
         let Some(f) = o.mesh.faces.first() else {

@@ -1,4 +1,4 @@
-//! `analytic-exact` (issue 14): the LTC image plus `∫_V (f_GGX − f_LTC) cos` sampled inside the
+//! `analytic-exact`: the LTC image plus `∫_V (f_GGX − f_LTC) cos` sampled inside the
 //! exact visible polygon `V` (`shading::ltc_correction`), against brute-force ray casting of
 //! GGX (`penumbra::reference::direct_lighting`: area-sampled shadow rays through the BVH, no
 //! LTC and no spherical polygon anywhere).

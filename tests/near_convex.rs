@@ -10,7 +10,6 @@ use penumbra::geometry::{
     ExactSilhouetteScratch, Polyhedron, Sidedness, SilhouetteScratch, SphericalPolygon,
     convex_stand_in, exact_silhouette, silhouette, solid_angle_bound,
 };
-use penumbra::ltc::LtcTable;
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::Scene;
 use penumbra::scene::obj::load_obj_str;
@@ -110,9 +109,8 @@ fn shading_with_stand_ins_is_within_the_bound_of_the_exact_path() {
     let options = PrepareOptions {
         ..PrepareOptions::default()
     };
-    let ltc = LtcTable::embedded();
-    let a = PreparedScene::prepare(&with_rounding, ltc, options);
-    let b = PreparedScene::prepare(&exact, ltc, options);
+    let a = PreparedScene::prepare(&with_rounding, options);
+    let b = PreparedScene::prepare(&exact, options);
     let stand_ins: Vec<&str> = a
         .objects
         .iter()
@@ -221,7 +219,7 @@ fn a_quad_bent_by_its_rounding_is_flat_and_shades_as_its_triangles() {
     let mut scene = load_obj_str(obj, None, "bent_light.obj").expect("parses");
     scene.objects[0].flags.light = true;
     scene.objects[0].material.ke = DVec3::ONE;
-    let prepared = PreparedScene::prepare(&scene, LtcTable::embedded(), PrepareOptions::default());
+    let prepared = PreparedScene::prepare(&scene, PrepareOptions::default());
     let light = &prepared.objects[0];
     assert!(light.poly.diagnostics.planar, "classified flat");
     let mut scratch = ShadingScratch::default();

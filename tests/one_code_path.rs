@@ -1,9 +1,10 @@
-//! One code path (issue 27): the benchmark times what `penumbra render` runs. A scene is
+//! One code path: the benchmark times what `penumbra render` runs. A scene is
 //! prepared the same way by both (`BenchConfig::prepare` is `RenderContext::for_render` for
 //! the config's image), so on every embedded scene both prepare every mesh alike and the bench's analytic image equals
 //! the render's bit for bit.
 
 use penumbra::bench::runner::{self, BenchConfig};
+use penumbra::render::request::RenderRequest;
 use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
 use penumbra::scene::scene_file::{self, load_embedded};
 use penumbra::stochastic::LightSampling;
@@ -43,7 +44,7 @@ fn the_bench_renders_the_analytic_image_that_render_renders() {
             collect_stats: false,
             exact_u: false,
         };
-        let render_ctx = RenderContext::for_render(&scene, &settings, &Default::default());
+        let render_ctx = RenderContext::for_render(&scene, &RenderRequest::with_settings(settings));
         // The same preparation: every mesh takes the same path and the same trees (the notes
         // say which). `RenderContext::new`, which the bench used before, sizes the trees for
         // 256×256×16 rays and differs here on default, fig4 and polyhedra.

@@ -4,6 +4,7 @@
 //! of the same region: at every camera sample on Blender's torus light they agree to 1e-9
 //! relative, the shadowed and the unshadowed method alike.
 
+use penumbra::render::request::RenderRequest;
 use penumbra::render::{RenderContext, RenderMethod, RenderSettings, subpixel_rays};
 use penumbra::scene::scene_file::load_scene;
 use penumbra::shading::{Method, NoRecorder, ShadingScratch};
@@ -22,7 +23,7 @@ fn the_sky_windows_light_a_point_on_the_torus_as_its_faces_do() {
         method: RenderMethod::Analytic,
         ..RenderSettings::default()
     };
-    let ctx = RenderContext::for_render(&scene, &settings, &Default::default());
+    let ctx = RenderContext::for_render(&scene, &RenderRequest::with_settings(settings));
     let torus = scene
         .objects
         .iter()

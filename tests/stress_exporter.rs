@@ -4,13 +4,11 @@
 //! first hit the front of a light face), and the family must reach every path those meshes
 //! take: a hull standing in, the exact silhouette, the plain convex one.
 
-use penumbra::ltc::LtcTable;
 use penumbra::shading::{PathKind, PrepareOptions, PreparedScene};
 use penumbra::stress::{CaseKind, KIND_PERIOD, exporter_meshes, generate, kind_of, run_one};
 
 #[test]
 fn exporter_meshes_load_without_geometry_warnings_and_take_their_paths() {
-    let ltc = LtcTable::embedded();
     let mut paths = Vec::new();
     for (name, mesh) in exporter_meshes() {
         assert!(
@@ -37,7 +35,7 @@ fn exporter_meshes_load_without_geometry_warnings_and_take_their_paths() {
             build_trees: false,
             ..PrepareOptions::default()
         };
-        let p = PreparedScene::prepare(&scene, ltc, options);
+        let p = PreparedScene::prepare(&scene, options);
         paths.push((*name, p.objects[0].kind()));
     }
     let path = |n: &str| paths.iter().find(|(m, _)| *m == n).map(|p| p.1);

@@ -7,6 +7,7 @@
 
 use glam::DVec3;
 use penumbra::geometry::TileRegion;
+use penumbra::render::request::RenderRequest;
 use penumbra::render::{RenderContext, RenderMethod, RenderSettings, subpixel_rays};
 use penumbra::scene::scene_file::load_scene;
 use penumbra::shading::{Method, NoRecorder, ShadingScratch};
@@ -29,7 +30,7 @@ fn compare(file: &str, (w, h, aa): (u32, u32, u32), block: u32, rel: f64) -> (u6
         method: RenderMethod::Analytic,
         ..RenderSettings::default()
     };
-    let ctx = RenderContext::for_render(&scene, &settings, &Default::default());
+    let ctx = RenderContext::for_render(&scene, &RenderRequest::with_settings(settings));
     let basis = camera.basis().unwrap();
     let (mut shared, mut alone) = (ShadingScratch::default(), ShadingScratch::default());
     for ty in (0..h).step_by(16) {
@@ -130,7 +131,7 @@ fn the_probe_records_what_its_tile_shared() {
         method: RenderMethod::Analytic,
         ..RenderSettings::default()
     };
-    let ctx = RenderContext::for_render(&scene, &settings, &Default::default());
+    let ctx = RenderContext::for_render(&scene, &RenderRequest::with_settings(settings));
     let image = ctx.render(&camera, &settings, None).unwrap().0;
     let mut recorded = 0;
     // Floor points in the monkey's penumbra and shadow, and points on the monkey.

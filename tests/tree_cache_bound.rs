@@ -2,7 +2,6 @@
 //! prepared, evicting the least recently used trees first; a stress run writes nothing to it.
 
 use glam::{DAffine3, DQuat, DVec3};
-use penumbra::ltc::LtcTable;
 use penumbra::math::Pcg32;
 use penumbra::scene::shapes::quad;
 use penumbra::scene::thesis_polyhedra::thesis_polyhedron;
@@ -64,7 +63,7 @@ fn the_cache_stays_within_its_bound_and_evicts_the_least_recently_used() {
             cache: Some(&cache),
             ..PrepareOptions::default()
         };
-        PreparedScene::prepare(scene, LtcTable::embedded(), options)
+        PreparedScene::prepare(scene, options)
     };
 
     // One scene's files, to learn their size.

@@ -3,7 +3,6 @@
 //! library's turned, scaled (non-uniformly for boxes and cylinders) and moved; and the points
 //! looked up do fall inside the library's trees.
 
-use penumbra::ltc::LtcTable;
 use penumbra::scene::Material;
 use penumbra::shading::{Method, NoRecorder, PrepareOptions, PreparedScene, ShadingScratch, shade};
 use penumbra::stress::{CaseKind, generate, tree_library};
@@ -11,7 +10,6 @@ use penumbra::stress::{CaseKind, generate, tree_library};
 #[test]
 fn borrowed_trees_shade_like_own_trees_and_like_the_silhouette_at_the_point() {
     let library = tree_library();
-    let ltc = LtcTable::embedded();
     let material = Material {
         kd: glam::DVec3::ONE,
         ks: glam::DVec3::splat(0.5),
@@ -29,7 +27,6 @@ fn borrowed_trees_shade_like_own_trees_and_like_the_silhouette_at_the_point() {
         cases += 1;
         let lent = PreparedScene::prepare(
             &case.scene,
-            ltc,
             PrepareOptions {
                 library: Some(library),
                 ..PrepareOptions::default()
@@ -52,7 +49,6 @@ fn borrowed_trees_shade_like_own_trees_and_like_the_silhouette_at_the_point() {
         let own = (cases <= 12).then(|| {
             PreparedScene::prepare(
                 &case.scene,
-                ltc,
                 PrepareOptions {
                     ..PrepareOptions::default()
                 },

@@ -9,7 +9,6 @@ use penumbra::geometry::{
     ExactSilhouetteScratch, SphericalPolygon, WindowScratch, exact_silhouette,
     exact_silhouette_in_window,
 };
-use penumbra::ltc::LtcTable;
 use penumbra::math::{Frame, Pcg32};
 use penumbra::scene::shapes::quad;
 use penumbra::scene::{Material, ObjectFlags, Scene, SceneObject};
@@ -62,7 +61,7 @@ fn compare_object(scene: &Scene, name: &str, points: &[ShadingPoint]) -> (f64, u
     let options = PrepareOptions {
         ..PrepareOptions::default()
     };
-    let windowed = PreparedScene::prepare(scene, LtcTable::embedded(), options);
+    let windowed = PreparedScene::prepare(scene, options);
     let occ = windowed
         .objects
         .iter()

@@ -322,7 +322,7 @@ fn the_light_view_draws_the_bsp_planes_of_a_non_convex_light() {
 }
 
 /// The light view shows the tree the renderer looked the light up in, and the contour edges
-/// it recorded, not a tree or a contour of its own (issue 27 item 5): on hoisted trees, whose
+/// it recorded, not a tree or a contour of its own: on hoisted trees, whose
 /// layout differs from the tree they come from, and on a convex hull standing in for a mesh
 /// written by Blender.
 #[test]
@@ -407,7 +407,7 @@ fn the_light_view_shows_the_tree_the_renderer_used() {
     );
 }
 
-/// The environment light in the workbench (issue 13 item 6): a scene file's `[environment]`
+/// The environment light in the workbench: a scene file's `[environment]`
 /// lights the viewport through the panel's choice; a picked point shows the environment's
 /// numbers and union terms; switching the panel's method to `rt` restarts the render, whose
 /// frames carry the environment's rays, and picks the point again with its rays recorded.
@@ -508,7 +508,7 @@ fn the_command_palette_runs_a_command_by_name() {
     assert!(h.state().help_shown());
 }
 
-/// Export ▸ Figure (issue 28): at the point the workbench picks on its own, every view pane's
+/// Export ▸ Figure: at the point the workbench picks on its own, every view pane's
 /// figure is written as SVG, PDF and PNG, the SVG parses, and a view with nothing to show
 /// says why instead of writing an empty file. On env_figures, the environment's figure too.
 #[test]

@@ -1,4 +1,4 @@
-//! The workbench's tiles (issue 15): the presets at the default 1280×800 window, the picked
+//! The workbench's tiles: the presets at the default 1280×800 window, the picked
 //! point it starts with, the persisted layout and the lesson text of every stage.
 
 use crate::workbench::{harness, wait_for_render};
@@ -136,7 +136,7 @@ fn every_stage_has_its_lesson_with_the_points_numbers() {
     assert!(missing.len() <= 3, "stages never shown: {missing:?}");
 }
 
-/// Exporting the lesson of the picked point (issue 15 item 3): one frame per stage, cropped
+/// Exporting the lesson of the picked point: one frame per stage, cropped
 /// to the sphere's tile, as numbered PNGs, an animated GIF with the same frames (decoded back
 /// here) and the lesson text with every stage's label; the pictures change as the stages do.
 #[test]
@@ -197,7 +197,7 @@ fn the_lesson_exports_as_frames_a_gif_and_text() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// Dragging an occluder's arrow in the viewport (issue 15 item 2): the object moves along the
+/// Dragging an occluder's arrow in the viewport: the object moves along the
 /// arrow, the picked point's recording changes and equals a probe of a scene prepared from
 /// scratch with the object where it now is (an independent preparation), the render starts
 /// again; Ctrl+Z puts everything back bit for bit.
@@ -314,7 +314,7 @@ fn dragging_an_occluder_changes_the_recording_and_undo_restores_it() {
     );
 }
 
-/// A `.glb` dropped on the window (issue 15 item 4) opens as the scene, with its camera, and
+/// A `.glb` dropped on the window opens as the scene, with its camera, and
 /// renders: the image is finite, the light's floor is lit, and the point picked at start has
 /// the radiance a probe of the same file loaded by the library gives.
 #[test]

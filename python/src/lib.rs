@@ -5,7 +5,8 @@
 //! them); long renders release the interpreter.
 
 use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
-use penumbra::render::request::{self, EnvironmentOptions};
+use penumbra::render::request::{self, EnvironmentOptions, RenderRequest};
+use std::sync::Arc;
 use penumbra::shading::PrepareConfig;
 use penumbra::shading::tree_cache::CacheVars;
 use penumbra::render::{RenderMethod, RenderSettings};
@@ -90,10 +91,35 @@ struct Scene {
     scene: penumbra::scene::Scene,
     /// The camera renders use: the scene's own until set (`aspect` follows the scene's).
     camera: Option<penumbra::scene::Camera>,
+    /// The scene prepared for the last request, kept for the next render or probe whose
+    /// preparation would be the same (same image size, sub-pixel positions, seed and
+    /// environment; a move forgets it): the trees are built once, not per call.
+    prepared: std::sync::Mutex<Option<(PrepareKey, Arc<request::PreparedRender>)>>,
+    /// How many times the scene was prepared (`preparations`).
+    preparations: Arc<std::sync::atomic::AtomicU32>,
+}
+
+/// What a preparation depends on besides the scene: the cost model's camera rays (size and
+/// sub-pixel positions), and the environment's seed and options.
+#[derive(Clone, PartialEq)]
+struct PrepareKey {
+    size: (u32, u32),
+    aa: u32,
+    seed: u64,
+    env: Option<String>,
+    spp: Option<u32>,
 }
 
 #[pymethods]
 impl Scene {
+    /// How many times the scene was prepared for a render or probe: a call whose preparation
+    /// would be the one kept from the last call (same size, sub-pixel positions, seed and
+    /// environment, no move since) reuses it.
+    #[getter]
+    fn preparations(&self) -> u32 {
+        self.preparations.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
     /// The names of the scene's objects, in file order.
     #[getter]
     fn objects(&self) -> Vec<String> {
@@ -137,6 +163,7 @@ impl Scene {
         rotate_y: f64,
         pivot: Option<(f64, f64, f64)>,
     ) -> PyResult<()> {
+        *self.prepared.lock().unwrap_or_else(|e| e.into_inner()) = None;
         penumbra::scene::edit::move_object(
             &mut self.scene,
             name,
@@ -162,17 +189,36 @@ impl Scene {
         seed: u64,
         env: Option<String>,
     ) -> PyResult<Bound<'py, PyArray3<f32>>> {
-        let (settings, options) = request_of(method, size, aa, spp, seed, env)?;
+        let key = PrepareKey {
+            size,
+            aa,
+            seed,
+            env: env.clone(),
+            spp,
+        };
+        let request = request_of(method, size, aa, spp, seed, env)?;
         let camera = self.camera_or_error()?;
+        let kept = self.kept(&key);
+        let count = self.preparations.clone();
         let mut scene = self.scene.clone();
         // The long part without the interpreter (other Python threads run meanwhile), and
         // stopped by Ctrl-C.
-        let rgb = interruptible(py, move |cancel| -> Result<Vec<f32>, String> {
-            let prepared = prepared(&mut scene, &settings, &options)?;
-            let out = prepared.ctx.render_full(&camera, &settings, Some(cancel))?;
-            Ok(out.image.to_rgb32().into_iter().flatten().collect())
+        let done = interruptible(py, move |cancel| -> Result<_, String> {
+            let prepared = match kept {
+                Some(p) => p,
+                None => {
+                    count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    Arc::new(request.prepare(&mut scene)?)
+                }
+            };
+            let out = prepared
+                .ctx
+                .render_full(&camera, &request.settings, Some(cancel))?;
+            let rgb: Vec<f32> = out.image.to_rgb32().into_iter().flatten().collect();
+            Ok((rgb, prepared))
         })?;
-        let rgb = rgb.map_err(value_error)?;
+        let (rgb, prepared) = done.map_err(value_error)?;
+        self.keep(key, prepared);
         let (w, h) = (size.0 as usize, size.1 as usize);
         let array = numpy::ndarray::Array3::from_shape_vec((h, w, 3), rgb).map_err(value_error)?;
         Ok(array.into_pyarray(py))
@@ -194,26 +240,42 @@ impl Scene {
         seed: u64,
         env: Option<String>,
     ) -> PyResult<Recording> {
-        let (settings, options) = request_of(method, size, 1, spp, seed, env)?;
+        let key = PrepareKey {
+            size,
+            aa: 1,
+            seed,
+            env: env.clone(),
+            spp,
+        };
+        let request = request_of(method, size, 1, spp, seed, env)?;
         let camera = self.camera_or_error()?;
+        let kept = self.kept(&key);
+        let count = self.preparations.clone();
         let mut scene = self.scene.clone();
         let name = self.name.clone();
         let recorded = py.detach(move || -> Result<_, String> {
-            let prepared = prepared(&mut scene, &settings, &options)?;
+            let prepared = match kept {
+                Some(p) => p,
+                None => {
+                    count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    Arc::new(request.prepare(&mut scene)?)
+                }
+            };
             let probe = penumbra::inspect::debug_dump(
                 &prepared.ctx,
                 &name,
                 &camera,
-                &settings,
+                &request.settings,
                 (x, y),
                 true,
             )?;
-            Ok((probe, prepared.ctx))
+            Ok((probe, prepared))
         });
-        let (probe, context) = recorded.map_err(value_error)?;
+        let (probe, prepared) = recorded.map_err(value_error)?;
+        self.keep(key, prepared.clone());
         Ok(Recording {
             probe,
-            context: std::sync::Arc::new(context),
+            prepared,
         })
     }
 
@@ -227,6 +289,19 @@ impl Scene {
 }
 
 impl Scene {
+    /// The preparation kept for `key`, if the last one was for the same.
+    fn kept(&self, key: &PrepareKey) -> Option<Arc<request::PreparedRender>> {
+        let kept = self.prepared.lock().unwrap_or_else(|e| e.into_inner());
+        kept.as_ref()
+            .filter(|(k, _)| k == key)
+            .map(|(_, p)| p.clone())
+    }
+
+    /// Keeps `prepared` for the next call with the same `key`.
+    fn keep(&self, key: PrepareKey, prepared: Arc<request::PreparedRender>) {
+        *self.prepared.lock().unwrap_or_else(|e| e.into_inner()) = Some((key, prepared));
+    }
+
     fn camera_or_error(&self) -> PyResult<penumbra::scene::Camera> {
         self.camera.ok_or_else(|| {
             value_error(format!(
@@ -269,21 +344,6 @@ fn interruptible<T: Send>(
     })
 }
 
-/// `scene` made ready for a render or probe with the command line's default LTC table.
-fn prepared(
-    scene: &mut penumbra::scene::Scene,
-    settings: &RenderSettings,
-    options: &EnvironmentOptions,
-) -> Result<request::PreparedRender, String> {
-    request::resolve_and_prepare(
-        scene,
-        settings,
-        options,
-        request::ltc_table("embedded")?,
-        &prepare_config(),
-    )
-}
-
 /// How the process's environment asks scenes to be prepared (the tree cache, the measuring
 /// switches), read here since the library reads no environment; as the command line reads it.
 fn prepare_config() -> PrepareConfig {
@@ -305,7 +365,8 @@ fn prepare_config() -> PrepareConfig {
     config
 }
 
-/// The settings and environment options of a render or probe, checked.
+/// The request of a render or probe, checked: the library's defaults (the command line's)
+/// with what was given.
 fn request_of(
     method: &str,
     size: (u32, u32),
@@ -313,25 +374,26 @@ fn request_of(
     spp: Option<u32>,
     seed: u64,
     env: Option<String>,
-) -> PyResult<(RenderSettings, EnvironmentOptions)> {
+) -> PyResult<RenderRequest> {
     let method = method_by_name(method)?;
     if size.0 == 0 || size.1 == 0 || aa == 0 {
         return Err(value_error(format!(
             "size {size:?} and aa {aa} must be positive"
         )));
     }
+    let defaults = RenderRequest::default();
     let settings = RenderSettings {
         width: size.0,
         height: size.1,
         aa,
         method,
-        spp: spp.unwrap_or(16),
+        spp: spp.unwrap_or(defaults.settings.spp),
         seed,
         light_sampling: Default::default(),
         collect_stats: false,
         exact_u: false,
     };
-    let options = EnvironmentOptions {
+    let environment = EnvironmentOptions {
         overrides: EnvironmentOverrides {
             map: env,
             spp,
@@ -339,7 +401,12 @@ fn request_of(
         },
         ..Default::default()
     };
-    Ok((settings, options))
+    Ok(RenderRequest {
+        settings,
+        environment,
+        prepare: prepare_config(),
+        ..defaults
+    })
 }
 
 /// The recording of one shading point: its stages in the workbench stepper's order, its
@@ -349,7 +416,7 @@ struct Recording {
     probe: penumbra::inspect::Probe,
     /// The context the recording was made in: the light and bsp views draw on its meshes
     /// and trees.
-    context: std::sync::Arc<penumbra::render::RenderContext>,
+    prepared: Arc<request::PreparedRender>,
 }
 
 #[pymethods]
@@ -425,7 +492,7 @@ impl Recording {
             orbit: None,
             fit,
         };
-        let figure = penumbra::views::recording_figure(&self.probe, Some(&self.context), &request)
+        let figure = penumbra::views::recording_figure(&self.probe, Some(&self.prepared.ctx), &request)
             .map_err(value_error)?;
         Ok(Figure { figure })
     }
@@ -488,6 +555,8 @@ fn load_scene(name_or_path: &str) -> PyResult<Scene> {
         name: name_or_path.to_string(),
         camera: scene.camera,
         scene,
+        prepared: Default::default(),
+        preparations: Default::default(),
     })
 }
 

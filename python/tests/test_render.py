@@ -1,4 +1,4 @@
-"""penumbra from Python against the command line (issue 29): the same images bit for bit,
+"""penumbra from Python against the command line: the same images bit for bit,
 the same comparison metrics, errors as exceptions, and two scenes rendering at once.
 
 The command line is ``PENUMBRA_CLI`` or ``target/release/penumbra`` of this repository.
@@ -177,6 +177,25 @@ def test_move_is_penumbra_edit(tmp_path):
     assert np.array_equal(ours, theirs)
     with pytest.raises(ValueError, match="no object is named"):
         scene.move("nothing", translate=(1, 0, 0))
+
+
+def test_calls_on_an_unchanged_scene_share_one_preparation():
+    scene = penumbra.load_scene("default")
+    first = scene.render(size=(32, 24))
+    shared = scene.render(method="per-triangle", size=(32, 24))
+    scene.probe(16, 12, size=(32, 24))
+    assert scene.preparations == 1
+    # What a kept preparation renders is what a fresh one does, bit for bit.
+    fresh = penumbra.load_scene("default").render(method="per-triangle", size=(32, 24))
+    assert np.array_equal(shared.view(np.uint32), fresh.view(np.uint32))
+    assert np.array_equal(first, scene.render(size=(32, 24)))
+    assert scene.preparations == 1
+    # Another image size sizes the trees anew; a move changes the scene.
+    scene.render(size=(48, 36))
+    assert scene.preparations == 2
+    scene.move("seat", translate=(0.1, 0.0, 0.0))
+    scene.render(size=(48, 36))
+    assert scene.preparations == 3
 
 
 # Each call is minutes of work uninterrupted.

@@ -16,6 +16,7 @@ use crate::environment::prt::PrtReport;
 use crate::environment::{EnvMethod, EnvironmentLight, EnvironmentMap};
 use crate::render::compare::{Comparison, compare};
 use crate::render::environment::{Culling, EnvironmentSettings, EnvironmentStats, StaticTerm};
+use crate::render::request::RenderRequest;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::{Camera, Scene};
 use std::fmt::Write as _;
@@ -106,7 +107,12 @@ pub fn run_environment_bench(
     // Prepared as `penumbra render` prepares this image (the scene has an environment: checked
     // above).
     let t = web_time::Instant::now();
-    let mut ctx = RenderContext::for_render(scene, &settings, &opts.prepare);
+    let request = RenderRequest {
+        settings,
+        prepare: opts.prepare.clone(),
+        ..RenderRequest::default()
+    };
+    let mut ctx = RenderContext::for_render(scene, &request);
     let prepare_seconds = t.elapsed().as_secs_f64();
     let stderr: std::cell::RefCell<Option<Image>> = std::cell::RefCell::new(None);
     let prt: std::cell::Cell<Option<PrtReport>> = std::cell::Cell::new(None);

@@ -147,7 +147,7 @@ pub fn equal_time_markdown(report: &BenchReport) -> String {
 }
 
 /// The method the noise table compares with: the LTC corrected by sampling inside the exact
-/// visible polygon (issue 14).
+/// visible polygon.
 const NOISE_TARGET: &str = "analytic-exact";
 
 /// How long each stochastic method takes to bring its corrected RMSE (its own error, the

@@ -5,6 +5,7 @@
 use super::realworld_scenes::{ExportedScene, generated_scenes};
 use crate::render::compare::{Comparison, compare};
 use crate::render::image_io::{write_pfm, write_png};
+use crate::render::request::RenderRequest;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::Camera;
 use crate::scene::scene_file::load_scene;
@@ -239,8 +240,11 @@ pub fn run_realworld(
         // Sized for one render of the suite's camera rays, as `penumbra render` prepares.
         let ctx = RenderContext::for_render(
             &scene,
-            &settings(RenderMethod::Analytic, 1, config.seed),
-            &config.prepare,
+            &RenderRequest {
+                settings: settings(RenderMethod::Analytic, 1, config.seed),
+                prepare: config.prepare.clone(),
+                ..RenderRequest::default()
+            },
         );
         let prepare_seconds = t.elapsed().as_secs_f64();
         let camera: Camera = scene

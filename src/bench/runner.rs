@@ -4,6 +4,7 @@
 
 use super::table::{BenchReport, BenchRow, ReferenceInfo};
 use crate::render::compare::compare;
+use crate::render::request::RenderRequest;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings, RenderStats};
 use crate::scene::Camera;
 use crate::stochastic::LightSampling;
@@ -77,8 +78,11 @@ impl BenchConfig {
     pub fn prepare(&self, scene: &crate::scene::Scene) -> RenderContext {
         RenderContext::for_render(
             scene,
-            &self.settings(RenderMethod::Analytic, 1, self.seed),
-            &self.prepare,
+            &RenderRequest {
+                settings: self.settings(RenderMethod::Analytic, 1, self.seed),
+                prepare: self.prepare.clone(),
+                ..RenderRequest::default()
+            },
         )
     }
 

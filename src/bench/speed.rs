@@ -20,6 +20,7 @@
 //! slowdown (which every measurement sees) is.
 
 use crate::ltc::edge_integral::form_factor;
+use crate::render::request::RenderRequest;
 use crate::render::{RenderContext, RenderMethod, RenderSettings};
 use crate::scene::Scene;
 use crate::scene::scene_file::{embedded_scene_names, load_embedded, load_scene};
@@ -327,7 +328,12 @@ pub fn measure_scene(scene: &Scene, name: &str, config: &SpeedConfig) -> Result<
         collect_stats: false,
         exact_u: false,
     };
-    let ctx = RenderContext::for_render(scene, &settings(RenderMethod::Analytic), &config.prepare);
+    let request = RenderRequest {
+        settings: settings(RenderMethod::Analytic),
+        prepare: config.prepare.clone(),
+        ..RenderRequest::default()
+    };
+    let ctx = RenderContext::for_render(scene, &request);
     let quads = calibration_quads();
     let (analytic, unshadowed) = (
         settings(RenderMethod::Analytic),

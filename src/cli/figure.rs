@@ -56,8 +56,9 @@ pub(crate) fn figure(args: &RenderArgs, f: &FigureArgs) -> Result<()> {
             scene: scene.clone(),
             ..args.clone()
         };
-        let (_, prepared) = super::environment::prepared_scene(&scene_args)
-            .with_context(|| format!("the light's mesh comes from the scene '{scene}'"))?;
+        let (_, prepared) =
+            super::render::prepared_scene(&scene_args, &super::render::request(&scene_args)?)
+                .with_context(|| format!("the light's mesh comes from the scene '{scene}'"))?;
         Some(prepared)
     } else {
         None

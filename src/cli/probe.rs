@@ -1,8 +1,8 @@
 //! `penumbra probe`: one pixel's stages as the JSON debug dump.
 
 use super::args::*;
-use super::environment::prepared_scene;
-use super::render::{camera, settings};
+use super::render::camera;
+use super::render::prepared_scene;
 use anyhow::{Context, Result};
 use std::path::Path;
 
@@ -35,7 +35,8 @@ pub(crate) fn probe_dump(
 ) -> Result<penumbra::inspect::Probe> {
     // Prepared as `penumbra render` prepares the same image (the same environment, LTC table
     // and settings), so that the probe records what that render computes at this pixel.
-    let (scene, prepared) = prepared_scene(args)?;
+    let request = super::render::request(args)?;
+    let (scene, prepared) = prepared_scene(args, &request)?;
     let cam = camera(&args.camera, &scene)?;
     let ctx = prepared.ctx;
     let pixel = match pixel {
@@ -51,7 +52,7 @@ pub(crate) fn probe_dump(
             ),
         },
     };
-    penumbra::inspect::debug_dump(&ctx, &args.scene, &cam, &settings(args), pixel, gh_steps)
+    penumbra::inspect::debug_dump(&ctx, &args.scene, &cam, &request.settings, pixel, gh_steps)
         .map_err(anyhow::Error::msg)
 }
 

@@ -1,9 +1,10 @@
 //! `penumbra render`, `reference` and `compare`: images of a scene, and their comparison.
 
 use super::args::*;
-use super::environment::prepared_scene;
+use super::environment::environment_options;
 use anyhow::{Context, Result, bail};
 use glam::DVec3;
+use penumbra::render::request::{PreparedRender, RenderRequest};
 use penumbra::render::{Image, RenderContext, RenderSettings, image_io};
 use penumbra::scene::{Camera, Scene};
 use std::path::{Path, PathBuf};
@@ -67,24 +68,47 @@ pub(crate) fn stderr_path(out: &Path) -> PathBuf {
     ))
 }
 
-pub(crate) fn settings(args: &RenderArgs) -> RenderSettings {
-    RenderSettings {
-        width: args.size.0,
-        height: args.size.1,
-        aa: args.aa,
-        method: args.method,
-        spp: args.spp.unwrap_or(16),
-        seed: args.seed,
-        light_sampling: args.light_sampling,
-        collect_stats: false,
-        exact_u: args.exact_u,
+/// The request `args` make: the library's defaults ([`RenderRequest::default`]) overridden by
+/// what was given, the LTC table named, and the preparation the environment asks for.
+pub(crate) fn request(args: &RenderArgs) -> Result<RenderRequest> {
+    let defaults = RenderRequest::default();
+    Ok(RenderRequest {
+        settings: RenderSettings {
+            width: args.size.0,
+            height: args.size.1,
+            aa: args.aa,
+            method: args.method,
+            spp: args.spp.unwrap_or(defaults.settings.spp),
+            seed: args.seed,
+            light_sampling: args.light_sampling,
+            collect_stats: false,
+            exact_u: args.exact_u,
+        },
+        environment: environment_options(args),
+        ltc: super::ltc::ltc_table(&args.ltc_table)?,
+        prepare: super::process_env::prepare_config(),
+    })
+}
+
+/// Loads `args.scene` and prepares it for `request` (`RenderRequest::prepare`: its environment
+/// merged, its trees, its LTC table), printing the library's notes.
+pub(crate) fn prepared_scene(
+    args: &RenderArgs,
+    request: &RenderRequest,
+) -> Result<(Scene, PreparedRender)> {
+    let mut scene = load_scene(&args.scene)?;
+    let prepared = request.prepare(&mut scene).map_err(anyhow::Error::msg)?;
+    for n in &prepared.notes {
+        eprintln!("note: {n}");
     }
+    Ok((scene, prepared))
 }
 
 pub(crate) fn render(args: &RenderArgs) -> Result<()> {
-    let (scene, prepared) = prepared_scene(args)?;
+    let request = request(args)?;
+    let (scene, prepared) = prepared_scene(args, &request)?;
     let cam = camera(&args.camera, &scene)?;
-    let settings = settings(args);
+    let settings = request.settings;
     let (ctx, env) = (prepared.ctx, prepared.environment);
     let out = super::progress::with_tile_bar(|| ctx.render_full(&cam, &settings, None))
         .map_err(anyhow::Error::msg)?;
@@ -160,11 +184,12 @@ pub(crate) fn render(args: &RenderArgs) -> Result<()> {
 pub(crate) fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()> {
     let scene = load_scene(&args.scene)?;
     let cam = camera(&args.camera, &scene)?;
-    let settings = settings(args);
-    let ctx = RenderContext::for_render(&scene, &settings, &super::process_env::prepare_config());
+    let request = request(args)?;
+    let ctx = RenderContext::for_render(&scene, &request);
     let start = web_time::Instant::now();
-    let (img, err) = penumbra::reference::render_reference(&ctx, &cam, &settings, samples, seed)
-        .map_err(anyhow::Error::msg)?;
+    let (img, err) =
+        penumbra::reference::render_reference(&ctx, &cam, &request.settings, samples, seed)
+            .map_err(anyhow::Error::msg)?;
     say!(
         "reference {}: {samples} samples per light, {:.3} s",
         args.scene,

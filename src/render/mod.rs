@@ -16,7 +16,6 @@ pub use crate::raster::Image;
 pub use crate::raster::io as image_io;
 
 use crate::accel::{Bvh, Ray};
-use crate::ltc::LtcTable;
 use crate::scene::camera::CameraBasis;
 use crate::scene::{Camera, Scene};
 use crate::shading::{
@@ -54,6 +53,12 @@ pub fn subpixel_rays(
 }
 
 /// Every way `penumbra render` can compute an image.
+///
+/// The rule every method keeps: a render makes the same `render_tiles` calls, and the same
+/// [`slicing::step`]s, in the same order each time it runs with the same inputs, so that a
+/// render cut into time slices (the browser's, [`slicing`]) replays its finished calls from
+/// the slicer's memo and gives the uninterrupted image bit for bit. The slicing module's test
+/// checks it for every method of [`RenderMethod::ALL`].
 #[derive(
     Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
 )]
@@ -287,22 +292,15 @@ impl RenderContext {
         Self::with_options(scene, options)
     }
 
-    /// Prepares `scene` for about `settings`' camera rays (the cost model sizes the trees of
-    /// precomputed silhouettes for them: `shading::cost_model`), with the caller's `config`.
-    pub fn for_render(scene: &Scene, settings: &RenderSettings, config: &PrepareConfig) -> Self {
-        let rays =
-            u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.aa).pow(2);
-        let options = PrepareOptions {
-            expected_rays: rays,
-            environment: scene.environment.is_some(),
-            ..config.options()
-        };
-        Self::with_options(Arc::new(scene.clone()), options)
+    /// Prepares `scene` for `request`: its trees sized for the request's camera rays (the
+    /// cost model, `shading::cost_model`), its LTC table, the caller's choices.
+    pub fn for_render(scene: &Scene, request: &request::RenderRequest) -> Self {
+        Self::with_options(Arc::new(scene.clone()), request.prepare_options(scene))
     }
 
     /// Prepares `scene` with `options`.
     pub fn with_options(scene: Arc<Scene>, options: PrepareOptions) -> Self {
-        let prepared = PreparedScene::prepare(&scene, LtcTable::embedded(), options);
+        let prepared = PreparedScene::prepare(&scene, options);
         RenderContext {
             area_lights: AreaLights::new(&scene, &prepared),
             bvh: Bvh::build(&scene),

@@ -1,6 +1,7 @@
-//! A render as a user asks for it (the command line, the Python module): a scene, the
-//! environment options merged into it, the LTC table, prepared once for the settings. One
-//! preparation whatever asks, so that equal requests give equal images bit for bit.
+//! A render as a user asks for it ([`RenderRequest`]: the command line, Python, the benchmark
+//! and the workbench): a scene, the environment options merged into it, the LTC table,
+//! prepared once for the settings. One preparation whatever asks, so that equal requests give
+//! equal images bit for bit.
 
 use super::environment::{EnvironmentSettings, StaticTerm};
 use super::{RenderContext, RenderSettings};
@@ -8,7 +9,7 @@ use crate::environment::EnvironmentLight;
 use crate::ltc::LtcTable;
 use crate::scene::Scene;
 use crate::scene::environment_spec::EnvironmentOverrides;
-use crate::shading::PrepareConfig;
+use crate::shading::{PrepareConfig, PrepareOptions};
 
 /// The environment options of a request (`--env*` on the command line).
 #[derive(Clone, Debug, Default)]
@@ -27,6 +28,61 @@ pub struct PreparedRender {
     pub ctx: RenderContext,
     pub environment: Option<EnvironmentSettings>,
     pub notes: Vec<String>,
+}
+
+/// A render as a user asks for it, with the defaults every caller starts from: what to render
+/// (`settings`: method, size, sub-pixel positions, samples, seed), the environment's options
+/// over the scene file's, the LTC table, and how scenes are prepared (the caller's
+/// [`PrepareConfig`]). The command line, Python, the benchmark and the workbench build theirs
+/// from [`RenderRequest::default`], so that a default is written once.
+#[derive(Clone)]
+pub struct RenderRequest {
+    pub settings: RenderSettings,
+    pub environment: EnvironmentOptions,
+    pub ltc: &'static LtcTable,
+    pub prepare: PrepareConfig,
+}
+
+impl Default for RenderRequest {
+    fn default() -> Self {
+        RenderRequest {
+            settings: RenderSettings::default(),
+            environment: EnvironmentOptions::default(),
+            ltc: LtcTable::embedded(),
+            prepare: PrepareConfig::default(),
+        }
+    }
+}
+
+impl RenderRequest {
+    /// `settings` with every other part of the request at its default.
+    pub fn with_settings(settings: RenderSettings) -> Self {
+        RenderRequest {
+            settings,
+            ..RenderRequest::default()
+        }
+    }
+
+    /// How `scene` is prepared for this request: trees sized by the cost model for the
+    /// request's camera rays, knowing whether the scene has an environment, with the request's
+    /// LTC table and the caller's choices.
+    pub fn prepare_options(&self, scene: &Scene) -> PrepareOptions<'_> {
+        let s = &self.settings;
+        PrepareOptions {
+            expected_rays: u64::from(s.width) * u64::from(s.height) * u64::from(s.aa).pow(2),
+            environment: scene.environment.is_some(),
+            ltc: self.ltc,
+            ..self.prepare.options()
+        }
+    }
+
+    /// `scene` with the request's environment merged into it ([`resolve_environment`]), then
+    /// prepared for the request ([`prepare`]): the command line's and Python's one way to a
+    /// render.
+    pub fn prepare(&self, scene: &mut Scene) -> Result<PreparedRender, String> {
+        resolve_environment(scene, &self.environment)?;
+        prepare(scene, self)
+    }
 }
 
 /// The LTC table named `spec`: `embedded`, `published` or a file, with `+renorm` for its
@@ -58,22 +114,16 @@ pub fn resolve_environment(scene: &mut Scene, env: &EnvironmentOptions) -> Resul
 }
 
 /// Prepares `scene` (its environment already resolved, [`resolve_environment`]) for
-/// `settings`: the context, the LTC table, and the environment loaded and attached with the
-/// request's options and `settings.seed`; `config` is the caller's (the tree cache).
-pub fn prepare(
-    scene: &Scene,
-    settings: &RenderSettings,
-    env: &EnvironmentOptions,
-    ltc: &'static LtcTable,
-    config: &PrepareConfig,
-) -> Result<PreparedRender, String> {
-    let mut ctx = RenderContext::for_render(scene, settings, config);
-    ctx.prepared.ltc = ltc;
+/// `request`: the context (its trees sized for the request's image, its LTC table), and the
+/// environment loaded and attached with the request's options and `settings.seed`.
+pub fn prepare(scene: &Scene, request: &RenderRequest) -> Result<PreparedRender, String> {
+    let mut ctx = RenderContext::for_render(scene, request);
     let mut notes = ctx.prepared.report.lines();
     let mut environment = None;
+    let env = &request.environment;
     if let Some(spec) = &scene.environment {
         let light = EnvironmentLight::load(spec).map_err(|e| format!("{e:#}"))?;
-        let mut s = EnvironmentSettings::for_spec(spec, settings.seed);
+        let mut s = EnvironmentSettings::for_spec(spec, request.settings.seed);
         if env.no_filter {
             s.filter = false;
         }
@@ -96,17 +146,4 @@ pub fn prepare(
         environment,
         notes,
     })
-}
-
-/// [`resolve_environment`] then [`prepare`]: a loaded scene made ready for one request (the
-/// command line's and the Python module's one way to it).
-pub fn resolve_and_prepare(
-    scene: &mut Scene,
-    settings: &RenderSettings,
-    env: &EnvironmentOptions,
-    ltc: &'static LtcTable,
-    config: &PrepareConfig,
-) -> Result<PreparedRender, String> {
-    resolve_environment(scene, env)?;
-    prepare(scene, settings, env, ltc, config)
 }

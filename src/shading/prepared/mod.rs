@@ -403,6 +403,8 @@ pub struct PrepareOptions<'a> {
     pub hoisted_trees: bool,
     /// [`PrepareConfig::one_ray_per_piece`].
     pub one_ray_per_piece: bool,
+    /// The LTC table shading reads (`--ltc-table`).
+    pub ltc: &'static LtcTable,
 }
 
 impl Default for PrepareOptions<'_> {
@@ -416,30 +418,19 @@ impl Default for PrepareOptions<'_> {
             environment: false,
             hoisted_trees: false,
             one_ray_per_piece: false,
+            ltc: LtcTable::embedded(),
         }
     }
 }
 
 impl PreparedScene {
+    /// `scene` prepared with the default options.
     pub fn new(scene: &Scene) -> Self {
-        Self::with_ltc(scene, LtcTable::embedded())
+        Self::prepare(scene, PrepareOptions::default())
     }
 
-    pub fn with_ltc(scene: &Scene, ltc: &'static LtcTable) -> Self {
-        Self::prepare(scene, ltc, PrepareOptions::default())
-    }
-
-    /// [`PreparedScene::with_ltc`]; with `share_trees` false, instances of one mesh do not
-    /// share a tree: each gets its own, built in its world frame (tests, benchmarks).
-    pub fn with_options(scene: &Scene, ltc: &'static LtcTable, share_trees: bool) -> Self {
-        let options = PrepareOptions {
-            share_instances: share_trees,
-            ..PrepareOptions::default()
-        };
-        Self::prepare(scene, ltc, options)
-    }
-
-    pub fn prepare(scene: &Scene, ltc: &'static LtcTable, options: PrepareOptions) -> Self {
+    /// `scene` prepared with `options`.
+    pub fn prepare(scene: &Scene, options: PrepareOptions) -> Self {
         let mut objects = Vec::new();
         let mut lights = Vec::new();
         let mut occluders = Vec::new();
@@ -506,7 +497,7 @@ impl PreparedScene {
             occluders,
             materials,
             separations,
-            ltc,
+            ltc: options.ltc,
             report,
             bounds: scene_box,
             tree_groups,

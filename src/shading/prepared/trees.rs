@@ -24,9 +24,8 @@ pub const MAX_EXACT_BSP_LEAVES: usize = 200_000;
 /// The same bound for an open mesh's tree, whose leaves cost more to build (stage 2 has more
 /// pairs, and every cell is validated at its corners and at its faces' and edges' middles):
 /// a tree that does not fit stays unbuilt, so that a failed attempt costs milliseconds of a
-/// cold start. Measured on a fuzzed scene with a 27-face and a 92-face open mesh: the
-/// preparation took 0.00 s without open trees, 37.6 s with the closed meshes' bound of
-/// 200,000 leaves (both attempts failing), 12.5 s at 20,000 and 0.01 s at this bound.
+/// cold start, where the closed meshes' bound lets two small open meshes' failing attempts
+/// take tens of seconds (docs/silhouettes.md, "Trees of open meshes").
 pub const MAX_OPEN_BSP_LEAVES: usize = 2_000;
 
 /// Convex meshes whose face planes cut the scene into more cells than this keep computing
