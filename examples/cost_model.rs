@@ -7,8 +7,10 @@
 use glam::DVec3;
 use penumbra::bench::realworld_scenes::{displaced_icosphere, twisted_ellipsoid};
 use penumbra::geometry::IndexedPolyhedron;
-use penumbra::geometry::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
-use penumbra::geometry::windowed_silhouette::{WindowScratch, exact_silhouette_in_window};
+use penumbra::geometry::silhouettes::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
+use penumbra::geometry::silhouettes::windowed_silhouette::{
+    WindowScratch, exact_silhouette_in_window,
+};
 use penumbra::geometry::{
     ExactBspLimits, ExactSilhouetteBsp, Sidedness, SilhouetteBsp, SilhouetteScratch,
     SphericalPolygon, silhouette,

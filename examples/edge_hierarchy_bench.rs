@@ -1,6 +1,6 @@
 //! Times the contour edges (001 Eq. 4.2) and the whole exact silhouette per point, by the scan
 //! over all edges and through the normal-cone hierarchy over the edges
-//! (`geometry::edge_hierarchy`), on the bunny, the displaced blob and displaced icospheres of
+//! (`geometry::mesh::edge_hierarchy`), on the bunny, the displaced blob and displaced icospheres of
 //! levels 1–5, at points at several distances; with the nodes visited and edges tested. Writes
 //! `out/edge_hierarchy.csv`; the figures are in docs/silhouettes.md.
 //!
@@ -9,10 +9,10 @@ use glam::DVec3;
 use penumbra::bench::realworld_scenes::displaced_icosphere;
 use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::SphericalPolygon;
-use penumbra::geometry::edge_hierarchy::{
+use penumbra::geometry::mesh::edge_hierarchy::{
     BuildParams, ContourScratch, EdgeHierarchy, contour_edge_indices,
 };
-use penumbra::geometry::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
+use penumbra::geometry::silhouettes::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
 use penumbra::math::Frame;
 use std::fmt::Write;
 use std::sync::Arc;

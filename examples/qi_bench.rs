@@ -1,5 +1,5 @@
 //! Times the exact silhouettes with one ray per piece against quantitative invisibility (one
-//! ray per connected set of pieces, the count carried along: `geometry::quantitative_invisibility`)
+//! ray per connected set of pieces, the count carried along: `geometry::silhouettes::quantitative_invisibility`)
 //! on the Stanford bunny and the real-world suite's displaced blob: microseconds per point and
 //! rays per point, for the whole silhouette (`exact_silhouette`) and inside a light's window
 //! (`exact_silhouette_in_window`, quad lights of two sizes).
@@ -9,8 +9,10 @@ use glam::DVec3;
 use penumbra::bench::realworld_scenes::displaced_icosphere;
 use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::SphericalPolygon;
-use penumbra::geometry::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
-use penumbra::geometry::windowed_silhouette::{WindowScratch, exact_silhouette_in_window};
+use penumbra::geometry::silhouettes::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
+use penumbra::geometry::silhouettes::windowed_silhouette::{
+    WindowScratch, exact_silhouette_in_window,
+};
 use penumbra::math::Frame;
 use std::time::Instant;
 

@@ -397,7 +397,7 @@ fn the_uv_sphere_is_convex_up_to_its_rounding_in_both_files() {
 /// At points on Blender's monkey under a light that reaches their horizon, the monkey is
 /// subtracted inside the light's window split at the horizon: its windowed outline above a
 /// circle tilted just above the horizon, its faces one by one below it
-/// (`geometry::horizon_split`). There the analytic path agrees with the per-triangle one
+/// (`geometry::spherical::horizon_split`). There the analytic path agrees with the per-triangle one
 /// (every triangle of the light minus every triangle of the monkey, a second exact algorithm)
 /// to 1e-10 relative.
 #[test]

@@ -1,12 +1,12 @@
 //! Silhouette edges stored as high in the tree as they stay valid (001 Sect. 8,
-//! `geometry::bsp_hoisted`), against two oracles at thousands of random points per Table 7.1
+//! `geometry::trees::bsp_hoisted`), against two oracles at thousands of random points per Table 7.1
 //! polyhedron: the leaf-stored tree it was made from (the same loops as cyclic sequences of
 //! points) and the silhouette computed on the fly.
 
 use glam::DVec3;
 use penumbra::geometry::IndexedPolyhedron;
-use penumbra::geometry::bsp::LOOP_END;
-use penumbra::geometry::bsp_hoisted::loop_runs;
+use penumbra::geometry::trees::bsp::LOOP_END;
+use penumbra::geometry::trees::bsp_hoisted::loop_runs;
 use penumbra::geometry::{
     ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, HoistedSilhouetteBsp, Sidedness,
     SilhouetteBsp, SilhouetteScratch, SphericalPolygon, exact_silhouette, silhouette,

@@ -6,8 +6,10 @@
 
 use glam::DVec3;
 use penumbra::accel::{Ray, intersect_triangle};
-use penumbra::geometry::cell_triangulation::{concave_edge_endpoints, triangulate_silhouette};
-use penumbra::geometry::exact_silhouette::SilhouettePoint;
+use penumbra::geometry::silhouettes::exact_silhouette::SilhouettePoint;
+use penumbra::geometry::trees::cell_triangulation::{
+    concave_edge_endpoints, triangulate_silhouette,
+};
 use penumbra::geometry::{
     BspNode, ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, SilhouetteTriangulation,
     SphericalPolygon, TriangulationLimits, exact_silhouette, orient,
@@ -182,7 +184,7 @@ fn a_silhouette_without_a_plain_triangulation_uses_optional_vertices() {
             continue;
         }
         big += 1;
-        penumbra::geometry::exact_silhouette::symbolic_loops(&scratch, &mut symbolic);
+        penumbra::geometry::silhouettes::exact_silhouette::symbolic_loops(&scratch, &mut symbolic);
         let loops: Vec<Vec<SilhouettePoint>> = symbolic
             .split(|p| p.is_none())
             .filter(|l| !l.is_empty())

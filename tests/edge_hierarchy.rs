@@ -1,4 +1,4 @@
-//! Contour edges through the normal-cone hierarchy over the edges (`geometry::edge_hierarchy`)
+//! Contour edges through the normal-cone hierarchy over the edges (`geometry::mesh::edge_hierarchy`)
 //! against the scan (`contour_edges`, an independent oracle): the same edges in the same order,
 //! and the exact silhouette built from them the same bit for bit, on the bunny, a displaced
 //! icosphere (closed and opened), a UV sphere and the polyhedra of 001 Table 7.1, at points far,
@@ -7,7 +7,7 @@
 use glam::DVec3;
 use penumbra::bench::realworld_scenes::displaced_icosphere;
 use penumbra::geometry::IndexedPolyhedron;
-use penumbra::geometry::edge_hierarchy::{
+use penumbra::geometry::mesh::edge_hierarchy::{
     ContourScratch, CoplanarFace, EdgeHierarchy, contour_edge_indices, coplanar_tolerance,
 };
 use penumbra::geometry::{

@@ -1,4 +1,4 @@
-//! Meshes convex up to the rounding of their coordinates (`geometry::near_convex`): exporter
+//! Meshes convex up to the rounding of their coordinates (`geometry::mesh::near_convex`): exporter
 //! scenes take the hull stand-in, and the stand-in changes solid angles and shading by no more
 //! than its stated bound, against the exact path (the mesh's own exact silhouette and faces,
 //! what the same file takes when its rounding is taken as zero).

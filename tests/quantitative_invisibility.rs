@@ -1,4 +1,4 @@
-//! Quantitative invisibility in the exact silhouettes (`geometry::quantitative_invisibility`):
+//! Quantitative invisibility in the exact silhouettes (`geometry::silhouettes::quantitative_invisibility`):
 //! one ray per connected set of pieces, the count of faces carried from piece to piece, must
 //! keep exactly the pieces one ray per piece keeps. Checked against two oracles that do not use
 //! the propagation: the per-piece rays (the same silhouette bit for bit, on the bunny, a
@@ -391,7 +391,7 @@ fn qi_on_open_meshes_is_the_per_piece_rays() {
                 if !from_ray {
                     carried += 1;
                     carried_boundary +=
-                        u32::from(faces.contains(&penumbra::geometry::polyhedron::NO_FACE));
+                        u32::from(faces.contains(&penumbra::geometry::mesh::polyhedron::NO_FACE));
                 }
             }
         }

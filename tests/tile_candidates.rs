@@ -1,4 +1,4 @@
-//! Candidate edges shared by the shading points of a tile (`geometry::tile_candidates`)
+//! Candidate edges shared by the shading points of a tile (`geometry::silhouettes::tile_candidates`)
 //! against each point on its own, whose window query of the edge hierarchy is a second
 //! enumeration of the same edges: at every camera sample of an image of Blender's monkey,
 //! shading with the point's region shared gives the radiance of shading it alone, bit for bit,

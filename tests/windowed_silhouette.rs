@@ -1,4 +1,4 @@
-//! The silhouette of a large closed mesh inside a light's window (`geometry::windowed_silhouette`)
+//! The silhouette of a large closed mesh inside a light's window (`geometry::silhouettes::windowed_silhouette`)
 //! against the whole exact silhouette (a second algorithm, tested against ray casting in
 //! `exact_silhouette.rs`): shading through one equals shading through the other, at floor
 //! points under the Stanford bunny and around a displaced icosphere, for quad lights of many

@@ -13,7 +13,7 @@ pub mod bvh;
 pub use bvh::{Bvh, Hit, newell_normal};
 // The ray and the ray–triangle test are geometry (the exact silhouettes' ray tests use them
 // too); the hierarchy built over a scene's triangles is what lives here.
-pub use crate::geometry::ray::{self, Ray};
-pub use crate::geometry::triangle::{
+pub use crate::geometry::mesh::ray::{self, Ray};
+pub use crate::geometry::mesh::triangle::{
     self, PreparedRay, TriangleHit, intersect_triangle, is_degenerate,
 };

@@ -189,7 +189,7 @@ pub fn numbers(probe: &Probe, step: &Step) -> Vec<(&'static str, String)> {
                 out.push(("after_vertices", av.to_string()));
                 out.push(("after_loops", al.to_string()));
                 let (n, entries, exits) = sd.steps.as_ref().map_or((0, 0, 0), |st| {
-                    use crate::geometry::set_difference::Transition;
+                    use crate::geometry::spherical::set_difference::Transition;
                     let count = |t| st.labels.iter().filter(|l| l.transition == Some(t)).count();
                     (
                         st.intersections.len(),

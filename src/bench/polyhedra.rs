@@ -141,7 +141,7 @@ pub struct PolyhedronRow {
     pub unvalidated_s: Option<f64>,
     /// The real storage of both forms (bytes of planes, nodes and leaf or node data in
     /// memory), and the time of one lookup at random points of the box, the loops gathered
-    /// (ns; the hoisted form also chains them): `geometry::bsp_hoisted`.
+    /// (ns; the hoisted form also chains them): `geometry::trees::bsp_hoisted`.
     pub leaf_stored_bytes: usize,
     pub hoisted_stored_bytes: usize,
     pub leaf_lookup_ns: f64,

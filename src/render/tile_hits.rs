@@ -1,6 +1,6 @@
 //! A tile's camera samples found before it is shaded: their primary hits, and the regions
 //! (balls) holding its shading points, one per object and block of pixels, which the shading
-//! stages share work within (`geometry::tile_candidates`).
+//! stages share work within (`geometry::silhouettes::tile_candidates`).
 
 use super::{PrimaryHit, RenderContext, SampleGrid, TileBounds, Tiles};
 use crate::geometry::TileRegion;

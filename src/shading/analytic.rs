@@ -38,8 +38,8 @@ use super::recorder::{
     TreeLookupRecord,
 };
 use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
-use crate::geometry::horizon_split::HorizonSplit;
-use crate::geometry::spherical_polygon::clip_loop_to_half_spaces;
+use crate::geometry::spherical::horizon_split::HorizonSplit;
+use crate::geometry::spherical::spherical_polygon::clip_loop_to_half_spaces;
 use crate::geometry::{
     ExactSilhouetteScratch, HoleScratch, HorizonScratch, Overlap, PlanarPolygon, Plane,
     PolygonLoops, ProjectionPlane, SetDifference, Sidedness, SilhouettePoint, SphericalPolygon,
@@ -128,7 +128,7 @@ pub struct ShadingScratch {
     pub(super) difference: SetDifference,
     pub(super) hole: HoleScratch,
     /// The part of an occluder inside a convex visible polygon, while that difference is held
-    /// as a hole (`geometry::hole_difference`, [`subtract_planar`]): the visible region is
+    /// as a hole (`geometry::spherical::hole_difference`, [`subtract_planar`]): the visible region is
     /// `visible` less it. Empty otherwise.
     pub(super) visible_hole: PlanarPolygon,
     /// The occluder polygon the hole came from, and its index: what [`settle_hole`] subtracts.
@@ -196,7 +196,7 @@ pub struct ShadingScratch {
     pub(super) correction_sum: CorrectionEstimate,
     /// The region of the point's tile on its object, when the renderer shades tiles: windowed
     /// outlines take their candidate edges from what the region shares
-    /// (`geometry::tile_candidates`), the same edges as alone.
+    /// (`geometry::silhouettes::tile_candidates`), the same edges as alone.
     tile_region: Option<TileRegion>,
     pub stats: ShadingStats,
 }
@@ -773,7 +773,7 @@ fn visible_on_sphere<R: Recorder>(scratch: &mut ShadingScratch, rec: &mut R) -> 
 /// A region less a hole is empty when its form factor is below this fraction of the sum of the
 /// magnitudes of the edge terms (both polygons'): that is the rounding of the difference of two
 /// nearly equal integrals (a region covered with contacts along its boundary, which
-/// `geometry::overlap` cannot call covered). Each term carries a few ulps (acos, a cross
+/// `geometry::spherical::overlap` cannot call covered). Each term carries a few ulps (acos, a cross
 /// product, a normalisation: under 8ε) and the sum one per term, so for up to 64 edges the
 /// rounding stays below 72ε ≈ 1.6e-14 of the magnitudes. Near the horizon the terms are far
 /// larger than the integral (their cosine factors cancel), which a bound relative to the
@@ -1132,7 +1132,7 @@ fn is_convex_loop(lp: &[DVec3]) -> bool {
 }
 
 /// Occluder `oi` (a large mesh the point lies on) subtracted inside the light's window split
-/// at the horizon (`scratch.split`, `geometry::horizon_split`): its windowed outline in the
+/// at the horizon (`scratch.split`, `geometry::spherical::horizon_split`): its windowed outline in the
 /// upper part, its faces one by one clipped to the lower part. `false`, with nothing
 /// subtracted, when the outline cannot be found in the upper part either (the caller then
 /// takes every face).
@@ -1335,7 +1335,7 @@ fn clip_and_project<R: Recorder>(
 /// Returns false, with the visible polygon unchanged and the crossing counted, when the set
 /// difference crossed the bound of one of its walks.
 ///
-/// `holes`: the difference may be taken as a hole (`geometry::hole_difference`), when the
+/// `holes`: the difference may be taken as a hole (`geometry::spherical::hole_difference`), when the
 /// visible polygon is one convex loop and the occluder one loop: the visible region is then
 /// `visible` less `visible_hole`, and stays so while the next occluders miss `visible` or hide
 /// all of it, and until it is integrated. An occluder that overlaps it first turns it back into
@@ -1660,7 +1660,7 @@ fn integrate_lobes<R: Recorder>(
             &mut scratch.horizon,
         );
         // Each loop of the holes clipped to the horizon on its own, apart from the region
-        // (`geometry::hole_difference`): loops that touch along a boundary where they cross
+        // (`geometry::spherical::hole_difference`): loops that touch along a boundary where they cross
         // the horizon would leave the pairing of their crossings to rounding. The clip keeps
         // a positively oriented loop's inside, so the two holes' overlap, held reversed, is
         // turned back, clipped and added.

@@ -10,7 +10,7 @@
 //! is a bug, never a tolerance to widen.
 
 use crate::geometry::SphericalPolygon;
-use crate::geometry::spherical_polygon::{edges_of, near_arc_start};
+use crate::geometry::spherical::spherical_polygon::{edges_of, near_arc_start};
 use crate::ltc::form_factor;
 use glam::DVec3;
 
@@ -21,7 +21,7 @@ const OUTSIDE_TOLERANCE: f64 = 1e-9;
 /// Whether the visible region (the part of `light` left after the set differences, both
 /// clipped to the horizon, in the shading frame) lies inside `light` up to f64 rounding: every
 /// vertex of its polygons inside or on `light`, and 0 ≤ F(visible) ≤ F(light) for the form
-/// factors. The region is `region` less `holes` (`geometry::hole_difference`; `holes` empty
+/// factors. The region is `region` less `holes` (`geometry::spherical::hole_difference`; `holes` empty
 /// where it is one polygon). `f_visible` is its form factor, which the diffuse lobe has
 /// computed already, and `f_region` that of `region` where known. `normals` is scratch,
 /// reused between calls.

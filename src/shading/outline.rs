@@ -11,9 +11,9 @@
 //!
 //! | path | polygon | where |
 //! |---|---|---|
-//! | convex or flat (also a hull standing in) | one loop, read from the BSP tree of face planes, else chained from the contour edges (001 Sect. 4.2, 5.1) | `SilhouetteBsp::silhouette_at`, `geometry::silhouette` |
-//! | closed, not convex | loops with holes, read from the exact-silhouette tree, else computed (001 Sect. 4.3, 5.2) | `ExactSilhouetteBsp::silhouette_at`, `geometry::exact_silhouette` |
-//! | open, oriented manifold, as an occluder | loops with holes from its contour and boundary edges, computed (docs/silhouettes.md, "Open meshes") | `geometry::exact_silhouette` |
+//! | convex or flat (also a hull standing in) | one loop, read from the BSP tree of face planes, else chained from the contour edges (001 Sect. 4.2, 5.1) | `SilhouetteBsp::silhouette_at`, `geometry::silhouettes::silhouette` |
+//! | closed, not convex | loops with holes, read from the exact-silhouette tree, else computed (001 Sect. 4.3, 5.2) | `ExactSilhouetteBsp::silhouette_at`, `geometry::silhouettes::exact_silhouette` |
+//! | open, oriented manifold, as an occluder | loops with holes from its contour and boundary edges, computed (docs/silhouettes.md, "Open meshes") | `geometry::silhouettes::exact_silhouette` |
 //! | non-manifold, open light, per-triangle, degenerate | none: the caller goes face by face (`geometry::face_polygon`) | — |
 
 use super::{MeshPath, Method, PreparedObject};

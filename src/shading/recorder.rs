@@ -5,7 +5,7 @@
 //! methods are empty and inline away, so recording is free when off; the workbench passes a
 //! [`StageRecording`] and receives copies of every intermediate polygon of the *same* call.
 
-use crate::geometry::cone::Cone;
+use crate::geometry::spherical::cone::Cone;
 use crate::geometry::{GreinerHormannSteps, PlanarPolygon, Plane, SphericalPolygon, TreeKind};
 use crate::scene::environment_spec::EnvMethod;
 use glam::DVec3;
@@ -53,7 +53,7 @@ pub trait Recorder {
     /// was found at this point (001 Sect. 4.3, 5.2).
     fn exact_silhouette(&mut self, _record: &ExactSilhouetteRecord) {}
     /// What the point's tile shared for an occluder's outline inside the light's window
-    /// (`geometry::tile_candidates`).
+    /// (`geometry::silhouettes::tile_candidates`).
     fn tile_share(&mut self, _record: &TileShareRecord) {}
     fn culled_occluders(&mut self, _kept: &[usize]) {}
     /// One `SetDifference` of Alg. 1 line 12, taken by `method` (its Greiner–Hormann phases,
@@ -123,7 +123,7 @@ pub struct ExactSilhouetteRecord {
 }
 
 /// What the region of a point's tile shared for one occluder's outline inside a light's
-/// window (`geometry::tile_candidates`), for the debugger: the region's ball, and the edges it
+/// window (`geometry::silhouettes::tile_candidates`), for the debugger: the region's ball, and the edges it
 /// keeps as candidates for all its points (`None`: the point took the whole hierarchy, the
 /// region's cone being too wide or the point outside its ball).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -160,14 +160,14 @@ pub enum Lobe {
 /// How a set difference was taken (`shading::analytic::subtract_planar`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum DifferenceMethod {
-    /// Decided before any clipping (`geometry::overlap`): the occluder misses the visible
+    /// Decided before any clipping (`geometry::spherical::overlap`): the occluder misses the visible
     /// polygon (`after` is `before`) or covers it (`after` is empty).
     Classified,
-    /// Greiner–Hormann (`geometry::set_difference`), its phases in `steps` when recorded.
+    /// Greiner–Hormann (`geometry::spherical::set_difference`), its phases in `steps` when recorded.
     #[default]
     GreinerHormann,
     /// The convex visible polygon with the occluder's part inside it for a hole
-    /// (`geometry::hole_difference`): `after` is `before` and that part, reversed.
+    /// (`geometry::spherical::hole_difference`): `after` is `before` and that part, reversed.
     Hole,
     /// Greiner–Hormann's difference of a region held with a hole and the occluder the hole
     /// came from, taken when the next occluder overlaps it (`shading::analytic::settle_hole`);

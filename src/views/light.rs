@@ -12,7 +12,7 @@ use super::Style;
 use super::labels::LabelPlacer;
 use crate::figure::font::TextStyle;
 use crate::figure::{Figure, Rgb, Shape, Subpath};
-use crate::geometry::silhouette::is_front_facing;
+use crate::geometry::silhouettes::silhouette::is_front_facing;
 use crate::geometry::{BspPath, PlaneSection, TreeKind, bsp_cell, path_sections};
 use crate::shading::{LightRecord, PreparedObject};
 use glam::DVec3;

@@ -8,7 +8,7 @@ use super::{LIGHT, OCCLUDER, Style, VISIBLE};
 use crate::figure::font::{self, Align, TextStyle};
 use crate::figure::{Figure, Item, Shape, Subpath};
 use crate::geometry::PlanarPolygon;
-use crate::geometry::set_difference::{Operand, Transition};
+use crate::geometry::spherical::set_difference::{Operand, Transition};
 use crate::shading::SetDifferenceRecord;
 use glam::DVec3;
 

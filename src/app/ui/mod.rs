@@ -6,37 +6,37 @@
 //! A new pane: a variant of `layout::Pane` (its title, where the presets put it), a type here
 //! in its own file implementing [`PaneView`], and its field in [`Panes`].
 
+mod command_palette;
 mod dialogs;
-mod environment;
+mod environment_pane;
 mod frame;
 mod hemisphere_pane;
 mod lesson_capture;
-mod light_structure;
+mod light_structure_pane;
 mod menu;
-mod numbers;
-mod palette;
+mod numbers_pane;
 mod picking;
 mod planar_pane;
-mod plots;
-mod scene;
-mod settings;
+mod plots_pane;
+mod scene_pane;
+mod settings_pane;
 mod sphere_pane;
 mod stages_pane;
 mod status;
-mod viewport_image;
+mod viewport_pane;
 
-pub use environment::EnvironmentPane;
+pub use command_palette::CommandPalette;
+pub use environment_pane::EnvironmentPane;
 pub use hemisphere_pane::HemispherePane;
-pub use light_structure::LightStructurePane;
-pub use numbers::NumbersPane;
-pub use palette::CommandPalette;
+pub use light_structure_pane::LightStructurePane;
+pub use numbers_pane::NumbersPane;
 pub use planar_pane::PlanarPane;
-pub use plots::PlotsPane;
-pub use scene::ScenePane;
-pub use settings::SettingsPane;
+pub use plots_pane::PlotsPane;
+pub use scene_pane::ScenePane;
+pub use settings_pane::SettingsPane;
 pub use sphere_pane::SpherePane;
 pub use stages_pane::StagesPane;
-pub use viewport_image::ViewportPane;
+pub use viewport_pane::ViewportPane;
 
 use super::AppState;
 use super::layout::Pane;

@@ -9,7 +9,7 @@
 //! - [`SECTORS`] windows `W_k`, the spherical triangles from the zenith to two corners at a
 //!   small elevation, strictly above the horizon. `R ∩ W_k` is `W_k` less `W_k ∖ R`, and
 //!   `W_k ∖ R` is what subtracting the mesh from `W_k` as an occluder leaves: the exact
-//!   silhouette inside the window (`geometry::windowed_silhouette`, with the faces through
+//!   silhouette inside the window (`geometry::silhouettes::windowed_silhouette`, with the faces through
 //!   `x` left out), or, where that is undecided, its exact fallbacks. The point's other
 //!   occluders are subtracted from `W_k` first (`shade_light_piece`).
 //! - the thin band below the windows, `S_k` between the horizon and the window's lower side:
@@ -21,7 +21,7 @@
 //! (test `tests/one_code_path.rs`: a point on the torus light, against the faces one by one).
 
 use super::{COPLANAR, LightPiece, PointContext, ShadingScratch, shade_light_piece, skip_own_face};
-use crate::geometry::spherical_polygon::clip_loop_to_half_spaces;
+use crate::geometry::spherical::spherical_polygon::clip_loop_to_half_spaces;
 use crate::geometry::{IndexedPolyhedron, Sidedness, face_polygon};
 use crate::shading::face_sides::light_face_cut;
 use crate::shading::{Method, PathKind, Recorder};

@@ -55,7 +55,7 @@ impl FanMesh {
     }
 }
 
-/// What replacing a mesh by its convex hull changes (`geometry::near_convex`).
+/// What replacing a mesh by its convex hull changes (`geometry::mesh::near_convex`).
 #[derive(Clone, Debug)]
 pub struct StandIn {
     /// The mesh itself: the face-by-face paths (the per-triangle method) go over its faces.
@@ -74,7 +74,7 @@ impl StandIn {
     /// `rounding` (with the stand-in's record), else the mesh itself. The one place that
     /// decides it, for a first preparation and after a move alike.
     ///
-    /// A mesh flat up to `rounding` (`geometry::near_convex::flat_up_to_rounding`) is
+    /// A mesh flat up to `rounding` (`geometry::mesh::near_convex::flat_up_to_rounding`) is
     /// classified planar instead, with no stand-in: it keeps its own vertices, and its faces
     /// tile its outline's image exactly.
     pub fn of(mut mesh: IndexedPolyhedron, rounding: f64) -> (IndexedPolyhedron, Option<StandIn>) {

@@ -46,7 +46,7 @@ impl BuiltTree {
 #[derive(Clone, Debug)]
 pub struct PathTree {
     pub built: BuiltTree,
-    /// Each edge stored as high as it stays valid (`geometry::bsp_hoisted`). Not the default
+    /// Each edge stored as high as it stays valid (`geometry::trees::bsp_hoisted`). Not the default
     /// (slower lookups, docs/silhouettes.md): `PreparedScene::use_hoisted_trees`.
     pub hoisted: Option<Arc<HoistedSilhouetteBsp>>,
 }
@@ -91,7 +91,7 @@ pub enum MeshPath {
     ExactAtPoint,
     /// As `ExactAtPoint` for a large mesh (at least [`WINDOWED_MIN_FACES`] faces): as an
     /// occluder, only the part of its exact silhouette inside the light's polygon is computed
-    /// (`geometry::windowed_silhouette`), from the faces the light's cone meets.
+    /// (`geometry::silhouettes::windowed_silhouette`), from the faces the light's cone meets.
     ExactInWindow,
     /// Open (boundary edges) but an oriented manifold: as an occluder, the exact outline of its
     /// image from its contour and boundary edges at each point (docs/silhouettes.md, "Open

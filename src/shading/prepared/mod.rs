@@ -279,7 +279,7 @@ fn scene_box(scene: &Scene) -> (DVec3, DVec3) {
 }
 
 /// Quantitative invisibility off for `poly`: without its vertex stars, its exact silhouettes
-/// cast one ray per contour piece (`geometry::contour_pieces`).
+/// cast one ray per contour piece (`geometry::silhouettes::contour_pieces`).
 fn without_vertex_rule(poly: &mut IndexedPolyhedron) {
     poly.index.vertex_stars = None;
 }
@@ -581,7 +581,7 @@ impl PreparedScene {
     }
 
     /// Whether the points of a tile can share work with `method`: some occluder's outline is
-    /// found inside the light's window through an edge hierarchy (`geometry::tile_candidates`).
+    /// found inside the light's window through an edge hierarchy (`geometry::silhouettes::tile_candidates`).
     pub fn tiles_share_candidates(&self, method: super::Method) -> bool {
         method == super::Method::Analytic
             && self.occluders.iter().any(|&o| {

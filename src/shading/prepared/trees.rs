@@ -5,7 +5,7 @@
 use super::mesh_path::{BuiltTree, WINDOWED_MIN_FACES};
 use super::report::{NoExactTree, PrepareNote};
 use super::{PrepareOptions, PreparedObject};
-use crate::geometry::bsp::face_planes_exceed;
+use crate::geometry::trees::bsp::face_planes_exceed;
 use crate::geometry::{
     EDGE_PAIRS_MAX_EDGES, ExactBspLimits, ExactSilhouetteBsp, IndexedPolyhedron, PointCoding,
     SilhouetteBsp, SilhouetteTriangulation, TriangulationLimits, star_centre,
