@@ -6,7 +6,7 @@
 use crate::accel::Ray;
 use crate::math::{Frame, Pcg32};
 use crate::render::RenderContext;
-use crate::render::environment::{EnvironmentSettings, environment_pixel};
+use crate::render::environment_passes::{EnvironmentSettings, environment_pixel};
 use crate::scene::{Camera, Material};
 use crate::shading::{
     CorrectionSampling, EnvironmentPass, EnvironmentSample, EnvironmentTerm, Method, ShadingPoint,
@@ -65,7 +65,7 @@ pub struct EnvironmentProbe {
     pub rotate_deg: f64,
     pub scale: f64,
     pub settings: Option<EnvironmentSettings>,
-    /// The pixel's environment radiance as `render::environment` composes it before the
+    /// The pixel's environment radiance as `render::environment_passes` composes it before the
     /// filter: ρ/π · E on a surface, the map itself where the camera ray misses.
     pub radiance: DVec3,
     /// `rt` with the 5×5 filter: the render's pixel uses the filtered E_occluded of its
@@ -449,7 +449,7 @@ pub fn probe_corrected(
 /// `environment_integrals`, recorded) and the map on a coarse grid of the sphere.
 fn fill_environment_probe(
     ctx: &RenderContext,
-    env: &crate::render::environment::SceneEnvironment,
+    env: &crate::render::environment_passes::SceneEnvironment,
     sp: &ShadingPoint,
     frame: &Frame,
     out: &mut EnvironmentProbe,

@@ -7,7 +7,7 @@ use glam::DVec3;
 use penumbra::environment::{EnvMethod, EnvironmentLight, EnvironmentSpec};
 use penumbra::inspect::{Probe, probe};
 use penumbra::math::{Frame, Pcg32};
-use penumbra::render::environment::EnvironmentSettings;
+use penumbra::render::environment_passes::EnvironmentSettings;
 use penumbra::render::{RenderContext, RenderSettings};
 use penumbra::scene::scene_file;
 use penumbra::shading::{EnvironmentSide, Method, RayOutcome};
@@ -128,7 +128,7 @@ fn recorded_terms_add_up_to_the_probed_irradiances() {
 }
 
 /// The oracle: the recorded dynamic terms cover the directions that see a dynamic object and
-/// no static one ((∪D) ∖ (∪S), module doc of `shading::environment`). Cast stratified cosine
+/// no static one ((∪D) ∖ (∪S), module doc of `shading::environment_occlusion`). Cast stratified cosine
 /// rays from the point against the BVH (no polygon clipping at all) and compare
 /// π/N Σ L_SH(ω)·[ω in the region] with the Σ of the recorded integrals, within 4.5 standard
 /// errors.

@@ -9,7 +9,7 @@
 
 use glam::DVec3;
 use penumbra::environment::{EnvMethod, EnvironmentLight, EnvironmentMap, Sh9};
-use penumbra::render::environment::{Culling, EnvironmentOutput, EnvironmentSettings};
+use penumbra::render::environment_passes::{Culling, EnvironmentOutput, EnvironmentSettings};
 use penumbra::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use penumbra::scene::shapes::{cuboid, l_shape, quad};
 use penumbra::scene::{Camera, Material, Mesh, ObjectFlags, Scene, SceneObject};

@@ -238,7 +238,7 @@ fn embedded_scenes_render_without_invalid_pixels() {
         // The environment scenes are lit by their sky alone.
         if let Some(spec) = &scene.environment {
             let light = penumbra::environment::EnvironmentLight::load(spec).unwrap();
-            let env = penumbra::render::environment::EnvironmentSettings::new(
+            let env = penumbra::render::environment_passes::EnvironmentSettings::new(
                 penumbra::environment::EnvMethod::Analytic,
                 1,
                 1,

@@ -109,9 +109,12 @@ impl EnvironmentChoice {
     }
 
     /// The render settings of this choice (seed 0, as the workbench renders).
-    pub fn settings(&self) -> crate::render::environment::EnvironmentSettings {
-        let mut s =
-            crate::render::environment::EnvironmentSettings::new(self.method, self.spp.max(1), 0);
+    pub fn settings(&self) -> crate::render::environment_passes::EnvironmentSettings {
+        let mut s = crate::render::environment_passes::EnvironmentSettings::new(
+            self.method,
+            self.spp.max(1),
+            0,
+        );
         s.filter = s.filter && self.filter;
         s
     }

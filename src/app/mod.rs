@@ -383,7 +383,7 @@ impl AppState {
         &mut self,
     ) -> Option<(
         Arc<crate::environment::EnvironmentLight>,
-        crate::render::environment::EnvironmentSettings,
+        crate::render::environment_passes::EnvironmentSettings,
     )> {
         match self.env_maps.light(&self.settings.environment) {
             Ok(light) => {

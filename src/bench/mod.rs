@@ -18,7 +18,7 @@
 //! * [`memory`]: the peak resident memory of a row.
 //! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].
 
-pub mod environment;
+pub mod environment_tables;
 pub mod equal_time;
 pub mod fit;
 pub use crate::figure::font;

@@ -6,7 +6,7 @@ use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
 use penumbra::environment::EnvMethod;
 use penumbra::render::RenderMethod;
-use penumbra::render::environment::StaticTerm;
+use penumbra::render::environment_passes::StaticTerm;
 use penumbra::stochastic::LightSampling;
 use std::path::PathBuf;
 

@@ -150,7 +150,7 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
 
 /// `penumbra bench --env SCENE`.
 pub(crate) fn bench_environment(args: &BenchArgs, name: &str) -> Result<()> {
-    use penumbra::bench::environment::{
+    use penumbra::bench::environment_tables::{
         EnvBenchOptions, environment_markdown, run_environment_bench,
     };
     let mut scene = load_scene(name)?;

@@ -4,7 +4,7 @@ pub(crate) mod args;
 pub(crate) mod bench;
 pub(crate) mod cache;
 pub(crate) mod edit;
-pub(crate) mod environment;
+pub(crate) mod env_options;
 pub(crate) mod figure;
 pub(crate) mod ltc;
 pub(crate) mod probe;

@@ -1,7 +1,7 @@
 //! `penumbra render`, `reference` and `compare`: images of a scene, and their comparison.
 
 use super::args::*;
-use super::environment::environment_options;
+use super::env_options::environment_options;
 use anyhow::{Context, Result, bail};
 use glam::DVec3;
 use penumbra::render::request::{PreparedRender, RenderRequest};

@@ -1,7 +1,7 @@
 //! Images of a scene: camera rays, the shading point of each hit, tiles in parallel.
 
 pub mod compare;
-pub mod environment;
+pub mod environment_passes;
 pub mod progress;
 pub mod progressive;
 pub mod request;
@@ -248,8 +248,8 @@ pub struct RenderContext {
     /// The lights prepared for area sampling (the stochastic baseline).
     pub area_lights: AreaLights,
     /// An environment light (paper 002), if the scene has one: its term is added to the area
-    /// lights' image by every render ([`environment::render_environment`]).
-    pub environment: Option<environment::SceneEnvironment>,
+    /// lights' image by every render ([`environment_passes::render_environment`]).
+    pub environment: Option<environment_passes::SceneEnvironment>,
 }
 
 /// What a camera ray sees first: the shading point and the radiance emitted toward the eye.
@@ -315,7 +315,7 @@ impl RenderContext {
     pub fn set_environment(
         &mut self,
         light: Arc<crate::environment::EnvironmentLight>,
-        settings: environment::EnvironmentSettings,
+        settings: environment_passes::EnvironmentSettings,
     ) {
         // The precomputed transfer depends on the scene alone: a new map, rotation or method
         // reuses it.
@@ -323,7 +323,7 @@ impl RenderContext {
             .environment
             .take()
             .and_then(|e| e.transfer.zip(e.transfer_report));
-        self.environment = Some(environment::SceneEnvironment::new(
+        self.environment = Some(environment_passes::SceneEnvironment::new(
             self, light, settings, transfer,
         ));
     }
@@ -335,7 +335,7 @@ impl RenderContext {
         &self,
         environment: Option<(
             Arc<crate::environment::EnvironmentLight>,
-            environment::EnvironmentSettings,
+            environment_passes::EnvironmentSettings,
         )>,
     ) -> RenderContext {
         let mut ctx = RenderContext {
@@ -351,7 +351,7 @@ impl RenderContext {
                 .environment
                 .as_ref()
                 .and_then(|e| e.transfer.clone().zip(e.transfer_report));
-            ctx.environment = Some(environment::SceneEnvironment::new(
+            ctx.environment = Some(environment_passes::SceneEnvironment::new(
                 &ctx, light, settings, transfer,
             ));
         }
@@ -398,7 +398,7 @@ impl RenderContext {
             let transfer = keep
                 .then(|| env.transfer.clone().zip(env.transfer_report))
                 .flatten();
-            ctx.environment = Some(environment::SceneEnvironment::new(
+            ctx.environment = Some(environment_passes::SceneEnvironment::new(
                 &ctx,
                 env.light.clone(),
                 env.settings,
@@ -513,9 +513,15 @@ impl RenderContext {
         // The environment's term adds to the area lights' (both are linear in the radiance).
         if let Some(env) = &self.environment {
             let (w, h) = (settings.width, settings.height);
-            let Some(e) =
-                environment::render_environment(self, env, &basis, w, h, settings.aa, cancel)
-            else {
+            let Some(e) = environment_passes::render_environment(
+                self,
+                env,
+                &basis,
+                w,
+                h,
+                settings.aa,
+                cancel,
+            ) else {
                 return Ok(RenderOutput::default());
             };
             out.add_environment(e);
@@ -697,7 +703,7 @@ pub struct RenderOutput {
     /// Per-pixel work counters and time (deterministic methods, with `collect_stats`).
     pub pixel_stats: Option<Vec<PixelStats>>,
     /// The environment's term and its passes (when the scene has an environment light).
-    pub environment: Option<environment::EnvironmentOutput>,
+    pub environment: Option<environment_passes::EnvironmentOutput>,
     /// Light pieces whose visible polygon was not inside the light's (`shading::invariant`).
     pub violations: u64,
     /// The pixels where that happened: x, y (row 0 at the top) and how many pieces.
@@ -711,7 +717,7 @@ impl RenderOutput {
     /// Adds the environment's term `e` to the image (both terms are linear in the radiance;
     /// an image of another size, from a cancelled render, is left alone) and combines the
     /// standard errors of two references.
-    pub fn add_environment(&mut self, e: environment::EnvironmentOutput) {
+    pub fn add_environment(&mut self, e: environment_passes::EnvironmentOutput) {
         if self.image.pixels.len() == e.image.pixels.len() {
             for (p, q) in self.image.pixels.iter_mut().zip(&e.image.pixels) {
                 *p += *q;

@@ -5,7 +5,7 @@
 //! so all of them together cost one full image. Each step is handed to `emit` as soon as it
 //! is done; `cancel` stops the work between tiles.
 
-use super::environment::render_environment;
+use super::environment_passes::render_environment;
 use super::stochastic::{
     StochasticBuffers, compose, compose_cancellable, render_buffers, render_buffers_with,
 };

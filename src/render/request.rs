@@ -3,7 +3,7 @@
 //! prepared once for the settings. One preparation whatever asks, so that equal requests give
 //! equal images bit for bit.
 
-use super::environment::{EnvironmentSettings, StaticTerm};
+use super::environment_passes::{EnvironmentSettings, StaticTerm};
 use super::{RenderContext, RenderSettings};
 use crate::environment::EnvironmentLight;
 use crate::ltc::LtcTable;

@@ -1184,7 +1184,7 @@ fn subtract_split<R: Recorder>(
 }
 
 /// Puts occluder `oi`'s outline at the point, clipped to the horizon and projected, into
-/// `scratch.visible` (the environment's union of occluders, `super::environment`), and keeps
+/// `scratch.visible` (the environment's union of occluders, `super::environment_occlusion`), and keeps
 /// it in the per-point cache like [`subtract_occluder`] does. Returns false when the occluder
 /// has no single outline there (it is taken face by face).
 pub(super) fn load_occluder<R: Recorder>(

@@ -49,7 +49,7 @@ pub struct MeshCostClass {
     /// Without a tree it would take its silhouette inside each light's window only.
     pub windowed: bool,
     /// An environment light lights the scene: every ray asks every occluder above its
-    /// horizon once more (`shading::environment`), and without a window.
+    /// horizon once more (`shading::environment_occlusion`), and without a window.
     pub environment: bool,
 }
 

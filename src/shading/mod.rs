@@ -3,7 +3,7 @@
 pub mod analytic;
 pub mod brdf;
 pub mod cost_model;
-pub mod environment;
+pub mod environment_occlusion;
 pub mod face_sides;
 pub mod get_between;
 pub mod invariant;
@@ -18,7 +18,7 @@ pub use analytic::{
     CorrectedRadiance, ShadingScratch, ShadingStats, Shortcuts, analytic_exact_pixel, shade,
     shade_corrected,
 };
-pub use environment::{
+pub use environment_occlusion::{
     EnvironmentIntegrals, EnvironmentOccluders, EnvironmentPass, environment_integrals,
     shadowed_irradiance,
 };

@@ -83,7 +83,7 @@ pub trait Recorder {
     fn gh_steps(&mut self) -> Option<&mut GreinerHormannSteps> {
         None
     }
-    /// One term of the exact environment integrals (`shading::environment`): occluder
+    /// One term of the exact environment integrals (`shading::environment_occlusion`): occluder
     /// `occluder`'s outline (or one of its faces) minus what came before it, in the shading
     /// frame, and ∫ L_SH cos over it.
     fn environment_term(
@@ -237,7 +237,7 @@ pub enum EnvironmentSide {
     Dynamic,
 }
 
-/// One term of the exact environment integrals (`shading::environment::union_integrals`): an
+/// One term of the exact environment integrals (`shading::environment_occlusion::union_integrals`): an
 /// occluder's outline (or one of its faces) minus what came before it, in the shading frame,
 /// and ∫ L_SH cos over it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -269,7 +269,7 @@ pub struct EnvironmentRay {
     pub outcome: RayOutcome,
 }
 
-/// The environment's numbers at one sub-pixel sample, as `render::environment` composed them.
+/// The environment's numbers at one sub-pixel sample, as `render::environment_passes` composed them.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EnvironmentSample {
     pub method: EnvMethod,

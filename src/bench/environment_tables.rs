@@ -15,7 +15,9 @@
 use crate::environment::prt::PrtReport;
 use crate::environment::{EnvMethod, EnvironmentLight, EnvironmentMap};
 use crate::render::compare::{Comparison, compare};
-use crate::render::environment::{Culling, EnvironmentSettings, EnvironmentStats, StaticTerm};
+use crate::render::environment_passes::{
+    Culling, EnvironmentSettings, EnvironmentStats, StaticTerm,
+};
 use crate::render::request::RenderRequest;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::{Camera, Scene};

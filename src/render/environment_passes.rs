@@ -5,7 +5,7 @@
 //! 1. **G-buffer**: the camera rays' first hits and `E_static` per sub-pixel position: the
 //!    unshadowed irradiance of Eq. 7, or, when static objects reach the hemisphere, the
 //!    irradiance they leave (diffuse PRT with shadows, Eq. 6; computed exactly here by the
-//!    polygon integral over the static-visible region, see `shading::environment`).
+//!    polygon integral over the static-visible region, see `shading::environment_occlusion`).
 //! 2. **Occlusion**: `E_occluded` by the method: exact (`analytic`), rays in merged cones
 //!    (`rt`, 002 Alg. 1–2), every ray (`rt-unculled`), ambient occlusion (`rtao`); or, for
 //!    the `reference`, E itself by Monte Carlo of the map with shadow rays.
