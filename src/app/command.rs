@@ -24,11 +24,15 @@ pub enum Command {
     ToggleHelp,
     /// Every command by name, filtered as one types (rerun's and editors' palette).
     CommandPalette,
+    /// The picked point shaded by Monte Carlo, beside the analytic numbers.
+    MonteCarloCheck,
+    /// A screenshot of the sphere view only.
+    ScreenshotSphere,
 }
 
 impl Command {
     /// Every command, in the order a frame's key presses are carried out.
-    pub const ALL: [Command; 14] = [
+    pub const ALL: [Command; 16] = [
         Command::Undo,
         Command::Redo,
         Command::Restore,
@@ -43,6 +47,8 @@ impl Command {
         Command::Screenshot,
         Command::ToggleHelp,
         Command::CommandPalette,
+        Command::MonteCarloCheck,
+        Command::ScreenshotSphere,
     ];
 
     /// What the command does, as the help and the menus say it.
@@ -62,10 +68,13 @@ impl Command {
             Command::Screenshot => "screenshot of the window",
             Command::ToggleHelp => "this help",
             Command::CommandPalette => "find a command by name",
+            Command::MonteCarloCheck => "check the picked point by Monte Carlo (65,536 samples)",
+            Command::ScreenshotSphere => "screenshot of the sphere view",
         }
     }
 
-    /// The shortcut as written in the help and the menus.
+    /// The shortcut as written in the help and the menus; empty for a command without one
+    /// (issued from its button, a menu or the palette).
     pub fn shortcut_text(self) -> &'static str {
         match self {
             Command::Undo => "Ctrl+Z",
@@ -82,12 +91,25 @@ impl Command {
             Command::Screenshot => "F12",
             Command::ToggleHelp => "F1",
             Command::CommandPalette => "Ctrl+P",
+            Command::MonteCarloCheck | Command::ScreenshotSphere => "",
         }
     }
 
-    /// A menu entry's text: `name (shortcut)`.
+    /// The shortcut as the help lists it: "—" for a command without one (its button, a menu
+    /// or the palette issues it).
+    pub fn help_keys(self) -> &'static str {
+        match self.shortcut_text() {
+            "" => "—",
+            keys => keys,
+        }
+    }
+
+    /// A menu entry's text: `name (shortcut)`, or the name alone without a shortcut.
     pub fn menu_text(self, name: &str) -> String {
-        format!("{name} ({})", self.shortcut_text())
+        match self.shortcut_text() {
+            "" => name.to_string(),
+            keys => format!("{name} ({keys})"),
+        }
     }
 
     /// Whether the command's shortcut was pressed this frame (Ctrl is the command key: ⌘ on
@@ -111,6 +133,7 @@ impl Command {
             Command::Screenshot => i.key_pressed(Key::F12),
             Command::ToggleHelp => i.key_pressed(Key::F1),
             Command::CommandPalette => ctrl && i.key_pressed(Key::P),
+            Command::MonteCarloCheck | Command::ScreenshotSphere => false,
         }
     }
 
@@ -152,7 +175,7 @@ pub fn help_rows() -> impl Iterator<Item = (&'static str, &'static str)> {
     ];
     Command::ALL
         .into_iter()
-        .map(|c| (c.shortcut_text(), c.label()))
+        .map(|c| (c.help_keys(), c.label()))
         .chain(MOUSE)
 }
 
@@ -216,10 +239,10 @@ mod tests {
         assert_eq!(matching("stage").len(), 4);
         assert_eq!(matching("").len(), Command::ALL.len() - 1);
         assert!(matching("no such thing").is_empty());
-        // Every command is in the help, with its shortcut.
+        // Every command is in the help, with its shortcut (or "—").
         let rows: Vec<_> = help_rows().collect();
         for c in Command::ALL {
-            assert!(rows.contains(&(c.shortcut_text(), c.label())), "{c:?}");
+            assert!(rows.contains(&(c.help_keys(), c.label())), "{c:?}");
         }
     }
 }

@@ -2,6 +2,7 @@
 //! view of the set differences. Everything shown comes from the [`Probe`] (the renderer's own
 //! recording), so a loaded debug dump replays without the scene.
 
+use super::command::Command;
 use super::figure_painter::{self, FigureRect};
 use super::sphere_view::SphereView;
 use crate::inspect::{MonteCarloEstimate, Probe};
@@ -332,38 +333,21 @@ impl Inspector {
             });
     }
 
-    /// Previous / next / play and the step list.
-    pub fn stepper_ui(&mut self, ui: &mut Ui) {
+    /// Previous / next / play and the step list; the command a button asks for, which the
+    /// caller runs (`AppState::run_command`), as the keys run it.
+    pub fn stepper_ui(&mut self, ui: &mut Ui) -> Option<Command> {
+        let mut command = None;
         ui.horizontal_wrapped(|ui| {
-            if ui
-                .button("all stages")
-                .on_hover_text("Show every stage (Home)")
-                .clicked()
-            {
-                self.step = None;
-                self.playing = false;
-            }
-            if ui
-                .button("< previous")
-                .on_hover_text("Previous stage (←)")
-                .clicked()
-            {
-                self.previous();
-            }
-            if ui
-                .button("next >")
-                .on_hover_text("Next stage (→)")
-                .clicked()
-            {
-                self.next();
-            }
             let play = if self.playing { "pause" } else { "play" };
-            if ui
-                .button(play)
-                .on_hover_text("Step automatically (P)")
-                .clicked()
-            {
-                self.playing = !self.playing;
+            for (text, hover, c) in [
+                ("all stages", "Show every stage (Home)", Command::AllStages),
+                ("< previous", "Previous stage (←)", Command::PreviousStage),
+                ("next >", "Next stage (→)", Command::NextStage),
+                (play, "Step automatically (P)", Command::PlayStages),
+            ] {
+                if ui.button(text).on_hover_text(hover).clicked() {
+                    command = Some(c);
+                }
             }
             ui.label(match self.step {
                 Some(i) => match self.group_of(i) {
@@ -442,6 +426,7 @@ impl Inspector {
                     }
                 }
             });
+        command
     }
 
     /// The lesson of the current step: what the stage does, its equation, and this point's

@@ -668,6 +668,7 @@ impl AppState {
             Command::AllStages => {
                 if let Some(ins) = &mut self.inspector {
                     ins.step = None;
+                    ins.playing = false;
                 }
             }
             Command::PlayStages => {
@@ -691,6 +692,8 @@ impl AppState {
                     None => Some(ui::CommandPalette::default()),
                 }
             }
+            Command::MonteCarloCheck => self.run_monte_carlo(65536),
+            Command::ScreenshotSphere => self.screenshot_dialog(self.sphere_rect),
         }
     }
 

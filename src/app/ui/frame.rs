@@ -34,7 +34,7 @@ impl WorkbenchApp {
                 ui.horizontal(|ui| {
                     ui.strong(pane.title());
                     if ui.small_button("restore (Esc)").clicked() {
-                        self.maximised = None;
+                        self.run_command(Command::Restore);
                     }
                 });
                 self.pane_ui(ui, pane);

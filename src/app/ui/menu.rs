@@ -42,9 +42,11 @@ impl AppState {
                 {
                     self.run_command(Command::Screenshot);
                 }
-                if ui.button("Screenshot of the sphere view…").clicked() {
-                    let r = self.sphere_rect;
-                    self.screenshot_dialog(r);
+                if ui
+                    .button(Command::ScreenshotSphere.menu_text("Screenshot of the sphere view…"))
+                    .clicked()
+                {
+                    self.run_command(Command::ScreenshotSphere);
                 }
                 if ui.button("Copy CLI command").clicked() {
                     let passes = self.worker.latest().map_or(1, |f| f.frame.passes);

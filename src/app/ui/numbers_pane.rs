@@ -17,7 +17,7 @@ impl PaneView for NumbersPane {
         ins.numbers_ui(ui, app.monte_carlo.as_ref());
         ins.environment_ui(ui);
         if ui.button("Monte Carlo check (65536 samples)").clicked() {
-            app.run_monte_carlo(65536);
+            app.run_command(Command::MonteCarloCheck);
         }
     }
 }

@@ -14,7 +14,12 @@ impl PaneView for StagesPane {
             ui.label("Click a pixel to inspect its shading point, or open a debug dump.");
             return;
         };
-        ins.stepper_ui(ui);
+        if let Some(command) = ins.stepper_ui(ui) {
+            app.run_command(command);
+        }
+        let Some(ins) = &mut app.inspector else {
+            return;
+        };
         ui.separator();
         ins.lesson_ui(ui);
         sphere_view::step_details_ui(ui, &ins.probe, ins.current());
