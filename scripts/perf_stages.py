@@ -14,7 +14,7 @@ import argparse, collections, os, re, subprocess, sys, tempfile
 
 STAGES = [
     ("invariant check", r"shading::invariant::"),
-    ("set difference", r"set_difference::|hole_difference::|geometry::overlap::|ProjectionPlane::(re)?project|subtract_planar|settle_hole|sampled_region"),
+    ("set difference", r"set_difference::|hole_difference::|geometry::spherical::overlap::|ProjectionPlane::(re)?project|subtract_planar|settle_hole|sampled_region"),
     ("horizon clip", r"horizon::clip_to_horizon"),
     ("tree lookup", r"SilhouetteBsp::lookup|bsp_hoisted::|bsp_nonconvex::|silhouette_tree::"),
     ("silhouette", r"geometry::silhouette|spherical_polygon\b|shading::outline::|windowed_silhouette|exact_silhouette|contour_pieces|quantitative_invisibility|edge_hierarchy|tile_candidates|near_convex|silhouette_walk"),
