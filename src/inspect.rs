@@ -153,7 +153,7 @@ pub struct Probe {
 impl Probe {
     /// Reads a debug dump written by `penumbra probe` or the workbench. Errors name the file
     /// and, for text that is not a dump, the line and column (`name:line:column: ...`).
-    pub fn from_json(text: &str, name: &str) -> Result<Probe, String> {
+    pub fn from_json(text: &str, name: &str) -> crate::Result<Probe> {
         let at = |e: serde_json::Error, what: &str| {
             if e.line() > 0 {
                 format!("{name}:{}:{}: {what}: {e}", e.line(), e.column())
@@ -169,7 +169,7 @@ impl Probe {
 
     /// What a replay relies on beyond the JSON's shape: directions are unit vectors (the
     /// sphere view draws them as points of the sphere), numbers are finite.
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> crate::Result<()> {
         let unit = |d: DVec3| d.is_finite() && (d.length() - 1.0).abs() <= 1e-6;
         let ok =
             |poly: &crate::geometry::SphericalPolygon| poly.vertices().iter().all(|&d| unit(d));
@@ -186,9 +186,9 @@ impl Probe {
                 .iter()
                 .flat_map(|e| e.crossings.iter().chain(e.rejected.iter().flatten()));
             if !(polygons.all(ok) && edges.all(|&d| unit(d)) && exact.all(|&d| unit(d))) {
-                return Err(format!(
+                return Err(crate::Error::from(format!(
                     "recorded light {k}: a direction is not a unit vector (the dump was edited?)"
-                ));
+                )));
             }
         }
         let env = &self.recording.environment;
@@ -215,7 +215,7 @@ impl Probe {
 }
 
 /// The camera ray through pixel (x, y) (centre at x + 0.5, y + 0.5).
-pub fn pixel_ray(camera: &Camera, size: (u32, u32), pixel: (f64, f64)) -> Result<Ray, String> {
+pub fn pixel_ray(camera: &Camera, size: (u32, u32), pixel: (f64, f64)) -> crate::Result<Ray> {
     let basis = camera.basis()?;
     Ok(Ray {
         origin: basis.eye,
@@ -233,7 +233,7 @@ pub fn probe(
     pixel: (f64, f64),
     method: Method,
     gh_steps: bool,
-) -> Result<Probe, String> {
+) -> crate::Result<Probe> {
     probe_corrected(ctx, scene_name, camera, size, pixel, method, None, gh_steps)
 }
 
@@ -255,7 +255,7 @@ pub fn probe_method(
     seed: u64,
     pixel: (f64, f64),
     width: u32,
-) -> Result<(Method, Option<CorrectionSampling>), String> {
+) -> crate::Result<(Method, Option<CorrectionSampling>)> {
     use crate::render::RenderMethod;
     match (method, method.analytic()) {
         (_, Some(m)) => Ok((m, None)),
@@ -267,11 +267,11 @@ pub fn probe_method(
                 stream: correction_stream(pixel, width),
             }),
         )),
-        (m, None) => Err(format!(
+        (m, None) => Err(crate::Error::from(format!(
             "{} is stochastic: a probe records the analytic stages only (analytic, \
              analytic-exact, per-triangle or unshadowed)",
             m.name()
-        )),
+        ))),
     }
 }
 
@@ -287,7 +287,7 @@ pub fn probe_corrected(
     method: Method,
     correction: Option<CorrectionSampling>,
     gh_steps: bool,
-) -> Result<Probe, String> {
+) -> crate::Result<Probe> {
     let ray = pixel_ray(camera, size, pixel)?;
     let mut probe = Probe {
         scene: scene_name.into(),
@@ -309,10 +309,10 @@ pub fn probe_corrected(
         Some(env) => {
             let (x, y) = pixel;
             if x.fract() != 0.0 || y.fract() != 0.0 || x < 0.0 || y < 0.0 {
-                return Err(format!(
+                return Err(crate::Error::from(format!(
                     "pixel ({x}, {y}): with an environment light the pixel must be whole \
                      (its rays' rotation is keyed by the pixel index, 002 Sect. 4)"
-                ));
+                )));
             }
             let basis = camera.basis()?;
             // A recording of its own: the exact method's set differences would otherwise go
@@ -497,7 +497,7 @@ pub fn debug_dump(
     settings: &crate::render::RenderSettings,
     pixel: (f64, f64),
     gh_steps: bool,
-) -> Result<Probe, String> {
+) -> crate::Result<Probe> {
     let size = (settings.width, settings.height);
     let (method, correction) =
         probe_method(settings.method, settings.spp, settings.seed, pixel, size.0)?;
@@ -619,7 +619,7 @@ pub fn interesting_pixel(
 }
 
 /// Parses "X,Y" into two numbers (command-line flags).
-pub fn parse_pair(s: &str) -> Result<(f64, f64), String> {
+pub fn parse_pair(s: &str) -> crate::Result<(f64, f64)> {
     let (a, b) = s
         .split_once(',')
         .ok_or_else(|| format!("expected X,Y, got '{s}'"))?;
@@ -653,7 +653,8 @@ mod tests {
                 Err(why) => {
                     assert!(m.analytic().is_none() && m != RenderMethod::AnalyticExact);
                     assert!(
-                        why.contains(m.name()) && why.contains("stochastic"),
+                        why.to_string().contains(m.name())
+                            && why.to_string().contains("stochastic"),
                         "{why}"
                     );
                 }

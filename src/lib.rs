@@ -35,12 +35,15 @@
 //! * [`bench`](mod@bench): the report of `penumbra bench`: rows of time and error, equal-time
 //!   comparisons, scaling fits, PNG charts.
 
+pub use error::{Error, Result};
+
 pub mod accel;
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod bench;
 pub mod denoise;
 pub mod environment;
+pub mod error;
 pub mod figure;
 pub mod geometry;
 pub mod inspect;

@@ -100,7 +100,7 @@ pub fn render_reference(
     settings: &RenderSettings,
     samples_per_light: u32,
     seed: u64,
-) -> Result<(Image, Image), String> {
+) -> crate::Result<(Image, Image)> {
     let basis = camera.basis()?;
     let lights = LightSampler::new(&ctx.scene);
     let (w, h, aa) = (settings.width, settings.height, settings.aa.max(1));

@@ -923,15 +923,12 @@ pub fn run_one_real(
     seed: u64,
     index: u64,
     rays: u32,
-) -> Result<
-    (
-        String,
-        f64,
-        bool,
-        Option<(ShadingPoint, f64, f64, f64, u32, Fallbacks)>,
-    ),
+) -> crate::Result<(
     String,
-> {
+    f64,
+    bool,
+    Option<(ShadingPoint, f64, f64, f64, u32, Fallbacks)>,
+)> {
     let group = real_meshes::group(seed, index / real_meshes::GROUP)?;
     let name = real_meshes::real_meshes()?[group.mesh].name.clone();
     let mut scratch = ShadingScratch::default();
@@ -1436,7 +1433,7 @@ pub fn run_family(
     rays: u32,
     cancel: Option<&std::sync::atomic::AtomicBool>,
     progress: impl Fn(u64) + Sync,
-) -> Result<StressReport, String> {
+) -> crate::Result<StressReport> {
     let start = Instant::now();
     if family == Family::RealMeshes {
         real_meshes::real_meshes()?;

@@ -281,7 +281,7 @@ fn unshadowed_and_rtao_bound_the_shadowed_image() {
 fn scene_files_carry_the_environment_and_static_objects() {
     use penumbra::environment::EnvironmentSource;
     use penumbra::scene::scene_file::load_scene_str;
-    let obj = |_: &str| -> Result<Scene, penumbra::scene::SceneError> {
+    let obj = |_: &str| -> Result<Scene, penumbra::Error> {
         let mut s = Scene::default();
         s.objects.push(object(
             "floor",

@@ -15,7 +15,7 @@ use glam::DVec3;
 use penumbra::math::Pcg32;
 use penumbra::scene::obj::{ALPHA_MAX, ALPHA_MIN, load_obj_str};
 use penumbra::scene::scene_file::load_scene_str;
-use penumbra::scene::{Material, Scene, SceneError};
+use penumbra::scene::{Material, Scene};
 use penumbra::shading::{
     Method, NoRecorder, PrepareOptions, PreparedScene, ShadingPoint, ShadingScratch, shade,
 };
@@ -381,11 +381,11 @@ fn line_count(text: &str) -> usize {
 }
 
 /// An error names one of `files`, and a line within that file where it names a line.
-fn check_error(e: &SceneError, files: &[(&str, &str)]) {
+fn check_error(e: &penumbra::Error, files: &[(&str, &str)]) {
     let msg = e.to_string();
     assert!(!msg.contains("internal error"), "{msg}");
     match e {
-        SceneError::Line { file, line, .. } => {
+        penumbra::Error::Line { file, line, .. } => {
             let known = files.iter().find(|(f, _)| f == file);
             let (_, text) = known.unwrap_or_else(|| panic!("error names no known file: {msg}"));
             assert!(
@@ -394,7 +394,7 @@ fn check_error(e: &SceneError, files: &[(&str, &str)]) {
                 line_count(text)
             );
         }
-        SceneError::File { file, .. } => {
+        penumbra::Error::File { file, .. } => {
             // A known file, or one the input itself names (an `obj` or `mtllib` path).
             let named = files
                 .iter()
@@ -404,6 +404,7 @@ fn check_error(e: &SceneError, files: &[(&str, &str)]) {
                 "error names no known file: {msg}"
             );
         }
+        other => panic!("a loader's error names no file: {other}"),
     }
 }
 
@@ -546,7 +547,7 @@ fn scene_files_under_fuzzing_load_or_fail_with_file_and_line() {
                 "chair.obj" => (CHAIR_OBJ, CHAIR_MTL),
                 "nonconvex.obj" => (NONCONVEX_OBJ, NONCONVEX_MTL),
                 _ => {
-                    return Err(SceneError::File {
+                    return Err(penumbra::Error::File {
                         file: rel.to_owned(),
                         message: "no such file".into(),
                     });
@@ -626,7 +627,8 @@ fn debug_dumps_under_fuzzing_load_or_fail_with_file_and_line_and_replay() {
                     h.step();
                 }
             }
-            Err(msg) => {
+            Err(e) => {
+                let msg = e.to_string();
                 assert!(msg.starts_with("fuzz.json"), "{msg}");
                 if let Some(rest) = msg.strip_prefix("fuzz.json:")
                     && let Some(line) = rest.split(':').next().and_then(|l| l.parse::<usize>().ok())

@@ -5,7 +5,7 @@ use penumbra::scene::obj::load_obj_str;
 use penumbra::scene::scene_file::{
     embedded_scene_names, load_embedded, load_scene, load_scene_str,
 };
-use penumbra::scene::{Scene, SceneError, SceneObject};
+use penumbra::scene::{Scene, SceneObject};
 use std::path::{Path, PathBuf};
 
 fn assets() -> PathBuf {
@@ -244,25 +244,25 @@ usemtl lamp
 f 4 5 6
 ";
 
-fn memory_loader(rel: &str) -> Result<Scene, SceneError> {
+fn memory_loader(rel: &str) -> Result<Scene, penumbra::Error> {
     match rel {
         "box.obj" => load_obj_str(BOX_OBJ, Some("newmtl lamp\nKe 2 2 2\n"), "box.obj"),
-        other => Err(SceneError::File {
+        other => Err(penumbra::Error::File {
             file: other.to_owned(),
             message: "no such file".into(),
         }),
     }
 }
 
-fn scene(text: &str) -> Result<Scene, SceneError> {
+fn scene(text: &str) -> Result<Scene, penumbra::Error> {
     load_scene_str(text, "mem.toml", &memory_loader)
 }
 
 fn err_line(text: &str) -> (usize, String) {
     match scene(text) {
-        Err(e @ SceneError::Line { .. }) => {
+        Err(e @ penumbra::Error::Line { .. }) => {
             let msg = e.to_string();
-            let SceneError::Line { file, line, .. } = e else {
+            let penumbra::Error::Line { file, line, .. } = e else {
                 unreachable!()
             };
             assert_eq!(file, "mem.toml", "{msg}");
@@ -451,7 +451,7 @@ fn scene_files_on_disk() {
     std::fs::write(&toml, "\n[[object]]\nobj = \"sub/nothere.obj\"\n").unwrap();
     let e = load_scene(&toml).unwrap_err();
     let m = e.to_string();
-    assert!(matches!(e, SceneError::Line { line: 3, .. }), "{m}");
+    assert!(matches!(e, penumbra::Error::Line { line: 3, .. }), "{m}");
     assert!(m.contains("s.toml") && m.contains("nothere.obj"), "{m}");
     // A bad OBJ: the error names the OBJ and its line.
     std::fs::write(dir.join("sub/bad.obj"), "v 0 0 0\nv 1 0 zz\n").unwrap();

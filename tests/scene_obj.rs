@@ -2,8 +2,8 @@
 
 use glam::DVec3;
 use penumbra::math::Pcg32;
+use penumbra::scene::Scene;
 use penumbra::scene::obj::{load_obj, load_obj_str};
-use penumbra::scene::{Scene, SceneError};
 use std::path::PathBuf;
 
 const CUBE: &str = "\
@@ -49,15 +49,15 @@ Ks 0.5 0.5 0.5
 Ns 98
 ";
 
-fn load(obj: &str, mtl: Option<&str>) -> Result<Scene, SceneError> {
+fn load(obj: &str, mtl: Option<&str>) -> Result<Scene, penumbra::Error> {
     load_obj_str(obj, mtl, "test.obj")
 }
 
 fn expect_line_error(obj: &str, mtl: Option<&str>, file: &str, line: usize) -> String {
     match load(obj, mtl) {
-        Err(e @ SceneError::Line { .. }) => {
+        Err(e @ penumbra::Error::Line { .. }) => {
             let msg = e.to_string();
-            let SceneError::Line {
+            let penumbra::Error::Line {
                 file: f, line: l, ..
             } = &e
             else {
@@ -162,7 +162,7 @@ fn missing_files() {
     std::fs::write(dir.join("test.mtl"), "newmtl a\nKd 1 2\n").unwrap();
     let e = load_obj(&obj).unwrap_err();
     let msg = e.to_string();
-    assert!(matches!(e, SceneError::Line { line: 2, .. }), "{msg}");
+    assert!(matches!(e, penumbra::Error::Line { line: 2, .. }), "{msg}");
     assert!(msg.contains("test.mtl:2:"), "{msg}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -203,7 +203,7 @@ impl Scene {
         let mut scene = self.scene.clone();
         // The long part without the interpreter (other Python threads run meanwhile), and
         // stopped by Ctrl-C.
-        let done = interruptible(py, move |cancel| -> Result<_, String> {
+        let done = interruptible(py, move |cancel| -> penumbra::Result<_> {
             let prepared = match kept {
                 Some(p) => p,
                 None => {
@@ -253,7 +253,7 @@ impl Scene {
         let count = self.preparations.clone();
         let mut scene = self.scene.clone();
         let name = self.name.clone();
-        let recorded = py.detach(move || -> Result<_, String> {
+        let recorded = py.detach(move || -> penumbra::Result<_> {
             let prepared = match kept {
                 Some(p) => p,
                 None => {
@@ -653,7 +653,7 @@ fn bench_report(
     config.repeats = repeats;
     config.prepare = prepare_config();
     let loaded = scene.scene.clone();
-    let report = interruptible(py, move |cancel| -> Result<_, String> {
+    let report = interruptible(py, move |cancel| -> penumbra::Result<_> {
         let ctx = config.prepare(&loaded);
         let reference = runner::render_reference(&ctx, &config, Some(cancel))?;
         Ok(runner::run_bench(&ctx, &config, &reference, Some(cancel), |_, _, _| {})?.0)

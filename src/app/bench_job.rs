@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 /// What a finished bench run produced: the report and the files written.
-pub type BenchOutcome = Result<(BenchReport, Vec<PathBuf>), String>;
+pub type BenchOutcome = crate::Result<(BenchReport, Vec<PathBuf>)>;
 
 /// Progress and outcome of a background bench run.
 #[derive(Default)]
@@ -49,12 +49,13 @@ impl BenchJob {
                     .build();
                 let result = match pool {
                     Ok(pool) => pool.install(|| run(&ctx, &scene, camera, width, height, &p2)),
-                    Err(e) => Err(e.to_string()),
+                    Err(e) => Err(crate::Error::from(e.to_string())),
                 };
                 p2.lock().unwrap_or_else(|e| e.into_inner()).result = Some(result);
             });
         if let Err(e) = spawned {
-            progress.lock().unwrap_or_else(|e| e.into_inner()).result = Some(Err(e.to_string()));
+            progress.lock().unwrap_or_else(|e| e.into_inner()).result =
+                Some(Err(crate::Error::from(e.to_string())));
         }
         BenchJob { progress }
     }

@@ -132,7 +132,7 @@ impl MapCache {
     pub fn light(
         &mut self,
         choice: &EnvironmentChoice,
-    ) -> anyhow::Result<Option<Arc<EnvironmentLight>>> {
+    ) -> crate::Result<Option<Arc<EnvironmentLight>>> {
         let Some(source) = choice.map.source() else {
             return Ok(None);
         };

@@ -61,7 +61,7 @@ pub const EXPORT_SIDE: u32 = 800;
 impl WorkbenchApp {
     /// The figure `view` shows now, `side` pixels square (the chart `side` wide), or why there
     /// is none (nothing picked, no set difference at the point, no light selected...).
-    pub fn view_figure(&self, view: FigureView, side: u32, style: Style) -> Result<Figure, String> {
+    pub fn view_figure(&self, view: FigureView, side: u32, style: Style) -> crate::Result<Figure> {
         let pick_first = || "pick a point first".to_string();
         let ins = self.inspector.as_ref();
         match view {
@@ -115,7 +115,7 @@ impl WorkbenchApp {
     }
 
     /// Writes the figure of `view` to `path` (.svg, .pdf or .png) in the export style.
-    pub fn export_figure(&mut self, view: FigureView, path: &Path) -> Result<(), String> {
+    pub fn export_figure(&mut self, view: FigureView, path: &Path) -> crate::Result<()> {
         let style = if self.figure_print {
             Style::Print
         } else {

@@ -1,11 +1,12 @@
 //! What the workbench reads and writes: scenes, debug dumps, bench reports, images, and the
 //! command line that reproduces the current render headless.
 
+use crate::Result;
 use crate::bench::BenchReport;
+use crate::error::InFile;
 use crate::inspect::Probe;
 use crate::render::{Image, RenderSettings, image_io};
-use crate::scene::{Camera, Scene, SceneError, scene_file};
-use anyhow::{Context, Result};
+use crate::scene::{Camera, Scene, scene_file};
 use std::path::Path;
 
 /// What a dropped or opened file is.
@@ -20,7 +21,7 @@ pub enum Opened {
 
 /// Loads a scene by embedded name or path (`scene_file::load_scene_by_name`).
 pub fn load_scene(name: &str) -> Result<Scene> {
-    Ok(scene_file::load_scene_by_name(name)?)
+    scene_file::load_scene_by_name(name)
 }
 
 /// Opens a file by its content: a scene (.toml, .obj, .glb, .gltf), a debug dump or bench report (.json),
@@ -37,31 +38,34 @@ pub fn open(path: &Path) -> Result<Opened> {
             super::environment_panel::MapChoice::File(path.to_path_buf()),
         )),
         "pfm" => Ok(Opened::Reference(
-            image_io::read_pfm_image(path).with_context(|| name.clone())?,
+            image_io::read_pfm_image(path).in_file(&name, "")?,
         )),
         "json" => {
-            let text = std::fs::read_to_string(path).with_context(|| name.clone())?;
+            let text = std::fs::read_to_string(path).in_file(&name, "")?;
             open_json(&text, &name)
         }
-        _ => anyhow::bail!(
+        _ => Err(crate::Error::from(format!(
             "{name}: unknown file type (expected .toml, .obj, .glb, .gltf, .json, .pfm, .hdr or .exr)"
-        ),
+        ))),
     }
 }
 
 /// A debug dump or a bench report from its JSON text; `name` names it in errors.
 fn open_json(text: &str, name: &str) -> Result<Opened> {
-    let value: serde_json::Value = serde_json::from_str(text)
-        .map_err(|e| anyhow::anyhow!("{name}:{}:{}: not JSON: {e}", e.line(), e.column()))?;
+    let value: serde_json::Value = serde_json::from_str(text).map_err(|e| {
+        crate::Error::from(format!("{name}:{}:{}: not JSON: {e}", e.line(), e.column()))
+    })?;
     if value.get("recording").is_some() {
-        let p = Probe::from_json(text, name).map_err(anyhow::Error::msg)?;
+        let p = Probe::from_json(text, name)?;
         Ok(Opened::Dump(Box::new(p)))
     } else if value.get("equal_time").is_some() {
-        let r: BenchReport = serde_json::from_value(value)
-            .with_context(|| format!("{name}: not a penumbra bench report"))?;
+        let r: BenchReport =
+            serde_json::from_value(value).in_file(name, "not a penumbra bench report")?;
         Ok(Opened::Bench(Box::new(r)))
     } else {
-        anyhow::bail!("{name}: neither a debug dump nor a bench report")
+        Err(crate::Error::from(format!(
+            "{name}: neither a debug dump nor a bench report"
+        )))
     }
 }
 
@@ -84,7 +88,7 @@ pub fn open_contents(files: &[super::platform::FileContent]) -> Vec<(String, Res
             .unwrap_or_default()
     };
     let text = |f: &super::platform::FileContent| -> Result<String> {
-        String::from_utf8(f.bytes.to_vec()).with_context(|| format!("{}: not UTF-8 text", f.name))
+        String::from_utf8(f.bytes.to_vec()).in_file(&f.name, "not UTF-8 text")
     };
     // An OBJ's MTL: the one its mtllib names, else the only MTL given.
     let mtl_for = |obj: &str| -> Result<Option<String>> {
@@ -99,12 +103,12 @@ pub fn open_contents(files: &[super::platform::FileContent]) -> Vec<(String, Res
             None => Ok(None),
         }
     };
-    let load_obj = |f: &super::platform::FileContent| -> Result<Scene, SceneError> {
-        let as_file_error = |e: anyhow::Error| SceneError::File {
+    let load_obj = |f: &super::platform::FileContent| -> Result<Scene> {
+        let as_file_error = |e: crate::Error| crate::Error::File {
             file: f.name.clone(),
             message: format!("{e:#}"),
         };
-        let obj = String::from_utf8(f.bytes.to_vec()).map_err(|_| SceneError::File {
+        let obj = String::from_utf8(f.bytes.to_vec()).map_err(|_| crate::Error::File {
             file: f.name.clone(),
             message: "not UTF-8 text".into(),
         })?;
@@ -118,19 +122,16 @@ pub fn open_contents(files: &[super::platform::FileContent]) -> Vec<(String, Res
         let name = f.name.clone();
         let opened = match ext(&name).as_str() {
             "obj" if with_scene_file => continue,
-            "obj" => load_obj(f)
-                .map(|s| Opened::Scene(name.clone(), s))
-                .map_err(anyhow::Error::from),
+            "obj" => load_obj(f).map(|s| Opened::Scene(name.clone(), s)),
             "glb" | "gltf" => crate::scene::gltf::load_gltf_bytes(&f.bytes, &name, None)
-                .map(|s| Opened::Scene(name.clone(), s))
-                .map_err(anyhow::Error::from),
+                .map(|s| Opened::Scene(name.clone(), s)),
             "toml" => text(f).and_then(|t| {
                 let resolve = |rel: &str| {
                     let wanted = file_name(rel);
                     let obj = files
                         .iter()
                         .find(|g| ext(&g.name) == "obj" && file_name(&g.name) == wanted)
-                        .ok_or_else(|| SceneError::File {
+                        .ok_or_else(|| crate::Error::File {
                             file: rel.to_string(),
                             message: format!(
                                 "{name} refers to it: drop it together with the scene file"
@@ -150,10 +151,10 @@ pub fn open_contents(files: &[super::platform::FileContent]) -> Vec<(String, Res
             )),
             // Taken by the scene that refers to them.
             "mtl" => continue,
-            _ => Err(anyhow::anyhow!(
+            _ => Err(crate::Error::from(format!(
                 "{name}: this file type opens from a path only (the desktop build); the \
                  browser opens .obj (with its .mtl), .glb, .gltf, .toml, .json, .hdr and .exr"
-            )),
+            ))),
         };
         out.push((name, opened));
     }
@@ -162,8 +163,7 @@ pub fn open_contents(files: &[super::platform::FileContent]) -> Vec<(String, Res
 
 /// Writes a debug dump.
 pub fn save_dump(probe: &Probe, path: &Path) -> Result<()> {
-    std::fs::write(path, serde_json::to_string_pretty(probe)?)
-        .with_context(|| path.display().to_string())
+    std::fs::write(path, serde_json::to_string_pretty(probe)?).in_file(path.display(), "")
 }
 
 /// Writes an image as PNG (tone-mapped with `exposure`), PFM or EXR by the extension.
@@ -174,8 +174,9 @@ pub fn save_image(img: &Image, path: &Path, exposure: f64) -> Result<()> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .as_deref()
     {
-        Some("pfm") => image_io::write_pfm(path, img.width, img.height, &rgb)
-            .with_context(|| path.display().to_string()),
+        Some("pfm") => {
+            image_io::write_pfm(path, img.width, img.height, &rgb).in_file(path.display(), "")
+        }
         Some("exr") => image_io::write_exr(path, img.width, img.height, &rgb),
         _ => image_io::write_png(path, img.width, img.height, &rgb, exposure),
     }
@@ -199,7 +200,7 @@ pub fn screenshot_png_bytes(img: &egui::ColorImage) -> Result<Vec<u8>> {
 
 /// Writes an RGBA screenshot as PNG.
 pub fn save_screenshot(img: &egui::ColorImage, path: &Path) -> Result<()> {
-    std::fs::write(path, screenshot_png_bytes(img)?).with_context(|| path.display().to_string())
+    std::fs::write(path, screenshot_png_bytes(img)?).in_file(path.display(), "")
 }
 
 /// The `penumbra render` command that reproduces the current view headless.

@@ -65,10 +65,10 @@ pub struct RunOptions {
     pub export_lesson: Option<PathBuf>,
 }
 
-fn parse_preset(s: &str) -> Result<Preset, String> {
+fn parse_preset(s: &str) -> crate::Result<Preset> {
     Preset::from_name(s).ok_or_else(|| {
         let names: Vec<&str> = Preset::ALL.iter().map(|p| p.name()).collect();
-        format!("no preset '{s}' (presets: {})", names.join(", "))
+        crate::Error::from(format!("no preset '{s}' (presets: {})", names.join(", ")))
     })
 }
 

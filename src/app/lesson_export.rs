@@ -7,7 +7,8 @@
 //! The writing is a plain function of the frames, so that it can be tested without a window.
 
 use super::lesson::Lesson;
-use anyhow::{Context as _, Result, bail};
+use crate::Result;
+use crate::error::InFile;
 use egui::ColorImage;
 use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, Frame, RgbaImage};
@@ -37,25 +38,27 @@ pub struct LessonFiles {
 /// Frames of a different size than the first are padded or cropped to it (a GIF has one size).
 pub fn write_lesson(dir: &Path, frames: &[LessonFrame], seconds: f64) -> Result<LessonFiles> {
     if frames.is_empty() {
-        bail!("no frames to write (pick a point first)");
+        return Err(crate::Error::from(
+            "no frames to write (pick a point first)",
+        ));
     }
-    std::fs::create_dir_all(dir).with_context(|| dir.display().to_string())?;
+    std::fs::create_dir_all(dir).in_file(dir.display(), "")?;
     let size = frames[0].image.size;
     let mut pngs = Vec::with_capacity(frames.len());
     let mut text = String::from("# Lesson\n\n");
     let gif_path = dir.join("lesson.gif");
-    let file = std::fs::File::create(&gif_path).with_context(|| gif_path.display().to_string())?;
+    let file = std::fs::File::create(&gif_path).in_file(gif_path.display(), "")?;
     let mut gif = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
     gif.set_repeat(Repeat::Infinite)
-        .with_context(|| gif_path.display().to_string())?;
+        .in_file(gif_path.display(), "")?;
     let delay = Delay::from_numer_denom_ms((seconds * 1000.0).round().max(20.0) as u32, 1);
     for (i, f) in frames.iter().enumerate() {
         let rgba = to_rgba(&f.image, size);
         let png = dir.join(format!("frame_{i:03}.png"));
         rgba.save_with_format(&png, image::ImageFormat::Png)
-            .with_context(|| png.display().to_string())?;
+            .in_file(png.display(), "")?;
         gif.encode_frame(Frame::from_parts(rgba, 0, 0, delay))
-            .with_context(|| gif_path.display().to_string())?;
+            .in_file(gif_path.display(), "")?;
         text.push_str(&format!("## Frame {i:03}: {}\n\n", f.label));
         if let Some(l) = &f.lesson {
             text.push_str(&format!(
@@ -67,7 +70,7 @@ pub fn write_lesson(dir: &Path, frames: &[LessonFrame], seconds: f64) -> Result<
     }
     drop(gif);
     let text_path = dir.join("lesson.md");
-    std::fs::write(&text_path, text).with_context(|| text_path.display().to_string())?;
+    std::fs::write(&text_path, text).in_file(text_path.display(), "")?;
     Ok(LessonFiles {
         frames: pngs,
         gif: gif_path,

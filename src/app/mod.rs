@@ -575,7 +575,7 @@ impl AppState {
     }
 
     /// Shows what was opened from the file `file`.
-    fn take_opened(&mut self, file: &str, opened: anyhow::Result<Opened>) {
+    fn take_opened(&mut self, file: &str, opened: crate::Result<Opened>) {
         match opened {
             Ok(Opened::Scene(name, scene)) => self.set_scene(name, scene),
             Ok(Opened::Dump(p)) => {

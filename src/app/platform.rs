@@ -48,27 +48,25 @@ impl SaveTarget {
     /// content. Returns the status line.
     pub fn write(
         &self,
-        to_path: impl FnOnce(&Path) -> anyhow::Result<()>,
-        to_bytes: impl FnOnce() -> anyhow::Result<Vec<u8>>,
+        to_path: impl FnOnce(&Path) -> crate::Result<()>,
+        to_bytes: impl FnOnce() -> crate::Result<Vec<u8>>,
     ) -> String {
         match self {
             SaveTarget::Path(p) => match to_path(p) {
                 Ok(()) => format!("wrote {}", p.display()),
                 Err(e) => format!("{e:#}"),
             },
-            SaveTarget::Download(name) => {
-                match to_bytes().and_then(|b| download(name, &b).map_err(anyhow::Error::msg)) {
-                    Ok(()) => format!("downloaded {name}"),
-                    Err(e) => format!("{name}: {e:#}"),
-                }
-            }
+            SaveTarget::Download(name) => match to_bytes().and_then(|b| download(name, &b)) {
+                Ok(()) => format!("downloaded {name}"),
+                Err(e) => format!("{name}: {e:#}"),
+            },
         }
     }
 }
 
 /// Offers `bytes` as a download named `name` (the browser); unreachable on the desktop.
 #[cfg(target_arch = "wasm32")]
-fn download(name: &str, bytes: &[u8]) -> Result<(), String> {
+fn download(name: &str, bytes: &[u8]) -> crate::Result<()> {
     use wasm_bindgen::JsCast;
     let err = |e: wasm_bindgen::JsValue| format!("download failed: {e:?}");
     let parts = js_sys::Array::of1(&js_sys::Uint8Array::from(bytes));
@@ -92,8 +90,8 @@ fn download(name: &str, bytes: &[u8]) -> Result<(), String> {
 }
 
 #[cfg(not(target_arch = "wasm32"))]
-fn download(name: &str, _bytes: &[u8]) -> Result<(), String> {
-    Err(format!("{name}: downloads are the browser's"))
+fn download(name: &str, _bytes: &[u8]) -> crate::Result<()> {
+    Err(format!("{name}: downloads are the browser's").into())
 }
 
 /// Asks for a file to open (the desktop's dialog).

@@ -88,7 +88,7 @@ pub fn run_environment_bench(
     camera: &Camera,
     opts: &EnvBenchOptions,
     mut log: impl FnMut(&str),
-) -> Result<EnvBenchReport, String> {
+) -> crate::Result<EnvBenchReport> {
     let spec = scene
         .environment
         .clone()
@@ -121,7 +121,7 @@ pub fn run_environment_bench(
     let mut run = |label: &str,
                    env: EnvironmentSettings,
                    repeats: u32|
-     -> Result<(EnvBenchRow, Image), String> {
+     -> crate::Result<(EnvBenchRow, Image)> {
         ctx.set_environment(light.clone(), env);
         if prt.get().is_none() {
             prt.set(ctx.environment.as_ref().and_then(|e| e.transfer_report));

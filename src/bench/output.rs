@@ -6,8 +6,9 @@ use super::plot::{Chart, Series, save_chart_png, save_chart_svg};
 use super::runner::BenchImage;
 use super::scaling::ScalingReport;
 use super::table::{BenchReport, write_csv, write_json};
+use crate::Result;
+use crate::error::InFile;
 use crate::render::image_io::write_png;
-use anyhow::{Context, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -265,16 +266,16 @@ pub fn write_bench_files(
     dir: &Path,
     exposure: f64,
 ) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+    std::fs::create_dir_all(dir).in_file(dir.display(), "cannot create")?;
     let mut files = Vec::new();
     let csv = dir.join("bench.csv");
-    write_csv(&report.rows, &csv).with_context(|| csv.display().to_string())?;
+    write_csv(&report.rows, &csv).in_file(csv.display(), "")?;
     files.push(csv);
     let json = dir.join("bench.json");
-    write_json(report, &json).with_context(|| json.display().to_string())?;
+    write_json(report, &json).in_file(json.display(), "")?;
     files.push(json);
     let md = dir.join("equal_time.md");
-    std::fs::write(&md, equal_time_markdown(report)).with_context(|| md.display().to_string())?;
+    std::fs::write(&md, equal_time_markdown(report)).in_file(md.display(), "")?;
     files.push(md);
     save_chart(&time_vs_rmse_chart(report), dir, "time_vs_rmse", &mut files)?;
     for img in strip {
@@ -343,14 +344,13 @@ pub fn scaling_markdown(report: &ScalingReport) -> String {
 
 /// Writes `scaling.json`, `scaling.md`, `fig5_scaling.png` and `fig7_scaling.png` into `dir`.
 pub fn write_scaling_files(report: &ScalingReport, dir: &Path) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
+    std::fs::create_dir_all(dir).in_file(dir.display(), "cannot create")?;
     let mut files = Vec::new();
     let json = dir.join("scaling.json");
-    std::fs::write(&json, serde_json::to_string_pretty(report)?)
-        .with_context(|| json.display().to_string())?;
+    std::fs::write(&json, serde_json::to_string_pretty(report)?).in_file(json.display(), "")?;
     files.push(json);
     let md = dir.join("scaling.md");
-    std::fs::write(&md, scaling_markdown(report)).with_context(|| md.display().to_string())?;
+    std::fs::write(&md, scaling_markdown(report)).in_file(md.display(), "")?;
     files.push(md);
     let series = |name: &str, method: &str, light: bool| Series {
         name: format!(

@@ -233,7 +233,7 @@ fn best_render(
     cam: &Camera,
     settings: &RenderSettings,
     repeats: u32,
-) -> Result<(Image, f64), String> {
+) -> crate::Result<(Image, f64)> {
     let mut best = f64::INFINITY;
     let mut img = None;
     for _ in 0..repeats.max(1) {
@@ -336,7 +336,7 @@ pub fn run_polyhedra(
     repeats: u32,
     prepare: &PrepareConfig,
     progress: impl Fn(&str),
-) -> Result<PolyhedraReport, String> {
+) -> crate::Result<PolyhedraReport> {
     let mut rows = Vec::new();
     for (row, thesis) in TABLE_7_1.iter().zip(THESIS) {
         progress(&format!("{}: rendering", row.name));

@@ -169,7 +169,7 @@ pub fn run_realworld(
     config: &RealWorldConfig,
     mut progress: impl FnMut(&str),
     mut scene_done: impl FnMut(&RealWorldReport),
-) -> Result<RealWorldReport, String> {
+) -> crate::Result<RealWorldReport> {
     let mut inputs: Vec<(String, String, String, PathBuf)> = Vec::new();
     for s in generated_scenes() {
         let path = write_exported(&s, &dir.join("scenes"))
@@ -373,16 +373,17 @@ pub fn run_realworld(
     })
 }
 
-fn save_pfm(dir: &Path, stem: &str, image: &Image) -> Result<(), String> {
+fn save_pfm(dir: &Path, stem: &str, image: &Image) -> crate::Result<()> {
     let p = dir.join(format!("{stem}.pfm"));
     write_pfm(&p, image.width, image.height, &image.to_rgb32())
-        .map_err(|e| format!("{}: {e}", p.display()))
+        .map_err(|e| crate::Error::file(p.display(), e))
 }
 
-fn save(dir: &Path, scene: &str, method: &str, image: &Image) -> Result<(), String> {
+fn save(dir: &Path, scene: &str, method: &str, image: &Image) -> crate::Result<()> {
     save_pfm(dir, &format!("{scene}_{method}"), image)?;
     let p = dir.join(format!("{scene}_{method}.png"));
-    write_png(&p, image.width, image.height, &image.to_rgb32(), 0.0).map_err(|e| format!("{e:#}"))
+    write_png(&p, image.width, image.height, &image.to_rgb32(), 0.0)
+        .map_err(|e| crate::Error::from(format!("{e:#}")))
 }
 
 /// The report as the table of docs/benchmarks.md.

@@ -196,7 +196,7 @@ pub fn as_exported(
     format: NumberFormat,
     r: DMat3,
     triangulate: bool,
-) -> Result<Mesh, String> {
+) -> crate::Result<Mesh> {
     let scene = ExportedScene {
         name: "exported",
         description: "one mesh as an exporter writes it",

@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// What a cancelled run returns (the command line's Ctrl-C, Python's KeyboardInterrupt).
 pub const CANCELLED: &str = "cancelled";
 
-fn check(cancel: Option<&AtomicBool>) -> Result<(), String> {
+fn check(cancel: Option<&AtomicBool>) -> crate::Result<()> {
     match cancel {
         Some(c) if c.load(Ordering::Relaxed) => Err(CANCELLED.into()),
         _ => Ok(()),
@@ -127,7 +127,7 @@ pub fn render_reference(
     ctx: &RenderContext,
     config: &BenchConfig,
     cancel: Option<&AtomicBool>,
-) -> Result<ReferenceImage, String> {
+) -> crate::Result<ReferenceImage> {
     let settings = config.settings(
         RenderMethod::Reference,
         config.reference_spp,
@@ -167,13 +167,13 @@ pub fn run_bench(
     reference: &ReferenceImage,
     cancel: Option<&AtomicBool>,
     mut progress: impl FnMut(usize, usize, &str),
-) -> Result<(BenchReport, Vec<BenchImage>), String> {
+) -> crate::Result<(BenchReport, Vec<BenchImage>)> {
     let (w, h) = (reference.image.width, reference.image.height);
     if (w, h) != (config.width, config.height) {
-        return Err(format!(
+        return Err(crate::Error::from(format!(
             "the reference is {w}x{h} but the bench renders {}x{}",
             config.width, config.height
-        ));
+        )));
     }
     let ref_rgb = reference.image.to_rgb32();
     let err_rgb = reference.stderr.to_rgb32();

@@ -154,7 +154,7 @@ fn time_render(
     height: u32,
     repeats: u32,
     prepare: &PrepareConfig,
-) -> Result<f64, String> {
+) -> crate::Result<f64> {
     let ctx = RenderContext::configured(std::sync::Arc::new(scene.clone()), prepare);
     let cam = scene.camera.ok_or("the scene has no camera")?;
     let settings = RenderSettings {
@@ -221,7 +221,7 @@ pub fn run_scaling(
     fig5_base: &Scene,
     config: &ScalingConfig,
     mut progress: impl FnMut(&str),
-) -> Result<ScalingReport, String> {
+) -> crate::Result<ScalingReport> {
     let ScalingConfig {
         max_copies,
         max_level,

@@ -299,7 +299,7 @@ pub fn calibration_work(quads: &[[DVec3; 4]], passes: u32) -> f64 {
 }
 
 /// Seconds per call of `work`, repeated until `min_seconds` have passed.
-fn timed(min_seconds: f64, mut work: impl FnMut() -> Result<f64, String>) -> Result<f64, String> {
+fn timed(min_seconds: f64, mut work: impl FnMut() -> crate::Result<f64>) -> crate::Result<f64> {
     let start = Instant::now();
     let mut calls = 0u32;
     let mut sink = 0.0;
@@ -315,7 +315,7 @@ fn timed(min_seconds: f64, mut work: impl FnMut() -> Result<f64, String>) -> Res
 }
 
 /// Measures one scene: `config.runs` rounds of calibration, unshadowed and analytic.
-pub fn measure_scene(scene: &Scene, name: &str, config: &SpeedConfig) -> Result<SpeedRow, String> {
+pub fn measure_scene(scene: &Scene, name: &str, config: &SpeedConfig) -> crate::Result<SpeedRow> {
     let camera = scene.camera.ok_or_else(|| format!("{name}: no camera"))?;
     let settings = |method| RenderSettings {
         width: config.width,
@@ -340,7 +340,7 @@ pub fn measure_scene(scene: &Scene, name: &str, config: &SpeedConfig) -> Result<
         settings(RenderMethod::Unshadowed),
     );
     let mut violations = 0;
-    let render = |s: &RenderSettings, violations: &mut u64| -> Result<f64, String> {
+    let render = |s: &RenderSettings, violations: &mut u64| -> crate::Result<f64> {
         let out = ctx.render_full(&camera, s, None)?;
         *violations = (*violations).max(out.stats.violations);
         Ok(out.stats.seconds)
@@ -377,10 +377,12 @@ pub fn measure_scene(scene: &Scene, name: &str, config: &SpeedConfig) -> Result<
 }
 
 /// Loads a scene of the suite.
-pub fn load(source: &SpeedScene) -> Result<Scene, String> {
+pub fn load(source: &SpeedScene) -> crate::Result<Scene> {
     match source {
-        SpeedScene::Embedded(n) => load_embedded(n).map_err(|e| e.to_string()),
-        SpeedScene::File(p) => load_scene(p).map_err(|e| format!("{}: {e}", p.display())),
+        SpeedScene::Embedded(n) => load_embedded(n),
+        SpeedScene::File(p) => {
+            load_scene(p).map_err(|e| crate::Error::from(format!("{}: {e}", p.display())))
+        }
     }
 }
 
@@ -395,7 +397,7 @@ pub struct GuardOutcome {
 }
 
 /// Measures one scene of the suite in this process, on a pool of `config.threads` threads.
-pub fn measure_named(name: &str, config: &SpeedConfig) -> Result<SpeedRow, String> {
+pub fn measure_named(name: &str, config: &SpeedConfig) -> crate::Result<SpeedRow> {
     let (_, source) = speed_scenes()
         .into_iter()
         .find(|(n, _)| n == name)
@@ -419,8 +421,8 @@ pub fn run_speed(
     baseline: Option<&SpeedBaseline>,
     only: &[String],
     mut progress: impl FnMut(&str),
-    mut measure: impl FnMut(&str) -> Result<SpeedRow, String>,
-) -> Result<GuardOutcome, String> {
+    mut measure: impl FnMut(&str) -> crate::Result<SpeedRow>,
+) -> crate::Result<GuardOutcome> {
     let mut scenes = speed_scenes();
     scenes.retain(|(n, _)| only.is_empty() || only.contains(n));
     let mut rows: Vec<SpeedRow> = Vec::new();

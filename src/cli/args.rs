@@ -414,7 +414,7 @@ pub(crate) fn parse_vec3(s: &str) -> Result<DVec3, String> {
 }
 
 pub(crate) fn parse_vec2(s: &str) -> Result<(f64, f64), String> {
-    penumbra::inspect::parse_pair(s)
+    penumbra::inspect::parse_pair(s).map_err(|e| e.to_string())
 }
 
 pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {

@@ -290,7 +290,7 @@ pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
     // scenes before it than in a fresh process, with the same code (docs/speed.md).
     let exe = std::env::current_exe().context("the path of this program")?;
     let config_json = serde_json::to_string(&config)?;
-    let measure = |name: &str| -> Result<SpeedRow, String> {
+    let measure = |name: &str| -> penumbra::Result<SpeedRow> {
         let out = std::process::Command::new(&exe)
             .args(["bench", "--suite", "speed", "--measure-scene", name])
             .args(["--speed-config", &config_json])
@@ -298,11 +298,11 @@ pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
             .output()
             .map_err(|e| format!("{}: {e}", exe.display()))?;
         if !out.status.success() {
-            return Err(format!("measuring {name}: {}", out.status));
+            return Err(format!("measuring {name}: {}", out.status).into());
         }
         let text = String::from_utf8_lossy(&out.stdout);
         let line = text.lines().last().unwrap_or_default();
-        serde_json::from_str(line).map_err(|e| format!("measuring {name}: {e}: {line}"))
+        serde_json::from_str(line).map_err(|e| format!("measuring {name}: {e}: {line}").into())
     };
     let outcome = run_speed(
         &config,

@@ -25,7 +25,7 @@ pub struct EnvironmentLight {
 
 impl EnvironmentLight {
     /// Loads (or builds) the map `spec` names, with its rotation and scale, and projects it.
-    pub fn load(spec: &EnvironmentSpec) -> anyhow::Result<Self> {
+    pub fn load(spec: &EnvironmentSpec) -> crate::Result<Self> {
         let (map, label) = Self::load_map(&spec.source)?;
         Ok(Self::from_map(
             map.with_rotation(spec.rotate_deg).with_scale(spec.scale),
@@ -35,7 +35,7 @@ impl EnvironmentLight {
 
     /// The map `source` names, unrotated and unscaled, with its label (the workbench keeps it
     /// to rotate and scale it again without reading the file).
-    pub fn load_map(source: &EnvironmentSource) -> anyhow::Result<(EnvironmentMap, String)> {
+    pub fn load_map(source: &EnvironmentSource) -> crate::Result<(EnvironmentMap, String)> {
         let map = match source {
             EnvironmentSource::Sky => EnvironmentMap::sky(SKY_WIDTH, SKY_HEIGHT),
             EnvironmentSource::SkySh => {

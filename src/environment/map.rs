@@ -15,7 +15,7 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::Path;
 
-use anyhow::{Context, bail};
+use crate::error::InFile;
 use glam::{DMat3, DVec3};
 
 use super::sh::Sh9;
@@ -45,24 +45,26 @@ impl EnvironmentMap {
     /// A map from `width * height` row-major pixels (row 0 at the top), no rotation, scale 1.
     /// Fails on a zero size, a pixel count that does not match, or a non-finite pixel.
     /// Negative pixels are allowed (a band-limited map rings below zero).
-    pub fn new(width: usize, height: usize, pixels: Vec<DVec3>) -> anyhow::Result<Self> {
+    pub fn new(width: usize, height: usize, pixels: Vec<DVec3>) -> crate::Result<Self> {
         if width == 0 || height == 0 {
-            bail!("environment map has zero size ({width}x{height})");
+            return Err(crate::Error::from(format!(
+                "environment map has zero size ({width}x{height})"
+            )));
         }
         if width.checked_mul(height) != Some(pixels.len()) {
-            bail!(
+            return Err(crate::Error::from(format!(
                 "a {width}x{height} environment map needs {} pixels, got {}",
                 width.saturating_mul(height),
                 pixels.len()
-            );
+            )));
         }
         if let Some(k) = pixels.iter().position(|p| !p.is_finite()) {
-            bail!(
+            return Err(crate::Error::from(format!(
                 "environment map pixel ({}, {}) is not finite: {}",
                 k % width,
                 k / width,
                 pixels[k]
-            );
+            )));
         }
         Ok(Self {
             width,
@@ -156,7 +158,7 @@ impl EnvironmentMap {
     /// Reads a Radiance RGBE (`.hdr`) or OpenEXR (`.exr`, the first RGB(A) layer) file.
     /// Every error names the file. Non-finite pixels are an error; negative pixels (which
     /// some EXR writers leave after filtering) are clamped to zero with a warning on stderr.
-    pub fn load(path: impl AsRef<Path>) -> anyhow::Result<Self> {
+    pub fn load(path: impl AsRef<Path>) -> crate::Result<Self> {
         let path = path.as_ref();
         let ext = path
             .extension()
@@ -165,27 +167,35 @@ impl EnvironmentMap {
         let decoded = match ext.as_deref() {
             Some("hdr") => read_hdr(path)?,
             Some("exr") => read_exr(path)?,
-            _ => bail!(
-                "{}: unsupported environment map format (expected .hdr or .exr)",
-                path.display()
-            ),
+            _ => {
+                return Err(crate::Error::from(format!(
+                    "{}: unsupported environment map format (expected .hdr or .exr)",
+                    path.display()
+                )));
+            }
         };
         Self::from_decoded(decoded, &path.display().to_string())
     }
 
     /// [`EnvironmentMap::load`] from a file's content (dropped on the browser's page): `name`
     /// tells the format by its extension and names the map in errors.
-    pub fn from_bytes(bytes: &[u8], name: &str) -> anyhow::Result<Self> {
+    pub fn from_bytes(bytes: &[u8], name: &str) -> crate::Result<Self> {
         let ext = Path::new(name)
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
         let decoded = match ext.as_deref() {
-            Some("hdr") => decode_hdr(std::io::Cursor::new(bytes))
-                .with_context(|| format!("{name}: reading Radiance HDR"))?,
-            Some("exr") => decode_exr(std::io::Cursor::new(bytes))
-                .with_context(|| format!("{name}: reading OpenEXR"))?,
-            _ => bail!("{name}: unsupported environment map format (expected .hdr or .exr)"),
+            Some("hdr") => {
+                decode_hdr(std::io::Cursor::new(bytes)).in_file(name, "reading Radiance HDR")?
+            }
+            Some("exr") => {
+                decode_exr(std::io::Cursor::new(bytes)).in_file(name, "reading OpenEXR")?
+            }
+            _ => {
+                return Err(crate::Error::from(format!(
+                    "{name}: unsupported environment map format (expected .hdr or .exr)"
+                )));
+            }
         };
         Self::from_decoded(decoded, name)
     }
@@ -195,7 +205,7 @@ impl EnvironmentMap {
     fn from_decoded(
         (width, height, mut pixels): (usize, usize, Vec<DVec3>),
         label: &str,
-    ) -> anyhow::Result<Self> {
+    ) -> crate::Result<Self> {
         let negative = pixels.iter().filter(|p| p.min_element() < 0.0).count();
         if negative > 0 && pixels.iter().all(|p| p.is_finite()) {
             eprintln!("warning: {label}: {negative} pixels with negative components, clamped to 0");
@@ -203,7 +213,7 @@ impl EnvironmentMap {
                 *p = p.max(DVec3::ZERO);
             }
         }
-        Self::new(width, height, pixels).with_context(|| label.to_string())
+        Self::new(width, height, pixels).in_file(label, "")
     }
 
     /// The embedded default: a procedural sky, so that nothing needs downloading. A blue
@@ -228,7 +238,7 @@ impl EnvironmentMap {
         width: usize,
         height: usize,
         radiance: impl Fn(DVec3) -> DVec3,
-    ) -> anyhow::Result<Self> {
+    ) -> crate::Result<Self> {
         let mut pixels = Vec::with_capacity(width * height);
         for j in 0..height {
             for i in 0..width {
@@ -262,15 +272,14 @@ fn sky_radiance(d: DVec3) -> DVec3 {
     ground.lerp(sky + sun, blend)
 }
 
-fn read_hdr(path: &Path) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {
-    let file = File::open(path).with_context(|| format!("{}: opening", path.display()))?;
-    decode_hdr(BufReader::new(file))
-        .with_context(|| format!("{}: reading Radiance HDR", path.display()))
+fn read_hdr(path: &Path) -> crate::Result<(usize, usize, Vec<DVec3>)> {
+    let file = File::open(path).in_file(path.display(), "opening")?;
+    decode_hdr(BufReader::new(file)).in_file(path.display(), "reading Radiance HDR")
 }
 
 fn decode_hdr(
     reader: impl std::io::BufRead + std::io::Seek,
-) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {
+) -> crate::Result<(usize, usize, Vec<DVec3>)> {
     let image = image::ImageReader::with_format(reader, image::ImageFormat::Hdr)
         .decode()?
         .into_rgb32f();
@@ -286,7 +295,7 @@ fn decode_hdr(
 /// `read_first_rgba_layer_from_file` makes of a file).
 fn decode_exr(
     reader: impl std::io::Read + std::io::Seek + Send,
-) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {
+) -> crate::Result<(usize, usize, Vec<DVec3>)> {
     use exr::prelude::{ReadChannels, ReadLayers};
     let image = exr::prelude::read()
         .no_deep_data()
@@ -312,10 +321,13 @@ fn decode_exr(
     Ok((size.width(), size.height(), pixels))
 }
 
-fn read_exr(path: &Path) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {
+fn read_exr(path: &Path) -> crate::Result<(usize, usize, Vec<DVec3>)> {
     // Reported before the decoder's own message, which does not always say "not found".
     if !path.exists() {
-        bail!("{}: no such file", path.display());
+        return Err(crate::Error::from(format!(
+            "{}: no such file",
+            path.display()
+        )));
     }
     let image = exr::prelude::read_first_rgba_layer_from_file(
         path,
@@ -324,7 +336,7 @@ fn read_exr(path: &Path) -> anyhow::Result<(usize, usize, Vec<DVec3>)> {
             px[pos.y() * *w + pos.x()] = DVec3::new(r as f64, g as f64, b as f64);
         },
     )
-    .with_context(|| format!("{}: reading OpenEXR", path.display()))?;
+    .in_file(path.display(), "reading OpenEXR")?;
     let size = image.layer_data.size;
     let (_, pixels) = image.layer_data.channel_data.pixels;
     Ok((size.width(), size.height(), pixels))

@@ -11,6 +11,8 @@
 //! infinite, or that is not positive on a log axis. A connected series breaks its line at a
 //! skipped point rather than jumping over it.
 
+use crate::error::InFile;
+
 use super::description::{Figure, Item, Shape, Subpath};
 use super::font::{self, Align, TextStyle};
 use super::{raster, svg};
@@ -692,17 +694,14 @@ pub fn chart_svg(chart: &Chart, width: u32, height: u32) -> String {
 }
 
 /// Writes `chart` as SVG.
-pub fn save_chart_svg(chart: &Chart, width: u32, height: u32, path: &Path) -> anyhow::Result<()> {
-    use anyhow::Context;
-    std::fs::write(path, chart_svg(chart, width, height))
-        .with_context(|| format!("{}: writing SVG", path.display()))
+pub fn save_chart_svg(chart: &Chart, width: u32, height: u32, path: &Path) -> crate::Result<()> {
+    std::fs::write(path, chart_svg(chart, width, height)).in_file(path.display(), "writing SVG")
 }
 
 /// Renders `chart` and writes it as an 8-bit RGBA PNG.
-pub fn save_chart_png(chart: &Chart, width: u32, height: u32, path: &Path) -> anyhow::Result<()> {
-    use anyhow::Context;
+pub fn save_chart_png(chart: &Chart, width: u32, height: u32, path: &Path) -> crate::Result<()> {
     save_pixmap_png(&render_chart(chart, width, height), path)
-        .with_context(|| format!("{}: writing PNG", path.display()))
+        .in_file(path.display(), "writing PNG")
 }
 
 /// Writes a tiny-skia pixmap (premultiplied) as an 8-bit straight-alpha RGBA PNG.

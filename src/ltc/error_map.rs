@@ -166,19 +166,14 @@ fn fill(pm: &mut Pixmap, x: f32, y: f32, w: f32, h: f32, c: [u8; 3]) {
 
 /// The heat map: one panel per table, cells coloured by their RMS polygon error (log scale),
 /// labelled with it in percent of the albedo; α grows downward, θv to the right.
-pub fn heat_map_png(
-    cells: &[MapCell],
-    names: &[&str],
-    m: usize,
-    path: &Path,
-) -> anyhow::Result<()> {
+pub fn heat_map_png(cells: &[MapCell], names: &[&str], m: usize, path: &Path) -> crate::Result<()> {
     let cs = 34.0f32;
     let (left, top, gap) = (70.0f32, 46.0f32, 30.0f32);
     let panel = cs * m as f32;
     let bar = 60.0;
     let w = left + names.len() as f32 * (panel + gap) + bar;
     let h = top + panel + 70.0;
-    let mut pm = Pixmap::new(w as u32, h as u32).ok_or_else(|| anyhow::anyhow!("pixmap"))?;
+    let mut pm = Pixmap::new(w as u32, h as u32).ok_or_else(|| crate::Error::from("pixmap"))?;
     pm.fill(Color::WHITE);
     let black = [0u8, 0, 0];
     for (t, name) in names.iter().enumerate() {

@@ -621,13 +621,13 @@ pub fn refit_rows(
     first: usize,
     last: usize,
     fo: &FitOptions,
-) -> Result<LtcTable, String> {
+) -> crate::Result<LtcTable> {
     let n = base.size();
     if last >= n || first > last {
-        return Err(format!(
+        return Err(crate::Error::from(format!(
             "--rows {first}-{last} outside the table's 0-{}",
             n - 1
-        ));
+        )));
     }
     let alphas: Vec<f64> = (first..=last).map(|i| base.alpha_at(i)).collect();
     let mut cosines: Vec<f64> = (0..n).map(|j| base.cos_theta_at(j)).collect();

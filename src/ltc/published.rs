@@ -47,6 +47,12 @@ pub enum ImportError {
     Determinant { x: usize, y: usize, det: f64 },
 }
 
+impl From<ImportError> for crate::Error {
+    fn from(e: ImportError) -> Self {
+        crate::Error::Typed(std::sync::Arc::new(e))
+    }
+}
+
 /// The numbers of the JavaScript array literal `const NAME = [ … ];` in `js` (numbers may
 /// be written `- 4.5e-07`, with a space after the sign).
 fn js_array(js: &str, name: &'static str) -> Result<Vec<f64>, ImportError> {

@@ -170,6 +170,12 @@ pub enum TableFormatError {
     Record(usize),
 }
 
+impl From<TableFormatError> for crate::Error {
+    fn from(e: TableFormatError) -> Self {
+        crate::Error::Typed(std::sync::Arc::new(e))
+    }
+}
+
 /// FNV-1a, 64 bit.
 fn fnv1a64(bytes: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;

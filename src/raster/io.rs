@@ -7,7 +7,7 @@ use std::fs::File;
 use std::io::{self, BufWriter, Read, Write};
 use std::path::Path;
 
-use anyhow::{Context, bail};
+use crate::error::InFile;
 
 fn io_err(path: &Path, kind: io::ErrorKind, msg: impl std::fmt::Display) -> io::Error {
     io::Error::new(kind, format!("{}: {msg}", path.display()))
@@ -18,13 +18,15 @@ fn with_path(path: &Path) -> impl FnOnce(io::Error) -> io::Error + '_ {
 }
 
 /// `width * height`, if it matches `len` and does not overflow.
-fn check_len(width: u32, height: u32, len: usize) -> Result<(), String> {
+fn check_len(width: u32, height: u32, len: usize) -> crate::Result<()> {
     match (width as usize).checked_mul(height as usize) {
         Some(n) if n == len => Ok(()),
-        Some(n) => Err(format!(
+        Some(n) => Err(crate::Error::from(format!(
             "{width}x{height} image needs {n} pixels, got {len}"
-        )),
-        None => Err(format!("{width}x{height} image is too large")),
+        ))),
+        None => Err(crate::Error::from(format!(
+            "{width}x{height} image is too large"
+        ))),
     }
 }
 
@@ -149,13 +151,16 @@ pub fn read_pfm(path: &Path) -> io::Result<(u32, u32, Vec<[f32; 3]>)> {
 }
 
 /// Writes linear RGB as 32-bit float OpenEXR (ZIP, scan lines).
-pub fn write_exr(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]]) -> anyhow::Result<()> {
+pub fn write_exr(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]]) -> crate::Result<()> {
     use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage};
     if let Err(m) = check_len(width, height, rgb.len()) {
-        bail!("{}: {m}", path.display());
+        return Err(crate::Error::from(format!("{}: {m}", path.display())));
     }
     if width == 0 || height == 0 {
-        bail!("{}: OpenEXR cannot store an empty image", path.display());
+        return Err(crate::Error::from(format!(
+            "{}: OpenEXR cannot store an empty image",
+            path.display()
+        )));
     }
     let w = width as usize;
     let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
@@ -165,7 +170,7 @@ pub fn write_exr(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]]) -> anyh
     Image::from_encoded_channels((w, height as usize), Encoding::SMALL_LOSSLESS, channels)
         .write()
         .to_file(path)
-        .with_context(|| format!("{}: writing OpenEXR", path.display()))
+        .in_file(path.display(), "writing OpenEXR")
 }
 
 /// The sRGB opto-electronic transfer function (IEC 61966-2-1), on [0, 1].
@@ -192,10 +197,9 @@ pub fn write_png(
     height: u32,
     rgb: &[[f32; 3]],
     exposure: f64,
-) -> anyhow::Result<()> {
-    let bytes = png_bytes(width, height, rgb, exposure)
-        .with_context(|| format!("{}: writing PNG", path.display()))?;
-    std::fs::write(path, bytes).with_context(|| format!("{}: writing PNG", path.display()))
+) -> crate::Result<()> {
+    let bytes = png_bytes(width, height, rgb, exposure).in_file(path.display(), "writing PNG")?;
+    std::fs::write(path, bytes).in_file(path.display(), "writing PNG")
 }
 
 /// [`write_png`]'s file as bytes (a download in the browser).
@@ -204,9 +208,9 @@ pub fn png_bytes(
     height: u32,
     rgb: &[[f32; 3]],
     exposure: f64,
-) -> anyhow::Result<Vec<u8>> {
+) -> crate::Result<Vec<u8>> {
     if let Err(m) = check_len(width, height, rgb.len()) {
-        bail!("{m}");
+        return Err(crate::Error::from(format!("{m}")));
     }
     let bytes: Vec<u8> = rgb
         .iter()
@@ -221,12 +225,12 @@ pub fn encode_png(
     width: u32,
     height: u32,
     color: image::ExtendedColorType,
-) -> anyhow::Result<Vec<u8>> {
+) -> crate::Result<Vec<u8>> {
     use image::ImageEncoder;
     let mut out = Vec::new();
     image::codecs::png::PngEncoder::new(&mut out)
         .write_image(pixels, width, height, color)
-        .context("encoding PNG")?;
+        .map_err(|e| crate::Error::from(format!("encoding PNG: {e}")))?;
     Ok(out)
 }
 

@@ -376,7 +376,7 @@ impl RenderContext {
         &self,
         index: usize,
         scene: Arc<Scene>,
-    ) -> Result<RenderContext, String> {
+    ) -> crate::Result<RenderContext> {
         let (prepared, _) = self.prepared.with_moved_object(&scene, index)?;
         let bvh = self.bvh.with_moved_object(&self.scene, &scene, index);
         let area_lights =
@@ -476,7 +476,7 @@ impl RenderContext {
         camera: &Camera,
         settings: &RenderSettings,
         cancel: Option<&AtomicBool>,
-    ) -> Result<(Image, RenderStats), String> {
+    ) -> crate::Result<(Image, RenderStats)> {
         let out = self.render_full(camera, settings, cancel)?;
         Ok((out.image, out.stats))
     }
@@ -489,7 +489,7 @@ impl RenderContext {
         camera: &Camera,
         settings: &RenderSettings,
         cancel: Option<&AtomicBool>,
-    ) -> Result<RenderOutput, String> {
+    ) -> crate::Result<RenderOutput> {
         let basis = camera.basis()?;
         if settings.width == 0 || settings.height == 0 || settings.aa == 0 {
             return Err("image size and --aa must be positive".into());
@@ -559,7 +559,7 @@ impl RenderContext {
         stride: u32,
         coarser: Option<Coarser>,
         cancel: Option<&AtomicBool>,
-    ) -> Option<Result<RenderOutput, String>> {
+    ) -> Option<crate::Result<RenderOutput>> {
         if !self.interlaces(settings) {
             return None;
         }

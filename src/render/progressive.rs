@@ -86,7 +86,7 @@ pub fn render_progressive(
     max_passes: u32,
     cancel: &AtomicBool,
     emit: impl FnMut(&ProgressiveFrame),
-) -> Result<Option<ProgressiveFrame>, String> {
+) -> crate::Result<Option<ProgressiveFrame>> {
     render_progressive_with(ctx, camera, settings, max_passes, cancel, false, emit)
 }
 
@@ -101,7 +101,7 @@ pub fn render_progressive_with(
     cancel: &AtomicBool,
     defer_denoise: bool,
     mut emit: impl FnMut(&ProgressiveFrame),
-) -> Result<Option<ProgressiveFrame>, String> {
+) -> crate::Result<Option<ProgressiveFrame>> {
     let denoised = matches!(
         settings.method,
         RenderMethod::RatioDenoised | RenderMethod::RatioBilateral
@@ -136,7 +136,7 @@ pub fn render_progressive_with(
         let defer_level = defer && scale == 1;
         // A step of its own: a sliced render (the browser's) does each level once, and skips
         // it once a finer level is done (`None`).
-        let Some(output) = slicing::step(|| -> Result<Option<RenderOutput>, String> {
+        let Some(output) = slicing::step(|| -> crate::Result<Option<RenderOutput>> {
             if !defer_level {
                 // The analytic methods' levels are interlaced: each takes over the samples
                 // of the coarser one before it (`super::sample_grid`).

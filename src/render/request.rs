@@ -79,7 +79,7 @@ impl RenderRequest {
     /// `scene` with the request's environment merged into it ([`resolve_environment`]), then
     /// prepared for the request ([`prepare`]): the command line's and Python's one way to a
     /// render.
-    pub fn prepare(&self, scene: &mut Scene) -> Result<PreparedRender, String> {
+    pub fn prepare(&self, scene: &mut Scene) -> crate::Result<PreparedRender> {
         resolve_environment(scene, &self.environment)?;
         prepare(scene, self)
     }
@@ -87,7 +87,7 @@ impl RenderRequest {
 
 /// The LTC table named `spec`: `embedded`, `published` or a file, with `+renorm` for its
 /// horizon-renormalised variant. Tables are kept for the process (a render refers to one).
-pub fn ltc_table(spec: &str) -> Result<&'static LtcTable, String> {
+pub fn ltc_table(spec: &str) -> crate::Result<&'static LtcTable> {
     let (name, renorm) = match spec.strip_suffix("+renorm") {
         Some(n) => (n, true),
         None => (spec, false),
@@ -108,7 +108,7 @@ pub fn ltc_table(spec: &str) -> Result<&'static LtcTable, String> {
 
 /// Merges `env` into `scene.environment` (the request overrides the scene file; a map of
 /// `none` removes it), so that the scene is prepared knowing whether it has one.
-pub fn resolve_environment(scene: &mut Scene, env: &EnvironmentOptions) -> Result<(), String> {
+pub fn resolve_environment(scene: &mut Scene, env: &EnvironmentOptions) -> crate::Result<()> {
     scene.environment = env.overrides.apply(scene.environment.as_ref())?;
     Ok(())
 }
@@ -116,7 +116,7 @@ pub fn resolve_environment(scene: &mut Scene, env: &EnvironmentOptions) -> Resul
 /// Prepares `scene` (its environment already resolved, [`resolve_environment`]) for
 /// `request`: the context (its trees sized for the request's image, its LTC table), and the
 /// environment loaded and attached with the request's options and `settings.seed`.
-pub fn prepare(scene: &Scene, request: &RenderRequest) -> Result<PreparedRender, String> {
+pub fn prepare(scene: &Scene, request: &RenderRequest) -> crate::Result<PreparedRender> {
     let mut ctx = RenderContext::for_render(scene, request);
     let mut notes = ctx.prepared.report.lines();
     let mut environment = None;

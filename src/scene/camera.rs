@@ -32,16 +32,16 @@ pub struct CameraBasis {
 
 impl Camera {
     /// Validates the camera: finite, eye != target, up not parallel to the view direction.
-    pub fn basis(&self) -> Result<CameraBasis, String> {
+    pub fn basis(&self) -> crate::Result<CameraBasis> {
         let all = [self.eye, self.target, self.up];
         if all.iter().any(|v| !v.is_finite()) || !self.fov_deg.is_finite() {
             return Err("camera has a non-finite coordinate".into());
         }
         if !(self.fov_deg > 0.0 && self.fov_deg < 180.0) {
-            return Err(format!(
+            return Err(crate::Error::from(format!(
                 "field of view {} is not in (0, 180) degrees",
                 self.fov_deg
-            ));
+            )));
         }
         let forward = (self.target - self.eye)
             .try_normalize()

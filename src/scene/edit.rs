@@ -62,6 +62,12 @@ pub enum EditError {
     SceneMismatch(usize),
 }
 
+impl From<EditError> for crate::Error {
+    fn from(e: EditError) -> Self {
+        crate::Error::Typed(std::sync::Arc::new(e))
+    }
+}
+
 impl Rigid {
     pub const IDENTITY: Rigid = Rigid {
         rotation: DQuat::IDENTITY,

@@ -125,7 +125,7 @@ impl EnvironmentSpec {
         scale: Option<f64>,
         method: Option<EnvMethod>,
         spp: Option<u32>,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         let source = EnvironmentSource::from_name(map)
             .ok_or("environment map must be 'sky', 'sky-sh' or a file")?;
         let rotate_deg = rotate_deg.unwrap_or(0.0);
@@ -192,7 +192,7 @@ impl EnvironmentOverrides {
     /// keeps the scene's rotation, scale, method and rays unless they are overridden too; the
     /// merged values are checked as a scene file's are. Rotation, scale or method without any
     /// environment is an error (they would be silently ignored).
-    pub fn apply(&self, base: Option<&EnvironmentSpec>) -> Result<Option<EnvironmentSpec>, String> {
+    pub fn apply(&self, base: Option<&EnvironmentSpec>) -> crate::Result<Option<EnvironmentSpec>> {
         let mut spec = match (self.map.as_deref(), base) {
             (Some("none"), _) => return Ok(None),
             (Some(map), base) => {
@@ -300,6 +300,7 @@ mod tests {
             orphan
                 .apply(None)
                 .unwrap_err()
+                .to_string()
                 .contains("need an environment")
         );
         let negative = EnvironmentOverrides {

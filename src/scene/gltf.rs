@@ -19,9 +19,10 @@ mod nodes;
 
 pub use materials::DIELECTRIC_F0;
 
+use super::Scene;
 use super::obj::{FaceOrigin, FaceSource, Warnings, build_object};
 use super::precision::WrittenPrecision;
-use super::{Scene, SceneError};
+use crate::Result;
 use buffers::Buffers;
 use glam::{DAffine3, DVec3};
 use gltf::json::mesh::{Mode, Semantic};
@@ -51,9 +52,9 @@ const HARMLESS_EXTENSIONS: &[&str] = &[
 ];
 
 /// Loads a `.glb` or `.gltf` file; external buffers are relative to its directory.
-pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
+pub fn load_gltf(path: &Path) -> Result<Scene> {
     let label = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| SceneError::File {
+    let bytes = std::fs::read(path).map_err(|e| crate::Error::File {
         file: label.clone(),
         message: format!("cannot read file: {e}"),
     })?;
@@ -64,15 +65,11 @@ pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
 /// Loads glTF from memory (binary or JSON, told apart by the GLB magic). `name_for_errors`
 /// names it in errors and warnings; external buffers are read relative to `dir`, and are an
 /// error without it.
-pub fn load_gltf_bytes(
-    bytes: &[u8],
-    name_for_errors: &str,
-    dir: Option<&Path>,
-) -> Result<Scene, SceneError> {
+pub fn load_gltf_bytes(bytes: &[u8], name_for_errors: &str, dir: Option<&Path>) -> Result<Scene> {
     let file = name_for_errors;
     let parsed = container::parse(bytes, file)?;
     let root = &parsed.root;
-    let err = |message: String| SceneError::File {
+    let err = |message: String| crate::Error::File {
         file: file.to_owned(),
         message,
     };

@@ -130,16 +130,3 @@ pub struct Scene {
     /// The scene file's `[environment]`, if it has one (the command line may override it).
     pub environment: Option<environment_spec::EnvironmentSpec>,
 }
-
-/// Errors while loading a scene: always name the file and, where known, the line.
-#[derive(Debug, thiserror::Error)]
-pub enum SceneError {
-    #[error("{file}: {message}")]
-    File { file: String, message: String },
-    #[error("{file}:{line}: {message}")]
-    Line {
-        file: String,
-        line: usize,
-        message: String,
-    },
-}

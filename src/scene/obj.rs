@@ -17,7 +17,8 @@
 
 use super::face_triangulation::{FaceSurface, Split, face_surface};
 use super::precision::{PrecisionSurvey, WrittenPrecision, written_number};
-use super::{Material, Mesh, ObjectFlags, Scene, SceneError, SceneObject};
+use super::{Material, Mesh, ObjectFlags, Scene, SceneObject};
+use crate::Result;
 use glam::DVec3;
 use std::collections::HashSet;
 use std::path::Path;
@@ -31,7 +32,7 @@ pub const ALPHA_MAX: f64 = 1.0;
 
 /// Loads an OBJ file (and the MTL files its `mtllib` statements name, relative to the OBJ's
 /// directory) with the default flags: light = (Ke > 0), occluder = true, receiver = true.
-pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
+pub fn load_obj(path: &Path) -> Result<Scene> {
     let label = path.display().to_string();
     let text = read_text(path, &label)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -54,11 +55,7 @@ pub fn load_obj(path: &Path) -> Result<Scene, SceneError> {
 /// Loads OBJ text from memory. `mtl`, if given, is used for every `mtllib` statement (and also
 /// when the OBJ has none); without it materials fall back to the default with a warning.
 /// `name_for_errors` names the OBJ in errors and warnings.
-pub fn load_obj_str(
-    obj: &str,
-    mtl: Option<&str>,
-    name_for_errors: &str,
-) -> Result<Scene, SceneError> {
+pub fn load_obj_str(obj: &str, mtl: Option<&str>, name_for_errors: &str) -> Result<Scene> {
     let dir = Path::new(name_for_errors)
         .parent()
         .map(Path::to_path_buf)
@@ -87,10 +84,10 @@ pub fn load_obj_str(
 }
 
 /// Reads a whole file as text (invalid UTF-8 is replaced, not rejected).
-pub(crate) fn read_text(path: &Path, label: &str) -> Result<String, SceneError> {
+pub(crate) fn read_text(path: &Path, label: &str) -> Result<String> {
     match std::fs::read(path) {
         Ok(bytes) => Ok(String::from_utf8_lossy(&bytes).into_owned()),
-        Err(e) => Err(SceneError::File {
+        Err(e) => Err(crate::Error::File {
             file: label.to_owned(),
             message: format!("cannot read file: {e}"),
         }),
@@ -108,7 +105,7 @@ pub(crate) fn load_obj_with(
     obj: &str,
     label: &str,
     resolve: &dyn Fn(&str) -> MtlSource,
-) -> Result<Scene, SceneError> {
+) -> Result<Scene> {
     load_obj_impl(obj, label, resolve, None)
 }
 
@@ -161,11 +158,11 @@ impl Warnings {
     }
 }
 
-fn line_err(file: &str, line: usize, message: impl Into<String>) -> SceneError {
-    SceneError::Line {
+fn line_err(file: &str, line: usize, message: impl std::fmt::Display) -> crate::Error {
+    crate::Error::Line {
         file: file.to_owned(),
         line,
-        message: message.into(),
+        message: message.to_string(),
     }
 }
 
@@ -222,7 +219,7 @@ struct ObjScan {
     precision: WrittenPrecision,
 }
 
-fn scan_obj(text: &str, file: &str, warn: &mut Warnings) -> Result<ObjScan, SceneError> {
+fn scan_obj(text: &str, file: &str, warn: &mut Warnings) -> Result<ObjScan> {
     let mut scan = ObjScan {
         sanitized: String::with_capacity(text.len()),
         positions: Vec::new(),
@@ -360,9 +357,12 @@ fn scan_obj(text: &str, file: &str, warn: &mut Warnings) -> Result<ObjScan, Scen
 }
 
 /// `v x y z [w]` or `v x y z r g b`; the coordinates must be finite, w finite and nonzero.
-fn parse_vertex(toks: &[&str]) -> Result<DVec3, String> {
+fn parse_vertex(toks: &[&str]) -> crate::Result<DVec3> {
     if toks.len() < 3 {
-        return Err(format!("vertex needs 3 coordinates, found {}", toks.len()));
+        return Err(crate::Error::from(format!(
+            "vertex needs 3 coordinates, found {}",
+            toks.len()
+        )));
     }
     let mut vals = Vec::with_capacity(toks.len());
     for t in toks {
@@ -370,7 +370,9 @@ fn parse_vertex(toks: &[&str]) -> Result<DVec3, String> {
     }
     for (t, v) in toks.iter().zip(&vals).take(3) {
         if !v.is_finite() {
-            return Err(format!("non-finite vertex coordinate '{t}'"));
+            return Err(crate::Error::from(format!(
+                "non-finite vertex coordinate '{t}'"
+            )));
         }
     }
     let mut p = DVec3::new(vals[0], vals[1], vals[2]);
@@ -379,7 +381,10 @@ fn parse_vertex(toks: &[&str]) -> Result<DVec3, String> {
         4 => {
             let w = vals[3];
             if !w.is_finite() || w == 0.0 {
-                return Err(format!("invalid homogeneous weight w = '{}'", toks[3]));
+                return Err(crate::Error::from(format!(
+                    "invalid homogeneous weight w = '{}'",
+                    toks[3]
+                )));
             }
             p /= w;
             if !p.is_finite() {
@@ -387,9 +392,9 @@ fn parse_vertex(toks: &[&str]) -> Result<DVec3, String> {
             }
         }
         n => {
-            return Err(format!(
+            return Err(crate::Error::from(format!(
                 "vertex has {n} values; expected 3 (x y z), 4 (x y z w) or 6 (x y z r g b)"
-            ));
+            )));
         }
     }
     Ok(p)
@@ -397,7 +402,7 @@ fn parse_vertex(toks: &[&str]) -> Result<DVec3, String> {
 
 /// One `v`, `v/vt`, `v//vn` or `v/vt/vn` token of a face; returns the 0-based vertex index.
 /// Negative indices are relative to the `defined` vertices seen so far.
-fn parse_face_index(tok: &str, defined: usize) -> Result<u32, String> {
+fn parse_face_index(tok: &str, defined: usize) -> crate::Result<u32> {
     let v = tok.split('/').next().unwrap_or("");
     let idx: i64 = v
         .parse()
@@ -410,9 +415,9 @@ fn parse_face_index(tok: &str, defined: usize) -> Result<u32, String> {
         return Err("face vertex index 0 is invalid (OBJ indices start at 1)".into());
     };
     if abs < 0 || abs >= defined as i64 {
-        return Err(format!(
+        return Err(crate::Error::from(format!(
             "face vertex index {idx} is out of range: {defined} vertices are defined before this line"
-        ));
+        )));
     }
     Ok(abs as u32)
 }
@@ -492,11 +497,7 @@ impl MtlEntry {
 }
 
 /// Validates an MTL file; returns its sanitized text (for tobj) and its entries in order.
-fn scan_mtl(
-    text: &str,
-    file: &str,
-    warn: &mut Warnings,
-) -> Result<(String, Vec<MtlEntry>), SceneError> {
+fn scan_mtl(text: &str, file: &str, warn: &mut Warnings) -> Result<(String, Vec<MtlEntry>)> {
     let mut sanitized = String::new();
     let mut entries: Vec<MtlEntry> = Vec::new();
     let mut outside_warned = false;
@@ -596,24 +597,29 @@ fn scan_mtl(
 }
 
 /// `Kd r [g b]`: one number means grey; three numbers r g b; all finite.
-fn parse_color(kw: &str, toks: &[&str]) -> Result<DVec3, String> {
+fn parse_color(kw: &str, toks: &[&str]) -> crate::Result<DVec3> {
     if let Some(&first) = toks.first()
         && (first == "spectral" || first == "xyz")
     {
-        return Err(format!("'{kw} {first}' is not supported; give r g b"));
+        return Err(crate::Error::from(format!(
+            "'{kw} {first}' is not supported; give r g b"
+        )));
     }
     let mut vals = Vec::with_capacity(3);
     for t in toks {
         let v = parse_number(t).ok_or_else(|| format!("malformed number '{t}'"))?;
         if !v.is_finite() {
-            return Err(format!("non-finite {kw} value '{t}'"));
+            return Err(crate::Error::from(format!("non-finite {kw} value '{t}'")));
         }
         vals.push(v);
     }
     match vals[..] {
         [g] => Ok(DVec3::splat(g)),
         [r, g, b] => Ok(DVec3::new(r, g, b)),
-        _ => Err(format!("'{kw}' needs 1 or 3 numbers, found {}", vals.len())),
+        _ => Err(crate::Error::from(format!(
+            "'{kw}' needs 1 or 3 numbers, found {}",
+            vals.len()
+        ))),
     }
 }
 
@@ -863,7 +869,7 @@ fn load_obj_impl(
     file: &str,
     resolve: &dyn Fn(&str) -> MtlSource,
     inline_mtl: Option<&str>,
-) -> Result<Scene, SceneError> {
+) -> Result<Scene> {
     let mut warn = Warnings::default();
     let mut scan = scan_obj(obj, file, &mut warn)?;
 
@@ -924,7 +930,7 @@ fn load_obj_impl(
         ignore_lines: true,
         ..Default::default()
     };
-    let internal = |what: &str| SceneError::File {
+    let internal = |what: &str| crate::Error::File {
         file: file.to_owned(),
         message: format!("internal error while splitting objects: {what}"),
     };

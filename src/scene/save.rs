@@ -125,7 +125,7 @@ pub fn scene_texts(
     obj_name: &str,
     mtl_name: &str,
     base_dir: &Path,
-) -> Result<SceneTexts, String> {
+) -> crate::Result<SceneTexts> {
     let mut renamed = Vec::new();
     let mut obj = String::new();
     let mut mtl = String::new();
@@ -148,7 +148,10 @@ pub fn scene_texts(
         }
         let m = &o.material;
         if !(m.kd.is_finite() && m.ks.is_finite() && m.ke.is_finite() && m.alpha.is_finite()) {
-            return Err(format!("object '{}' has a non-finite material", o.name));
+            return Err(crate::Error::from(format!(
+                "object '{}' has a non-finite material",
+                o.name
+            )));
         }
         let mat_name = match materials.iter().find(|(_, x)| x == m) {
             Some((n, _)) => n.clone(),
@@ -177,10 +180,16 @@ pub fn scene_texts(
             for &k in f {
                 let k = k as usize;
                 let Some(p) = pos.get(k) else {
-                    return Err(format!("object '{}' has a face index out of range", o.name));
+                    return Err(crate::Error::from(format!(
+                        "object '{}' has a face index out of range",
+                        o.name
+                    )));
                 };
                 if !p.is_finite() {
-                    return Err(format!("object '{}' has a non-finite vertex", o.name));
+                    return Err(crate::Error::from(format!(
+                        "object '{}' has a non-finite vertex",
+                        o.name
+                    )));
                 }
                 if index[k] == 0 {
                     index[k] = next_vertex;
@@ -257,7 +266,7 @@ pub fn save_scene(
     scene: &Scene,
     camera: Option<&Camera>,
     path: &Path,
-) -> Result<SavedScene, String> {
+) -> crate::Result<SavedScene> {
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -267,10 +276,10 @@ pub fn save_scene(
     let (obj_name, mtl_name) = (format!("{stem}.obj"), format!("{stem}.mtl"));
     let (obj_path, mtl_path) = (dir.join(&obj_name), dir.join(&mtl_name));
     if obj_path == path {
-        return Err(format!(
+        return Err(crate::Error::from(format!(
             "{}: the scene file must not end in .obj",
             path.display()
-        ));
+        )));
     }
     let texts = scene_texts(scene, camera, &obj_name, &mtl_name, &dir)?;
     let write = |p: &Path, text: &str| {

@@ -35,7 +35,8 @@
 
 use super::gltf::load_gltf;
 use super::obj::{MtlSource, load_obj, load_obj_with, read_text};
-use super::{Camera, Scene, SceneError, SceneObject};
+use super::{Camera, Scene, SceneObject};
+use crate::Result;
 use glam::{DAffine3, DMat3, DVec3};
 use serde::Deserialize;
 use std::collections::HashMap;
@@ -176,14 +177,14 @@ pub fn embedded_scene_names() -> &'static [&'static str] {
 /// A scene by path (a `.toml` scene file, `.obj`, `.glb` or `.gltf`) if `name` names an existing
 /// file, else by the name of an embedded scene: what the command line and the workbench both
 /// accept wherever a scene is asked for.
-pub fn load_scene_by_name(name: &str) -> Result<Scene, SceneError> {
+pub fn load_scene_by_name(name: &str) -> Result<Scene> {
     let path = Path::new(name);
     if path.exists() {
         load_scene(path)
     } else if EMBEDDED_SCENES.contains(&name) {
         load_embedded(name)
     } else {
-        Err(SceneError::File {
+        Err(crate::Error::File {
             file: name.to_owned(),
             message: format!(
                 "no such file, and not an embedded scene (embedded: {})",
@@ -193,10 +194,10 @@ pub fn load_scene_by_name(name: &str) -> Result<Scene, SceneError> {
     }
 }
 
-pub fn load_embedded(name: &str) -> Result<Scene, SceneError> {
+pub fn load_embedded(name: &str) -> Result<Scene> {
     let stem = name.strip_suffix(".toml").unwrap_or(name);
     if !EMBEDDED_SCENES.contains(&stem) {
-        return Err(SceneError::File {
+        return Err(crate::Error::File {
             file: name.to_owned(),
             message: format!(
                 "no embedded scene of that name; available: {}",
@@ -230,12 +231,12 @@ pub fn load_embedded(name: &str) -> Result<Scene, SceneError> {
 
 /// Loads a scene: `.toml` scene files, a plain `.obj` with the default flags and no camera, or
 /// a `.glb`/`.gltf` with the default flags and its first perspective camera, if any.
-pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+pub fn load_scene(path: &Path) -> Result<Scene> {
     match extension(path).as_deref() {
         Some("toml") => load_scene_file(path),
         Some("obj") => load_obj(path),
         Some("glb" | "gltf") => load_gltf(path),
-        _ => Err(SceneError::File {
+        _ => Err(crate::Error::File {
             file: path.display().to_string(),
             message: "unknown scene file type; expected .toml (scene file), .obj, .glb or .gltf"
                 .into(),
@@ -251,7 +252,7 @@ fn extension(path: &Path) -> Option<String> {
 
 /// A mesh file that a scene file's `obj` entry names: OBJ, or glTF by its extension (its
 /// camera is not used: the scene file has its own).
-fn load_mesh_file(path: &Path) -> Result<Scene, SceneError> {
+fn load_mesh_file(path: &Path) -> Result<Scene> {
     match extension(path).as_deref() {
         Some("glb" | "gltf") => load_gltf(path).map(|mut s| {
             s.camera = None;
@@ -262,7 +263,7 @@ fn load_mesh_file(path: &Path) -> Result<Scene, SceneError> {
 }
 
 /// Loads a TOML scene file; OBJ paths are relative to its directory.
-pub fn load_scene_file(path: &Path) -> Result<Scene, SceneError> {
+pub fn load_scene_file(path: &Path) -> Result<Scene> {
     let label = path.display().to_string();
     let text = read_text(path, &label)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -288,8 +289,8 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, SceneError> {
 pub fn load_scene_str(
     text: &str,
     label: &str,
-    load: &dyn Fn(&str) -> Result<Scene, SceneError>,
-) -> Result<Scene, SceneError> {
+    load: &dyn Fn(&str) -> Result<Scene>,
+) -> Result<Scene> {
     parse_scene_toml(text, label, &|rel: &str| load(rel).map_err(ObjFailure::Obj))
 }
 
@@ -424,7 +425,7 @@ const ROTATE_FORM: &str =
     "rotate must be [rx, ry, rz] (degrees) or { axis = [x, y, z], angle = degrees }";
 
 /// The rotation matrix of a `rotate` entry, or why it is invalid.
-fn rotation(r: &RotateToml) -> Result<DMat3, String> {
+fn rotation(r: &RotateToml) -> crate::Result<DMat3> {
     match r {
         RotateToml::Euler(a) => {
             if !a.iter().all(|x| x.is_finite()) {
@@ -451,7 +452,7 @@ enum ObjFailure {
     /// The file is not there (reported at the TOML line).
     Missing(String),
     /// The OBJ/MTL itself is bad (its own file and line).
-    Obj(SceneError),
+    Obj(crate::Error),
 }
 
 fn line_of(text: &str, offset: usize) -> usize {
@@ -467,8 +468,8 @@ fn parse_scene_toml(
     text: &str,
     label: &str,
     load: &dyn Fn(&str) -> Result<Scene, ObjFailure>,
-) -> Result<Scene, SceneError> {
-    let at = |span: std::ops::Range<usize>, message: String| SceneError::Line {
+) -> Result<Scene> {
+    let at = |span: std::ops::Range<usize>, message: String| crate::Error::Line {
         file: label.to_owned(),
         line: line_of(text, span.start),
         message,
@@ -482,7 +483,7 @@ fn parse_scene_toml(
         }
         match e.span() {
             Some(span) => at(span, message),
-            None => SceneError::File {
+            None => crate::Error::File {
                 file: label.to_owned(),
                 message,
             },
@@ -509,7 +510,7 @@ fn parse_scene_toml(
         let spec = super::environment_spec::EnvironmentSpec::new(
             &e.map, e.rotate, e.scale, e.method, e.spp,
         )
-        .map_err(|m| at(env.span(), m))?;
+        .map_err(|m| at(env.span(), m.to_string()))?;
         scene.environment = Some(spec);
     }
 
@@ -574,7 +575,7 @@ fn parse_scene_toml(
         };
         let rotate = match &o.rotate {
             None => None,
-            Some(r) => Some(rotation(r.get_ref()).map_err(|m| at(r.span(), m))?),
+            Some(r) => Some(rotation(r.get_ref()).map_err(|m| at(r.span(), m.to_string()))?),
         };
         let translate = match &o.translate {
             None => DVec3::ZERO,

@@ -102,7 +102,7 @@ pub fn default_dir(vars: &CacheVars) -> Option<PathBuf> {
 }
 
 /// A size such as `1048576`, `512K`, `256M`, `2G` or `1.5G` (powers of 1024), in bytes.
-pub fn parse_size(text: &str) -> Result<u64, String> {
+pub fn parse_size(text: &str) -> crate::Result<u64> {
     let t = text.trim();
     let (num, unit) = match t.char_indices().find(|(_, c)| c.is_ascii_alphabetic()) {
         Some((i, _)) => (&t[..i], t[i..].to_ascii_uppercase()),
@@ -113,14 +113,20 @@ pub fn parse_size(text: &str) -> Result<u64, String> {
         "K" => 1 << 10,
         "M" => 1 << 20,
         "G" => 1 << 30,
-        _ => return Err(format!("'{text}' is not a size (e.g. 256M, 2G, 1048576)")),
+        _ => {
+            return Err(crate::Error::from(format!(
+                "'{text}' is not a size (e.g. 256M, 2G, 1048576)"
+            )));
+        }
     };
     let v: f64 = num
         .trim()
         .parse()
         .map_err(|_| format!("'{text}' is not a size (e.g. 256M, 2G, 1048576)"))?;
     if !v.is_finite() || v < 0.0 || v * scale as f64 > u64::MAX as f64 {
-        return Err(format!("'{text}' is not a size (e.g. 256M, 2G, 1048576)"));
+        return Err(crate::Error::from(format!(
+            "'{text}' is not a size (e.g. 256M, 2G, 1048576)"
+        )));
     }
     Ok((v * scale as f64) as u64)
 }
@@ -128,7 +134,7 @@ pub fn parse_size(text: &str) -> Result<u64, String> {
 impl TreeCache {
     /// The cache `vars` configure: `Ok(None)` when it is off or no directory is named, `Err`
     /// when the bound is not a size.
-    pub fn configured(vars: &CacheVars) -> Result<Option<TreeCache>, String> {
+    pub fn configured(vars: &CacheVars) -> crate::Result<Option<TreeCache>> {
         let max_bytes = match &vars.cache_max {
             Some(v) => parse_size(v).map_err(|e| format!("PENUMBRA_CACHE_MAX: {e}"))?,
             None => DEFAULT_MAX_BYTES,
@@ -398,6 +404,7 @@ mod tests {
         assert!(
             TreeCache::configured(&bad)
                 .unwrap_err()
+                .to_string()
                 .contains("PENUMBRA_CACHE_MAX")
         );
         assert_eq!(

@@ -65,8 +65,8 @@ fn is_closed(mesh: &Mesh) -> bool {
 /// planes), from the OBJ and from the glTF file, and the bunny. The files are
 /// looked for under the working directory, then under the source tree the binary was built
 /// from; an error names what is missing.
-pub fn real_meshes() -> Result<&'static [RealMesh], String> {
-    static MESHES: std::sync::OnceLock<Result<Vec<RealMesh>, String>> = std::sync::OnceLock::new();
+pub fn real_meshes() -> crate::Result<&'static [RealMesh]> {
+    static MESHES: std::sync::OnceLock<crate::Result<Vec<RealMesh>>> = std::sync::OnceLock::new();
     MESHES
         .get_or_init(|| {
             let mut out = Vec::new();
@@ -137,7 +137,7 @@ pub struct Group {
 
 /// `mesh` with every coordinate moved by up to ±`eps`·r, written with 17 significant digits
 /// and read back through the OBJ loader (faces the move bends are split as a file's are).
-fn perturbed(mesh: &Mesh, eps: f64, rng: &mut Pcg32) -> Result<Mesh, String> {
+fn perturbed(mesh: &Mesh, eps: f64, rng: &mut Pcg32) -> crate::Result<Mesh> {
     if eps == 0.0 {
         return Ok(mesh.clone());
     }
@@ -172,7 +172,7 @@ fn perturbed(mesh: &Mesh, eps: f64, rng: &mut Pcg32) -> Result<Mesh, String> {
 
 /// Group `g` of the run with `seed`. The light is object 0 (the oracle counts rays that reach
 /// the front of its faces).
-pub fn group(seed: u64, g: u64) -> Result<Group, String> {
+pub fn group(seed: u64, g: u64) -> crate::Result<Group> {
     let meshes = real_meshes()?;
     let mut rng = Pcg32::new(seed ^ 0x7ea1_5eed, g);
     let mesh = rng.below(meshes.len() as u32) as usize;

@@ -43,7 +43,7 @@ impl Default for FigureRequest {
 
 /// The stage `stage` (the stepper's 1 to M) as an index into `steps`; out of range, an error
 /// that lists every stage with its label.
-pub fn current_stage(steps: &[Step], stage: Option<usize>) -> Result<Option<usize>, String> {
+pub fn current_stage(steps: &[Step], stage: Option<usize>) -> crate::Result<Option<usize>> {
     match stage {
         None => Ok(None),
         Some(n) if (1..=steps.len()).contains(&n) => Ok(Some(n - 1)),
@@ -53,12 +53,12 @@ pub fn current_stage(steps: &[Step], stage: Option<usize>) -> Result<Option<usiz
                 .enumerate()
                 .map(|(i, s)| format!("  {:>3}  {}", i + 1, s.label))
                 .collect();
-            Err(format!(
+            Err(crate::Error::from(format!(
                 "stage {n}: the recording at this point has {} stages, numbered as the \
                  workbench's stepper numbers them:\n{}",
                 steps.len(),
                 list.join("\n")
-            ))
+            )))
         }
     }
 }
@@ -70,7 +70,7 @@ pub fn recording_figure(
     probe: &Probe,
     scene: Option<&RenderContext>,
     request: &FigureRequest,
-) -> Result<Figure, String> {
+) -> crate::Result<Figure> {
     let steps = probe_steps(probe);
     let current = current_stage(&steps, request.stage)?;
     let step = current.map(|i| &steps[i]);
@@ -131,11 +131,11 @@ pub fn recording_figure(
                     .iter()
                     .map(|l| l.set_differences.len())
                     .sum();
-                return Err(format!(
+                return Err(crate::Error::from(format!(
                     "view plane: no set difference {} at this point (the recording has {n}; \
                      pick a pixel in a penumbra)",
                     request.difference
-                ));
+                )));
             };
             let name = probe
                 .occluder_names
@@ -144,9 +144,9 @@ pub fn recording_figure(
                 .unwrap_or_else(|| format!("#{}", sd.occluder));
             Ok(super::plane_figure(sd, &name, phase, size, style))
         }
-        other => Err(format!(
+        other => Err(crate::Error::from(format!(
             "view {other}: expected sphere, hemisphere, plane, light, bsp or environment"
-        )),
+        ))),
     }
 }
 
@@ -159,7 +159,7 @@ fn light_structure_figure(
     steps: &[Step],
     current: Option<usize>,
     request: &FigureRequest,
-) -> Result<Figure, String> {
+) -> crate::Result<Figure> {
     use super::light::{LightCamera, light_figure};
     let light = match &request.light {
         Some(name) => probe

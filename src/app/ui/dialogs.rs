@@ -73,7 +73,7 @@ impl AppState {
                     saved.obj.display(),
                     saved.mtl.display()
                 ),
-                Err(e) => e,
+                Err(e) => e.to_string(),
             };
         }
     }

@@ -21,19 +21,19 @@ struct StoredLoops {
 }
 
 impl TryFrom<StoredLoops> for PolygonLoops {
-    type Error = String;
+    type Error = crate::Error;
 
     /// Loop ends must not decrease and the last must be the vertex count, so that every loop
     /// is a slice of the vertices.
-    fn try_from(s: StoredLoops) -> Result<Self, String> {
+    fn try_from(s: StoredLoops) -> crate::Result<Self> {
         let ordered = s.loop_ends.windows(2).all(|w| w[0] <= w[1]);
         let last = s.loop_ends.last().map_or(0, |&e| e as usize);
         if !ordered || last != s.vertices.len() {
-            return Err(format!(
+            return Err(crate::Error::from(format!(
                 "polygon loop ends {:?} do not split its {} vertices",
                 &s.loop_ends[..s.loop_ends.len().min(8)],
                 s.vertices.len()
-            ));
+            )));
         }
         Ok(PolygonLoops {
             vertices: s.vertices,

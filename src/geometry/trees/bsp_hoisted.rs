@@ -74,7 +74,7 @@ fn loop_edges<'a>(loops: impl Iterator<Item = &'a [u32]>) -> Vec<[u32; 2]> {
 
 impl HoistedSilhouetteBsp {
     /// The hoisted form of a convex mesh's tree.
-    pub fn from_convex(t: &SilhouetteBsp) -> Result<Self, String> {
+    pub fn from_convex(t: &SilhouetteBsp) -> crate::Result<Self> {
         let leaf = |first: u32, count: u32| {
             let d = &t.data[first as usize..(first + count) as usize];
             Some(loop_edges(
@@ -85,7 +85,7 @@ impl HoistedSilhouetteBsp {
     }
 
     /// The hoisted form of a non-convex mesh's tree of exact silhouettes.
-    pub fn from_exact(t: &ExactSilhouetteBsp) -> Result<Self, String> {
+    pub fn from_exact(t: &ExactSilhouetteBsp) -> crate::Result<Self> {
         let leaf = |first: u32, count: u32| {
             (count != ON_THE_FLY).then(|| {
                 loop_edges(
@@ -113,7 +113,7 @@ impl HoistedSilhouetteBsp {
         lo: DVec3,
         hi: DVec3,
         leaf_edges: &dyn Fn(u32, u32) -> Option<Vec<[u32; 2]>>,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         if nodes.is_empty() {
             return Err("the tree has no nodes".into());
         }
@@ -135,10 +135,10 @@ impl HoistedSilhouetteBsp {
                         if starts.windows(2).any(|w| w[0] == w[1])
                             || ends.windows(2).any(|w| w[0] == w[1])
                         {
-                            return Err(format!(
+                            return Err(crate::Error::from(format!(
                                 "leaf {n}: a point starts or ends two silhouette edges, so the \
                                  edges cannot be chained back into loops"
-                            ));
+                            )));
                         }
                         e.sort_unstable();
                         max_path_edges = max_path_edges.max(e.len());

@@ -2,8 +2,8 @@
 //! (unsigned byte, short or int scalars), with the accessor's and the buffer view's byte
 //! offsets and the view's byte stride. Every range is checked; nothing here can panic.
 
-use super::super::SceneError;
 use super::buffers::Buffers;
+use crate::Result;
 use glam::DVec3;
 use gltf::json;
 use gltf::json::accessor::{ComponentType, Type};
@@ -21,8 +21,8 @@ enum Layout {
     },
 }
 
-fn err(file: &str, message: String) -> SceneError {
-    SceneError::File {
+fn err(file: &str, message: String) -> crate::Error {
+    crate::Error::File {
         file: file.to_owned(),
         message,
     }
@@ -65,7 +65,7 @@ fn accessor<'r>(
     index: usize,
     file: &str,
     role: &str,
-) -> Result<(&'r json::Accessor, ComponentType, Type), SceneError> {
+) -> Result<(&'r json::Accessor, ComponentType, Type)> {
     let a = root.accessors.get(index).ok_or_else(|| {
         err(
             file,
@@ -99,7 +99,7 @@ fn layout(
     elem: usize,
     file: &str,
     role: &str,
-) -> Result<Layout, SceneError> {
+) -> Result<Layout> {
     let here = |m: String| err(file, format!("accessors[{index}] ({role}): {m}"));
     let Some(view_index) = &a.buffer_view else {
         return Ok(Layout::Zeros);
@@ -195,12 +195,7 @@ fn f32_at(b: &[u8], at: usize) -> f32 {
 
 /// The accessor's element count, bounded by what a buffer can hold (a view-less accessor
 /// has no bytes to bound it).
-fn element_count(
-    a: &json::Accessor,
-    index: usize,
-    file: &str,
-    role: &str,
-) -> Result<usize, SceneError> {
+fn element_count(a: &json::Accessor, index: usize, file: &str, role: &str) -> Result<usize> {
     // Elements in a buffer are bounded by its bytes; a view-less accessor (all zeros) is not.
     const MAX_ELEMENTS: u64 = 1 << 28;
     const MAX_ZEROS: u64 = 1 << 20;
@@ -232,7 +227,7 @@ pub(super) fn read_positions(
     buffers: &mut Buffers,
     index: usize,
     file: &str,
-) -> Result<Vec<DVec3>, SceneError> {
+) -> Result<Vec<DVec3>> {
     let role = "POSITION";
     let (a, c, t) = accessor(root, index, file, role)?;
     if c != ComponentType::F32 || t != Type::Vec3 || a.normalized {
@@ -279,7 +274,7 @@ pub(super) fn read_indices(
     index: usize,
     vertices: usize,
     file: &str,
-) -> Result<Vec<u32>, SceneError> {
+) -> Result<Vec<u32>> {
     let role = "indices";
     let (a, c, t) = accessor(root, index, file, role)?;
     if t != Type::Scalar

@@ -1,7 +1,7 @@
 //! The bytes of glTF buffers: the GLB's BIN chunk, `data:` URIs with base64 payloads, and
 //! external files relative to the glTF file. Each buffer is read when first used.
 
-use super::super::SceneError;
+use crate::Result;
 use gltf::json;
 use std::path::{Path, PathBuf};
 
@@ -31,15 +31,15 @@ impl<'a> Buffers<'a> {
         }
     }
 
-    fn err(&self, message: String) -> SceneError {
-        SceneError::File {
+    fn err(&self, message: String) -> crate::Error {
+        crate::Error::File {
             file: self.file.to_owned(),
             message,
         }
     }
 
     /// The bytes of buffer `index` (at most its declared `byteLength`).
-    pub(super) fn get(&mut self, index: usize) -> Result<&[u8], SceneError> {
+    pub(super) fn get(&mut self, index: usize) -> Result<&[u8]> {
         let Some(buffer) = self.root.buffers.get(index) else {
             return Err(self.err(format!(
                 "buffers[{index}] does not exist ({} buffers)",
@@ -61,7 +61,7 @@ impl<'a> Buffers<'a> {
         Ok(self.loaded[index].as_deref().unwrap_or(&[]))
     }
 
-    fn read(&self, index: usize, buffer: &json::Buffer) -> Result<Vec<u8>, SceneError> {
+    fn read(&self, index: usize, buffer: &json::Buffer) -> Result<Vec<u8>> {
         let Some(uri) = &buffer.uri else {
             return match (index, self.bin) {
                 (0, Some(bin)) => Ok(bin.to_vec()),
@@ -135,7 +135,7 @@ fn has_scheme(uri: &str) -> bool {
 }
 
 /// Decodes `%XX` escapes of a relative URI reference (the path is UTF-8).
-fn percent_decode(uri: &str) -> Result<String, String> {
+fn percent_decode(uri: &str) -> crate::Result<String> {
     let b = uri.as_bytes();
     let mut out = Vec::with_capacity(b.len());
     let mut i = 0;
@@ -153,12 +153,12 @@ fn percent_decode(uri: &str) -> Result<String, String> {
             i += 1;
         }
     }
-    String::from_utf8(out).map_err(|_| "the decoded path is not UTF-8".to_owned())
+    String::from_utf8(out).map_err(|_| "the decoded path is not UTF-8".into())
 }
 
 /// Standard base64 (RFC 4648, `+` and `/`), with or without `=` padding; whitespace is
 /// skipped.
-fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
+fn decode_base64(text: &str) -> crate::Result<Vec<u8>> {
     let mut out = Vec::with_capacity(text.len() / 4 * 3);
     let mut acc: u32 = 0;
     let mut bits = 0u32;
@@ -175,10 +175,12 @@ fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
                 continue;
             }
             c if c.is_ascii_whitespace() => continue,
-            _ => return Err(format!("character {pos} is not base64")),
+            _ => return Err(crate::Error::from(format!("character {pos} is not base64"))),
         };
         if padding > 0 {
-            return Err(format!("data after '=' padding at character {pos}"));
+            return Err(crate::Error::from(format!(
+                "data after '=' padding at character {pos}"
+            )));
         }
         acc = (acc << 6) | v as u32;
         bits += 6;
@@ -189,7 +191,7 @@ fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
         }
     }
     if bits >= 6 || padding > 2 {
-        return Err("truncated base64 data".to_owned());
+        return Err(crate::Error::from("truncated base64 data".to_owned()));
     }
     Ok(out)
 }

@@ -1,7 +1,7 @@
 //! The file as stored: a binary GLB container (12-byte header, a JSON chunk, an optional BIN
 //! chunk) or plain JSON text, parsed into the `gltf` crate's JSON document.
 
-use super::super::SceneError;
+use crate::Result;
 use gltf::binary::{ChunkType, Error as GlbError, Glb};
 use gltf::json;
 
@@ -11,15 +11,15 @@ pub(super) struct Parsed {
     pub bin: Option<Vec<u8>>,
 }
 
-fn err(file: &str, message: impl Into<String>) -> SceneError {
-    SceneError::File {
+fn err(file: &str, message: impl Into<String>) -> crate::Error {
+    crate::Error::File {
         file: file.to_owned(),
         message: message.into(),
     }
 }
 
 /// Parses a `.glb` (recognised by its magic `glTF`, whatever the extension) or `.gltf` file.
-pub(super) fn parse(bytes: &[u8], file: &str) -> Result<Parsed, SceneError> {
+pub(super) fn parse(bytes: &[u8], file: &str) -> Result<Parsed> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     if bytes.iter().all(u8::is_ascii_whitespace) {
         return Err(err(file, "empty file"));
@@ -39,7 +39,7 @@ pub(super) fn parse(bytes: &[u8], file: &str) -> Result<Parsed, SceneError> {
             ),
         ))
     } else {
-        let root = parse_json(bytes).map_err(|e| SceneError::Line {
+        let root = parse_json(bytes).map_err(|e| crate::Error::Line {
             file: file.to_owned(),
             line: e.line(),
             message: format!("invalid glTF JSON (column {}): {e}", e.column()),
@@ -57,7 +57,7 @@ fn u32_at(bytes: &[u8], at: usize) -> Option<u32> {
     Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
 }
 
-fn parse_glb(bytes: &[u8], file: &str) -> Result<Parsed, SceneError> {
+fn parse_glb(bytes: &[u8], file: &str) -> Result<Parsed> {
     // The header is checked here before the crate splits the chunks: its length field must
     // cover the header itself and lie within the file.
     let (Some(version), Some(length)) = (u32_at(bytes, 4), u32_at(bytes, 8)) else {

@@ -2,7 +2,8 @@
 //! node), each with its world transform composed in f64 from the nodes' TRS or matrices; and
 //! the first perspective camera as penumbra's [`Camera`].
 
-use super::super::{Camera, SceneError};
+use super::super::Camera;
+use crate::Result;
 use glam::{DAffine3, DMat4, DQuat, DVec3, DVec4};
 use gltf::json;
 use gltf::json::validation::Checked;
@@ -13,8 +14,8 @@ pub(super) struct Placed {
     pub world: DAffine3,
 }
 
-fn err(file: &str, message: String) -> SceneError {
-    SceneError::File {
+fn err(file: &str, message: String) -> crate::Error {
+    crate::Error::File {
         file: file.to_owned(),
         message,
     }
@@ -26,11 +27,7 @@ fn finite(v: &[f32]) -> bool {
 
 /// The local transform of node `i`: its `matrix` (column-major, affine), or T * R * S with the
 /// rotation quaternion normalised.
-pub(super) fn local_transform(
-    node: &json::Node,
-    i: usize,
-    file: &str,
-) -> Result<DAffine3, SceneError> {
+pub(super) fn local_transform(node: &json::Node, i: usize, file: &str) -> Result<DAffine3> {
     if let Some(m) = &node.matrix {
         if !finite(m) {
             return Err(err(
@@ -77,9 +74,9 @@ pub(super) fn placed_nodes(
     root: &json::Root,
     file: &str,
     notes: &mut Vec<String>,
-) -> Result<Vec<Placed>, SceneError> {
+) -> Result<Vec<Placed>> {
     let n = root.nodes.len();
-    let check = |idx: usize, path: String| -> Result<usize, SceneError> {
+    let check = |idx: usize, path: String| -> Result<usize> {
         if idx < n {
             Ok(idx)
         } else {

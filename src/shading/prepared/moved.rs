@@ -51,18 +51,18 @@ impl PreparedScene {
         &self,
         scene: &Scene,
         index: usize,
-    ) -> Result<(PreparedScene, MoveReuse), String> {
+    ) -> crate::Result<(PreparedScene, MoveReuse)> {
         let count = scene.objects.len();
         if index >= count {
-            return Err(format!(
+            return Err(crate::Error::from(format!(
                 "object index {index} is out of range: the scene has {count} objects"
-            ));
+            )));
         }
         if count != self.materials.len() {
-            return Err(format!(
+            return Err(crate::Error::from(format!(
                 "the scene has {count} objects, the prepared scene {}",
                 self.materials.len()
-            ));
+            )));
         }
         let mut out = self.clone();
         out.materials = scene.objects.iter().map(|o| o.material.clone()).collect();
@@ -79,10 +79,10 @@ impl PreparedScene {
             .moved(&obj.mesh.positions)
             .unwrap_or_else(|| IndexedPolyhedron::new(&obj.mesh.positions, &obj.mesh.faces));
         if mesh.face_count() == 0 {
-            return Err(format!(
+            return Err(crate::Error::from(format!(
                 "object '{}' has no usable face after the move",
                 obj.name
-            ));
+            )));
         }
         let had_tree = old.path.tree().is_some();
         let map = instance_map(old.faces(), &mesh);
