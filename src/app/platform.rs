@@ -68,7 +68,7 @@ impl SaveTarget {
 #[cfg(target_arch = "wasm32")]
 fn download(name: &str, bytes: &[u8]) -> crate::Result<()> {
     use wasm_bindgen::JsCast;
-    let err = |e: wasm_bindgen::JsValue| format!("download failed: {e:?}");
+    let err = |e: wasm_bindgen::JsValue| crate::Error::from(format!("download failed: {e:?}"));
     let parts = js_sys::Array::of1(&js_sys::Uint8Array::from(bytes));
     let options = web_sys::BlobPropertyBag::new();
     options.set_type("application/octet-stream");
@@ -82,7 +82,7 @@ fn download(name: &str, bytes: &[u8]) -> crate::Result<()> {
         .create_element("a")
         .map_err(err)?
         .dyn_into()
-        .map_err(|_| "download failed: not an anchor".to_string())?;
+        .map_err(|_| crate::Error::from("download failed: not an anchor"))?;
     anchor.set_href(&url);
     anchor.set_download(name);
     anchor.click();
