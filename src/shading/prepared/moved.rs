@@ -7,6 +7,7 @@ use super::report::PrepareNote;
 use super::{PreparedScene, scene_box, unseparated, without_vertex_rule};
 use crate::geometry::{IndexedPolyhedron, separating_plane, star_centre};
 use crate::scene::Scene;
+use crate::scene::edit::EditError;
 use glam::DVec3;
 use std::sync::Arc;
 
@@ -54,9 +55,7 @@ impl PreparedScene {
     ) -> crate::Result<(PreparedScene, MoveReuse)> {
         let count = scene.objects.len();
         if index >= count {
-            return Err(crate::Error::from(format!(
-                "object index {index} is out of range: the scene has {count} objects"
-            )));
+            return Err(EditError::ObjectOutOfRange { index, count }.into());
         }
         if count != self.materials.len() {
             return Err(crate::Error::from(format!(
