@@ -618,16 +618,6 @@ pub fn interesting_pixel(
         .map(|c| c.1)
 }
 
-/// Parses "X,Y" into two numbers (command-line flags).
-pub fn parse_pair(s: &str) -> crate::Result<(f64, f64)> {
-    let (a, b) = s
-        .split_once(',')
-        .ok_or_else(|| format!("expected X,Y, got '{s}'"))?;
-    let a: f64 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
-    let b: f64 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
-    Ok((a, b))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

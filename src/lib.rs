@@ -35,12 +35,14 @@
 //! * [`bench`](mod@bench): the report of `penumbra bench`: rows of time and error, equal-time
 //!   comparisons, scaling fits, PNG charts.
 
+pub use choice::Choice;
 pub use error::{Error, Result};
 
 pub mod accel;
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod bench;
+mod choice;
 pub mod denoise;
 pub mod environment;
 pub mod error;

@@ -46,8 +46,10 @@ fn run() -> Result<()> {
         None => penumbra::app::run(Default::default(), cli::process_env::prepare_config())
             .map_err(|e| anyhow::anyhow!("{e}")),
         #[cfg(feature = "gui")]
-        Some(Command::Gui(opts)) => penumbra::app::run(opts, cli::process_env::prepare_config())
-            .map_err(|e| anyhow::anyhow!("{e}")),
+        Some(Command::Gui(args)) => {
+            penumbra::app::run(args.options(), cli::process_env::prepare_config())
+                .map_err(|e| anyhow::anyhow!("{e}"))
+        }
         // Built without the workbench (`--no-default-features`): the command line only.
         #[cfg(not(feature = "gui"))]
         None => {
@@ -70,7 +72,7 @@ fn run() -> Result<()> {
             rays,
             family,
             ..
-        }) => cli::stress::describe_case(family.library(), seed, index, rays),
+        }) => cli::stress::describe_case(family, seed, index, rays),
         Some(Command::Stress {
             cases,
             seed,
@@ -78,7 +80,7 @@ fn run() -> Result<()> {
             json,
             family,
             ..
-        }) => cli::stress::stress(family.library(), cases, seed, rays, json.as_deref()),
+        }) => cli::stress::stress(family, cases, seed, rays, json.as_deref()),
         Some(Command::LtcError {
             tables,
             fit,

@@ -1197,22 +1197,24 @@ fn run_environment_case(
     }
 }
 
-/// The families `penumbra stress` runs.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Family {
-    /// The generated families of [`CaseKind`] in turn (small scenes, prepared per case).
-    #[default]
-    Mixed,
-    /// [`real_meshes`]: Blender's files and the bunny, shaded where a render shades them.
-    RealMeshes,
+crate::choice! {
+    /// The families `penumbra stress` runs.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum Family {
+        /// The generated families of cases in turn (small scenes, prepared per case).
+        Mixed = "mixed",
+        /// Blender's files and the bunny, shaded where a render shades them.
+        RealMeshes = "real-meshes",
+    }
+    default = Mixed;
 }
 
 impl Family {
     /// The command-line flag that selects it (empty for the default).
-    fn flag(self) -> &'static str {
+    fn flag(self) -> String {
         match self {
-            Family::Mixed => "",
-            Family::RealMeshes => " --family real-meshes",
+            Family::Mixed => String::new(),
+            other => format!(" --family {}", other.name()),
         }
     }
 }

@@ -3,7 +3,6 @@
 //! `penumbra cache` shows and clears the cache it is pointed at.
 
 #[cfg(feature = "gui")]
-use clap::{Args, FromArgMatches};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -99,17 +98,6 @@ fn negative_numbers_and_vectors_are_values_everywhere() {
     assert!(!o.status.success());
     let err = text(&o.stderr);
     assert!(err.contains("'-x'"), "{err}");
-
-    // The workbench's pick is a pair too (parsed by the library's own argument struct).
-    #[cfg(feature = "gui")]
-    {
-        let cmd = penumbra::app::RunOptions::augment_args(clap::Command::new("gui"));
-        let m = cmd
-            .try_get_matches_from(["gui", "--pick", "-0.25,0.5"])
-            .expect("a negative pick parses");
-        let opts = penumbra::app::RunOptions::from_arg_matches(&m).unwrap();
-        assert_eq!(opts.pick, Some((-0.25, 0.5)));
-    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

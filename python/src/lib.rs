@@ -22,21 +22,14 @@ fn value_error(e: impl std::fmt::Display) -> PyErr {
 
 /// A method by the name `penumbra render --method` takes.
 fn method_by_name(name: &str) -> PyResult<RenderMethod> {
-    use clap::ValueEnum;
-    RenderMethod::value_variants()
-        .iter()
-        .copied()
-        .find(|m| m.name() == name)
-        .ok_or_else(|| {
-            let names: Vec<&str> = RenderMethod::value_variants()
-                .iter()
-                .map(|m| m.name())
-                .collect();
-            value_error(format!(
-                "method {name:?}: expected one of {}",
-                names.join(", ")
-            ))
-        })
+    use penumbra::Choice;
+    RenderMethod::named(name).ok_or_else(|| {
+        let names: Vec<&str> = RenderMethod::names().collect();
+        value_error(format!(
+            "method {name:?}: expected one of {}",
+            names.join(", ")
+        ))
+    })
 }
 
 /// A camera: eye, target, up (world units) and the vertical field of view (degrees).

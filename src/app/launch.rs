@@ -4,75 +4,69 @@
 
 use super::*;
 
-/// What `penumbra gui` does besides showing the window (its command-line flags).
-#[derive(Clone, Debug, Default, clap::Args)]
+/// What the workbench does at start besides showing the window: `penumbra gui`'s flags, read
+/// by the command line (`cli/gui.rs`, which documents each), or the defaults.
+#[derive(Clone, Debug)]
 pub struct RunOptions {
-    /// A penumbra scene file (.toml), a Wavefront OBJ (.obj, with its .mtl), a glTF 2.0 file
-    /// (.glb or .gltf), or the name of an embedded scene (default: the last one used).
+    /// A scene file, OBJ, glTF or embedded scene name (default: the last one used).
     pub scene: Option<String>,
     /// Save a screenshot of the window here once the render has finished, then quit.
-    #[arg(long)]
     pub screenshot: Option<PathBuf>,
-    /// With --screenshot: take it after at most this many seconds.
-    #[arg(long, default_value_t = 30.0)]
+    /// With `screenshot`: take it after at most this many seconds.
     pub after: f64,
-    /// Measure responsiveness (time to the first image after a camera change, UI frame
-    /// intervals while rendering, as a `Measurement`), write it here as JSON, then quit.
-    #[arg(long)]
+    /// Write a [`Measurement`] of responsiveness here as JSON, then quit.
     pub measure: Option<PathBuf>,
-    /// Measure the latency of moving an object: drag the occluder of the picked point 12
-    /// times (as the handles do) and time each update to the redrawn sphere view and to the
-    /// first image, as a `DragMeasurement` in JSON; then quit.
-    #[arg(long)]
+    /// Write a [`DragMeasurement`] of moving the picked point's occluder here, then quit.
     pub measure_drag: Option<PathBuf>,
-    /// With --screenshot: first pick the pixel at these fractions of the viewport, e.g. 0.5,0.7.
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    /// Pick the pixel at these fractions of the viewport first.
     pub pick: Option<(f64, f64)>,
-    /// With --pick: step to this stage (gh, labels, visible, ltc, silhouette:LIGHT for the
-    /// silhouette of the light named LIGHT, or a stage number).
-    #[arg(long)]
+    /// With `pick`: step to this stage (gh, labels, visible, ltc, silhouette:LIGHT, a number).
     pub step: Option<String>,
     /// Open these files at start (bench JSON, reference PFM, debug dump).
-    #[arg(long)]
     pub open: Vec<PathBuf>,
-    /// Render method at start.
-    #[arg(long, value_enum)]
     pub method: Option<RenderMethod>,
-    /// The environment's shadows at start (the scene needs an environment, or pass --env).
-    #[arg(long, value_enum)]
     pub env_method: Option<crate::environment::EnvMethod>,
-    /// Light the scene with this environment at start: sky, sky-sh, an .hdr/.exr file, none.
-    #[arg(long)]
+    /// Light the scene with this environment: sky, sky-sh, an .hdr/.exr file, none.
     pub env: Option<String>,
-    /// Select this object (by name or index) at start: its move handles show in the viewport.
-    #[arg(long)]
+    /// Select this object (by name or index): its move handles show in the viewport.
     pub select: Option<String>,
-    /// Show this light (by object name) in the light structure view at start.
-    #[arg(long)]
+    /// Show this light (by object name) in the light structure view.
     pub light: Option<String>,
     /// Compute every silhouette at its point instead of reading it from a BSP tree.
-    #[arg(long)]
     pub no_trees: bool,
     /// Zoom the sphere view's flat hemisphere to fit the polygons drawn.
-    #[arg(long)]
     pub fit: bool,
-    /// Arrange the tiles by this preset at start: explore, teach, benchmark.
-    #[arg(long, value_parser = parse_preset)]
     pub preset: Option<Preset>,
-    /// Once the render has finished, export the lesson of the picked point (the one chosen
-    /// at start, or --pick) into this directory: frame_NNN.png, lesson.gif, lesson.md; then quit.
-    #[arg(long)]
+    /// Export the lesson of the picked point into this directory once rendered, then quit.
     pub export_lesson: Option<PathBuf>,
 }
 
-fn parse_preset(s: &str) -> crate::Result<Preset> {
-    Preset::from_name(s).ok_or_else(|| {
-        let names: Vec<&str> = Preset::ALL.iter().map(|p| p.name()).collect();
-        crate::Error::from(format!("no preset '{s}' (presets: {})", names.join(", ")))
-    })
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions {
+            scene: None,
+            screenshot: None,
+            after: DEFAULT_SCREENSHOT_WAIT,
+            measure: None,
+            measure_drag: None,
+            pick: None,
+            step: None,
+            open: Vec::new(),
+            method: None,
+            env_method: None,
+            env: None,
+            select: None,
+            light: None,
+            no_trees: false,
+            fit: false,
+            preset: None,
+            export_lesson: None,
+        }
+    }
 }
 
-pub use crate::inspect::parse_pair;
+/// Seconds a screenshot waits at most for the render to finish.
+pub const DEFAULT_SCREENSHOT_WAIT: f64 = 30.0;
 
 /// Opens the workbench window.
 pub fn run(opts: RunOptions, prepare: crate::shading::PrepareConfig) -> eframe::Result {

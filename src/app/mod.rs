@@ -57,7 +57,7 @@ use viewport_web::RenderWorker;
 use web_time::Instant;
 
 #[cfg(not(target_arch = "wasm32"))]
-pub use launch::{DragMeasurement, Measurement, RunOptions, run};
+pub use launch::{DEFAULT_SCREENSHOT_WAIT, DragMeasurement, Measurement, RunOptions, run};
 #[cfg(target_arch = "wasm32")]
 pub mod web;
 

@@ -1,6 +1,7 @@
 //! The command line's grammar: the subcommands and their arguments (clap), and the parsers of
 //! vectors, pairs, sizes and row ranges.
 
+use super::choice::choice;
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
@@ -60,8 +61,8 @@ pub(crate) enum Command {
         only: Option<u64>,
         /// Which cases: the generated families in turn, or the meshes of Blender's files and
         /// the bunny shaded where a render shades them.
-        #[arg(long, value_enum, default_value = "mixed")]
-        family: StressFamily,
+        #[arg(long, value_parser = choice::<penumbra::stress::Family>(), default_value = "mixed")]
+        family: penumbra::stress::Family,
     },
     /// Fit the 64×64 GGX LTC table (Nelder–Mead) and write it.
     FitLtc {
@@ -70,7 +71,7 @@ pub(crate) enum Command {
         #[arg(long, default_value_t = 64)]
         size: usize,
         /// The fit's error metric (docs/ltc.md) [default: the committed table's].
-        #[arg(long, value_enum)]
+        #[arg(long, value_parser = choice::<penumbra::ltc::fit::Objective>())]
         objective: Option<penumbra::ltc::fit::Objective>,
         /// Store scale = 1 instead of the horizon renormalisation 1/H.
         #[arg(long)]
@@ -162,7 +163,7 @@ pub(crate) enum Command {
     },
     /// Open the workbench window (what `penumbra` without arguments does).
     #[cfg(feature = "gui")]
-    Gui(penumbra::app::RunOptions),
+    Gui(super::gui::GuiArgs),
     /// Move one object rigidly and save the scene as a TOML scene file (with its meshes, in
     /// world space, in OUT's stem .obj/.mtl beside it). The object turns about the vertical
     /// axis through the pivot first, then is translated. See docs/scenes.md, "Editing and
@@ -204,21 +205,6 @@ pub(crate) struct CameraArgs {
     pub(crate) fov: Option<f64>,
 }
 
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum StressFamily {
-    Mixed,
-    RealMeshes,
-}
-
-impl StressFamily {
-    pub(crate) fn library(self) -> penumbra::stress::Family {
-        match self {
-            StressFamily::Mixed => penumbra::stress::Family::Mixed,
-            StressFamily::RealMeshes => penumbra::stress::Family::RealMeshes,
-        }
-    }
-}
-
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
 pub(crate) enum BenchSuite {
     Realworld,
@@ -247,7 +233,7 @@ pub(crate) struct BenchArgs {
     )]
     pub(crate) ladder: Vec<u32>,
     /// Methods to run (default: all but `reference`).
-    #[arg(long, value_enum, value_delimiter = ',')]
+    #[arg(long, value_parser = choice::<RenderMethod>(), value_delimiter = ',')]
     pub(crate) methods: Vec<RenderMethod>,
     /// Use this reference image (PFM) instead of rendering one; its standard error is read
     /// from NAME_stderr.pfm beside it.
@@ -333,7 +319,7 @@ pub(crate) struct RenderArgs {
     /// N×N stratified sub-pixel positions per pixel.
     #[arg(long, default_value_t = 1)]
     pub(crate) aa: u32,
-    #[arg(long, value_enum, default_value_t = RenderMethod::Analytic)]
+    #[arg(long, value_parser = choice::<RenderMethod>(), default_value = "analytic")]
     pub(crate) method: RenderMethod,
     /// Stochastic methods: samples (shadow rays) per camera ray [default: 16; for the
     /// environment's ray methods 128, or the scene file's `spp`].
@@ -343,7 +329,7 @@ pub(crate) struct RenderArgs {
     #[arg(long, default_value_t = 1)]
     pub(crate) seed: u64,
     /// Stochastic methods: how lights are sampled.
-    #[arg(long, value_enum, default_value_t = LightSampling::SolidAngle)]
+    #[arg(long, value_parser = choice::<LightSampling>(), default_value = "solid-angle")]
     pub(crate) light_sampling: LightSampling,
     /// Ratio and control-variate methods: an unbiased U, the LTC plus its correction sampled
     /// over the unshadowed light (as `analytic-exact` does over the visible one).
@@ -379,7 +365,7 @@ pub(crate) struct EnvArgs {
     #[arg(long)]
     pub(crate) env_scale: Option<f64>,
     /// How the environment's shadows are computed [default: analytic].
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = choice::<EnvMethod>())]
     pub(crate) env_method: Option<EnvMethod>,
     /// `rt`: leave out the 5×5 cross-bilateral filter (the unfiltered images of 002 Fig. 7d).
     #[arg(long)]
@@ -390,7 +376,7 @@ pub(crate) struct EnvArgs {
     /// How the ray methods (`rt`, `rt-unculled`, `rtao`, `unshadowed`) find E_static on static
     /// surfaces: `prt`, transfer vectors precomputed by ray casting and cached (002 as
     /// published), or `exact`, the polygon integral at every point [default: prt].
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = choice::<StaticTerm>())]
     pub(crate) env_static: Option<StaticTerm>,
 }
 
@@ -413,8 +399,14 @@ pub(crate) fn parse_vec3(s: &str) -> Result<DVec3, String> {
     }
 }
 
+/// Parses "X,Y" into two numbers.
 pub(crate) fn parse_vec2(s: &str) -> Result<(f64, f64), String> {
-    penumbra::inspect::parse_pair(s).map_err(|e| e.to_string())
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected X,Y, got '{s}'"))?;
+    let a: f64 = a.trim().parse().map_err(|e| format!("'{a}': {e}"))?;
+    let b: f64 = b.trim().parse().map_err(|e| format!("'{b}': {e}"))?;
+    Ok((a, b))
 }
 
 pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {

@@ -18,7 +18,7 @@ pub(crate) fn ltc_error(
     m: usize,
     k: usize,
 ) -> Result<()> {
-    use clap::ValueEnum;
+    use penumbra::Choice;
     use penumbra::ltc::error_map::{Source, compute_map, heat_map_png, summarize, to_csv};
     use penumbra::ltc::fit::{FitOptions, Objective, fit_grid};
     std::fs::create_dir_all(out).with_context(|| format!("{}", out.display()))?;
@@ -32,7 +32,10 @@ pub(crate) fn ltc_error(
     for f in fits {
         let mut parts = f.split('+');
         let obj = parts.next().unwrap_or_default();
-        let objective = Objective::from_str(obj, true).map_err(anyhow::Error::msg)?;
+        let objective = Objective::named(obj).ok_or_else(|| {
+            let names: Vec<&str> = Objective::names().collect();
+            anyhow::anyhow!("objective '{obj}': expected one of {}", names.join(", "))
+        })?;
         let mut fo = FitOptions {
             objective,
             renormalize: false,

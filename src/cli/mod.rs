@@ -3,9 +3,12 @@
 pub(crate) mod args;
 pub(crate) mod bench;
 pub(crate) mod cache;
+pub(crate) mod choice;
 pub(crate) mod edit;
 pub(crate) mod env_options;
 pub(crate) mod figure;
+#[cfg(feature = "gui")]
+pub(crate) mod gui;
 pub(crate) mod ltc;
 pub(crate) mod probe;
 pub(crate) mod process_env;

@@ -33,25 +33,27 @@ pub const POLYGON_ORACLE_SAMPLES: usize = 512;
 /// Samples per axis of the midpoint rule for `norm`, `fresnel` and the average direction.
 pub const MOMENT_SAMPLES: usize = 1024;
 
-/// What the fitter minimises (docs/ltc.md, "Fitting" and "Candidates").
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-pub enum Objective {
-    /// `∫_{S²} |f − D̂_M|³ dω` (the LTC paper's metric; the first committed table).
-    L3Sphere,
-    /// `∫_{z>0} |f − D̂_M/H(M)|³ dω`: the error of the horizon-renormalised LTC over the
-    /// upper hemisphere only (what a renderer integrates).
-    L3Upper,
-    /// As `L3Upper` with the squared error.
-    L2Upper,
-    /// The mean squared error of the renormalised LTC's integrals over a fixed set of
-    /// polygons ([`FitPolygons`]: quads of three sizes on a grid of directions over the
-    /// upper hemisphere) against a Monte Carlo oracle, in units of the albedo.
-    Polygons,
-    /// `Polygons` and `L3Upper` together, each relative: the polygons' weighted squared error
-    /// over their weighted squared targets plus `(L3 / ∫ f³)^(2/3)`. The L3 term keeps the
-    /// lobe's shape where it is large (lights near the highlight), the polygon term its
-    /// integrals everywhere else.
-    Combined,
+crate::choice! {
+    /// What the fitter minimises (docs/ltc.md, "Fitting" and "Candidates").
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+    pub enum Objective {
+        /// `∫_{S²} |f − D̂_M|³ dω` (the LTC paper's metric; the first committed table).
+        L3Sphere = "l3-sphere",
+        /// `∫_{z>0} |f − D̂_M/H(M)|³ dω`: the error of the horizon-renormalised LTC over the
+        /// upper hemisphere only (what a renderer integrates).
+        L3Upper = "l3-upper",
+        /// As `L3Upper` with the squared error.
+        L2Upper = "l2-upper",
+        /// The mean squared error of the renormalised LTC's integrals over a fixed set of
+        /// polygons (`FitPolygons`: quads of three sizes on a grid of directions over the
+        /// upper hemisphere) against a Monte Carlo oracle, in units of the albedo.
+        Polygons = "polygons",
+        /// `Polygons` and `L3Upper` together, each relative: the polygons' weighted squared
+        /// error over their weighted squared targets plus `(L3 / ∫ f³)^(2/3)`. The L3 term
+        /// keeps the lobe's shape where it is large (lights near the highlight), the polygon
+        /// term its integrals everywhere else.
+        Combined = "combined",
+    }
 }
 
 /// The polygon set and oracle values of [`Objective::Polygons`] for one cell.

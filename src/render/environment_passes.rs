@@ -68,27 +68,19 @@ pub struct EnvironmentSettings {
     pub static_term: StaticTerm,
 }
 
-/// How the methods of 002 obtain `E_static` (002 Eq. 6); `penumbra render --env-static`.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum StaticTerm {
-    /// 002 as published: diffuse PRT, transfer vectors precomputed by ray casting on the
-    /// static surfaces and interpolated (`environment::prt`). Points the field does not
-    /// cover (dynamic objects, back sides) take the exact value.
-    #[default]
-    Prt,
-    /// The exact polygon integral over what the static objects leave, at every point.
-    Exact,
+crate::choice! {
+    /// How the methods of 002 obtain `E_static` (002 Eq. 6); `penumbra render --env-static`.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+    #[serde(rename_all = "kebab-case")]
+    pub enum StaticTerm {
+        /// 002 as published: diffuse PRT, transfer vectors precomputed by ray casting on the
+        /// static surfaces and interpolated (`environment::prt`). Points the field does not
+        /// cover (dynamic objects, back sides) take the exact value.
+        Prt = "prt",
+        /// The exact polygon integral over what the static objects leave, at every point.
+        Exact = "exact",
+    }
+    default = Prt;
 }
 
 impl EnvironmentSettings {

@@ -52,76 +52,46 @@ pub fn subpixel_rays(
     })
 }
 
-/// Every way `penumbra render` can compute an image.
-///
-/// The rule every method keeps: a render makes the same `render_tiles` calls, and the same
-/// [`slicing::step`]s, in the same order each time it runs with the same inputs, so that a
-/// render cut into time slices (the browser's, [`slicing`]) replays its finished calls from
-/// the slicer's memo and gives the uninterrupted image bit for bit. The slicing module's test
-/// checks it for every method of [`RenderMethod::ALL`].
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum RenderMethod {
-    /// 000 Alg. 1: analytic visibility and LTC shading.
-    Analytic,
-    /// 000 Sect. 4.4: every light and occluder face on its own.
-    PerTriangle,
-    /// LTC shading without occluders (003's U).
-    Unshadowed,
-    /// Full-stochastic S_N with MIS (003 Eq. 10).
-    Mc,
-    /// U − (U_N − S_N) (003 Eq. 11, c = 1).
-    ControlVariate,
-    /// U · S_N / U_N per channel (003 Eq. 15).
-    Ratio,
-    /// U · lum(S_N) / lum(U_N) (003 Sect. 3.4, grayscale weighted shadow).
-    RatioGray,
-    /// U · denoise[S_N] / denoise[U_N] with the joint-bilateral filter driven by the noise
-    /// estimate E (003 Sect. 4).
-    RatioDenoised,
-    /// U · bilateral[S_N] / bilateral[U_N] with a fixed filter width (000's comparison).
-    RatioBilateral,
-    /// A converged full-stochastic image with its per-pixel standard error.
-    Reference,
-    /// 000 Alg. 1 with the LTC's error sampled inside each exact visible polygon: the LTC
-    /// image plus `∫_V (f_GGX − f_LTC) cos`, no shadow rays; converges to GGX (`--spp`
-    /// directions per light per camera ray and pass).
-    AnalyticExact,
+crate::choice! {
+    /// Every way `penumbra render` can compute an image.
+    ///
+    /// The rule every method keeps: a render makes the same `render_tiles` calls, and the same
+    /// [`slicing::step`]s, in the same order each time it runs with the same inputs, so that a
+    /// render cut into time slices (the browser's, [`slicing`]) replays its finished calls from
+    /// the slicer's memo and gives the uninterrupted image bit for bit. The slicing module's test
+    /// checks it for every method of [`RenderMethod::ALL`].
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+    #[serde(rename_all = "kebab-case")]
+    pub enum RenderMethod {
+        /// 000 Alg. 1: analytic visibility and LTC shading.
+        Analytic = "analytic",
+        /// 000 Sect. 4.4: every light and occluder face on its own.
+        PerTriangle = "per-triangle",
+        /// LTC shading without occluders (003's U).
+        Unshadowed = "unshadowed",
+        /// Full-stochastic S_N with MIS (003 Eq. 10).
+        Mc = "mc",
+        /// U − (U_N − S_N) (003 Eq. 11, c = 1).
+        ControlVariate = "control-variate",
+        /// U · S_N / U_N per channel (003 Eq. 15).
+        Ratio = "ratio",
+        /// U · lum(S_N) / lum(U_N) (003 Sect. 3.4, grayscale weighted shadow).
+        RatioGray = "ratio-gray",
+        /// U · denoise[S_N] / denoise[U_N] with the joint-bilateral filter driven by the noise
+        /// estimate E (003 Sect. 4).
+        RatioDenoised = "ratio-denoised",
+        /// U · bilateral[S_N] / bilateral[U_N] with a fixed filter width (000's comparison).
+        RatioBilateral = "ratio-bilateral",
+        /// A converged full-stochastic image with its per-pixel standard error.
+        Reference = "reference",
+        /// 000 Alg. 1 with the LTC's error sampled inside each exact visible polygon: the LTC
+        /// image plus `∫_V (f_GGX − f_LTC) cos`, no shadow rays; converges to GGX (`--spp`
+        /// directions per light per camera ray and pass).
+        AnalyticExact = "analytic-exact",
+    }
 }
 
 impl RenderMethod {
-    pub const ALL: [RenderMethod; 11] = [
-        RenderMethod::Analytic,
-        RenderMethod::PerTriangle,
-        RenderMethod::Unshadowed,
-        RenderMethod::Mc,
-        RenderMethod::ControlVariate,
-        RenderMethod::Ratio,
-        RenderMethod::RatioGray,
-        RenderMethod::RatioDenoised,
-        RenderMethod::RatioBilateral,
-        RenderMethod::Reference,
-        RenderMethod::AnalyticExact,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            RenderMethod::Analytic => "analytic",
-            RenderMethod::PerTriangle => "per-triangle",
-            RenderMethod::Unshadowed => "unshadowed",
-            RenderMethod::Mc => "mc",
-            RenderMethod::ControlVariate => "control-variate",
-            RenderMethod::Ratio => "ratio",
-            RenderMethod::RatioGray => "ratio-gray",
-            RenderMethod::RatioDenoised => "ratio-denoised",
-            RenderMethod::RatioBilateral => "ratio-bilateral",
-            RenderMethod::Reference => "reference",
-            RenderMethod::AnalyticExact => "analytic-exact",
-        }
-    }
-
     /// The analytic visibility method, for the deterministic methods.
     pub fn analytic(self) -> Option<Method> {
         match self {

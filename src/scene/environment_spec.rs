@@ -8,53 +8,33 @@ use std::path::{Path, PathBuf};
 /// scene says (002 Sect. 5 uses 128).
 pub const DEFAULT_SPP: u32 = 128;
 
-/// How E_occluded (and with it E) is computed; `penumbra render --env-method`.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum EnvMethod {
-    /// Exact: the SH radiance × cos integrated over the region the dynamic objects hide
-    /// (silhouettes, horizon clip, set difference; no rays, no noise).
-    Analytic,
-    /// 002 as published: Hammersley cosine rays inside the merged cones (direction and length
-    /// culling, Alg. 1–2), 5×5 cross-bilateral filter on E_occluded.
-    Rt,
-    /// `rt` tracing every ray to infinity (the tables' "without culling"); the same E_occluded
-    /// bit for bit.
-    RtUnculled,
-    /// Ray-traced ambient occlusion × E_static (E_unshadowed of Eq. 7 when nothing is static):
-    /// the baseline 002 compares with.
-    Rtao,
-    /// E_static alone: no shadows of dynamic objects (Eq. 7, no shadows at all, when nothing
-    /// is static).
-    Unshadowed,
-    /// Monte Carlo of the map itself (not its SH), importance-sampled, with shadow rays
-    /// against every object: the independent oracle.
-    Reference,
+crate::choice! {
+    /// How E_occluded (and with it E) is computed; `penumbra render --env-method`.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+    #[serde(rename_all = "kebab-case")]
+    pub enum EnvMethod {
+        /// Exact: the SH radiance × cos integrated over the region the dynamic objects hide
+        /// (silhouettes, horizon clip, set difference; no rays, no noise).
+        Analytic = "analytic",
+        /// 002 as published: Hammersley cosine rays inside the merged cones (direction and length
+        /// culling, Alg. 1–2), 5×5 cross-bilateral filter on E_occluded.
+        Rt = "rt",
+        /// `rt` tracing every ray to infinity (the tables' "without culling"); the same E_occluded
+        /// bit for bit.
+        RtUnculled = "rt-unculled",
+        /// Ray-traced ambient occlusion × E_static (E_unshadowed of Eq. 7 when nothing is static):
+        /// the baseline 002 compares with.
+        Rtao = "rtao",
+        /// E_static alone: no shadows of dynamic objects (Eq. 7, no shadows at all, when nothing
+        /// is static).
+        Unshadowed = "unshadowed",
+        /// Monte Carlo of the map itself (not its SH), importance-sampled, with shadow rays
+        /// against every object: the independent oracle.
+        Reference = "reference",
+    }
 }
 
 impl EnvMethod {
-    pub const ALL: [EnvMethod; 6] = [
-        EnvMethod::Analytic,
-        EnvMethod::Rt,
-        EnvMethod::RtUnculled,
-        EnvMethod::Rtao,
-        EnvMethod::Unshadowed,
-        EnvMethod::Reference,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            EnvMethod::Analytic => "analytic",
-            EnvMethod::Rt => "rt",
-            EnvMethod::RtUnculled => "rt-unculled",
-            EnvMethod::Rtao => "rtao",
-            EnvMethod::Unshadowed => "unshadowed",
-            EnvMethod::Reference => "reference",
-        }
-    }
-
     /// Whether 002's 5×5 cross-bilateral filter applies to the method's E_occluded: the
     /// ray-traced `rt` and `rt-unculled` (the one place that says so).
     pub fn is_filterable(self) -> bool {

@@ -38,27 +38,17 @@ pub use tree_library::TreeLibrary;
 
 use glam::DVec3;
 
-/// How visibility is computed.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum Method {
-    /// 000 Alg. 1 with silhouettes of convex and flat meshes, per face for the others.
-    Analytic,
-    /// 000 Sect. 4.4: every light and occluder face on its own (a baseline).
-    PerTriangle,
-    /// LTC shading without occluders (a baseline; 003's U).
-    Unshadowed,
-}
-
-impl Method {
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Analytic => "analytic",
-            Method::PerTriangle => "per-triangle",
-            Method::Unshadowed => "unshadowed",
-        }
+crate::choice! {
+    /// How visibility is computed.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+    #[serde(rename_all = "kebab-case")]
+    pub enum Method {
+        /// 000 Alg. 1 with silhouettes of convex and flat meshes, per face for the others.
+        Analytic = "analytic",
+        /// 000 Sect. 4.4: every light and occluder face on its own (a baseline).
+        PerTriangle = "per-triangle",
+        /// LTC shading without occluders (a baseline; 003's U).
+        Unshadowed = "unshadowed",
     }
 }
 

@@ -34,26 +34,18 @@ use crate::shading::brdf::{BrdfSampler, eval_cos};
 use crate::shading::{PreparedObject, ShadingPoint};
 use glam::DVec3;
 
-/// How light samples are drawn.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum LightSampling {
-    /// Uniform in the solid angle of each light's triangulated silhouette (or faces), with MIS
-    /// against BRDF sampling.
-    #[default]
-    SolidAngle,
-    /// Uniform over each light's area (the baseline of 001 Sect. 3.6); light samples only.
-    Area,
+crate::choice! {
+    /// How light samples are drawn.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+    #[serde(rename_all = "kebab-case")]
+    pub enum LightSampling {
+        /// Uniform in the solid angle of each light's triangulated silhouette (or faces), with MIS
+        /// against BRDF sampling.
+        SolidAngle = "solid-angle",
+        /// Uniform over each light's area (the baseline of 001 Sect. 3.6); light samples only.
+        Area = "area",
+    }
+    default = SolidAngle;
 }
 
 /// What the estimators read of a prepared scene: the renderer's context lends it
