@@ -7,14 +7,12 @@
 use glam::DVec3;
 use penumbra::bench::realworld_scenes::{displaced_icosphere, twisted_ellipsoid};
 use penumbra::geometry::IndexedPolyhedron;
-use penumbra::geometry::silhouettes::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
-use penumbra::geometry::silhouettes::windowed_silhouette::{
-    WindowScratch, exact_silhouette_in_window,
-};
 use penumbra::geometry::{
     ExactBspLimits, ExactSilhouetteBsp, Sidedness, SilhouetteBsp, SilhouetteScratch,
     SphericalPolygon, silhouette,
 };
+use penumbra::geometry::{ExactSilhouetteScratch, exact_silhouette};
+use penumbra::geometry::{WindowScratch, exact_silhouette_in_window};
 use penumbra::math::Frame;
 use penumbra::scene::Mesh;
 use penumbra::scene::shapes::{cylinder, icosphere, uv_ellipsoid};

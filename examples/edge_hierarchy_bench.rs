@@ -9,10 +9,8 @@ use glam::DVec3;
 use penumbra::bench::realworld_scenes::displaced_icosphere;
 use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::SphericalPolygon;
-use penumbra::geometry::mesh::edge_hierarchy::{
-    BuildParams, ContourScratch, EdgeHierarchy, contour_edge_indices,
-};
-use penumbra::geometry::silhouettes::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
+use penumbra::geometry::{BuildParams, ContourScratch, EdgeHierarchy, contour_edge_indices};
+use penumbra::geometry::{ExactSilhouetteScratch, exact_silhouette};
 use penumbra::math::Frame;
 use std::fmt::Write;
 use std::sync::Arc;

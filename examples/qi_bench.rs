@@ -9,10 +9,8 @@ use glam::DVec3;
 use penumbra::bench::realworld_scenes::displaced_icosphere;
 use penumbra::geometry::IndexedPolyhedron;
 use penumbra::geometry::SphericalPolygon;
-use penumbra::geometry::silhouettes::exact_silhouette::{ExactSilhouetteScratch, exact_silhouette};
-use penumbra::geometry::silhouettes::windowed_silhouette::{
-    WindowScratch, exact_silhouette_in_window,
-};
+use penumbra::geometry::{ExactSilhouetteScratch, exact_silhouette};
+use penumbra::geometry::{WindowScratch, exact_silhouette_in_window};
 use penumbra::math::Frame;
 use std::time::Instant;
 

@@ -2,8 +2,8 @@
 //! take to build, for cubes of several sizes.
 use glam::DVec3;
 use penumbra::scene::thesis_polyhedra::{TABLE_7_1, thesis_polyhedron};
+use penumbra::shading::BuiltTree;
 use penumbra::shading::TreeLibrary;
-use penumbra::shading::prepared::BuiltTree;
 
 fn main() {
     let args: Vec<f64> = std::env::args()

@@ -36,7 +36,7 @@
 //!   comparisons, scaling fits, PNG charts.
 
 pub use choice::Choice;
-pub use error::{Error, Result};
+pub use error::{Error, InFile, Result};
 
 pub mod accel;
 #[cfg(feature = "gui")]
@@ -45,7 +45,7 @@ pub mod bench;
 mod choice;
 pub mod denoise;
 pub mod environment;
-pub mod error;
+mod error;
 pub mod figure;
 pub mod geometry;
 pub mod inspect;

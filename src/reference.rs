@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 // Lights sampled uniformly by area: `sampling::area_light` (the stochastic baseline samples them
 // the same way).
-pub use crate::sampling::area_light::{AreaLight, LightSampler};
+pub(crate) use crate::sampling::area_light::LightSampler;
 
 /// BRDF value ρ(v, l) (diffuse + GGX with Schlick's Fresnel) for unit world directions.
 pub fn brdf(material: &Material, frame: &Frame, v: DVec3, l: DVec3) -> DVec3 {

@@ -5,8 +5,8 @@
 
 use glam::DVec3;
 use penumbra::geometry::IndexedPolyhedron;
-use penumbra::geometry::trees::bsp::LOOP_END;
-use penumbra::geometry::trees::bsp_hoisted::loop_runs;
+use penumbra::geometry::LOOP_END;
+use penumbra::geometry::loop_runs;
 use penumbra::geometry::{
     ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, HoistedSilhouetteBsp, Sidedness,
     SilhouetteBsp, SilhouetteScratch, SphericalPolygon, exact_silhouette, silhouette,

@@ -309,7 +309,7 @@ fn bsp_outlines_of_open_meshes_equal_the_outline_on_the_fly() {
 fn open_occluders_shade_from_their_trees_as_face_by_face() {
     use penumbra::render::request::RenderRequest;
     use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
-    use penumbra::scene::camera::Camera;
+    use penumbra::scene::Camera;
     use penumbra::shading::PathKind;
     let obj = "\
 o floor

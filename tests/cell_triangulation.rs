@@ -6,16 +6,14 @@
 
 use glam::DVec3;
 use penumbra::accel::{Ray, intersect_triangle};
-use penumbra::geometry::silhouettes::exact_silhouette::SilhouettePoint;
-use penumbra::geometry::trees::cell_triangulation::{
-    concave_edge_endpoints, triangulate_silhouette,
-};
+use penumbra::geometry::SilhouettePoint;
+use penumbra::geometry::solid_angle_of_triangle;
 use penumbra::geometry::{
     BspNode, ExactBspLimits, ExactSilhouetteBsp, ExactSilhouetteScratch, SilhouetteTriangulation,
     SphericalPolygon, TriangulationLimits, exact_silhouette, orient,
 };
+use penumbra::geometry::{concave_edge_endpoints, triangulate_silhouette};
 use penumbra::math::{Frame, Pcg32};
-use penumbra::sampling::solid_angle_of_triangle;
 use penumbra::scene::thesis_polyhedra::TABLE_7_1;
 use std::f64::consts::PI;
 
@@ -184,7 +182,7 @@ fn a_silhouette_without_a_plain_triangulation_uses_optional_vertices() {
             continue;
         }
         big += 1;
-        penumbra::geometry::silhouettes::exact_silhouette::symbolic_loops(&scratch, &mut symbolic);
+        penumbra::geometry::symbolic_loops(&scratch, &mut symbolic);
         let loops: Vec<Vec<SilhouettePoint>> = symbolic
             .split(|p| p.is_none())
             .filter(|l| !l.is_empty())

@@ -2,7 +2,6 @@
 //! negative are values, not flags; errors are one readable line, whatever RUST_BACKTRACE says;
 //! `penumbra cache` shows and clears the cache it is pointed at.
 
-#[cfg(feature = "gui")]
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

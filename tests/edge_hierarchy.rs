@@ -7,7 +7,7 @@
 use glam::DVec3;
 use penumbra::bench::realworld_scenes::displaced_icosphere;
 use penumbra::geometry::IndexedPolyhedron;
-use penumbra::geometry::mesh::edge_hierarchy::{
+use penumbra::geometry::{
     ContourScratch, CoplanarFace, EdgeHierarchy, contour_edge_indices, coplanar_tolerance,
 };
 use penumbra::geometry::{

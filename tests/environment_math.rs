@@ -757,7 +757,7 @@ fn load_exr_round_trip_and_repairs() {
         .map(|k| [k as f32 * 0.1, 1.0 + k as f32, 1e-3 * (k as f32 + 1.0)])
         .collect();
     let path = temp("tiny.exr");
-    penumbra::render::image_io::write_exr(&path, w, h, &px).unwrap();
+    penumbra::raster::io::write_exr(&path, w, h, &px).unwrap();
     let bytes = std::fs::read(&path).unwrap();
     for map in [
         EnvironmentMap::load(&path).unwrap(),
@@ -774,7 +774,7 @@ fn load_exr_round_trip_and_repairs() {
     let mut neg = px.clone();
     neg[3] = [-1.0, 0.5, -0.0];
     let path = temp("negative.exr");
-    penumbra::render::image_io::write_exr(&path, w, h, &neg).unwrap();
+    penumbra::raster::io::write_exr(&path, w, h, &neg).unwrap();
     let map = EnvironmentMap::load(&path).unwrap();
     assert_eq!(map.pixels()[3], DVec3::new(0.0, 0.5, 0.0));
 
@@ -782,7 +782,7 @@ fn load_exr_round_trip_and_repairs() {
     let mut nan = px.clone();
     nan[7] = [f32::NAN, 0.0, 0.0];
     let path = temp("nan.exr");
-    penumbra::render::image_io::write_exr(&path, w, h, &nan).unwrap();
+    penumbra::raster::io::write_exr(&path, w, h, &nan).unwrap();
     let err = format!("{:#}", EnvironmentMap::load(&path).unwrap_err());
     assert!(
         err.contains("nan.exr") && err.contains("not finite"),

@@ -4,11 +4,13 @@
 //! rendered image itself.
 
 use glam::DVec3;
-use penumbra::environment::{EnvMethod, EnvironmentLight, EnvironmentSpec};
+use penumbra::environment::EnvironmentLight;
 use penumbra::inspect::{Probe, probe};
 use penumbra::math::{Frame, Pcg32};
 use penumbra::render::environment_passes::EnvironmentSettings;
 use penumbra::render::{RenderContext, RenderSettings};
+use penumbra::scene::environment_spec::EnvMethod;
+use penumbra::scene::environment_spec::EnvironmentSpec;
 use penumbra::scene::scene_file;
 use penumbra::shading::{EnvironmentSide, Method, RayOutcome};
 use std::sync::Arc;

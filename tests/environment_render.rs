@@ -8,9 +8,11 @@
 //! * Culling (direction, direction + length, none) leaves E_occluded bit for bit the same.
 
 use glam::DVec3;
-use penumbra::environment::{EnvMethod, EnvironmentLight, EnvironmentMap, Sh9};
+use penumbra::environment::{EnvironmentLight, EnvironmentMap, Sh9};
+use penumbra::raster::Image;
 use penumbra::render::environment_passes::{Culling, EnvironmentOutput, EnvironmentSettings};
-use penumbra::render::{Image, RenderContext, RenderMethod, RenderSettings};
+use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
+use penumbra::scene::environment_spec::EnvMethod;
 use penumbra::scene::shapes::{cuboid, l_shape, quad};
 use penumbra::scene::{Camera, Material, Mesh, ObjectFlags, Scene, SceneObject};
 use std::sync::Arc;
@@ -279,7 +281,7 @@ fn unshadowed_and_rtao_bound_the_shadowed_image() {
 
 #[test]
 fn scene_files_carry_the_environment_and_static_objects() {
-    use penumbra::environment::EnvironmentSource;
+    use penumbra::scene::environment_spec::EnvironmentSource;
     use penumbra::scene::scene_file::load_scene_str;
     let obj = |_: &str| -> Result<Scene, penumbra::Error> {
         let mut s = Scene::default();

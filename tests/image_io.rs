@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use penumbra::render::image_io::{read_pfm, srgb_oetf, to_srgb8, write_exr, write_pfm, write_png};
+use penumbra::raster::io::{read_pfm, srgb_oetf, to_srgb8, write_exr, write_pfm, write_png};
 
 fn temp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("penumbra-image-io-{}", std::process::id()));

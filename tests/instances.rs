@@ -13,7 +13,7 @@ use penumbra::math::{Frame, Pcg32};
 use penumbra::render::{RenderContext, RenderSettings};
 use penumbra::scene::scene_file;
 use penumbra::shading::PreparedScene;
-use penumbra::shading::prepared::instance_map;
+use penumbra::shading::instance_map;
 use std::sync::Arc;
 
 use crate::silhouette_common;

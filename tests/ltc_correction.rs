@@ -5,8 +5,9 @@
 
 use glam::DVec3;
 use penumbra::math::Pcg32;
-use penumbra::reference::{LightSampler, direct_lighting};
+use penumbra::reference::direct_lighting;
 use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
+use penumbra::sampling::area_light::LightSampler;
 use penumbra::scene::{Material, scene_file};
 use penumbra::shading::{
     CorrectionSampling, Method, NoRecorder, ShadingPoint, ShadingScratch, Stage, StageRecording,
@@ -311,7 +312,7 @@ fn progressive_analytic_exact_starts_from_the_ltc_image() {
             .collect();
     assert!(ltc == analytic.pixels, "emitted + U is not the LTC image");
     // Four passes: the standard error of the mean halves (summed over the image).
-    let total = |img: &penumbra::render::Image| img.pixels.iter().map(|p| p.x).sum::<f64>();
+    let total = |img: &penumbra::raster::Image| img.pixels.iter().map(|p| p.x).sum::<f64>();
     let ratio = total(last.output.stderr.as_ref().unwrap()) / total(&stderr_first.unwrap());
     assert!(
         (0.4..0.6).contains(&ratio),

@@ -2,8 +2,8 @@
 //! (the same as `penumbra fit-ltc --out assets/ltc/ggx_ltc_64.bin`), and writes the per-cell
 //! fit report assets/ltc/fit_report.tsv.
 
+use penumbra::ltc::LTC_TABLE_SIZE;
 use penumbra::ltc::fit::fit_table_cells;
-use penumbra::ltc::table::LTC_TABLE_SIZE;
 use std::time::Instant;
 
 #[test]

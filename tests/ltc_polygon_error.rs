@@ -11,7 +11,7 @@ use penumbra::ltc::polygon_error::{
     TestPolygon, cell_error, ltc_form_factor, oracle_integrals, test_polygons,
 };
 use penumbra::ltc::published::published;
-use penumbra::ltc::table::{LtcEntry, LtcTable};
+use penumbra::ltc::{LtcEntry, LtcTable};
 
 /// Coarse subset of the map's configurations `(cosθv, α)`, between table nodes, weighted to
 /// the grazing glossy range where the fits differ.

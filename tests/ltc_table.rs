@@ -1,7 +1,7 @@
 //! The committed table: file round trip, node lookups, invariants of every entry, and that
 //! `fit_table` reproduces it.
 
-use penumbra::ltc::table::{ALPHA_MIN, COS_THETA_MIN, LTC_TABLE_SIZE, MAGIC};
+use penumbra::ltc::{ALPHA_MIN, COS_THETA_MIN, LTC_TABLE_SIZE, MAGIC};
 use penumbra::ltc::{LtcEntry, LtcTable};
 
 fn bits(e: &LtcEntry) -> Vec<u64> {

@@ -50,7 +50,7 @@ fn the_bench_renders_the_analytic_image_that_render_renders() {
         // 256×256×16 rays and differs here on default, fig4 and polyhedra.
         assert_eq!(render_ctx.prepared.report, ctx.prepared.report, "{name}");
         let render = render_ctx.render_full(&camera, &settings, None).unwrap();
-        let bits = |img: &penumbra::render::Image| -> Vec<[u64; 3]> {
+        let bits = |img: &penumbra::raster::Image| -> Vec<[u64; 3]> {
             img.pixels
                 .iter()
                 .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])

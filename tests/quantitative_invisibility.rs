@@ -390,8 +390,7 @@ fn qi_on_open_meshes_is_the_per_piece_rays() {
                 );
                 if !from_ray {
                     carried += 1;
-                    carried_boundary +=
-                        u32::from(faces.contains(&penumbra::geometry::mesh::polyhedron::NO_FACE));
+                    carried_boundary += u32::from(faces.contains(&penumbra::geometry::NO_FACE));
                 }
             }
         }

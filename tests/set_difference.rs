@@ -13,7 +13,7 @@ use crate::set_difference_common;
 use set_difference_common::*;
 
 use glam::DVec3;
-use penumbra::geometry::spherical::set_difference::{
+use penumbra::geometry::{
     ChainKind, FragmentSide, IntersectionKind, Operand, Transition, VertexLabel,
 };
 use penumbra::geometry::{
@@ -1172,7 +1172,7 @@ fn light_covering_the_whole_hemisphere() {
 /// (EPS_LINE + EPS_POINT + COLLAPSE_RADIUS / 2)·(sum of the perimeters); 1e-14 covers rounding.
 #[test]
 fn near_degenerate_perturbations() {
-    use penumbra::geometry::spherical::set_difference::{COLLAPSE_RADIUS, EPS_LINE, EPS_POINT};
+    use penumbra::geometry::{COLLAPSE_RADIUS, EPS_LINE, EPS_POINT};
     let mut rng = Pcg32::new(3, 33);
     let mut sd = SetDifference::new();
     let mut out = PlanarPolygon::new();
@@ -1272,7 +1272,7 @@ fn fan_of_triangles_touching_at_a_point() {
 /// configuration is an ordinary vertex-on-vertex contact.
 #[test]
 fn near_degeneracy_below_the_tolerances() {
-    use penumbra::geometry::spherical::set_difference::{COLLAPSE_RADIUS, EPS_LINE, EPS_POINT};
+    use penumbra::geometry::{COLLAPSE_RADIUS, EPS_LINE, EPS_POINT};
     let s = vec![
         DVec3::new(
             -0.6182921825371359,

@@ -31,7 +31,7 @@ use crate::set_difference_common;
 use set_difference_common::*;
 
 use glam::DVec3;
-use penumbra::geometry::spherical::set_difference::{COLLAPSE_RADIUS, EPS_LINE, EPS_POINT};
+use penumbra::geometry::{COLLAPSE_RADIUS, EPS_LINE, EPS_POINT};
 use penumbra::geometry::{GreinerHormannSteps, PlanarPolygon, SetDifference, SphericalPolygon};
 use penumbra::math::{Frame, Pcg32};
 use std::f64::consts::TAU;

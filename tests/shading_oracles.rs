@@ -5,8 +5,9 @@
 use glam::DVec3;
 use penumbra::accel::Ray;
 use penumbra::math::Pcg32;
-use penumbra::reference::{LightSampler, direct_lighting, render_reference};
+use penumbra::reference::{direct_lighting, render_reference};
 use penumbra::render::{RenderContext, RenderSettings, compare::compare};
+use penumbra::sampling::area_light::LightSampler;
 use penumbra::scene::{Scene, scene_file};
 use penumbra::shading::{Method, NoRecorder, ShadingPoint, ShadingScratch, shade};
 
@@ -190,7 +191,7 @@ fn two_overlapping_holes_equal_the_per_triangle_path() {
 }
 
 fn two_holes_against_per_triangle(scene: &Scene, name: &str, glossy: bool) {
-    use penumbra::shading::recorder::{DifferenceMethod, StageRecording};
+    use penumbra::shading::{DifferenceMethod, StageRecording};
     let ctx = RenderContext::new(scene);
     let mut scratch = ShadingScratch::default();
     let (mut two, mut worst) = (0, 0.0f64);
@@ -205,7 +206,7 @@ fn two_holes_against_per_triangle(scene: &Scene, name: &str, glossy: bool) {
             &mut scratch,
             &mut rec,
         );
-        let holes = |l: &penumbra::shading::recorder::LightRecord| {
+        let holes = |l: &penumbra::shading::LightRecord| {
             l.set_differences
                 .iter()
                 .filter(|d| d.method == DifferenceMethod::Hole)
@@ -239,7 +240,7 @@ fn embedded_scenes_render_without_invalid_pixels() {
         if let Some(spec) = &scene.environment {
             let light = penumbra::environment::EnvironmentLight::load(spec).unwrap();
             let env = penumbra::render::environment_passes::EnvironmentSettings::new(
-                penumbra::environment::EnvMethod::Analytic,
+                penumbra::scene::environment_spec::EnvMethod::Analytic,
                 1,
                 1,
             );

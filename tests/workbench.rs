@@ -413,7 +413,7 @@ fn the_light_view_shows_the_tree_the_renderer_used() {
 /// frames carry the environment's rays, and picks the point again with its rays recorded.
 #[test]
 fn the_environment_panel_drives_the_render_and_the_picked_point() {
-    use penumbra::environment::EnvMethod;
+    use penumbra::scene::environment_spec::EnvMethod;
     use penumbra::shading::RayOutcome;
     let state = Persisted {
         scene: "env_figures".into(),

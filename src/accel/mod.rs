@@ -8,12 +8,14 @@
 //!
 //! No query uses an epsilon in world units: callers choose `t_min` (and `t_max`).
 
-pub mod bvh;
+pub(crate) mod bvh;
 
 pub use bvh::{Bvh, Hit, newell_normal};
 // The ray and the ray–triangle test are geometry (the exact silhouettes' ray tests use them
-// too); the hierarchy built over a scene's triangles is what lives here.
-pub use crate::geometry::mesh::ray::{self, Ray};
+// too), reached from outside the crate here; the hierarchy built over a scene's triangles is
+// what lives here.
+pub use crate::geometry::mesh::ray::Ray;
 pub use crate::geometry::mesh::triangle::{
-    self, PreparedRay, TriangleHit, intersect_triangle, is_degenerate,
+    PreparedRay, TriangleHit, intersect_triangle, is_degenerate,
 };
+pub(crate) use crate::geometry::mesh::{ray, triangle};

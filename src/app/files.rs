@@ -2,7 +2,7 @@
 //! command line that reproduces the current render headless.
 
 use crate::Result;
-use crate::bench::BenchReport;
+use crate::bench::table::BenchReport;
 use crate::error::InFile;
 use crate::inspect::Probe;
 use crate::render::{Image, RenderSettings, image_io};

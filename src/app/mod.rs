@@ -34,7 +34,7 @@ pub mod viewport;
 #[cfg(target_arch = "wasm32")]
 pub mod viewport_web;
 
-use crate::bench::BenchReport;
+use crate::bench::table::BenchReport;
 use crate::inspect::{MonteCarloEstimate, monte_carlo, probe_corrected, probe_method};
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::scene_file;

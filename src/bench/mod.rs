@@ -21,10 +21,9 @@
 pub mod environment_tables;
 pub mod equal_time;
 pub mod fit;
-pub use crate::figure::font;
 pub mod memory;
 pub mod output;
-pub use crate::figure::plot;
+pub(crate) use crate::figure::plot;
 pub mod polyhedra;
 pub mod realworld;
 pub mod realworld_scenes;
@@ -33,7 +32,3 @@ pub mod scaling;
 pub mod speed;
 pub mod table;
 
-pub use equal_time::{EqualTimeRow, ErrorMetric, Estimate, Target, equal_time};
-pub use fit::{LineFit, fit_line, fit_log_log};
-pub use plot::{Chart, Series, render_chart, save_chart_png, save_chart_svg};
-pub use table::{BenchReport, BenchRow, ReferenceInfo, SpeedRatios, write_csv, write_json};

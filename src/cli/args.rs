@@ -5,9 +5,9 @@ use super::choice::choice;
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
-use penumbra::environment::EnvMethod;
 use penumbra::render::RenderMethod;
 use penumbra::render::environment_passes::StaticTerm;
+use penumbra::scene::environment_spec::EnvMethod;
 use penumbra::stochastic::LightSampling;
 use std::path::PathBuf;
 

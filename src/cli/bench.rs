@@ -3,8 +3,9 @@
 use super::args::*;
 use super::render::{camera, load_scene, stderr_path};
 use anyhow::{Context, Result, bail};
-use penumbra::environment::EnvironmentSpec;
-use penumbra::render::{Image, image_io};
+use penumbra::raster::Image;
+use penumbra::raster::io as image_io;
+use penumbra::scene::environment_spec::EnvironmentSpec;
 use penumbra::scene::scene_file;
 use std::path::{Path, PathBuf};
 

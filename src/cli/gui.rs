@@ -4,8 +4,8 @@ use super::args::parse_vec2;
 use super::choice::choice;
 use penumbra::app::RunOptions;
 use penumbra::app::layout::Preset;
-use penumbra::environment::EnvMethod;
 use penumbra::render::RenderMethod;
+use penumbra::scene::environment_spec::EnvMethod;
 use std::path::PathBuf;
 
 /// What `penumbra gui` does besides showing the window.

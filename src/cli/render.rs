@@ -4,8 +4,10 @@ use super::args::*;
 use super::env_options::environment_options;
 use anyhow::{Context, Result, bail};
 use glam::DVec3;
+use penumbra::raster::Image;
+use penumbra::raster::io as image_io;
 use penumbra::render::request::{PreparedRender, RenderRequest};
-use penumbra::render::{Image, RenderContext, RenderSettings, image_io};
+use penumbra::render::{RenderContext, RenderSettings};
 use penumbra::scene::{Camera, Scene};
 use std::path::{Path, PathBuf};
 

@@ -22,11 +22,11 @@
 //! nothing per pixel, is bit-identical whatever the number of threads, and returns finite values
 //! for any input. See `docs/denoiser.md`.
 
-pub use crate::raster::gbuffer;
-pub mod joint_bilateral;
-pub mod noise_estimate;
-pub mod ratio;
-pub mod settings;
+pub(crate) use crate::raster::gbuffer;
+pub(crate) mod joint_bilateral;
+pub(crate) mod noise_estimate;
+pub(crate) mod ratio;
+pub(crate) mod settings;
 
 #[cfg(test)]
 mod test_util;
@@ -35,7 +35,7 @@ pub use gbuffer::{GBuffer, Surface};
 pub use joint_bilateral::{MAX_KERNEL_RADIUS, joint_bilateral, joint_bilateral_cancellable};
 pub use noise_estimate::{box_filter_3x3, line_total_variation, noise_estimate};
 pub use ratio::{
-    DenoiseAovs, luminance, ratio_bilateral, ratio_bilateral_cancellable, ratio_combine,
-    ratio_denoised, ratio_denoised_cancellable, scalar_image, weighted_shadow,
+    DenoiseAovs, ratio_bilateral, ratio_bilateral_cancellable, ratio_combine, ratio_denoised,
+    ratio_denoised_cancellable, scalar_image, weighted_shadow,
 };
 pub use settings::DenoiseSettings;

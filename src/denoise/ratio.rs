@@ -27,7 +27,7 @@ pub struct DenoiseAovs {
     pub u_denoised: Image,
 }
 
-pub use crate::raster::luminance;
+pub(crate) use crate::raster::luminance;
 
 /// The illumination-weighted shadow W_N = S_N / U_N (Eq. 23) of one value: clamped to [0, 1]
 /// (it lies there whenever 0 ≤ S_N ≤ U_N, both sums using the same weights), and 1 where U_N

@@ -24,7 +24,7 @@ pub struct BoundingSphere {
 }
 
 // The cone itself is a plain value of directions (the recorder keeps it): `geometry::spherical::cone`.
-pub use crate::geometry::spherical::cone::Cone;
+pub(crate) use crate::geometry::spherical::cone::Cone;
 
 /// The cone of Eq. 4 for sphere `s` at point `p` with normal `n`, or `None` when the sphere
 /// lies entirely behind the tangent plane (Alg. 1 line 4: it cannot occlude anything).

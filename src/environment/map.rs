@@ -39,7 +39,7 @@ pub struct EnvironmentMap {
 }
 
 /// Rec. 709 luminance, the weight of a pixel for importance sampling.
-pub use crate::raster::luminance;
+pub(crate) use crate::raster::luminance;
 
 impl EnvironmentMap {
     /// A map from `width * height` row-major pixels (row 0 at the top), no rotation, scale 1.

@@ -13,20 +13,22 @@
 //! * [`hemisphere_samples`]: the cosine-weighted Hammersley rays and per-pixel rotations.
 //! * [`cross_bilateral`]: 002's 5×5 cross-bilateral filter of E_occluded.
 
-pub mod cones;
-pub mod cross_bilateral;
-pub mod hemisphere_samples;
-pub mod light;
-pub mod map;
-pub mod polygon_integral;
+pub(crate) mod cones;
+pub(crate) mod cross_bilateral;
+pub(crate) mod hemisphere_samples;
+pub(crate) mod light;
+pub(crate) mod map;
+pub(crate) mod polygon_integral;
 pub mod prt;
-pub mod sh;
+pub(crate) mod sh;
 
-pub use cones::{BoundingSphere, Cone, construct_and_merge_cones, ray_extent};
+pub(crate) use cones::Cone;
+pub use cones::{BoundingSphere, construct_and_merge_cones, ray_extent};
 pub use cross_bilateral::cross_bilateral_5x5;
 pub use hemisphere_samples::{HemisphereSamples, pixel_rotation};
 pub use light::EnvironmentLight;
-pub use map::{EnvironmentMap, EnvironmentSampler, luminance};
+pub(crate) use map::luminance;
+pub use map::{EnvironmentMap, EnvironmentSampler};
 pub use polygon_integral::{
     PolygonMoments, cosine_weighted_integral, cosine_weighted_integral_local,
 };
@@ -34,4 +36,4 @@ pub use sh::{Quadratic, Sh9, ShQuadratic, sh_basis};
 
 // What a scene file or the command line says of the environment is plain data of the scene
 // (`scene::environment_spec`); loading the map is this module's business.
-pub use crate::scene::environment_spec::{EnvMethod, EnvironmentSource, EnvironmentSpec};
+pub(crate) use crate::scene::environment_spec::{EnvMethod, EnvironmentSource, EnvironmentSpec};

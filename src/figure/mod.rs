@@ -5,7 +5,7 @@
 
 use crate::error::InFile;
 
-pub mod description;
+pub(crate) mod description;
 pub mod font;
 pub mod pdf;
 pub mod plot;

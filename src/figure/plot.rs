@@ -334,7 +334,7 @@ pub struct ChartLayout {
 }
 
 /// Largest image side [`render_chart`] draws.
-pub use super::raster::MAX_SIDE;
+pub(crate) use super::raster::MAX_SIDE;
 
 impl ChartLayout {
     /// Axes from the placeable points, then the margins their labels need. The size is clamped

@@ -7,14 +7,14 @@
 //! `entry = LtcTable::embedded().lookup(cosθv, α)`, `M⁻¹P` = `entry.transform` of each
 //! vertex and `E` = [`form_factor`].
 
-pub mod edge_integral;
+pub(crate) mod edge_integral;
 pub mod error_map;
 pub mod fit;
 pub mod ggx;
 pub mod nelder_mead;
 pub mod polygon_error;
 pub mod published;
-pub mod table;
+pub(crate) mod table;
 
 pub use edge_integral::{edge_integral, form_factor, form_factor_terms};
-pub use table::{LtcEntry, LtcTable};
+pub use table::{ALPHA_MIN, COS_THETA_MIN, LTC_TABLE_SIZE, LtcEntry, LtcTable, MAGIC};

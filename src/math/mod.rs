@@ -6,6 +6,5 @@ mod polygon;
 mod rng;
 
 pub use frame::Frame;
-pub use glam::{DMat3, DVec2, DVec3};
 pub use polygon::polygon_area_vector;
 pub use rng::Pcg32;

@@ -5,8 +5,6 @@
 pub mod gbuffer;
 pub mod io;
 
-pub use gbuffer::{GBuffer, Surface};
-
 use glam::DVec3;
 
 /// Rec. 709 luminance of a linear RGB triple (weights of the BT.709 primaries).

@@ -12,8 +12,8 @@ mod tile_hits;
 
 // Images and their files are a base layer (`raster`), shared with the denoisers and the
 // environment's filter.
-pub use crate::raster::Image;
-pub use crate::raster::io as image_io;
+pub(crate) use crate::raster::Image;
+pub(crate) use crate::raster::io as image_io;
 
 use crate::accel::{Bvh, Ray};
 use crate::scene::camera::CameraBasis;
@@ -25,7 +25,7 @@ use crate::shading::{PrepareConfig, PrepareOptions};
 use crate::stochastic::{AreaLights, LightSampling};
 use glam::DVec3;
 use rayon::prelude::*;
-pub use sample_grid::{Coarser, SampleGrid};
+pub(crate) use sample_grid::{Coarser, SampleGrid};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use tile_hits::TileScratch;

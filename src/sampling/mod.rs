@@ -1,6 +1,6 @@
 //! Sampling routines for the stochastic estimators and the oracles.
 
 pub mod area_light;
-pub mod spherical_triangle;
+pub(crate) mod spherical_triangle;
 
-pub use spherical_triangle::{SphericalTriangle, solid_angle_of_triangle};
+pub use spherical_triangle::SphericalTriangle;

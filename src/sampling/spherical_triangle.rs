@@ -17,7 +17,7 @@
 //! rounding for nearby vertices, and 1 − cos as |·|²/2 of a difference.
 
 use crate::geometry::orient;
-pub use crate::geometry::spherical::spherical_polygon::solid_angle_of_triangle;
+pub(crate) use crate::geometry::spherical::spherical_polygon::solid_angle_of_triangle;
 use glam::DVec3;
 
 /// Unit tangent at `a` toward `b` (unit vectors): b − a(a·b) = (b − a) + a·|b − a|²/2, accurate

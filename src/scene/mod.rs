@@ -7,7 +7,7 @@
 //! * `Kd` is the Lambertian albedo, `Ks` the reflectance F0 of a GGX lobe with alpha = `Pr`^2.
 //! * Receivers are shaded two-sided; every surface occludes unless the scene file says otherwise.
 
-pub mod camera;
+pub(crate) mod camera;
 pub mod edit;
 pub mod environment_spec;
 pub mod face_triangulation;

@@ -8,7 +8,7 @@ use glam::DVec3;
 use std::f64::consts::{FRAC_1_PI, TAU};
 
 /// Rec. 709 luminance, used to weigh RGB quantities when choosing between sampling strategies.
-pub use crate::raster::luminance;
+pub(crate) use crate::raster::luminance;
 
 /// `ρ(v, l) cosθl` per channel; 0 when `v` or `l` is on or below the horizon.
 #[inline]

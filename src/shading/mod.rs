@@ -1,18 +1,18 @@
 //! Shading one point: 000 Alg. 1 for every light, with the scene prepared once.
 
-pub mod analytic;
+pub(crate) mod analytic;
 pub mod brdf;
 pub mod cost_model;
-pub mod environment_occlusion;
+pub(crate) mod environment_occlusion;
 pub mod face_sides;
 pub mod get_between;
-pub mod invariant;
-pub mod ltc_correction;
-pub mod outline;
-pub mod prepared;
-pub mod recorder;
+pub(crate) mod invariant;
+pub(crate) mod ltc_correction;
+pub(crate) mod outline;
+pub(crate) mod prepared;
+pub(crate) mod recorder;
 pub mod tree_cache;
-pub mod tree_library;
+pub(crate) mod tree_library;
 
 pub use analytic::{
     CorrectedRadiance, ShadingScratch, ShadingStats, Shortcuts, analytic_exact_pixel, shade,
@@ -26,8 +26,8 @@ pub use invariant::visible_within_light;
 pub use ltc_correction::CorrectionSampling;
 pub use outline::{Fallbacks, Outline, OutlineScratch, Role};
 pub use prepared::{
-    MeshPath, MoveReuse, PathKind, PrepareConfig, PrepareNote, PrepareOptions, PrepareReport,
-    PreparedObject, PreparedScene,
+    BuiltTree, MeshPath, MoveReuse, PathKind, PrepareConfig, PrepareNote, PrepareOptions,
+    PrepareReport, PreparedObject, PreparedScene, instance_map,
 };
 pub use recorder::{
     DifferenceMethod, EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide,

@@ -18,7 +18,7 @@ pub enum Estimator {
 
 /// The illumination-weighted shadow W_N = S_N / U_N (Eq. 23) of one channel (the denoiser's
 /// definition: 1 where U_N is 0, clamped to [0, 1]).
-pub use crate::denoise::ratio::weighted_shadow_value as weighted_shadow;
+pub(crate) use crate::denoise::ratio::weighted_shadow_value as weighted_shadow;
 
 /// Combines the analytic unshadowed U with the stochastic S_N and U_N.
 #[inline]

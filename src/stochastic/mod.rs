@@ -9,12 +9,12 @@
 //!   15, Sect. 3.4).
 //! * [`area`]: area sampling, the baseline.
 
-pub mod area;
-pub mod estimator;
-pub mod estimators;
-pub mod light_set;
+pub(crate) mod area;
+pub(crate) mod estimator;
+pub(crate) mod estimators;
+pub(crate) mod light_set;
 
 pub use area::AreaLights;
 pub use estimator::{EstimatorScratch, LightSampling, SampleSums, SampledScene, direct_samples};
-pub use estimators::{Estimator, combine, weighted_shadow};
+pub use estimators::{Estimator, combine};
 pub use light_set::{LightRun, LightSet, LightShape, light_shape};

@@ -7,10 +7,10 @@
 
 pub mod labels;
 pub mod light;
-pub mod plane;
-pub mod recording_figure;
+pub(crate) mod plane;
+pub(crate) mod recording_figure;
 pub mod sphere;
-pub mod sphere_figure;
+pub(crate) mod sphere_figure;
 pub mod stages;
 
 pub use plane::{plane_figure, warp, warped_loop};

@@ -22,13 +22,13 @@ mod trees;
 use instances::instance_groups;
 use trees::{build_silhouette_trees, tree_note};
 
-pub use instances::{INSTANCE_TOLERANCE, instance_map};
+pub use instances::instance_map;
 pub use mesh_forms::{FanMesh, StandIn};
-pub use mesh_path::{BuiltTree, MeshPath, PathKind, PathTree, WINDOWED_MIN_FACES};
+pub use mesh_path::{BuiltTree, MeshPath, PathKind, PathTree};
 pub use moved::MoveReuse;
-pub use report::{NoExactTree, PrepareNote, PrepareReport};
+pub use report::{PrepareNote, PrepareReport};
 pub use trees::{
-    MAX_BSP_CELLS, MAX_EXACT_BSP_LEAVES, MAX_OPEN_BSP_LEAVES, MeshTrees, build_mesh_trees,
+    MAX_BSP_CELLS, MAX_EXACT_BSP_LEAVES, MeshTrees, build_mesh_trees,
 };
 
 use super::cost_model::DEFAULT_EXPECTED_RAYS;
