@@ -90,11 +90,11 @@ pub struct EnvironmentProbe {
 }
 
 /// Rows and columns of [`EnvironmentProbe::sky`].
-pub const SKY_GRID: (u32, u32) = (16, 32);
+pub(crate) const SKY_GRID: (u32, u32) = (16, 32);
 
 /// The direction of cell (r, c) of a `rows`×`cols` grid (see [`EnvironmentProbe::sky`]),
 /// at fractional position (r + a, c + b), in the shading frame.
-pub fn sky_grid_direction(rows: u32, cols: u32, r: f64, c: f64) -> DVec3 {
+pub(crate) fn sky_grid_direction(rows: u32, cols: u32, r: f64, c: f64) -> DVec3 {
     let theta = std::f64::consts::PI * r / rows as f64;
     let phi = std::f64::consts::TAU * c / cols as f64;
     DVec3::new(
@@ -215,7 +215,11 @@ impl Probe {
 }
 
 /// The camera ray through pixel (x, y) (centre at x + 0.5, y + 0.5).
-pub fn pixel_ray(camera: &Camera, size: (u32, u32), pixel: (f64, f64)) -> crate::Result<Ray> {
+pub(crate) fn pixel_ray(
+    camera: &Camera,
+    size: (u32, u32),
+    pixel: (f64, f64),
+) -> crate::Result<Ray> {
     let basis = camera.basis()?;
     Ok(Ray {
         origin: basis.eye,
@@ -249,7 +253,7 @@ pub fn correction_stream(pixel: (f64, f64), width: u32) -> u64 {
 /// pass samples the pixel (`spp` directions, `seed`, at `--aa 1` in an image `width` wide).
 /// The one decision of the command line's `probe` and the workbench's pick. A stochastic
 /// method has no stages to record: `Err` says so, in words for the user.
-pub fn probe_method(
+pub(crate) fn probe_method(
     method: crate::render::RenderMethod,
     spp: u32,
     seed: u64,

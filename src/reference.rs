@@ -16,7 +16,7 @@ use rayon::prelude::*;
 pub(crate) use crate::sampling::area_light::LightSampler;
 
 /// BRDF value ρ(v, l) (diffuse + GGX with Schlick's Fresnel) for unit world directions.
-pub fn brdf(material: &Material, frame: &Frame, v: DVec3, l: DVec3) -> DVec3 {
+pub(crate) fn brdf(material: &Material, frame: &Frame, v: DVec3, l: DVec3) -> DVec3 {
     let (vl, ll) = (frame.to_local(v), frame.to_local(l));
     if vl.z <= 0.0 || ll.z <= 0.0 {
         return DVec3::ZERO;

@@ -957,12 +957,12 @@ pub fn run_one(seed: u64, index: u64, rays: u32) -> (Case, f64, f64, f64, u32) {
 
 /// Half the side of the cube, in units of the polyhedra's own size (they fit in [-0.5, 0.5]³),
 /// over which the shared trees of the Table 7.1 polyhedra are built.
-pub const LIBRARY_HALF_SIDE: f64 = 20.0;
+pub(crate) const LIBRARY_HALF_SIDE: f64 = 20.0;
 
 /// The library's trees may be this many times larger than a scene's own (the sphere's tree has
 /// about 140,000 nodes over that cube, the extruded cube's 54,000 leaves; built once, in about
 /// 10 s).
-pub const LIBRARY_LIMIT_FACTOR: usize = 8;
+pub(crate) const LIBRARY_LIMIT_FACTOR: usize = 8;
 
 /// The trees of the nine Table 7.1 polyhedra and of the convex shapes of [`random_convex`]
 /// (the unit cube, icosahedron and cylinders of 3 to 16 segments, of which every generated
@@ -1220,7 +1220,7 @@ impl Family {
 }
 
 /// Failing cases listed in a report at most.
-pub const MAX_LISTED: usize = 32;
+pub(crate) const MAX_LISTED: usize = 32;
 
 /// A case slower than this is counted as a hang.
 pub const HANG_SECONDS: f64 = 1.0;

@@ -140,7 +140,7 @@ pub struct Bvh {
 }
 
 /// A refit tree whose SAH cost grew beyond this factor of the built tree's is rebuilt.
-pub const REFIT_MAX_COST: f64 = 1.25;
+pub(crate) const REFIT_MAX_COST: f64 = 1.25;
 
 /// The normalised Newell normal of a polygon (front side = counter-clockwise), or zero if
 /// the polygon has no area or an index is out of range. For a planar polygon it is the

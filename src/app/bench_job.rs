@@ -3,7 +3,7 @@
 //! the command line; its files land in `out/bench/workbench/`.
 
 use crate::bench::runner::{BenchConfig, render_reference, run_bench};
-use crate::bench::{BenchReport, output};
+use crate::bench::{output, table::BenchReport};
 use crate::render::RenderContext;
 use crate::scene::Camera;
 use std::path::PathBuf;

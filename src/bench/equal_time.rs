@@ -35,25 +35,19 @@ use super::table::{BenchRow, f64_or_nan};
 
 /// Relative tolerance within which a deterministic method's error counts as equal to the
 /// target's: two exact methods differ by rounding only, far below the reference's noise.
-pub const MATCH_TOLERANCE: f64 = 1e-3;
+pub(crate) const MATCH_TOLERANCE: f64 = 1e-3;
 
 /// One of the error columns of a [`BenchRow`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum ErrorMetric {
+pub(crate) enum ErrorMetric {
     Mae,
     Rmse,
     RmseCorrected,
 }
 
 impl ErrorMetric {
-    pub const ALL: [ErrorMetric; 3] = [
-        ErrorMetric::Mae,
-        ErrorMetric::Rmse,
-        ErrorMetric::RmseCorrected,
-    ];
-
-    pub fn of(self, row: &BenchRow) -> f64 {
+    pub(crate) fn of(self, row: &BenchRow) -> f64 {
         match self {
             ErrorMetric::Mae => row.mae,
             ErrorMetric::Rmse => row.rmse,
@@ -62,7 +56,7 @@ impl ErrorMetric {
     }
 
     /// The column name, as in the CSV.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             ErrorMetric::Mae => "mae",
             ErrorMetric::Rmse => "rmse",
@@ -104,7 +98,7 @@ struct Rung {
 
 /// The points of one method's ladder for one metric, sorted by time, in log–log.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct LogLadder {
+pub(crate) struct LogLadder {
     rungs: Vec<Rung>,
     /// Points left out: error or time not positive and finite.
     pub dropped: usize,
@@ -162,17 +156,14 @@ impl LogLadder {
     }
 
     /// Distinct points kept.
-    pub fn len(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn len(&self) -> usize {
         self.rungs.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.rungs.is_empty()
     }
 
     /// The error at time `t`. `None` for an empty ladder or a time that is not positive and
     /// finite. A rung's own time gives its error exactly.
-    pub fn error_at(&self, t: f64) -> Option<Estimate> {
+    pub(crate) fn error_at(&self, t: f64) -> Option<Estimate> {
         if !(t > 0.0 && t.is_finite()) {
             return None;
         }
@@ -215,7 +206,7 @@ impl LogLadder {
 
     /// The earliest time at which the ladder reaches error `e` (see the module notes). A
     /// rung's own error gives its time exactly.
-    pub fn time_for(&self, e: f64) -> Option<Estimate> {
+    pub(crate) fn time_for(&self, e: f64) -> Option<Estimate> {
         if !(e > 0.0 && e.is_finite()) || self.rungs.len() < 2 {
             return None;
         }
@@ -262,7 +253,7 @@ fn estimate(log_value: f64, basis: Basis) -> Estimate {
 
 /// The method everything is compared with: its time t* and its errors.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Target {
+pub(crate) struct Target {
     pub method: String,
     pub seconds: f64,
     pub mae: f64,
@@ -271,7 +262,7 @@ pub struct Target {
 }
 
 impl Target {
-    pub fn from_row(row: &BenchRow) -> Self {
+    pub(crate) fn from_row(row: &BenchRow) -> Self {
         Target {
             method: row.method.clone(),
             seconds: row.seconds,
@@ -282,14 +273,14 @@ impl Target {
     }
 
     /// The fastest row of `method` (finite times only).
-    pub fn fastest(rows: &[BenchRow], method: &str) -> Option<Self> {
+    pub(crate) fn fastest(rows: &[BenchRow], method: &str) -> Option<Self> {
         rows.iter()
             .filter(|r| r.method == method && r.seconds.is_finite())
             .min_by(|a, b| a.seconds.total_cmp(&b.seconds))
             .map(Target::from_row)
     }
 
-    pub fn error(&self, metric: ErrorMetric) -> f64 {
+    pub(crate) fn error(&self, metric: ErrorMetric) -> f64 {
         match metric {
             ErrorMetric::Mae => self.mae,
             ErrorMetric::Rmse => self.rmse,
@@ -331,18 +322,10 @@ pub struct EqualTimeRow {
     pub rmse_corrected: MetricAtTarget,
 }
 
-impl EqualTimeRow {
-    pub fn metric(&self, metric: ErrorMetric) -> &MetricAtTarget {
-        match metric {
-            ErrorMetric::Mae => &self.mae,
-            ErrorMetric::Rmse => &self.rmse,
-            ErrorMetric::RmseCorrected => &self.rmse_corrected,
-        }
-    }
-}
+impl EqualTimeRow {}
 
 /// The distinct methods of `rows`, in order of first appearance.
-pub fn methods(rows: &[BenchRow]) -> Vec<&str> {
+pub(crate) fn methods(rows: &[BenchRow]) -> Vec<&str> {
     let mut names: Vec<&str> = Vec::new();
     for r in rows {
         if !names.contains(&r.method.as_str()) {
@@ -409,7 +392,7 @@ fn metric_at_target(
 }
 
 /// Every method of `rows` other than the target's, at the target's time and error.
-pub fn equal_time(rows: &[BenchRow], target: &Target) -> Vec<EqualTimeRow> {
+pub(crate) fn equal_time(rows: &[BenchRow], target: &Target) -> Vec<EqualTimeRow> {
     methods(rows)
         .into_iter()
         .filter(|m| *m != target.method)
@@ -433,7 +416,7 @@ pub fn equal_time(rows: &[BenchRow], target: &Target) -> Vec<EqualTimeRow> {
 
 /// The chart of 000 Fig. 6: `metric` against time on log–log axes, one series per method
 /// (ladders joined in order of time, deterministic methods as single markers).
-pub fn error_vs_time_chart(rows: &[BenchRow], metric: ErrorMetric, title: &str) -> Chart {
+pub(crate) fn error_vs_time_chart(rows: &[BenchRow], metric: ErrorMetric, title: &str) -> Chart {
     let series = methods(rows)
         .into_iter()
         .map(|method| {

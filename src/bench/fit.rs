@@ -4,7 +4,7 @@
 
 /// A fitted line y = intercept + slope·x.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct LineFit {
+pub(crate) struct LineFit {
     pub slope: f64,
     pub intercept: f64,
     /// Coefficient of determination 1 − SS_res/SS_tot; 1 when all y are equal (the line fits
@@ -15,7 +15,8 @@ pub struct LineFit {
 }
 
 impl LineFit {
-    pub fn predict(&self, x: f64) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn predict(&self, x: f64) -> f64 {
         self.intercept + self.slope * x
     }
 }
@@ -25,7 +26,7 @@ impl LineFit {
 ///
 /// Closed form on centred sums (which keeps large offsets from cancelling):
 /// slope = Sxy/Sxx, intercept = ȳ − slope·x̄, R² = Sxy²/(Sxx·Syy).
-pub fn fit_line(points: &[(f64, f64)]) -> Option<LineFit> {
+pub(crate) fn fit_line(points: &[(f64, f64)]) -> Option<LineFit> {
     let pts: Vec<(f64, f64)> = points
         .iter()
         .copied()
@@ -64,7 +65,8 @@ pub fn fit_line(points: &[(f64, f64)]) -> Option<LineFit> {
 /// [`fit_line`] on (ln x, ln y): `slope` is the exponent b of y = C·x^b, `intercept` is ln C,
 /// and R² is measured in log space. Points with a coordinate that is not positive and finite are
 /// skipped (they have no logarithm); `n` counts the rest.
-pub fn fit_log_log(points: &[(f64, f64)]) -> Option<LineFit> {
+#[cfg(test)]
+pub(crate) fn fit_log_log(points: &[(f64, f64)]) -> Option<LineFit> {
     let logs: Vec<(f64, f64)> = points
         .iter()
         .filter(|(x, y)| *x > 0.0 && *y > 0.0)

@@ -5,7 +5,7 @@
 //! Elsewhere (and in the browser) both are absent: the reports then say nothing of memory.
 
 /// Resets the peak to the current resident size; false where the system cannot.
-pub fn reset_peak() -> bool {
+pub(crate) fn reset_peak() -> bool {
     #[cfg(target_os = "linux")]
     {
         std::fs::write("/proc/self/clear_refs", "5").is_ok()
@@ -18,7 +18,7 @@ pub fn reset_peak() -> bool {
 
 /// The peak resident size since the process started or the last [`reset_peak`], in MB
 /// (10⁶ bytes).
-pub fn peak_mb() -> Option<f64> {
+pub(crate) fn peak_mb() -> Option<f64> {
     #[cfg(target_os = "linux")]
     {
         let status = std::fs::read_to_string("/proc/self/status").ok()?;

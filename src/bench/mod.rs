@@ -31,4 +31,3 @@ pub mod runner;
 pub mod scaling;
 pub mod speed;
 pub mod table;
-

@@ -155,7 +155,7 @@ const NOISE_TARGET: &str = "analytic-exact";
 /// reference's noise taken out) down to the reference's noise (its rms standard error), and
 /// how many times longer than `analytic-exact` that is. A biased method never gets there.
 /// Read from the ladder in log–log like the equal-time table; `*` marks an extrapolation.
-pub fn noise_markdown(report: &BenchReport) -> String {
+pub(crate) fn noise_markdown(report: &BenchReport) -> String {
     let noise = report.reference.rms_stderr;
     let mut methods: Vec<&str> = Vec::new();
     for r in report.rows.iter().filter(|r| r.spp.is_some()) {

@@ -167,7 +167,7 @@ pub struct PolyhedraReport {
 }
 
 /// Box (in mesh radii around the mesh's centre) of the trees of the precomputation table.
-pub const BOX_RADII: f64 = 4.0;
+pub(crate) const BOX_RADII: f64 = 4.0;
 
 /// The polyhedron `name` as the only light, 0.5 m across, 0.6 m above a 4 m glossy floor.
 pub fn light_scene(name: &str) -> Option<Scene> {

@@ -91,7 +91,7 @@ pub struct SceneRow {
 }
 
 impl SceneRow {
-    pub fn seconds(&self, method: &str) -> Option<f64> {
+    pub(crate) fn seconds(&self, method: &str) -> Option<f64> {
         self.methods
             .iter()
             .find(|m| m.method == method)
@@ -153,7 +153,7 @@ pub(crate) const BLENDER_SCENES: [(&str, &str); 5] = [
 ];
 
 /// Writes an exported scene's OBJ, MTL and scene file into `dir`; returns the scene file.
-pub fn write_exported(scene: &ExportedScene, dir: &Path) -> std::io::Result<PathBuf> {
+pub(crate) fn write_exported(scene: &ExportedScene, dir: &Path) -> std::io::Result<PathBuf> {
     std::fs::create_dir_all(dir)?;
     std::fs::write(dir.join(format!("{}.obj", scene.name)), scene.obj())?;
     std::fs::write(dir.join(format!("{}.mtl", scene.name)), scene.mtl())?;

@@ -25,7 +25,7 @@ pub enum NumberFormat {
 
 impl NumberFormat {
     /// `v` as the exporter prints it.
-    pub fn write(self, v: f64) -> String {
+    pub(crate) fn write(self, v: f64) -> String {
         match self {
             NumberFormat::Fixed(n) => {
                 let s = format!("{v:.*}", n as usize);
@@ -51,7 +51,7 @@ impl NumberFormat {
     }
 
     /// How the format is named in the report.
-    pub fn describe(self) -> String {
+    pub(crate) fn describe(self) -> String {
         match self {
             NumberFormat::Fixed(n) => format!("%.{n}f"),
             NumberFormat::Significant(s) => format!("%.{s}g"),
@@ -164,7 +164,7 @@ impl ExportedScene {
     }
 
     /// The scene file: the camera and, per object, whether it occludes.
-    pub fn toml(&self) -> String {
+    pub(crate) fn toml(&self) -> String {
         let v = |p: DVec3| format!("[{}, {}, {}]", p.x, p.y, p.z);
         let mut s = format!(
             "# {}\n\n[camera]\neye = {}\ntarget = {}\nup = [0, 1, 0]\nfov = {}\n",
@@ -191,7 +191,7 @@ impl ExportedScene {
 /// with `format` (rotated by `r` about the origin first, as exporters bake object rotations
 /// into the coordinates), faces as they are or, with `triangulate`, fanned into triangles.
 /// The loaded mesh carries the rounding inferred from its digits.
-pub fn as_exported(
+pub(crate) fn as_exported(
     mesh: &Mesh,
     format: NumberFormat,
     r: DMat3,
@@ -450,7 +450,7 @@ pub fn blender_primitives() -> ExportedScene {
 
 /// A subdivided, displaced icosphere (1,280 triangles, 6 decimals) under a 64-sided cylinder
 /// light and a quad light.
-pub fn displaced_blob() -> ExportedScene {
+pub(crate) fn displaced_blob() -> ExportedScene {
     let floor = quad(DVec3::ZERO, DVec3::Z * 10.0, DVec3::X * 10.0);
     let blob_c = DVec3::new(0.0, 1.0, 0.0);
     let cyl_c = DVec3::new(0.6, 3.0, -0.4);
@@ -495,7 +495,7 @@ pub fn displaced_blob() -> ExportedScene {
 }
 
 /// The generated scenes of the suite, by name (the bunny scene is a file of `assets/`).
-pub fn generated_scenes() -> Vec<ExportedScene> {
+pub(crate) fn generated_scenes() -> Vec<ExportedScene> {
     vec![fig4_9g(), blender_primitives(), displaced_blob()]
 }
 

@@ -11,7 +11,7 @@ use crate::stochastic::LightSampling;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What a cancelled run returns (the command line's Ctrl-C, Python's KeyboardInterrupt).
-pub const CANCELLED: &str = "cancelled";
+pub(crate) const CANCELLED: &str = "cancelled";
 
 fn check(cancel: Option<&AtomicBool>) -> crate::Result<()> {
     match cancel {

@@ -73,7 +73,7 @@ fn is_occluder(o: &SceneObject) -> bool {
 /// `base` with every object that `pick` selects copied `copies − 1` more times, copy j moved by
 /// j·`offset` (000 Fig. 5: "duplicate each light source and occluder and place them at a new
 /// location").
-pub fn duplicated(
+pub(crate) fn duplicated(
     base: &Scene,
     copies: u32,
     offset: DVec3,
@@ -93,7 +93,7 @@ pub fn duplicated(
 
 /// 000 Fig. 7's scene: an icosahedral light subdivided `level` times (12, 42, 162, 642, …
 /// vertices) above a glossy floor, no occluders.
-pub fn icosahedral_light_scene(level: u32) -> Scene {
+pub(crate) fn icosahedral_light_scene(level: u32) -> Scene {
     let floor = SceneObject {
         name: "floor".into(),
         mesh: shapes::quad(

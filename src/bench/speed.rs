@@ -73,7 +73,7 @@ pub enum SpeedScene {
 /// The suite's scenes, by name: every embedded scene (the `cube` scene among them, the
 /// plainest shadow there is), every file of `tests/data/blender` as OBJ and as glTF, and the
 /// bunny. Files not found beside the working directory or the source tree are left out.
-pub fn speed_scenes() -> Vec<(String, SpeedScene)> {
+pub(crate) fn speed_scenes() -> Vec<(String, SpeedScene)> {
     let mut scenes: Vec<(String, SpeedScene)> = embedded_scene_names()
         .iter()
         .map(|&n| (n.to_string(), SpeedScene::Embedded(n)))
@@ -102,7 +102,7 @@ pub struct SpeedRatios {
 
 impl SpeedRatios {
     /// The three ratios with their names, in the report's order.
-    pub fn named(&self) -> [(&'static str, f64); 3] {
+    pub(crate) fn named(&self) -> [(&'static str, f64); 3] {
         [
             ("analytic/unshadowed", self.analytic_to_unshadowed),
             ("analytic/calibration", self.analytic_to_calibration),
@@ -168,7 +168,7 @@ impl SpeedBaseline {
         }
     }
 
-    pub fn ratios(&self, scene: &str) -> Option<&SpeedRatios> {
+    pub(crate) fn ratios(&self, scene: &str) -> Option<&SpeedRatios> {
         self.scenes
             .iter()
             .find(|r| r.scene == scene)
@@ -187,7 +187,7 @@ pub struct Regression {
 
 impl Regression {
     /// `measured / baseline − 1`.
-    pub fn growth(&self) -> f64 {
+    pub(crate) fn growth(&self) -> f64 {
         self.measured / self.baseline - 1.0
     }
 }
@@ -218,7 +218,7 @@ impl std::fmt::Display for Regression {
 /// * the unshadowed render, when unshadowed/calibration grew past the tolerance (the shared
 ///   stages: camera rays, BVH, the light's LTC, accumulation, to which analytic/unshadowed is
 ///   blind).
-pub fn regressions(
+pub(crate) fn regressions(
     scene: &str,
     measured: &SpeedRatios,
     baseline: &SpeedRatios,
@@ -245,7 +245,7 @@ pub fn regressions(
 }
 
 /// The median of `v` (the mean of the middle two for an even count); NaN when empty.
-pub fn median(v: &[f64]) -> f64 {
+pub(crate) fn median(v: &[f64]) -> f64 {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
     match s.len() {
@@ -282,7 +282,7 @@ fn calibration_quads() -> Vec<[DVec3; 4]> {
 /// The calibration workload: `passes` × 1024 quadrilaterals' LTC form factors (4 edge
 /// integrals each), split over the current rayon pool as a render is. Returns its sum, which
 /// the caller keeps so that nothing is optimised away.
-pub fn calibration_work(quads: &[[DVec3; 4]], passes: u32) -> f64 {
+pub(crate) fn calibration_work(quads: &[[DVec3; 4]], passes: u32) -> f64 {
     (0..passes)
         .into_par_iter()
         .map(|pass| {
@@ -315,7 +315,11 @@ fn timed(min_seconds: f64, mut work: impl FnMut() -> crate::Result<f64>) -> crat
 }
 
 /// Measures one scene: `config.runs` rounds of calibration, unshadowed and analytic.
-pub fn measure_scene(scene: &Scene, name: &str, config: &SpeedConfig) -> crate::Result<SpeedRow> {
+pub(crate) fn measure_scene(
+    scene: &Scene,
+    name: &str,
+    config: &SpeedConfig,
+) -> crate::Result<SpeedRow> {
     let camera = scene.camera.ok_or_else(|| format!("{name}: no camera"))?;
     let settings = |method| RenderSettings {
         width: config.width,
@@ -491,7 +495,7 @@ pub fn run_speed(
 }
 
 /// One line per scene, as the progress and the table give it.
-pub fn row_line(r: &SpeedRow) -> String {
+pub(crate) fn row_line(r: &SpeedRow) -> String {
     format!(
         "{}: analytic/unshadowed {:.3}, analytic/calibration {:.3}, unshadowed/calibration {:.3} \
          (analytic {:.4} s, unshadowed {:.4} s, calibration {:.4} s; {} violations{})",

@@ -6,7 +6,7 @@ use crate::render::compare::Comparison;
 use crate::shading::Method;
 use serde::{Deserialize, Deserializer};
 use std::fs::File;
-use std::io::{self, BufRead, BufReader, BufWriter, Write};
+use std::io::{self, BufReader, BufWriter, Write};
 use std::path::Path;
 
 /// Reads an `f64` that may have been written as JSON `null` (serde_json writes NaN and ±∞ that
@@ -51,7 +51,7 @@ pub struct BenchRow {
 impl BenchRow {
     /// A row from a comparison with the reference (`render::compare::compare`);
     /// `reference_rms_stderr` is [`ReferenceInfo::rms_stderr`].
-    pub fn from_comparison(
+    pub(crate) fn from_comparison(
         scene: &str,
         method: &str,
         spp: Option<u32>,
@@ -82,7 +82,7 @@ impl BenchRow {
 /// MSE − mean(σᵢ²) estimates the MSE against the truth. The difference can come out negative
 /// when the image is closer to the truth than the reference's noise can resolve: it is clamped
 /// to 0, i.e. "no error detectable". `rms_stderr` = sqrt(mean(σᵢ²)).
-pub fn corrected_rmse(rmse: f64, rms_stderr: f64) -> f64 {
+pub(crate) fn corrected_rmse(rmse: f64, rms_stderr: f64) -> f64 {
     (rmse * rmse - rms_stderr * rms_stderr).max(0.0).sqrt()
 }
 
@@ -103,7 +103,7 @@ pub struct ReferenceInfo {
 
 impl ReferenceInfo {
     /// From the reference's per-pixel standard-error image (all channels count).
-    pub fn from_stderr(spp: u32, seconds: f64, stderr: &[[f32; 3]]) -> Self {
+    pub(crate) fn from_stderr(spp: u32, seconds: f64, stderr: &[[f32; 3]]) -> Self {
         let (mut sum, mut sq) = (0.0, 0.0);
         for c in stderr.iter().flatten() {
             sum += *c as f64;
@@ -137,7 +137,7 @@ pub struct SpeedRatios {
 }
 
 /// The fastest finite time of `method` among `rows`.
-pub fn fastest_seconds(rows: &[BenchRow], method: &str) -> Option<f64> {
+pub(crate) fn fastest_seconds(rows: &[BenchRow], method: &str) -> Option<f64> {
     rows.iter()
         .filter(|r| r.method == method && r.seconds.is_finite())
         .map(|r| r.seconds)
@@ -145,7 +145,7 @@ pub fn fastest_seconds(rows: &[BenchRow], method: &str) -> Option<f64> {
 }
 
 impl SpeedRatios {
-    pub fn from_rows(rows: &[BenchRow]) -> Self {
+    pub(crate) fn from_rows(rows: &[BenchRow]) -> Self {
         let ratio = |a: Option<f64>, b: Option<f64>| match (a, b) {
             (Some(a), Some(b)) if a > 0.0 && b > 0.0 => Some(a / b),
             _ => None,
@@ -206,7 +206,7 @@ impl BenchReport {
 }
 
 /// The CSV header, in the order of [`BenchRow`]'s fields.
-pub const CSV_HEADER: &str = "scene,method,spp,seconds,mae,rmse,relative_rmse,rmse_corrected,\
+pub(crate) const CSV_HEADER: &str = "scene,method,spp,seconds,mae,rmse,relative_rmse,rmse_corrected,\
                               violations,bounds_crossed,degenerate_fallbacks,peak_mb";
 
 /// Quotes a CSV field if it needs it (RFC 4180: commas, quotes, line breaks).
@@ -221,7 +221,7 @@ fn csv_field(s: &str) -> String {
 /// Writes the rows as CSV: the header [`CSV_HEADER`], then one line per row. Numbers are plain
 /// decimals in Rust's shortest round-trip form (so they read back bit for bit; NaN as `NaN`,
 /// infinities as `inf`); `spp` is empty for deterministic methods.
-pub fn write_csv(rows: &[BenchRow], path: &Path) -> io::Result<()> {
+pub(crate) fn write_csv(rows: &[BenchRow], path: &Path) -> io::Result<()> {
     let mut w = BufWriter::new(File::create(path)?);
     writeln!(w, "{CSV_HEADER}")?;
     for r in rows {
@@ -248,6 +248,7 @@ pub fn write_csv(rows: &[BenchRow], path: &Path) -> io::Result<()> {
 
 /// Splits one CSV record into fields (RFC 4180 quoting). Returns `None` on an unterminated
 /// quote, which means the record continues on the next line.
+#[cfg(test)]
 fn split_csv(line: &str) -> Option<Vec<String>> {
     let mut fields = vec![String::new()];
     let mut quoted = false;
@@ -269,12 +270,15 @@ fn split_csv(line: &str) -> Option<Vec<String>> {
     (!quoted).then_some(fields)
 }
 
+#[cfg(test)]
 fn bad(msg: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidData, msg)
 }
 
 /// Reads a file written by [`write_csv`].
-pub fn read_csv(path: &Path) -> io::Result<Vec<BenchRow>> {
+#[cfg(test)]
+pub(crate) fn read_csv(path: &Path) -> io::Result<Vec<BenchRow>> {
+    use std::io::BufRead;
     let mut lines = BufReader::new(File::open(path)?).lines();
     let header = lines.next().transpose()?.unwrap_or_default();
     if header.trim_end() != CSV_HEADER {
@@ -333,7 +337,7 @@ pub fn read_csv(path: &Path) -> io::Result<Vec<BenchRow>> {
 
 /// Writes the report as pretty-printed JSON. Non-finite numbers become `null` (JSON has no
 /// NaN) and read back as NaN.
-pub fn write_json(report: &BenchReport, path: &Path) -> io::Result<()> {
+pub(crate) fn write_json(report: &BenchReport, path: &Path) -> io::Result<()> {
     let mut w = BufWriter::new(File::create(path)?);
     serde_json::to_writer_pretty(&mut w, report)?;
     writeln!(w)?;

@@ -150,7 +150,7 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
 }
 
 /// `penumbra bench --env SCENE`.
-pub(crate) fn bench_environment(args: &BenchArgs, name: &str) -> Result<()> {
+pub fn bench_environment(args: &BenchArgs, name: &str) -> Result<()> {
     use penumbra::bench::environment_tables::{
         EnvBenchOptions, environment_markdown, run_environment_bench,
     };
@@ -201,7 +201,7 @@ pub(crate) fn bench_environment(args: &BenchArgs, name: &str) -> Result<()> {
 }
 
 /// `penumbra bench --suite realworld`.
-pub(crate) fn bench_realworld(args: &BenchArgs) -> Result<()> {
+pub fn bench_realworld(args: &BenchArgs) -> Result<()> {
     use penumbra::bench::realworld::{RealWorldConfig, realworld_markdown, run_realworld};
     let config = RealWorldConfig {
         width: args.size.0,
@@ -258,7 +258,7 @@ pub(crate) fn bench_realworld(args: &BenchArgs) -> Result<()> {
 
 /// `penumbra bench --suite speed`: the speed guard. Fails (exit status 1) when a ratio grew
 /// past the baseline's tolerance in two measurements of its scene.
-pub(crate) fn bench_speed(args: &BenchArgs) -> Result<()> {
+pub fn bench_speed(args: &BenchArgs) -> Result<()> {
     use penumbra::bench::speed::{
         SpeedBaseline, SpeedConfig, SpeedRow, measure_named, run_speed, speed_markdown,
     };

@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use std::path::Path;
 
 /// `penumbra cache`: the tree cache's place, contents and bound; `--trim`, `--clear`.
-pub(crate) fn cache(clear: bool, trim: bool, json: Option<&Path>) -> Result<()> {
+pub fn cache(clear: bool, trim: bool, json: Option<&Path>) -> Result<()> {
     use penumbra::shading::tree_cache::{CacheUsage, TreeCache};
     let Some(cache) =
         TreeCache::configured(&super::process_env::cache_vars()).map_err(anyhow::Error::msg)?

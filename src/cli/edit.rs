@@ -6,7 +6,7 @@ use glam::DVec3;
 use std::path::Path;
 
 /// `penumbra edit`: one rigid edit of one object, then the scene saved.
-pub(crate) fn edit(
+pub fn edit(
     name: &str,
     object: &str,
     translate: Option<DVec3>,

@@ -8,7 +8,7 @@ use penumbra::inspect::Probe;
 use penumbra::views::{FigureRequest, SphereCamera, Style, recording_figure};
 use std::path::Path;
 
-pub(crate) fn figure(args: &RenderArgs, f: &FigureArgs) -> Result<()> {
+pub fn figure(args: &RenderArgs, f: &FigureArgs) -> Result<()> {
     let style = Style::from_name(&f.style)
         .with_context(|| format!("--style {}: expected print or screen", f.style))?;
     let out = &args.out;

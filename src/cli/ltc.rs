@@ -5,7 +5,7 @@ use std::path::Path;
 
 /// `--ltc-table`: `embedded`, `published` or a table file, optionally followed by `+renorm`
 /// (horizon renormalisation). Tables other than the embedded ones live for the whole run.
-pub(crate) fn ltc_table(spec: &str) -> Result<&'static penumbra::ltc::LtcTable> {
+pub fn ltc_table(spec: &str) -> Result<&'static penumbra::ltc::LtcTable> {
     penumbra::render::request::ltc_table(spec).map_err(anyhow::Error::msg)
 }
 
@@ -100,7 +100,7 @@ pub(crate) fn ltc_error(
 }
 
 /// `penumbra ltc-import-three`: three.js's published table into our format.
-pub(crate) fn import_three(js: &Path, out: &Path) -> Result<()> {
+pub fn import_three(js: &Path, out: &Path) -> Result<()> {
     let text = std::fs::read_to_string(js).with_context(|| format!("{}", js.display()))?;
     let table = penumbra::ltc::published::from_three_js(&text)
         .with_context(|| format!("{}", js.display()))?;
@@ -124,7 +124,7 @@ pub(crate) struct FitRequest<'a> {
 }
 
 /// `penumbra fit-ltc`: the whole table, or some rows of a base table fitted again.
-pub(crate) fn fit_ltc(req: &FitRequest) -> Result<()> {
+pub fn fit_ltc(req: &FitRequest) -> Result<()> {
     let start = web_time::Instant::now();
     let mut fo = penumbra::ltc::fit::FitOptions::default();
     if let Some(o) = req.objective {

@@ -7,12 +7,7 @@ use anyhow::{Context, Result};
 use std::path::Path;
 
 /// Writes the debug dump of one shading point (`penumbra probe`).
-pub(crate) fn probe(
-    args: &RenderArgs,
-    pixel: (f64, f64),
-    gh_steps: bool,
-    json: &Path,
-) -> Result<()> {
+pub fn probe(args: &RenderArgs, pixel: (f64, f64), gh_steps: bool, json: &Path) -> Result<()> {
     let dump = probe_dump(args, Some(pixel), gh_steps)?;
     if let Some(dir) = json.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)

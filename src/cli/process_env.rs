@@ -17,7 +17,7 @@ pub(crate) fn cache_vars() -> CacheVars {
 
 /// The preparation the environment asks for (`PrepareConfig::from_vars`); a cache bound that
 /// is not a size leaves the cache off, with a note.
-pub(crate) fn prepare_config() -> PrepareConfig {
+pub fn prepare_config() -> PrepareConfig {
     let (config, warning) = PrepareConfig::from_vars(
         &cache_vars(),
         var_os("PENUMBRA_HOISTED_TREES").as_deref(),

@@ -11,7 +11,7 @@ use penumbra::render::{RenderContext, RenderSettings};
 use penumbra::scene::{Camera, Scene};
 use std::path::{Path, PathBuf};
 
-pub(crate) fn load_scene(name: &str) -> Result<Scene> {
+pub fn load_scene(name: &str) -> Result<Scene> {
     let scene = penumbra::scene::scene_file::load_scene_by_name(name)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
@@ -106,7 +106,7 @@ pub(crate) fn prepared_scene(
     Ok((scene, prepared))
 }
 
-pub(crate) fn render(args: &RenderArgs) -> Result<()> {
+pub fn render(args: &RenderArgs) -> Result<()> {
     let request = request(args)?;
     let (scene, prepared) = prepared_scene(args, &request)?;
     let cam = camera(&args.camera, &scene)?;
@@ -206,7 +206,7 @@ pub(crate) fn reference(args: &RenderArgs, samples: u32, seed: u64) -> Result<()
     Ok(())
 }
 
-pub(crate) fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> {
+pub fn compare(image: &Path, reference: &Path, stderr: Option<&Path>) -> Result<()> {
     let read = |p: &Path| image_io::read_pfm(p).with_context(|| format!("{}", p.display()));
     let (w, h, a) = read(image)?;
     let (w2, h2, b) = read(reference)?;

@@ -22,7 +22,7 @@ pub fn noise_estimate(w: &[f64], g: &GBuffer, settings: &DenoiseSettings) -> Vec
 
 /// [`noise_estimate`](fn@noise_estimate) that stops early once `cancel` is set (checked at the
 /// start of every row; the result is then incomplete and must be discarded).
-pub fn noise_estimate_cancellable(
+pub(crate) fn noise_estimate_cancellable(
     w: &[f64],
     g: &GBuffer,
     settings: &DenoiseSettings,

@@ -35,7 +35,7 @@ pub(crate) use crate::raster::luminance;
 /// definition, for the ratio estimators per channel (`stochastic::weighted_shadow`) and for
 /// the image below.
 #[inline]
-pub fn weighted_shadow_value(s_n: f64, u_n: f64) -> f64 {
+pub(crate) fn weighted_shadow_value(s_n: f64, u_n: f64) -> f64 {
     if u_n > 0.0 {
         (s_n / u_n).clamp(0.0, 1.0)
     } else {

@@ -28,7 +28,7 @@ pub(crate) use crate::geometry::spherical::cone::Cone;
 
 /// The cone of Eq. 4 for sphere `s` at point `p` with normal `n`, or `None` when the sphere
 /// lies entirely behind the tangent plane (Alg. 1 line 4: it cannot occlude anything).
-pub fn cone_of_sphere(p: DVec3, n: DVec3, s: &BoundingSphere) -> Option<Cone> {
+pub(crate) fn cone_of_sphere(p: DVec3, n: DVec3, s: &BoundingSphere) -> Option<Cone> {
     let r = s.radius * (1.0 + SPHERE_MARGIN) + f64::MIN_POSITIVE;
     let to_centre = s.centre - p;
     let dist = to_centre.length();
@@ -80,7 +80,7 @@ pub fn construct_and_merge_cones(
 }
 
 /// Lines 12–29 of Alg. 1 for one new cone.
-pub fn merge_cone(cone: Cone, cones: &mut Vec<Cone>) {
+pub(crate) fn merge_cone(cone: Cone, cones: &mut Vec<Cone>) {
     for c in cones.iter_mut() {
         let apart = if c.is_hemisphere() || cone.is_hemisphere() {
             0.0
@@ -122,7 +122,7 @@ pub fn ray_extent(cones: &[Cone], dir: DVec3) -> Option<f64> {
 /// repeatedly replacing the pair whose enclosing cone is narrowest by that enclosing cone
 /// (its height the larger of the two). The enclosing cone contains both, so culling stays
 /// conservative; fewer, wider cones trade tests per ray for rays traced.
-pub fn cluster_cones(cones: &mut Vec<Cone>, max_cones: usize) {
+pub(crate) fn cluster_cones(cones: &mut Vec<Cone>, max_cones: usize) {
     let max_cones = max_cones.max(1);
     while cones.len() > max_cones {
         let mut best = (0usize, 1usize, f64::INFINITY, None);
@@ -142,7 +142,7 @@ pub fn cluster_cones(cones: &mut Vec<Cone>, max_cones: usize) {
 }
 
 /// The narrowest cone with the same apex containing cones `a` and `b`.
-pub fn enclosing_cone(a: &Cone, b: &Cone) -> Cone {
+pub(crate) fn enclosing_cone(a: &Cone, b: &Cone) -> Cone {
     if a.is_hemisphere() || b.is_hemisphere() {
         let h = if a.is_hemisphere() { a } else { b };
         return Cone {

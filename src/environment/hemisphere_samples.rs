@@ -18,7 +18,7 @@ pub struct HemisphereSamples {
 
 /// The base-2 radical inverse (van der Corput) of `i`.
 #[inline]
-pub fn radical_inverse_2(i: u32) -> f64 {
+pub(crate) fn radical_inverse_2(i: u32) -> f64 {
     i.reverse_bits() as f64 * (1.0 / 4_294_967_296.0)
 }
 
@@ -37,7 +37,7 @@ impl HemisphereSamples {
         HemisphereSamples { local }
     }
 
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.local.len()
     }
 
@@ -48,7 +48,7 @@ impl HemisphereSamples {
     /// Sample `i` rotated about the normal by the angle whose (cos, sin) is `rot`, in the
     /// local frame.
     #[inline]
-    pub fn rotated(&self, i: usize, rot: (f64, f64)) -> DVec3 {
+    pub(crate) fn rotated(&self, i: usize, rot: (f64, f64)) -> DVec3 {
         let l = self.local[i];
         let (c, s) = rot;
         DVec3::new(c * l.x - s * l.y, s * l.x + c * l.y, l.z)
@@ -56,7 +56,7 @@ impl HemisphereSamples {
 
     /// The weight of one sample in an irradiance estimate: E ≈ (π/N) Σ L(ω_i) (002 Alg. 2
     /// line 15), since cos θ / pdf = π.
-    pub fn weight(&self) -> f64 {
+    pub(crate) fn weight(&self) -> f64 {
         PI / self.local.len().max(1) as f64
     }
 }

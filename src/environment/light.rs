@@ -11,8 +11,8 @@ use crate::math::Frame;
 use glam::DVec3;
 
 /// Size of the embedded sky map (equirectangular, 2:1).
-pub const SKY_WIDTH: usize = 512;
-pub const SKY_HEIGHT: usize = 256;
+pub(crate) const SKY_WIDTH: usize = 512;
+pub(crate) const SKY_HEIGHT: usize = 256;
 
 pub struct EnvironmentLight {
     /// Where it came from (shown to the user, written to reports).
@@ -35,7 +35,7 @@ impl EnvironmentLight {
 
     /// The map `source` names, unrotated and unscaled, with its label (the workbench keeps it
     /// to rotate and scale it again without reading the file).
-    pub fn load_map(source: &EnvironmentSource) -> crate::Result<(EnvironmentMap, String)> {
+    pub(crate) fn load_map(source: &EnvironmentSource) -> crate::Result<(EnvironmentMap, String)> {
         let map = match source {
             EnvironmentSource::Sky => EnvironmentMap::sky(SKY_WIDTH, SKY_HEIGHT),
             EnvironmentSource::SkySh => {

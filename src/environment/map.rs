@@ -363,7 +363,7 @@ pub struct EnvironmentSampler {
 
 impl EnvironmentSampler {
     /// The share of uniform-sphere sampling in the mixture.
-    pub const UNIFORM_FLOOR: f64 = 0.1;
+    pub(crate) const UNIFORM_FLOOR: f64 = 0.1;
 
     /// Builds the tables for `map` (which is copied, with its rotation and scale).
     pub fn new(map: &EnvironmentMap) -> Self {
@@ -418,13 +418,8 @@ impl EnvironmentSampler {
         }
     }
 
-    /// The map being sampled.
-    pub fn map(&self) -> &EnvironmentMap {
-        &self.map
-    }
-
     /// The probability of pixel (i, j) (the pdf integrated over the pixel).
-    pub fn pixel_probability(&self, i: usize, j: usize) -> f64 {
+    pub(crate) fn pixel_probability(&self, i: usize, j: usize) -> f64 {
         self.pixel_prob[j * self.map.width + i]
     }
 

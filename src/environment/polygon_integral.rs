@@ -117,7 +117,7 @@ impl PolygonMoments {
 
     /// Adds a closed loop (the edge from the last vertex back to the first included).
     /// Loops with fewer than two vertices add nothing.
-    pub fn accumulate_loop(&mut self, vertices: &[DVec3], n: DVec3) {
+    pub(crate) fn accumulate_loop(&mut self, vertices: &[DVec3], n: DVec3) {
         if vertices.len() < 2 {
             return;
         }

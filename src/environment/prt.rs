@@ -372,7 +372,7 @@ pub fn transferred_irradiance(sh: &Sh9, t: &[f64; 9]) -> DVec3 {
 }
 
 /// Marks a node inside a static solid (in T_0, which is ∫ V Y_00 cos ≥ 0 elsewhere).
-pub const INSIDE: f32 = -1.0;
+pub(crate) const INSIDE: f32 = -1.0;
 
 /// Closest-hit rays per node that decide whether it lies inside a static solid (most of them
 /// meet the back of a face).

@@ -14,18 +14,18 @@ use super::map::EnvironmentMap;
 
 /// Y00 = 1 / (2 √π). The notes round it to 0.282095; full precision keeps the basis
 /// orthonormal to 1e-16 instead of 1e-6.
-pub const SH_Y00: f64 = 0.282_094_791_773_878_14;
+pub(crate) const SH_Y00: f64 = 0.282_094_791_773_878_14;
 /// The band-1 factor √(3 / 4π) (0.488603 in the notes).
-pub const SH_Y1: f64 = 0.488_602_511_902_919_9;
+pub(crate) const SH_Y1: f64 = 0.488_602_511_902_919_9;
 /// The factor of Y2−2, Y2−1, Y21: √(15 / 4π) (1.092548 in the notes).
-pub const SH_Y2_XY: f64 = 1.092_548_430_592_079_2;
+pub(crate) const SH_Y2_XY: f64 = 1.092_548_430_592_079_2;
 /// The factor of Y20 = k (3z² − 1): √5 / (4 √π) (0.315392 in the notes).
-pub const SH_Y20: f64 = 0.315_391_565_252_520_05;
+pub(crate) const SH_Y20: f64 = 0.315_391_565_252_520_05;
 /// The factor of Y22 = k (x² − y²): √15 / (4 √π) (0.546274 in the notes).
-pub const SH_Y22: f64 = 0.546_274_215_296_039_6;
+pub(crate) const SH_Y22: f64 = 0.546_274_215_296_039_6;
 
 /// Ramamoorthi–Hanrahan's clamped-cosine convolution factors Â_l for l = 0, 1, 2 (Eq. 7).
-pub const SH_COSINE_LOBE: [f64; 3] = [
+pub(crate) const SH_COSINE_LOBE: [f64; 3] = [
     std::f64::consts::PI,
     2.0 * std::f64::consts::PI / 3.0,
     std::f64::consts::PI / 4.0,
@@ -167,7 +167,7 @@ impl Quadratic {
     }
 
     /// The same function in a rotated frame, ω' = R ω: b' = R b, M' = R M Rᵀ.
-    pub fn in_frame(&self, world_to_local: DMat3) -> Quadratic {
+    pub(crate) fn in_frame(&self, world_to_local: DMat3) -> Quadratic {
         let r = world_to_local;
         Quadratic {
             c: self.c,

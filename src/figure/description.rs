@@ -64,7 +64,7 @@ pub enum Item {
 
 impl Shape {
     /// The segment from `a` to `b`.
-    pub fn segment(a: (f32, f32), b: (f32, f32)) -> Shape {
+    pub(crate) fn segment(a: (f32, f32), b: (f32, f32)) -> Shape {
         Shape::Path(vec![Subpath {
             points: vec![a, b],
             closed: false,
@@ -72,7 +72,7 @@ impl Shape {
     }
 
     /// The rectangle's outline.
-    pub fn rect([l, t, r, b]: Rect) -> Shape {
+    pub(crate) fn rect([l, t, r, b]: Rect) -> Shape {
         Shape::Path(vec![Subpath {
             points: vec![(l, t), (r, t), (r, b), (l, b)],
             closed: true,
@@ -91,12 +91,12 @@ impl Figure {
         }
     }
 
-    pub fn stroke(&mut self, shape: Shape, color: Rgb, width: f32) {
+    pub(crate) fn stroke(&mut self, shape: Shape, color: Rgb, width: f32) {
         self.faded_stroke(shape, color, width, 1.0);
     }
 
     /// A stroke of `opacity` (0 to 1).
-    pub fn faded_stroke(&mut self, shape: Shape, color: Rgb, width: f32, opacity: f32) {
+    pub(crate) fn faded_stroke(&mut self, shape: Shape, color: Rgb, width: f32, opacity: f32) {
         self.items.push(Item::Stroke {
             shape,
             color,
@@ -106,12 +106,12 @@ impl Figure {
         });
     }
 
-    pub fn fill(&mut self, shape: Shape, color: Rgb) {
+    pub(crate) fn fill(&mut self, shape: Shape, color: Rgb) {
         self.translucent(shape, color, 1.0);
     }
 
     /// A fill of `opacity` (0 to 1): regions that overlap show through each other.
-    pub fn translucent(&mut self, shape: Shape, color: Rgb, opacity: f32) {
+    pub(crate) fn translucent(&mut self, shape: Shape, color: Rgb, opacity: f32) {
         self.items.push(Item::Fill {
             shape,
             color,
@@ -119,7 +119,7 @@ impl Figure {
         });
     }
 
-    pub fn text(&mut self, text: &str, at: (f32, f32), style: TextStyle) {
+    pub(crate) fn text(&mut self, text: &str, at: (f32, f32), style: TextStyle) {
         self.items.push(Item::Text {
             text: text.to_string(),
             at,

@@ -49,7 +49,7 @@ pub fn text_width(text: &str, size: f32) -> f32 {
 }
 
 /// Height in pixels of a capital (the face's H) at pixel size `size`.
-pub fn cap_height(size: f32) -> f32 {
+pub(crate) fn cap_height(size: f32) -> f32 {
     let f = face();
     // The highest point of the H's outline curves (font units, y up).
     let h = f
@@ -68,7 +68,7 @@ pub fn cap_height(size: f32) -> f32 {
 }
 
 /// Depth in pixels of the face's descender below the baseline at pixel size `size`.
-pub fn descent(size: f32) -> f32 {
+pub(crate) fn descent(size: f32) -> f32 {
     -face().descent_unscaled() * size / units_per_em()
 }
 
@@ -104,30 +104,30 @@ impl TextStyle {
         }
     }
 
-    pub fn align(self, align: Align) -> Self {
+    pub(crate) fn align(self, align: Align) -> Self {
         TextStyle { align, ..self }
     }
 
-    pub fn rotate(self, degrees: f32) -> Self {
+    pub(crate) fn rotate(self, degrees: f32) -> Self {
         TextStyle {
             rotate: degrees,
             ..self
         }
     }
 
-    pub fn weight(self, weight: f32) -> Self {
+    pub(crate) fn weight(self, weight: f32) -> Self {
         TextStyle { weight, ..self }
     }
 
     /// Whether the text is drawn bold.
-    pub fn bold(&self) -> bool {
+    pub(crate) fn bold(&self) -> bool {
         self.weight > 0.12 * self.size
     }
 }
 
 /// Draws `text` with its baseline through the anchor (`x`, `y`) in pixels: the glyphs'
 /// outlines filled (nonzero, as TrueType outlines are wound). Non-finite anchors draw nothing.
-pub fn draw_text(pixmap: &mut Pixmap, text: &str, x: f32, y: f32, style: &TextStyle) {
+pub(crate) fn draw_text(pixmap: &mut Pixmap, text: &str, x: f32, y: f32, style: &TextStyle) {
     if !(x.is_finite() && y.is_finite() && style.size.is_finite() && style.size > 0.0) {
         return;
     }

@@ -41,7 +41,7 @@ pub struct Chart {
 
 /// Okabe & Ito's colour-blind-safe palette, in the order series use it (yellow last: it is
 /// faint on white).
-pub const PALETTE: [[u8; 3]; 8] = [
+pub(crate) const PALETTE: [[u8; 3]; 8] = [
     [0, 114, 178],   // blue
     [213, 94, 0],    // vermillion
     [0, 158, 115],   // bluish green
@@ -53,7 +53,7 @@ pub const PALETTE: [[u8; 3]; 8] = [
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Marker {
+pub(crate) enum Marker {
     Circle,
     Square,
     TriangleUp,
@@ -63,7 +63,7 @@ pub enum Marker {
     Plus,
 }
 
-pub const MARKERS: [Marker; 7] = [
+pub(crate) const MARKERS: [Marker; 7] = [
     Marker::Circle,
     Marker::Square,
     Marker::TriangleUp,
@@ -74,13 +74,13 @@ pub const MARKERS: [Marker; 7] = [
 ];
 
 /// Colour and marker of the `i`-th series.
-pub fn series_style(i: usize) -> ([u8; 3], Marker) {
+pub(crate) fn series_style(i: usize) -> ([u8; 3], Marker) {
     (PALETTE[i % PALETTE.len()], MARKERS[i % MARKERS.len()])
 }
 
 /// A tick of an axis.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Tick {
+pub(crate) struct Tick {
     pub value: f64,
     /// Major ticks get darker grid lines (all ticks of a linear axis, decades of a log axis).
     pub major: bool,
@@ -90,7 +90,7 @@ pub struct Tick {
 
 /// The range and ticks of one axis; the range always starts and ends on a tick.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Axis {
+pub(crate) struct Axis {
     pub min: f64,
     pub max: f64,
     pub log: bool,
@@ -129,7 +129,7 @@ impl Axis {
     /// A linear axis covering [lo, hi], in 1-2-5 steps (about five of them), widened to whole
     /// steps. An empty or invalid range gives [0, 1]; a single value is widened by half its size
     /// (by 1 at 0).
-    pub fn linear(lo: f64, hi: f64) -> Axis {
+    pub(crate) fn linear(lo: f64, hi: f64) -> Axis {
         let (lo, hi) = if !(lo.is_finite() && hi.is_finite()) || lo > hi {
             (0.0, 1.0)
         } else if lo == hi {
@@ -174,7 +174,7 @@ impl Axis {
     /// most two decades, every tick is labelled; beyond, only decades, and only every n-th
     /// decade past eight of them. A range that is not positive and finite gives [1, 10]; the
     /// ends are clamped to [1e−300, 1e300].
-    pub fn log(lo: f64, hi: f64) -> Axis {
+    pub(crate) fn log(lo: f64, hi: f64) -> Axis {
         let ok = |v: f64| v > 0.0 && v.is_finite();
         if !(ok(lo) && ok(hi) && lo <= hi) {
             return Axis::log(1.0, 10.0);
@@ -239,7 +239,7 @@ impl Axis {
 
     /// The axis for some data: values the axis cannot show (see [`Axis::accepts`]) are left
     /// out.
-    pub fn from_data(values: impl IntoIterator<Item = f64>, log: bool) -> Axis {
+    pub(crate) fn from_data(values: impl IntoIterator<Item = f64>, log: bool) -> Axis {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for v in values {
             if accepts(log, v) {
@@ -255,7 +255,7 @@ impl Axis {
     }
 
     /// Whether `v` can be placed: finite, and positive on a log axis.
-    pub fn accepts(&self, v: f64) -> bool {
+    pub(crate) fn accepts(&self, v: f64) -> bool {
         accepts(self.log, v)
     }
 
@@ -264,13 +264,14 @@ impl Axis {
     }
 
     /// The position of `v` along the axis: 0 at `min`, 1 at `max` (linear in v, or in log v).
-    pub fn map(&self, v: f64) -> f64 {
+    pub(crate) fn map(&self, v: f64) -> f64 {
         let (a, b) = (self.scale(self.min), self.scale(self.max));
         (self.scale(v) - a) / (b - a)
     }
 
     /// The inverse of [`Axis::map`].
-    pub fn unmap(&self, f: f64) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn unmap(&self, f: f64) -> f64 {
         let (a, b) = (self.scale(self.min), self.scale(self.max));
         let s = a + f * (b - a);
         if self.log { 10f64.powf(s) } else { s }
@@ -314,7 +315,7 @@ const TEXT: [u8; 3] = [34, 34, 34];
 
 /// The plot area in pixels; edges lie on pixel centres so the frame is crisp.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PlotRect {
+pub(crate) struct PlotRect {
     pub left: f32,
     pub top: f32,
     pub right: f32,
@@ -323,7 +324,7 @@ pub struct PlotRect {
 
 /// Where everything of a chart goes.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ChartLayout {
+pub(crate) struct ChartLayout {
     pub width: u32,
     pub height: u32,
     pub plot: PlotRect,
@@ -410,7 +411,7 @@ impl ChartLayout {
     }
 
     /// The pixel position of a data point, `None` where it cannot be placed.
-    pub fn to_pixel(&self, x: f64, y: f64) -> Option<(f32, f32)> {
+    pub(crate) fn to_pixel(&self, x: f64, y: f64) -> Option<(f32, f32)> {
         if !(self.x.accepts(x) && self.y.accepts(y)) {
             return None;
         }
@@ -684,22 +685,32 @@ pub fn chart_figure(chart: &Chart, width: u32, height: u32) -> Figure {
 }
 
 /// Draws `chart` on a `width`×`height` image (each side clamped to 1..=[`MAX_SIDE`]).
-pub fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
+pub(crate) fn render_chart(chart: &Chart, width: u32, height: u32) -> Pixmap {
     raster::render(&chart_figure(chart, width, height))
 }
 
 /// `chart` as an SVG document of `width`×`height` pixels.
-pub fn chart_svg(chart: &Chart, width: u32, height: u32) -> String {
+pub(crate) fn chart_svg(chart: &Chart, width: u32, height: u32) -> String {
     svg::to_svg(&chart_figure(chart, width, height))
 }
 
 /// Writes `chart` as SVG.
-pub fn save_chart_svg(chart: &Chart, width: u32, height: u32, path: &Path) -> crate::Result<()> {
+pub(crate) fn save_chart_svg(
+    chart: &Chart,
+    width: u32,
+    height: u32,
+    path: &Path,
+) -> crate::Result<()> {
     std::fs::write(path, chart_svg(chart, width, height)).in_file(path.display(), "writing SVG")
 }
 
 /// Renders `chart` and writes it as an 8-bit RGBA PNG.
-pub fn save_chart_png(chart: &Chart, width: u32, height: u32, path: &Path) -> crate::Result<()> {
+pub(crate) fn save_chart_png(
+    chart: &Chart,
+    width: u32,
+    height: u32,
+    path: &Path,
+) -> crate::Result<()> {
     save_pixmap_png(&render_chart(chart, width, height), path)
         .in_file(path.display(), "writing PNG")
 }
@@ -717,7 +728,7 @@ fn straight_rgba(pm: &tiny_skia::Pixmap) -> Vec<u8> {
 }
 
 /// [`save_pixmap_png`]'s file as bytes.
-pub fn pixmap_png_bytes(pm: &tiny_skia::Pixmap) -> image::ImageResult<Vec<u8>> {
+pub(crate) fn pixmap_png_bytes(pm: &tiny_skia::Pixmap) -> image::ImageResult<Vec<u8>> {
     use image::ImageEncoder;
     let rgba = straight_rgba(pm);
     let mut out = Vec::new();
@@ -730,7 +741,7 @@ pub fn pixmap_png_bytes(pm: &tiny_skia::Pixmap) -> image::ImageResult<Vec<u8>> {
     Ok(out)
 }
 
-pub fn save_pixmap_png(pm: &tiny_skia::Pixmap, path: &Path) -> image::ImageResult<()> {
+pub(crate) fn save_pixmap_png(pm: &tiny_skia::Pixmap, path: &Path) -> image::ImageResult<()> {
     std::fs::write(path, pixmap_png_bytes(pm)?).map_err(image::ImageError::IoError)
 }
 

@@ -9,7 +9,7 @@ use tiny_skia::{
 };
 
 /// The largest side a figure is drawn at.
-pub const MAX_SIDE: u32 = 16384;
+pub(crate) const MAX_SIDE: u32 = 16384;
 
 /// Draws `figure` into a pixmap of its size (each side clamped to 1..=[`MAX_SIDE`]).
 pub fn render(figure: &Figure) -> Pixmap {

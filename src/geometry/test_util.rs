@@ -6,7 +6,7 @@ use glam::DVec3;
 
 /// Appends a random loop star-shaped around `frame.z` (hence positively oriented), with `n`
 /// vertices at tangent-plane radius up to `spread` (spread 1 ≈ 45°).
-pub fn random_star_loop(
+pub(crate) fn random_star_loop(
     poly: &mut SphericalPolygon,
     frame: &Frame,
     n: usize,
@@ -37,7 +37,7 @@ fn arcs_cross(p: DVec3, q: DVec3, a: DVec3, b: DVec3) -> bool {
 
 /// Containment by crossing parity along the arc from `p` to a direction `outside` known to lie
 /// outside the region: an oracle that needs nothing of the code under test.
-pub fn contains(poly: &SphericalPolygon, p: DVec3, outside: DVec3) -> bool {
+pub(crate) fn contains(poly: &SphericalPolygon, p: DVec3, outside: DVec3) -> bool {
     let mut inside = false;
     for lp in poly.loops() {
         for i in 0..lp.len() {

@@ -27,9 +27,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Samples per axis of each of the two stratified sample sets of the error estimate
 /// (`FIT_SAMPLES²` from the BRDF and as many from the LTC).
-pub const FIT_SAMPLES: usize = 64;
+pub(crate) const FIT_SAMPLES: usize = 64;
 /// Oracle strata per axis of [`Objective::Polygons`].
-pub const POLYGON_ORACLE_SAMPLES: usize = 512;
+pub(crate) const POLYGON_ORACLE_SAMPLES: usize = 512;
 /// Samples per axis of the midpoint rule for `norm`, `fresnel` and the average direction.
 pub const MOMENT_SAMPLES: usize = 1024;
 
@@ -57,7 +57,7 @@ crate::choice! {
 }
 
 /// The polygon set and oracle values of [`Objective::Polygons`] for one cell.
-pub struct FitPolygons {
+pub(crate) struct FitPolygons {
     pieces: Vec<Vec<DVec3>>,
     /// `E(P)` per polygon: the integral of the cosine tail ([`LtcEntry::cosine`]).
     cos_form_factors: Vec<f64>,
@@ -71,13 +71,13 @@ pub struct FitPolygons {
 /// smallest lobe quad (`w` floors at 0.02) and than the grid's, the polygons cannot resolve its
 /// shape (at α = 0.004 and θv = 88° such a fit lands farther from GGX in L1 than the starting
 /// cosine), and the cell is fitted with [`Objective::L3Upper`], without the tail.
-pub const POLYGON_ALPHA_MIN: f64 = 0.02;
+pub(crate) const POLYGON_ALPHA_MIN: f64 = 0.02;
 
 /// Share of the objective carried by the polygons placed where the lobe is (the rest by the
 /// fixed grid over the hemisphere). Measured on the `glossy` scene's first image (docs/ltc.md,
 /// "Candidates"): with lobe quads of w/2…2w, 0.5 gives 4.5 % and 0.8 gives 4.4 % relative RMSE;
 /// with w/4…w and the cosine tail, 0.8 gives 4.03 % and 0.9 gives 3.91 % (published: 7.86 %).
-pub const LOBE_POLYGON_SHARE: f64 = 0.9;
+pub(crate) const LOBE_POLYGON_SHARE: f64 = 0.9;
 
 impl FitPolygons {
     /// Two sets, clipped to the horizon, with `k × k` oracle samples:
@@ -158,7 +158,7 @@ impl FitPolygons {
 
     /// `Σ weight · target²`: the objective of the zero function, the polygon term's unit in
     /// [`Objective::Combined`].
-    pub fn energy(&self) -> f64 {
+    pub(crate) fn energy(&self) -> f64 {
         self.targets
             .iter()
             .zip(&self.weights)
@@ -169,7 +169,7 @@ impl FitPolygons {
     /// Weighted mean of `(mix(E(M⁻¹P), E(P))/H − target)²` for the distribution
     /// `(1 − c) D̂_M + c D_o`, renormalised to the upper hemisphere if `renormalize`
     /// (allocation-free).
-    pub fn eval(&self, m: &DMat3, cosine: f64, renormalize: bool) -> f64 {
+    pub(crate) fn eval(&self, m: &DMat3, cosine: f64, renormalize: bool) -> f64 {
         let m_inv = m.inverse();
         if m_inv.determinant().is_nan() || m_inv.determinant() <= 0.0 {
             return f64::INFINITY;
@@ -226,19 +226,12 @@ impl Default for FitOptions {
     }
 }
 
-impl FitOptions {
-    /// The first committed table (format version 1): L3 over the sphere, no renormalisation.
-    pub const ORIGINAL: FitOptions = FitOptions {
-        objective: Objective::L3Sphere,
-        renormalize: false,
-        cosine_tail: false,
-    };
-}
+impl FitOptions {}
 
 /// `H(M) = ∫_{z>0} D̂_M dω` for the LTC matrix `m` (see [`LtcEntry::horizon_fraction`]):
 /// `(1 + cosβ)/2`, β the angle between `Mᵀz` and `z`.
 #[inline]
-pub fn horizon_fraction_of(m: &DMat3) -> f64 {
+pub(crate) fn horizon_fraction_of(m: &DMat3) -> f64 {
     let n = DVec3::new(m.x_axis.z, m.y_axis.z, m.z_axis.z);
     0.5 * (1.0 + n.z / n.length())
 }
@@ -311,7 +304,7 @@ pub fn lobe_moments(v: DVec3, alpha: f64, k: usize) -> LobeMoments {
 /// With [`Objective::L3Upper`] / [`Objective::L2Upper`] the integral is over `z > 0` only
 /// (samples below the horizon are dropped; the estimator stays unbiased for that domain)
 /// and `D̂` is replaced by the renormalised `D̂/H(M)`; the sampling pdfs are unchanged.
-pub struct L3Error {
+pub(crate) struct L3Error {
     v: DVec3,
     alpha: f64,
     inv_norm: f64,
@@ -340,11 +333,13 @@ fn cosine_grid(k: usize) -> Vec<DVec3> {
 }
 
 impl L3Error {
-    pub fn new(v: DVec3, alpha: f64, norm: f64, k: usize) -> Self {
-        Self::with_objective(v, alpha, norm, k, Objective::L3Sphere)
-    }
-
-    pub fn with_objective(v: DVec3, alpha: f64, norm: f64, k: usize, objective: Objective) -> Self {
+    pub(crate) fn with_objective(
+        v: DVec3,
+        alpha: f64,
+        norm: f64,
+        k: usize,
+        objective: Objective,
+    ) -> Self {
         let inv_norm = 1.0 / norm;
         let inv = 1.0 / k as f64;
         let mut brdf_samples = Vec::with_capacity(k * k);
@@ -372,7 +367,7 @@ impl L3Error {
 
     /// The error estimate for the LTC with matrix `m` (`+∞` if `m` is not orientation
     /// preserving).
-    pub fn eval(&self, m: &DMat3) -> f64 {
+    pub(crate) fn eval(&self, m: &DMat3) -> f64 {
         let m_inv = m.inverse();
         let det_inv = m_inv.determinant();
         if !(det_inv > 0.0 && det_inv.is_finite()) {
@@ -457,7 +452,7 @@ pub struct CellFit {
 }
 
 /// Starting `logit c` of the cosine tail: a share of 5 %.
-pub const COSINE_TAIL_START: f64 = -2.944;
+pub(crate) const COSINE_TAIL_START: f64 = -2.944;
 
 /// A neighbour's tail parameter as a starting point, kept off the logistic's flat ends
 /// (`c ∈ [0.0025, 0.88]`), from where the simplex could not come back.
@@ -486,7 +481,7 @@ fn nm_options() -> Options {
 /// Fit one cell from the starting parameters `start` (see [`CellFit::params`]). At normal
 /// incidence (`cosθv == 1`) the lobe is rotationally symmetric and the fit is the
 /// one-parameter `K = diag(m, m, 1)` (two with the cosine tail).
-pub fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 5], fo: &FitOptions) -> CellFit {
+pub(crate) fn fit_cell(cos_theta_v: f64, alpha: f64, start: [f64; 5], fo: &FitOptions) -> CellFit {
     let v = view_dir(cos_theta_v);
     let mom = lobe_moments(v, alpha, MOMENT_SAMPLES);
     let err = L3Error::with_objective(v, alpha, mom.norm, FIT_SAMPLES, fo.objective);

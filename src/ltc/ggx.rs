@@ -23,7 +23,7 @@ use std::f64::consts::{PI, TAU};
 
 /// Smallest roughness the formulas are evaluated with; smaller inputs are raised to it so
 /// that `D` stays finite at `h = n` (`D(n) = 1/(π α²)`). Far below the table's `ALPHA_MIN`.
-pub const ALPHA_FLOOR: f64 = 1e-7;
+pub(crate) const ALPHA_FLOOR: f64 = 1e-7;
 
 /// `z > 0`, false for NaN.
 #[inline]
@@ -65,7 +65,8 @@ pub fn d_ggx(cos_theta_h: f64, alpha: f64) -> f64 {
 /// `α² sin²θ / (2 cosθ (S + cosθ))` which avoids `tanθ` and the cancellation in
 /// `√(1 + x) − 1`. Returns `+∞` for `cosθ <= 0` (fully masked).
 #[inline]
-pub fn lambda(cos_theta: f64, alpha: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn lambda(cos_theta: f64, alpha: f64) -> f64 {
     if cos_theta.is_nan() || cos_theta <= 0.0 {
         return f64::INFINITY;
     }
@@ -77,7 +78,8 @@ pub fn lambda(cos_theta: f64, alpha: f64) -> f64 {
 
 /// Smith masking `G1(ω) = 1 / (1 + Λ(ω)) = 2 cosθ / (cosθ + S(ω))`; 0 below the horizon.
 #[inline]
-pub fn g1(w: DVec3, alpha: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn g1(w: DVec3, alpha: f64) -> f64 {
     if !above(w.z) {
         return 0.0;
     }
@@ -87,7 +89,8 @@ pub fn g1(w: DVec3, alpha: f64) -> f64 {
 /// Height-correlated masking-shadowing `G2(v, l) = 1 / (1 + Λ(v) + Λ(l))` (Heitz 2014,
 /// Eq. 99); 0 if either direction is below the horizon.
 #[inline]
-pub fn g2(v: DVec3, l: DVec3, alpha: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn g2(v: DVec3, l: DVec3, alpha: f64) -> f64 {
     if !(above(v.z) && above(l.z)) {
         return 0.0;
     }

@@ -5,7 +5,7 @@
 
 /// Stopping rules.
 #[derive(Clone, Copy, Debug)]
-pub struct Options {
+pub(crate) struct Options {
     /// Hard limit on objective evaluations (over all restarts).
     pub max_evals: usize,
     /// Converged when `f_worst − f_best <= f_abs + f_rel · |f_best|` ...
@@ -32,7 +32,7 @@ impl Default for Options {
 
 /// Result of [`minimize`].
 #[derive(Clone, Copy, Debug)]
-pub struct Minimum<const D: usize> {
+pub(crate) struct Minimum<const D: usize> {
     pub x: [f64; D],
     pub f: f64,
     pub evals: usize,
@@ -40,7 +40,7 @@ pub struct Minimum<const D: usize> {
 
 /// Minimise `f` starting from the simplex `{x0, x0 + step_k e_k}`. Non-finite objective
 /// values are treated as `+∞` (use them for infeasible points).
-pub fn minimize<const D: usize>(
+pub(crate) fn minimize<const D: usize>(
     mut f: impl FnMut(&[f64; D]) -> f64,
     x0: [f64; D],
     step: [f64; D],

@@ -27,12 +27,12 @@ use glam::DVec3;
 use std::f64::consts::PI;
 
 /// Largest vertex count of a test polygon (before clipping).
-pub const MAX_POLY: usize = 12;
+pub(crate) const MAX_POLY: usize = 12;
 /// Room for a convex polygon clipped twice by a plane.
 const MAX_CLIPPED: usize = MAX_POLY + 4;
 
 /// Two-sided 99.9 % standard normal quantile.
-pub const Z999: f64 = 3.290_526_731_491_926;
+pub(crate) const Z999: f64 = 3.290_526_731_491_926;
 
 /// One region of the test set: one or more disjoint convex spherical polygons (pieces),
 /// each smaller than a hemisphere, already clipped to the upper hemisphere and
@@ -56,7 +56,7 @@ fn dir(elevation: f64, azimuth: f64) -> DVec3 {
 /// A regular `sides`-gon of tangent half-size `s` around the unit direction `c`, as the
 /// gnomonic image of a planar polygon in the tangent plane at `c` (convex for any `s`),
 /// rotated by `phase` radians about `c`.
-pub fn gnomonic(c: DVec3, s: f64, sides: usize, phase: f64) -> Vec<DVec3> {
+pub(crate) fn gnomonic(c: DVec3, s: f64, sides: usize, phase: f64) -> Vec<DVec3> {
     let t1 = if c.z.abs() > 0.999_999 {
         DVec3::Y
     } else {
@@ -95,7 +95,7 @@ fn clip_into(poly: &[DVec3], out: &mut [DVec3; MAX_CLIPPED]) -> usize {
     n
 }
 
-pub fn clip_vec(poly: &[DVec3]) -> Vec<DVec3> {
+pub(crate) fn clip_vec(poly: &[DVec3]) -> Vec<DVec3> {
     let mut buf = [DVec3::ZERO; MAX_CLIPPED];
     let n = clip_into(poly, &mut buf);
     buf[..n].to_vec()
@@ -338,7 +338,7 @@ pub struct CellError {
 }
 
 /// Per polygon `(LTC, oracle, half-width)` for the LTC `e`.
-pub fn polygon_values(
+pub(crate) fn polygon_values(
     e: &LtcEntry,
     polys: &[TestPolygon],
     oracle: &OracleIntegrals,
@@ -368,7 +368,7 @@ pub fn cell_error(
 }
 
 /// [`cell_error`] of the LTC `e` fitted at `(cosθv, α)`.
-pub fn entry_error(
+pub(crate) fn entry_error(
     e: &LtcEntry,
     cos_theta_v: f64,
     alpha: f64,

@@ -19,7 +19,7 @@ use glam::{DMat3, DVec3};
 use std::sync::OnceLock;
 
 /// Side of the published table.
-pub const PUBLISHED_SIZE: usize = 64;
+pub(crate) const PUBLISHED_SIZE: usize = 64;
 
 /// The converted published table (assets/ltc/heitz2016_ggx_ltc_64.bin), parsed once.
 pub fn published() -> &'static LtcTable {
@@ -75,7 +75,7 @@ fn js_array(js: &str, name: &'static str) -> Result<Vec<f64>, ImportError> {
 }
 
 /// One texel pair as our entry (see the module doc).
-pub fn entry_from_texels(t1: [f64; 4], t2: [f64; 4]) -> LtcEntry {
+pub(crate) fn entry_from_texels(t1: [f64; 4], t2: [f64; 4]) -> LtcEntry {
     LtcEntry {
         m_inv: DMat3::from_cols(
             DVec3::new(t1[0], 0.0, t1[1]),

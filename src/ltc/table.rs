@@ -32,7 +32,7 @@ pub const MAGIC: [u8; 8] = *b"PNBRLTC\x01";
 const VERSION: u32 = 3;
 const HEADER_LEN: usize = 32;
 /// Values per entry: `m00, m02, m20, m22, norm, fresnel, scale, cosine`.
-pub const RECORD_VALUES: usize = 8;
+pub(crate) const RECORD_VALUES: usize = 8;
 const RECORD_LEN: usize = RECORD_VALUES * 8;
 
 /// One fitted LTC.
@@ -109,7 +109,7 @@ impl LtcEntry {
 
     /// Inverse of [`LtcEntry::to_record`].
     #[inline]
-    pub fn from_record(r: &[f64; RECORD_VALUES]) -> Self {
+    pub(crate) fn from_record(r: &[f64; RECORD_VALUES]) -> Self {
         LtcEntry {
             m_inv: DMat3::from_cols(
                 DVec3::new(r[0], 0.0, r[2]),
@@ -233,7 +233,7 @@ fn bracket(vals: &[f64], u: f64, value: f64) -> (usize, f64) {
 impl LtcTable {
     /// Assemble a table from `n × n` entries, `entries[i * n + j]` for row `i` (roughness)
     /// and column `j` (view angle); `m_inv` is renormalised to `m_inv[y][y] = 1`.
-    pub fn from_entries(
+    pub(crate) fn from_entries(
         n: usize,
         alpha_min: f64,
         cos_theta_min: f64,
@@ -339,7 +339,7 @@ impl LtcTable {
 
     /// The same table with `f` applied to every stored entry (e.g. the horizon
     /// renormalisation `scale = 1/H`, [`LtcEntry::horizon_fraction`]).
-    pub fn map_entries(&self, f: impl Fn(LtcEntry) -> LtcEntry) -> LtcTable {
+    pub(crate) fn map_entries(&self, f: impl Fn(LtcEntry) -> LtcEntry) -> LtcTable {
         let entries: Vec<LtcEntry> = (0..self.n * self.n)
             .map(|k| f(LtcEntry::from_record(&self.records[k])))
             .collect();
@@ -347,7 +347,10 @@ impl LtcTable {
     }
 
     /// [`LtcTable::map_entries`] with the row `i` and column `j` of each entry.
-    pub fn map_entries_indexed(&self, f: impl Fn(usize, usize, LtcEntry) -> LtcEntry) -> LtcTable {
+    pub(crate) fn map_entries_indexed(
+        &self,
+        f: impl Fn(usize, usize, LtcEntry) -> LtcEntry,
+    ) -> LtcTable {
         let entries: Vec<LtcEntry> = (0..self.n * self.n)
             .map(|k| {
                 f(
@@ -361,7 +364,7 @@ impl LtcTable {
     }
 
     /// [`LtcTable::map_entries`] setting `scale = 1/H` (candidate (a) of docs/ltc.md).
-    pub fn horizon_renormalized(&self) -> LtcTable {
+    pub(crate) fn horizon_renormalized(&self) -> LtcTable {
         self.map_entries(|e| LtcEntry {
             scale: 1.0 / e.horizon_fraction(),
             ..e

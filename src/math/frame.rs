@@ -50,7 +50,7 @@ impl Frame {
     }
 
     /// The matrix whose rows are the frame axes (world to local).
-    pub fn world_to_local(&self) -> DMat3 {
+    pub(crate) fn world_to_local(&self) -> DMat3 {
         DMat3::from_cols(self.x, self.y, self.z).transpose()
     }
 }

@@ -34,7 +34,11 @@ pub struct GBuffer {
 
 impl GBuffer {
     /// A G-buffer whose pixel (x, y) sees `surface(x, y)` (`None`: invalid).
-    pub fn from_fn(width: u32, height: u32, surface: impl Fn(u32, u32) -> Option<Surface>) -> Self {
+    pub(crate) fn from_fn(
+        width: u32,
+        height: u32,
+        surface: impl Fn(u32, u32) -> Option<Surface>,
+    ) -> Self {
         let n = width as usize * height as usize;
         let mut g = GBuffer {
             width,
@@ -63,7 +67,8 @@ impl GBuffer {
 
     /// A fronto-parallel plane: pixel (x, y) at (x, −y, 0), normal +z, footprint 1. Every pixel
     /// is valid and every bilateral weight is 1, so the filters reduce to plain Gaussians.
-    pub fn flat(width: u32, height: u32) -> Self {
+    #[cfg(test)]
+    pub(crate) fn flat(width: u32, height: u32) -> Self {
         GBuffer::from_fn(width, height, |x, y| {
             Some(Surface {
                 position: DVec3::new(x as f64, -(y as f64), 0.0),
@@ -75,7 +80,7 @@ impl GBuffer {
 
     /// Number of pixels.
     #[inline]
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.width as usize * self.height as usize
     }
 
@@ -85,7 +90,7 @@ impl GBuffer {
     }
 
     /// Panics unless every per-pixel vector holds `width × height` entries.
-    pub fn check(&self) {
+    pub(crate) fn check(&self) {
         let n = self.len();
         assert!(
             self.position.len() == n

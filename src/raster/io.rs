@@ -203,7 +203,7 @@ pub fn write_png(
 }
 
 /// [`write_png`]'s file as bytes (a download in the browser).
-pub fn png_bytes(
+pub(crate) fn png_bytes(
     width: u32,
     height: u32,
     rgb: &[[f32; 3]],
@@ -220,7 +220,7 @@ pub fn png_bytes(
 }
 
 /// 8-bit pixels (RGB or RGBA) as a PNG file's bytes.
-pub fn encode_png(
+pub(crate) fn encode_png(
     pixels: &[u8],
     width: u32,
     height: u32,

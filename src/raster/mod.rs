@@ -9,7 +9,7 @@ use glam::DVec3;
 
 /// Rec. 709 luminance of a linear RGB triple (weights of the BT.709 primaries).
 #[inline]
-pub fn luminance(c: DVec3) -> f64 {
+pub(crate) fn luminance(c: DVec3) -> f64 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 

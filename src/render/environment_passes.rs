@@ -87,13 +87,16 @@ impl EnvironmentSettings {
     /// The settings `method` implies: culling per its name, the filter on for `rt`.
     /// The settings a scene's environment asks for: its method and rays, or the defaults
     /// (`EnvironmentSpec::method_or_default`, `spp_or_default`).
-    pub fn for_spec(spec: &crate::scene::environment_spec::EnvironmentSpec, seed: u64) -> Self {
+    pub(crate) fn for_spec(
+        spec: &crate::scene::environment_spec::EnvironmentSpec,
+        seed: u64,
+    ) -> Self {
         Self::new(spec.method_or_default(), spec.spp_or_default(), seed)
     }
 
     /// Whether this render filters E_occluded: a method the filter applies to
     /// (`EnvMethod::is_filterable`) with the filter on.
-    pub fn filters(&self) -> bool {
+    pub(crate) fn filters(&self) -> bool {
         self.method.is_filterable() && self.filter
     }
 
@@ -254,7 +257,7 @@ struct EnvScratch {
 
 /// Renders the environment term of the image seen through `basis`: passes 1–4 of the module
 /// doc. `None` when cancelled.
-pub fn render_environment(
+pub(crate) fn render_environment(
     ctx: &RenderContext,
     env: &SceneEnvironment,
     basis: &CameraBasis,
@@ -347,7 +350,7 @@ pub fn render_environment(
 /// the renderer's own passes 1–2 with `rec` attached (the workbench's probe): bit for bit
 /// the render's pixel for every method but filtered `rt`.
 #[allow(clippy::too_many_arguments)]
-pub fn environment_pixel<R: Recorder>(
+pub(crate) fn environment_pixel<R: Recorder>(
     ctx: &RenderContext,
     env: &SceneEnvironment,
     basis: &CameraBasis,

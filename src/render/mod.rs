@@ -103,7 +103,7 @@ impl RenderMethod {
     }
 
     /// Whether the image depends on the sample count (`--spp`).
-    pub fn is_stochastic(self) -> bool {
+    pub(crate) fn is_stochastic(self) -> bool {
         self.analytic().is_none()
     }
 }
@@ -203,7 +203,7 @@ pub struct FallbackTotals {
 }
 
 impl FallbackTotals {
-    pub fn add(&mut self, f: &crate::shading::Fallbacks) {
+    pub(crate) fn add(&mut self, f: &crate::shading::Fallbacks) {
         self.degenerate += f.degenerate as u64;
         self.bounds_crossed += f.bounds_crossed as u64;
     }
@@ -233,7 +233,7 @@ pub struct PrimaryHit {
 impl RenderContext {
     /// What the stochastic estimators read of this context.
     #[inline]
-    pub fn sampled(&self) -> crate::stochastic::SampledScene<'_> {
+    pub(crate) fn sampled(&self) -> crate::stochastic::SampledScene<'_> {
         crate::stochastic::SampledScene {
             scene: &self.scene,
             prepared: &self.prepared,
@@ -269,7 +269,7 @@ impl RenderContext {
     }
 
     /// Prepares `scene` with `options`.
-    pub fn with_options(scene: Arc<Scene>, options: PrepareOptions) -> Self {
+    pub(crate) fn with_options(scene: Arc<Scene>, options: PrepareOptions) -> Self {
         let prepared = PreparedScene::prepare(&scene, options);
         RenderContext {
             area_lights: AreaLights::new(&scene, &prepared),
@@ -510,7 +510,7 @@ impl RenderContext {
     /// ([`RenderContext::render_level`]): a deterministic method whose every sample is one
     /// camera ray's, with no environment term (rendered on its own pixel grid) and no per-pixel
     /// statistics (they would miss the samples taken over).
-    pub fn interlaces(&self, settings: &RenderSettings) -> bool {
+    pub(crate) fn interlaces(&self, settings: &RenderSettings) -> bool {
         settings.method.analytic().is_some()
             && self.environment.is_none()
             && !settings.collect_stats
@@ -522,7 +522,7 @@ impl RenderContext {
     /// [`RenderContext::render_full`]'s bit for bit. `None` for the methods and settings whose
     /// samples do not nest (stochastic methods, an environment term, per-pixel statistics):
     /// render those with [`RenderContext::render_full`].
-    pub fn render_level(
+    pub(crate) fn render_level(
         &self,
         camera: &Camera,
         settings: &RenderSettings,
@@ -687,7 +687,7 @@ impl RenderOutput {
     /// Adds the environment's term `e` to the image (both terms are linear in the radiance;
     /// an image of another size, from a cancelled render, is left alone) and combines the
     /// standard errors of two references.
-    pub fn add_environment(&mut self, e: environment_passes::EnvironmentOutput) {
+    pub(crate) fn add_environment(&mut self, e: environment_passes::EnvironmentOutput) {
         if self.image.pixels.len() == e.image.pixels.len() {
             for (p, q) in self.image.pixels.iter_mut().zip(&e.image.pixels) {
                 *p += *q;
@@ -716,7 +716,7 @@ impl RenderOutput {
 /// `cancel` has been set (the tiles not yet started are skipped, and nothing is assembled: a
 /// cancelled view must give way to the next one at once). Under a [`slicing::Slicer`] the
 /// tiles run in order on this thread, a slice at a time.
-pub fn render_tiles<T, S>(
+pub(crate) fn render_tiles<T, S>(
     width: u32,
     height: u32,
     cancel: Option<&AtomicBool>,
@@ -730,11 +730,11 @@ where
 }
 
 /// A tile's corner and its far corner (exclusive), in pixels.
-pub type TileBounds = ((u32, u32), (u32, u32));
+pub(crate) type TileBounds = ((u32, u32), (u32, u32));
 
 /// [`render_tiles`] with `begin(scratch, bounds)` called before each tile's pixels: what the
 /// tile's pixels share is found there.
-pub fn render_tiles_with<T, S>(
+pub(crate) fn render_tiles_with<T, S>(
     width: u32,
     height: u32,
     cancel: Option<&AtomicBool>,

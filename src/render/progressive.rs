@@ -44,7 +44,11 @@ impl ProgressiveFrame {
 
     /// [`ProgressiveFrame::compose`] that gives up once `cancel` is set (the frame is then
     /// incomplete and must not be shown).
-    pub fn compose_cancellable(&mut self, method: RenderMethod, cancel: Option<&AtomicBool>) {
+    pub(crate) fn compose_cancellable(
+        &mut self,
+        method: RenderMethod,
+        cancel: Option<&AtomicBool>,
+    ) {
         if self.composed {
             return;
         }
@@ -68,7 +72,7 @@ pub const PREVIEW_SCALE: u32 = 4;
 
 /// Coarse-to-fine scales for a `width`×`height` target: 8, 4, 2, 1, skipping those that would
 /// leave fewer than 32 pixels across.
-pub fn scales(width: u32, height: u32) -> Vec<u32> {
+pub(crate) fn scales(width: u32, height: u32) -> Vec<u32> {
     let mut v: Vec<u32> = [8, 4, 2]
         .into_iter()
         .filter(|&s| width / s >= 32 && height / s >= 32)

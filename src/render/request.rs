@@ -66,7 +66,7 @@ impl RenderRequest {
     /// How `scene` is prepared for this request: trees sized by the cost model for the
     /// request's camera rays, knowing whether the scene has an environment, with the request's
     /// LTC table and the caller's choices.
-    pub fn prepare_options(&self, scene: &Scene) -> PrepareOptions<'_> {
+    pub(crate) fn prepare_options(&self, scene: &Scene) -> PrepareOptions<'_> {
         let s = &self.settings;
         PrepareOptions {
             expected_rays: u64::from(s.width) * u64::from(s.height) * u64::from(s.aa).pow(2),
@@ -108,7 +108,10 @@ pub fn ltc_table(spec: &str) -> crate::Result<&'static LtcTable> {
 
 /// Merges `env` into `scene.environment` (the request overrides the scene file; a map of
 /// `none` removes it), so that the scene is prepared knowing whether it has one.
-pub fn resolve_environment(scene: &mut Scene, env: &EnvironmentOptions) -> crate::Result<()> {
+pub(crate) fn resolve_environment(
+    scene: &mut Scene,
+    env: &EnvironmentOptions,
+) -> crate::Result<()> {
     scene.environment = env.overrides.apply(scene.environment.as_ref())?;
     Ok(())
 }

@@ -15,7 +15,7 @@ use glam::DVec3;
 
 /// The camera samples of one render (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SampleGrid {
+pub(crate) struct SampleGrid {
     /// The full image's size.
     pub width: u32,
     pub height: u32,
@@ -27,7 +27,7 @@ pub struct SampleGrid {
 
 impl SampleGrid {
     /// Every sample of a `width` × `height` image with `aa` × `aa` samples per pixel.
-    pub fn full(width: u32, height: u32, aa: u32) -> Self {
+    pub(crate) fn full(width: u32, height: u32, aa: u32) -> Self {
         SampleGrid {
             width,
             height,
@@ -43,7 +43,7 @@ impl SampleGrid {
     }
 
     /// Samples per rendered pixel: all of a full pixel's, or one for a preview.
-    pub fn samples(&self) -> u32 {
+    pub(crate) fn samples(&self) -> u32 {
         if self.stride <= 1 {
             self.aa * self.aa
         } else {
@@ -52,7 +52,7 @@ impl SampleGrid {
     }
 
     /// The camera rays of the rendered pixel (i, j), in sample order.
-    pub fn rays<'a>(
+    pub(crate) fn rays<'a>(
         &self,
         basis: &'a CameraBasis,
         i: u32,
@@ -67,7 +67,7 @@ impl SampleGrid {
 /// A coarser level of the same image (a preview at `stride`, a multiple of the grid's own),
 /// whose pixels are samples the grid's render takes over.
 #[derive(Clone, Copy)]
-pub struct Coarser<'a> {
+pub(crate) struct Coarser<'a> {
     pub stride: u32,
     pub output: &'a RenderOutput,
 }
@@ -75,7 +75,7 @@ pub struct Coarser<'a> {
 impl Coarser<'_> {
     /// Sample 0 of the rendered pixel (i, j) of `grid`, when this level computed it.
     #[inline]
-    pub fn sample(&self, grid: &SampleGrid, i: u32, j: u32) -> Option<DVec3> {
+    pub(crate) fn sample(&self, grid: &SampleGrid, i: u32, j: u32) -> Option<DVec3> {
         let q = self.ratio(grid)?;
         if !i.is_multiple_of(q) || !j.is_multiple_of(q) {
             return None;
@@ -102,7 +102,7 @@ impl Coarser<'_> {
 
     /// Adds this level's counts (violations and fallbacks) to `out`, a render of `grid` that
     /// took this level's samples over: the totals then cover every sample of the image.
-    pub fn add_counts_to(&self, grid: &SampleGrid, out: &mut RenderOutput) {
+    pub(crate) fn add_counts_to(&self, grid: &SampleGrid, out: &mut RenderOutput) {
         let Some(q) = self.ratio(grid) else {
             return;
         };

@@ -44,7 +44,7 @@ pub struct StochasticBuffers {
 
 /// Width (standard deviation, pixels) of the fixed bilateral filter of `ratio-bilateral`:
 /// 003 Fig. 7 uses a σ = 4-pixel Gaussian for its robustness comparison.
-pub const BILATERAL_SIGMA_PX: f64 = 4.0;
+pub(crate) const BILATERAL_SIGMA_PX: f64 = 4.0;
 
 #[derive(Clone, Default)]
 struct PixelValues {
@@ -71,7 +71,7 @@ fn needs_u(method: RenderMethod) -> bool {
 }
 
 /// Renders the per-pixel buffers of a stochastic method; `None` if `cancel` was set.
-pub fn render_buffers(
+pub(crate) fn render_buffers(
     ctx: &RenderContext,
     basis: &CameraBasis,
     settings: &RenderSettings,
@@ -82,7 +82,7 @@ pub fn render_buffers(
 
 /// [`render_buffers`], computing the analytic U only if `with_u` (it is deterministic, so the
 /// later passes of a progressive render take it from the first; U is then left at zero).
-pub fn render_buffers_with(
+pub(crate) fn render_buffers_with(
     ctx: &RenderContext,
     basis: &CameraBasis,
     settings: &RenderSettings,
@@ -235,13 +235,13 @@ pub fn render(
 
 /// Applies the estimator of `method` to the buffers: per pixel, or over the whole image for the
 /// denoised methods. Progressive rendering calls it again on buffers averaged over passes.
-pub fn compose(method: RenderMethod, buffers: &StochasticBuffers) -> RenderOutput {
+pub(crate) fn compose(method: RenderMethod, buffers: &StochasticBuffers) -> RenderOutput {
     compose_cancellable(method, buffers, None)
 }
 
 /// [`compose`] whose denoiser stops early once `cancel` is set (the output is then incomplete
 /// and must be discarded).
-pub fn compose_cancellable(
+pub(crate) fn compose_cancellable(
     method: RenderMethod,
     buffers: &StochasticBuffers,
     cancel: Option<&AtomicBool>,
@@ -355,7 +355,7 @@ impl StochasticBuffers {
     /// the mean of the first k: S_N, U_N and their variance are averaged; U is taken from
     /// `previous` (deterministic: computed by the first pass only). The fresh pass is turned
     /// into the accumulator, so no buffer of the previous frame (still shown) is copied but U.
-    pub fn accumulate_onto(&mut self, previous: &StochasticBuffers, passes: u32) {
+    pub(crate) fn accumulate_onto(&mut self, previous: &StochasticBuffers, passes: u32) {
         let k = passes as f64;
         let mean = |a: &mut Image, prev: &Image| {
             for (x, p) in a.pixels.iter_mut().zip(&prev.pixels) {

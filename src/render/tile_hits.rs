@@ -39,7 +39,7 @@ impl RenderContext {
     /// The region the renderer puts the first camera sample of pixel (x, y) in, on an image of
     /// `w` × `h` pixels with `aa` × `aa` samples each (what the probe shades its point
     /// through); `None` off the image, where nothing is hit, or for a point that is not shaded.
-    pub fn tile_region_of(
+    pub(crate) fn tile_region_of(
         &self,
         basis: &CameraBasis,
         (w, h, aa): (u32, u32, u32),

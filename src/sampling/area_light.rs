@@ -77,7 +77,7 @@ impl LightSampler {
 
 impl AreaLight {
     /// A uniform point on the light's surface: (point, front normal, face).
-    pub fn sample(&self, rng: &mut Pcg32) -> (DVec3, DVec3, u32) {
+    pub(crate) fn sample(&self, rng: &mut Pcg32) -> (DVec3, DVec3, u32) {
         let u = rng.next_f64() * self.area;
         let k = self
             .cdf

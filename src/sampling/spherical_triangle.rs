@@ -69,7 +69,7 @@ impl SphericalTriangle {
 
     /// The solid angle; the density of [`SphericalTriangle::sample`] is its inverse.
     #[inline]
-    pub fn solid_angle(&self) -> f64 {
+    pub(crate) fn solid_angle(&self) -> f64 {
         self.area
     }
 
@@ -80,7 +80,7 @@ impl SphericalTriangle {
     }
 
     /// A direction uniformly distributed in the triangle for (u1, u2) uniform in [0, 1)².
-    pub fn sample(&self, u1: f64, u2: f64) -> DVec3 {
+    pub(crate) fn sample(&self, u1: f64, u2: f64) -> DVec3 {
         let (a, b) = (self.a, self.b);
         let (sh, ch) = (0.5 * u1 * self.area).sin_cos();
         let half = (sh * (1.0 + a.dot(b))).atan2(ch * self.k1 - sh * self.k2);

@@ -67,7 +67,7 @@ impl CameraBasis {
     /// camera's own, or, for an image narrower than the camera's authored aspect, the one that
     /// keeps the authored horizontal field of view.
     #[inline]
-    pub fn tan_half_fov_at(&self, aspect: f64) -> f64 {
+    pub(crate) fn tan_half_fov_at(&self, aspect: f64) -> f64 {
         match self.aspect {
             Some(authored) if aspect < authored => self.tan_half_fov * authored / aspect,
             _ => self.tan_half_fov,

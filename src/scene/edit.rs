@@ -109,7 +109,7 @@ impl Rigid {
     }
 
     /// The rotation matrix `R`.
-    pub fn matrix(&self) -> DMat3 {
+    pub(crate) fn matrix(&self) -> DMat3 {
         DMat3::from_quat(self.rotation)
     }
 
@@ -121,7 +121,7 @@ impl Rigid {
 
     /// `self` applied to every point of `points`, written to `out` (cleared first): the matrix
     /// is formed once, so the result depends on `self` and the points alone.
-    pub fn apply_all(&self, points: &[DVec3], out: &mut Vec<DVec3>) {
+    pub(crate) fn apply_all(&self, points: &[DVec3], out: &mut Vec<DVec3>) {
         let m = self.matrix();
         out.clear();
         out.extend(points.iter().map(|&p| m * p + self.translation));
@@ -150,7 +150,7 @@ impl Rigid {
         }
     }
 
-    pub fn is_finite(&self) -> bool {
+    pub(crate) fn is_finite(&self) -> bool {
         self.rotation.is_finite() && self.translation.is_finite()
     }
 
@@ -252,17 +252,12 @@ impl EditHistory {
 
     /// The object's transform relative to its original vertices, the drag in progress
     /// included.
-    pub fn transform(&self, object: usize) -> Result<Rigid, EditError> {
+    pub(crate) fn transform(&self, object: usize) -> Result<Rigid, EditError> {
         self.check(object)?;
         Ok(match self.drag {
             Some(d) if d.object == object => d.delta.after(&d.start),
             _ => self.transforms[object],
         })
-    }
-
-    /// The object being dragged, if any.
-    pub fn dragging(&self) -> Option<usize> {
-        self.drag.map(|d| d.object)
     }
 
     /// The point rotations of the object turn about: the centre of its current bounding box
@@ -335,7 +330,7 @@ impl EditHistory {
 
     /// Abandons the drag; returns the object, whose position is its transform before the drag
     /// again (apply it to the scene).
-    pub fn cancel_drag(&mut self) -> Option<usize> {
+    pub(crate) fn cancel_drag(&mut self) -> Option<usize> {
         self.drag.take().map(|d| d.object)
     }
 

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 /// Rays per camera ray of the environment's ray methods when neither the command line nor the
 /// scene says (002 Sect. 5 uses 128).
-pub const DEFAULT_SPP: u32 = 128;
+pub(crate) const DEFAULT_SPP: u32 = 128;
 
 crate::choice! {
     /// How E_occluded (and with it E) is computed; `penumbra render --env-method`.
@@ -37,7 +37,7 @@ crate::choice! {
 impl EnvMethod {
     /// Whether 002's 5×5 cross-bilateral filter applies to the method's E_occluded: the
     /// ray-traced `rt` and `rt-unculled` (the one place that says so).
-    pub fn is_filterable(self) -> bool {
+    pub(crate) fn is_filterable(self) -> bool {
         matches!(self, EnvMethod::Rt | EnvMethod::RtUnculled)
     }
 
@@ -75,7 +75,7 @@ impl EnvironmentSource {
     }
 
     /// The name [`EnvironmentSource::from_name`] reads back: `sky`, `sky-sh` or the path.
-    pub fn name(&self) -> String {
+    pub(crate) fn name(&self) -> String {
         match self {
             EnvironmentSource::Sky => "sky".to_string(),
             EnvironmentSource::SkySh => "sky-sh".to_string(),
@@ -129,7 +129,7 @@ impl EnvironmentSpec {
     }
 
     /// Makes a relative map path relative to `dir` (the scene file's directory).
-    pub fn resolve_relative_to(&mut self, dir: &Path) {
+    pub(crate) fn resolve_relative_to(&mut self, dir: &Path) {
         if let EnvironmentSource::File(p) = &mut self.source
             && p.is_relative()
         {
@@ -140,17 +140,17 @@ impl EnvironmentSpec {
 
 impl EnvironmentSpec {
     /// The method, [`EnvMethod::Analytic`] when none is given.
-    pub fn method_or_default(&self) -> EnvMethod {
+    pub(crate) fn method_or_default(&self) -> EnvMethod {
         self.method.unwrap_or(EnvMethod::Analytic)
     }
 
     /// The rays per camera ray, [`DEFAULT_SPP`] when none is given.
-    pub fn spp_or_default(&self) -> u32 {
+    pub(crate) fn spp_or_default(&self) -> u32 {
         self.spp.unwrap_or(DEFAULT_SPP)
     }
 
     /// The map as a scene file or `--env` names it ([`EnvironmentSource::name`]).
-    pub fn map_name(&self) -> String {
+    pub(crate) fn map_name(&self) -> String {
         self.source.name()
     }
 }

@@ -27,7 +27,7 @@ use glam::{DVec2, DVec3};
 
 /// Why a face was split into triangles.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Split {
+pub(crate) enum Split {
     /// Not planar: a vertex `off` from the face's plane, where the rounding of the input
     /// explains `tolerance`.
     NonPlanar { off: f64, tolerance: f64 },
@@ -40,7 +40,7 @@ pub enum Split {
 
 /// What a loaded face becomes (see the module's documentation).
 #[derive(Clone, Debug, PartialEq)]
-pub enum FaceSurface {
+pub(crate) enum FaceSurface {
     /// Planar up to its rounding and convex: kept as one polygon.
     Polygon,
     /// Split into these triangles (indices into the face's vertices, counter-clockwise like
@@ -59,7 +59,7 @@ pub enum FaceSurface {
 /// The surface of the face `pts` (at least three vertices, positions as loaded, no two
 /// consecutive ones equal), whose vertices were written with rounding radius `rounding`
 /// (`Mesh::rounding`).
-pub fn face_surface(pts: &[DVec3], rounding: f64) -> FaceSurface {
+pub(crate) fn face_surface(pts: &[DVec3], rounding: f64) -> FaceSurface {
     let m = pts.len();
     let touches_itself = (0..m).any(|a| (a + 1..m).any(|b| pts[a] == pts[b]));
     let why = if m == 3 {
@@ -123,7 +123,7 @@ fn turn_slack(pts: &[DVec3], rounding: f64) -> f64 {
 /// polygon, or `None` when it has no ear at some step (it is not simple). `slack` is the area
 /// (twice the triangle area, in the polygon's units squared) below which a corner counts as
 /// straight rather than convex: the rounding of the input (see `precision`).
-pub fn ear_clip(pts: &[DVec3], slack: f64) -> Option<Vec<[usize; 3]>> {
+pub(crate) fn ear_clip(pts: &[DVec3], slack: f64) -> Option<Vec<[usize; 3]>> {
     let m = pts.len();
     if m < 3 {
         return None;

@@ -87,7 +87,7 @@ pub struct Mesh {
 impl Mesh {
     /// The centre of the bounding box of the positions and the largest distance of a position
     /// from it.
-    pub fn bounding_sphere(&self) -> (DVec3, f64) {
+    pub(crate) fn bounding_sphere(&self) -> (DVec3, f64) {
         let (lo, hi) = self
             .positions
             .iter()
@@ -104,7 +104,7 @@ impl Mesh {
     }
 
     /// Fan triangulation of every face, as index triples (the per-triangle method, ray casting).
-    pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+    pub(crate) fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
         self.faces
             .iter()
             .flat_map(|f| (1..f.len().saturating_sub(1)).map(move |i| [f[0], f[i], f[i + 1]]))

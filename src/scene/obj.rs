@@ -112,7 +112,7 @@ pub(crate) fn load_obj_with(
 /// The GGX alpha for an MTL material (docs/scenes.md): `Pr`^2 if `Pr` is given, else
 /// sqrt(2 / (Ns + 2)) if `Ns` is given (the Blinn-Phong / Beckmann correspondence, Ns < 0
 /// taken as 0), else 1; always clamped to [1e-4, 1].
-pub fn alpha_from_mtl(pr: Option<f64>, ns: Option<f64>) -> f64 {
+pub(crate) fn alpha_from_mtl(pr: Option<f64>, ns: Option<f64>) -> f64 {
     let a = match (pr, ns) {
         (Some(pr), _) => pr * pr,
         (None, Some(ns)) => (2.0 / (ns.max(0.0) + 2.0)).sqrt(),
@@ -629,7 +629,7 @@ fn parse_color(kw: &str, toks: &[&str]) -> crate::Result<DVec3> {
 
 /// Outcome of [`repair_face`].
 #[derive(Debug, PartialEq)]
-pub enum FaceRepair {
+pub(crate) enum FaceRepair {
     /// The face is fine as it is.
     Kept(Vec<u32>),
     /// Repeated consecutive vertices were removed; the rest is a valid face.
@@ -648,7 +648,7 @@ pub enum FaceRepair {
 ///
 /// Zero area means |area| <= 1e-12 * (longest edge)^2, i.e. all vertices collinear to
 /// ~1e-12 relative precision.
-pub fn repair_face(face: &[u32], positions: &[DVec3]) -> FaceRepair {
+pub(crate) fn repair_face(face: &[u32], positions: &[DVec3]) -> FaceRepair {
     let pos = |i: u32| positions.get(i as usize).copied();
     if face.iter().any(|&i| pos(i).is_none()) {
         return FaceRepair::Dropped("vertex index out of range".into());

@@ -32,7 +32,7 @@ use glam::DVec3;
 
 /// The digits of one number as written.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WrittenNumber {
+pub(crate) struct WrittenNumber {
     pub value: f64,
     /// The decimal exponent of the last digit written: `1.25` → −2, `3e5` → 5, `120` → 0.
     pub last_digit: i32,
@@ -45,7 +45,7 @@ pub struct WrittenNumber {
 
 /// Reads the digits of a decimal number (`-12.50`, `1.5e-3`, `.5`, `7`); `None` for anything
 /// else (`inf`, `nan`, hex).
-pub fn written_number(token: &str) -> Option<WrittenNumber> {
+pub(crate) fn written_number(token: &str) -> Option<WrittenNumber> {
     let value: f64 = token.parse().ok()?;
     if !value.is_finite() {
         return None;
@@ -72,7 +72,7 @@ pub fn written_number(token: &str) -> Option<WrittenNumber> {
 
 /// The rounding of a file's coordinates, inferred from all of them.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct WrittenPrecision {
+pub(crate) struct WrittenPrecision {
     /// `Some(e)`: fixed decimals, every coordinate within `0.5·10^e`.
     pub fixed_last_digit: Option<i32>,
     /// The most significant digits of any coordinate (the significant-digits model).
@@ -85,7 +85,7 @@ pub struct WrittenPrecision {
 
 /// Gathers [`WrittenNumber`]s and infers the [`WrittenPrecision`] of the whole file.
 #[derive(Clone, Debug, Default)]
-pub struct PrecisionSurvey {
+pub(crate) struct PrecisionSurvey {
     count: u64,
     /// The smallest last-digit exponent seen, and how many numbers not ending in 0 have it.
     finest: Option<i32>,
@@ -103,7 +103,7 @@ impl PrecisionSurvey {
         }
     }
 
-    pub fn add(&mut self, n: WrittenNumber) {
+    pub(crate) fn add(&mut self, n: WrittenNumber) {
         self.count += 1;
         self.significant = self.significant.max(n.significant);
         let f = n.value as f32 as f64;
@@ -122,7 +122,7 @@ impl PrecisionSurvey {
         self.not_ending_in_zero += !n.ends_in_zero as u64;
     }
 
-    pub fn finish(&self) -> WrittenPrecision {
+    pub(crate) fn finish(&self) -> WrittenPrecision {
         if self.count == 0 {
             return WrittenPrecision {
                 empty: true,
@@ -149,7 +149,7 @@ fn f32_ulp(v: f64) -> f64 {
 
 impl WrittenPrecision {
     /// How far a coordinate written as `v` may be from the value meant.
-    pub fn coordinate_rounding(&self, v: f64) -> f64 {
+    pub(crate) fn coordinate_rounding(&self, v: f64) -> f64 {
         let f64_rounding = 4.0 * f64::EPSILON * v.abs();
         if self.empty {
             return f64_rounding;
@@ -165,7 +165,7 @@ impl WrittenPrecision {
 
     /// The rounding radius of a vertex written as `p`: how far it may be from the position
     /// meant. f32 data: one f32 ulp of the largest coordinate in each (see the module docs).
-    pub fn vertex_rounding(&self, p: DVec3) -> f64 {
+    pub(crate) fn vertex_rounding(&self, p: DVec3) -> f64 {
         let vector = if self.f32_data && !self.empty {
             f32_ulp(p.abs().max_element())
         } else {
@@ -180,7 +180,7 @@ impl WrittenPrecision {
     }
 
     /// In words, for notes: "6 decimals", "9 significant digits", "f32 values".
-    pub fn describe(&self) -> String {
+    pub(crate) fn describe(&self) -> String {
         if self.empty {
             return "no coordinates".into();
         }
@@ -224,7 +224,7 @@ pub fn plane_deviation(pts: &[DVec3]) -> f64 {
 /// `|n·(p_i − c)| ≤ |(n − m)·(q_i − c_q)| + |n·(e_i − ē)| ≤ (r·P/A)·R + 2r`, with `R` the
 /// largest distance of a vertex from the centroid. The tolerance is `r·(2 + P·R/A)`: 4r for
 /// a square, more for thin faces, whose normal the rounding tilts more.
-pub fn planarity_tolerance(pts: &[DVec3], rounding: f64) -> f64 {
+pub(crate) fn planarity_tolerance(pts: &[DVec3], rounding: f64) -> f64 {
     let m = pts.len();
     if m < 4 {
         return f64::INFINITY; // a triangle is planar

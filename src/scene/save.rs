@@ -109,7 +109,7 @@ fn roughness_for(alpha: f64) -> f64 {
 
 /// The text of a saved scene's three files, and the renamings.
 #[derive(Clone, Debug, Default)]
-pub struct SceneTexts {
+pub(crate) struct SceneTexts {
     pub toml: String,
     pub obj: String,
     pub mtl: String,
@@ -119,7 +119,7 @@ pub struct SceneTexts {
 
 /// The text of the three files, naming the OBJ and MTL files `obj_name` and `mtl_name` (an
 /// environment map file is named relative to `base_dir` where it lies below it).
-pub fn scene_texts(
+pub(crate) fn scene_texts(
     scene: &Scene,
     camera: Option<&Camera>,
     obj_name: &str,

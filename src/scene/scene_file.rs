@@ -263,7 +263,7 @@ fn load_mesh_file(path: &Path) -> Result<Scene> {
 }
 
 /// Loads a TOML scene file; OBJ paths are relative to its directory.
-pub fn load_scene_file(path: &Path) -> Result<Scene> {
+pub(crate) fn load_scene_file(path: &Path) -> Result<Scene> {
     let label = path.display().to_string();
     let text = read_text(path, &label)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -322,10 +322,6 @@ impl Scene {
     pub fn occluders(&self) -> impl Iterator<Item = &SceneObject> {
         self.objects.iter().filter(|o| o.flags.occluder)
     }
-    /// Objects flagged as receivers.
-    pub fn receivers(&self) -> impl Iterator<Item = &SceneObject> {
-        self.objects.iter().filter(|o| o.flags.receiver)
-    }
     /// First object of that name.
     pub fn object(&self, name: &str) -> Option<&SceneObject> {
         self.objects.iter().find(|o| o.name == name)
@@ -338,7 +334,7 @@ impl Scene {
             .sum()
     }
     /// Axis-aligned bounds of all meshes, `None` without vertices.
-    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+    pub(crate) fn bounds(&self) -> Option<(DVec3, DVec3)> {
         self.objects
             .iter()
             .filter_map(|o| o.mesh.bounds())

@@ -16,9 +16,9 @@ use glam::{DAffine3, DMat3, DVec2, DVec3};
 use std::collections::HashMap;
 
 /// Highest icosphere subdivision level honoured (40962 vertices); larger requests are capped.
-pub const MAX_ICOSPHERE_SUBDIVISIONS: u32 = 6;
+pub(crate) const MAX_ICOSPHERE_SUBDIVISIONS: u32 = 6;
 /// Highest segment / slice / stack count honoured; larger requests are capped.
-pub const MAX_SEGMENTS: u32 = 4096;
+pub(crate) const MAX_SEGMENTS: u32 = 4096;
 
 // ---------------------------------------------------------------------------------------------
 // Mesh helpers: transforms and geometric queries.
@@ -65,7 +65,7 @@ impl Mesh {
 
     /// The mesh scaled per axis about the origin. An odd number of negative factors mirrors the
     /// mesh, so faces are reversed to keep the outward winding.
-    pub fn scaled(&self, factors: DVec3) -> Mesh {
+    pub(crate) fn scaled(&self, factors: DVec3) -> Mesh {
         self.transformed(&DAffine3::from_mat3(DMat3::from_diagonal(factors)))
     }
 
@@ -84,7 +84,7 @@ impl Mesh {
 
     /// Newell's area vector of face `face`: its direction is the front normal (CCW winding) and
     /// its length the polygon's area. Zero for an unknown face or out-of-range indices.
-    pub fn face_area_vector(&self, face: usize) -> DVec3 {
+    pub(crate) fn face_area_vector(&self, face: usize) -> DVec3 {
         let Some(f) = self.faces.get(face) else {
             return DVec3::ZERO;
         };
@@ -266,7 +266,7 @@ fn clip_to_halfspace(poly: &[DVec3], n: DVec3) -> Vec<DVec3> {
 }
 
 /// Reverses a face's winding, keeping its first vertex first.
-pub fn reverse_face(f: &mut [u32]) {
+pub(crate) fn reverse_face(f: &mut [u32]) {
     if f.len() > 1 {
         f[1..].reverse();
     }

@@ -94,7 +94,7 @@ pub struct Shortcuts {
 
 impl Shortcuts {
     /// Component-wise sum.
-    pub fn add(&mut self, o: &Shortcuts) {
+    pub(crate) fn add(&mut self, o: &Shortcuts) {
         self.light_below_horizon += o.light_below_horizon;
         self.clipped_away += o.clipped_away;
         self.no_occluder += o.no_occluder;
@@ -104,7 +104,7 @@ impl Shortcuts {
     }
 
     /// Every piece counted.
-    pub fn total(&self) -> u64 {
+    pub(crate) fn total(&self) -> u64 {
         [
             self.light_below_horizon,
             self.clipped_away,

@@ -12,7 +12,7 @@ pub(crate) use crate::raster::luminance;
 
 /// `ρ(v, l) cosθl` per channel; 0 when `v` or `l` is on or below the horizon.
 #[inline]
-pub fn eval_cos(material: &Material, v: DVec3, l: DVec3) -> DVec3 {
+pub(crate) fn eval_cos(material: &Material, v: DVec3, l: DVec3) -> DVec3 {
     if v.z <= 0.0 || l.z <= 0.0 {
         return DVec3::ZERO;
     }
@@ -26,7 +26,7 @@ pub fn eval_cos(material: &Material, v: DVec3, l: DVec3) -> DVec3 {
 /// The GGX term of [`eval_cos`]: `ρ_s(v, l) cosθl` per channel with Schlick's Fresnel of
 /// reflectance `ks` at normal incidence; 0 when `v` or `l` is on or below the horizon.
 #[inline]
-pub fn specular_cos(ks: DVec3, alpha: f64, v: DVec3, l: DVec3) -> DVec3 {
+pub(crate) fn specular_cos(ks: DVec3, alpha: f64, v: DVec3, l: DVec3) -> DVec3 {
     if v.z <= 0.0 || l.z <= 0.0 {
         return DVec3::ZERO;
     }
@@ -39,7 +39,7 @@ pub fn specular_cos(ks: DVec3, alpha: f64, v: DVec3, l: DVec3) -> DVec3 {
 /// How a material is importance sampled: the probability of drawing from the specular lobe
 /// (the rest is cosine-weighted), proportional to the luminance of `ks` against `kd`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BrdfSampler {
+pub(crate) struct BrdfSampler {
     pub specular_probability: f64,
     pub alpha: f64,
 }

@@ -37,11 +37,11 @@ const OCCLUDER_QUERIES_PER_RAY: f64 = 0.25;
 /// them in a scene of objects on a floor.
 const ENVIRONMENT_QUERIES_PER_RAY: f64 = 0.5;
 /// A tree is worth building if it saves this many times its build.
-pub const PAYBACK: f64 = 2.0;
+pub(crate) const PAYBACK: f64 = 2.0;
 
 /// What a mesh is, as far as the model is concerned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct MeshCostClass {
+pub(crate) struct MeshCostClass {
     pub faces: usize,
     pub convex: bool,
     /// It is a light (queried by every ray), not only an occluder.
@@ -66,7 +66,7 @@ pub struct TreeBudget {
 
 /// The budget of a mesh's tree for a render of `expected_rays` camera rays, capped at
 /// `limit` (the size beyond which no tree is kept whatever it saves).
-pub fn tree_budget(class: MeshCostClass, expected_rays: u64, limit: usize) -> TreeBudget {
+pub(crate) fn tree_budget(class: MeshCostClass, expected_rays: u64, limit: usize) -> TreeBudget {
     let f = class.faces as f64;
     let per_ray = if class.light {
         LIGHT_QUERIES_PER_RAY
@@ -110,7 +110,7 @@ pub fn tree_budget(class: MeshCostClass, expected_rays: u64, limit: usize) -> Tr
 }
 
 /// The camera rays the model assumes when a caller does not say: 256×256 pixels at `--aa 4`.
-pub const DEFAULT_EXPECTED_RAYS: u64 = 256 * 256 * 16;
+pub(crate) const DEFAULT_EXPECTED_RAYS: u64 = 256 * 256 * 16;
 
 #[cfg(test)]
 mod tests {

@@ -91,7 +91,7 @@ pub enum EnvironmentPass {
 
 /// The upper hemisphere in the shading frame as a spherical polygon: four horizon points,
 /// counter-clockwise seen from above.
-pub fn hemisphere_polygon(out: &mut SphericalPolygon) {
+pub(crate) fn hemisphere_polygon(out: &mut SphericalPolygon) {
     out.clear();
     out.push_loop([DVec3::X, DVec3::Y, -DVec3::X, -DVec3::Y]);
 }

@@ -16,7 +16,7 @@ use crate::geometry::{IndexedPolyhedron, Plane};
 /// the coplanarity tolerance toward its front, since what lies within rounding of the face's
 /// plane is not in front of it.
 #[inline]
-pub fn light_face_cut(faces: &IndexedPolyhedron, f: usize) -> Plane {
+pub(crate) fn light_face_cut(faces: &IndexedPolyhedron, f: usize) -> Plane {
     let plane = faces.face_planes[f];
     Plane {
         n: plane.n,
@@ -26,7 +26,7 @@ pub fn light_face_cut(faces: &IndexedPolyhedron, f: usize) -> Plane {
 
 /// Where the corners of a mesh's faces lie against a plane.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum InFront {
+pub(crate) enum InFront {
     /// None strictly in front.
     Nothing,
     /// Some in front, some not.
@@ -38,7 +38,7 @@ pub enum InFront {
 /// Where the corners of `mesh`'s faces lie against `plane` (in front: `plane.eval > 0`). The
 /// bounding ball decides when the plane keeps it clear by far more than rounding; otherwise
 /// every corner is counted.
-pub fn in_front(mesh: &IndexedPolyhedron, plane: &Plane) -> InFront {
+pub(crate) fn in_front(mesh: &IndexedPolyhedron, plane: &Plane) -> InFront {
     let centre = plane.eval(mesh.center);
     let reach = plane.n.length() * mesh.radius;
     // Rounding of `eval` at a corner is far below this (relative 1e-12 of its terms).
@@ -75,12 +75,12 @@ pub struct FaceSides(Vec<InFront>);
 /// Corners × faces above this are left to the count at each point: the table would cost more
 /// to prepare (tens of milliseconds at this bound, again at each move of the light in the
 /// scene editor) than most renders spend on it.
-pub const MAX_FACE_SIDE_TESTS: usize = 20_000_000;
+pub(crate) const MAX_FACE_SIDE_TESTS: usize = 20_000_000;
 
 impl FaceSides {
     /// The table for `mesh`, whose face `f` cuts at `plane_of(f)`; `None` over
     /// [`MAX_FACE_SIDE_TESTS`].
-    pub fn of(mesh: &IndexedPolyhedron, plane_of: impl Fn(usize) -> Plane) -> Option<Self> {
+    pub(crate) fn of(mesh: &IndexedPolyhedron, plane_of: impl Fn(usize) -> Plane) -> Option<Self> {
         let faces = mesh.face_count();
         if faces.saturating_mul(mesh.face_indices.len()) > MAX_FACE_SIDE_TESTS {
             return None;
@@ -94,7 +94,7 @@ impl FaceSides {
 
     /// Where the mesh lies against face `f`'s cutting plane.
     #[inline]
-    pub fn get(&self, f: usize) -> InFront {
+    pub(crate) fn get(&self, f: usize) -> InFront {
         self.0[f]
     }
 }

@@ -30,7 +30,7 @@ fn cap(x: DVec3, c: DVec3, r: f64) -> Option<(DVec3, f64, f64, f64)> {
 /// Fills `out` with indices into `scene.occluders` of the occluders that may hide part of light
 /// `l` (index into `scene.lights`) from `sp`. `self_occluding` keeps the light's own mesh (the
 /// per-face path of a non-convex light, where its faces hide each other).
-pub fn get_between(
+pub(crate) fn get_between(
     scene: &PreparedScene,
     l: usize,
     sp: &ShadingPoint,

@@ -53,7 +53,7 @@ pub struct CorrectionSampling {
 impl CorrectionSampling {
     /// The generator of light piece `(light, face)`: deterministic, independent of the order
     /// in which pieces and threads run.
-    pub fn rng(&self, light: usize, face: Option<usize>) -> Pcg32 {
+    pub(crate) fn rng(&self, light: usize, face: Option<usize>) -> Pcg32 {
         let piece = (light as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)
             ^ face.map_or(0, |f| (f as u64 + 1).wrapping_mul(0xbf58_476d_1ce4_e5b9));
         Pcg32::new(self.seed ^ piece, self.stream)
@@ -63,7 +63,7 @@ impl CorrectionSampling {
 /// The specular lobe at one shading point, in its local frame: GGX with Schlick's Fresnel,
 /// and the LTC that approximates it.
 #[derive(Clone, Copy, Debug)]
-pub struct GlossyLobe {
+pub(crate) struct GlossyLobe {
     /// View direction (local frame, `z` = normal).
     v: DVec3,
     alpha: f64,
@@ -100,7 +100,7 @@ impl GlossyLobe {
     /// `D̂(ω) = (1 − c) D̂_M(ω) + c D_o(ω)`: the fitted distribution's normalised density,
     /// `D̂_M` of 001 Eq. 3.11 and the cosine tail `D_o(ω) = max(0, ω_z)/π`.
     #[inline]
-    pub fn ltc_density(&self, w: DVec3) -> f64 {
+    pub(crate) fn ltc_density(&self, w: DVec3) -> f64 {
         let x = self.m_inv * w;
         let len2 = x.length_squared();
         // D_o(x/|x|) = (x.z/|x|)/π, times |M⁻¹| / |x|³.
@@ -129,7 +129,7 @@ impl GlossyLobe {
 
     /// `f_GGX cos − s D̂` per channel at `ω` (above the horizon).
     #[inline]
-    pub fn difference(&self, w: DVec3) -> DVec3 {
+    pub(crate) fn difference(&self, w: DVec3) -> DVec3 {
         specular_cos(self.ks, self.alpha, self.v, w) - self.scale * self.ltc_density(w)
     }
 }
@@ -160,13 +160,13 @@ impl FanTriangle {
 
 /// Reused buffers of [`estimate_correction`].
 #[derive(Default)]
-pub struct CorrectionScratch {
+pub(crate) struct CorrectionScratch {
     fan: Vec<FanTriangle>,
 }
 
 /// The mean and its variance of one light piece's correction estimate.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CorrectionEstimate {
+pub(crate) struct CorrectionEstimate {
     /// Estimate of `∫_V (f_GGX cos − s D̂) dω` per channel (unit radiance).
     pub mean: DVec3,
     /// Variance of `mean` (the sample variance over `samples`).
@@ -177,7 +177,7 @@ pub struct CorrectionEstimate {
 /// clipped to the horizon, holes clockwise) with `samples` directions from `rng`. `lobe_mass`
 /// is `∫_V D̂` (the LTC integral of `V`, which the caller has just computed): it sets how
 /// many samples are drawn from the lobe rather than from `V`.
-pub fn estimate_correction(
+pub(crate) fn estimate_correction(
     visible: &SphericalPolygon,
     lobe: &GlossyLobe,
     lobe_mass: f64,

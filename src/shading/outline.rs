@@ -67,7 +67,7 @@ pub struct Fallbacks {
 impl Fallbacks {
     /// Counts one fallback for `why`, if any.
     #[inline]
-    pub fn count(&mut self, why: Option<Degenerate>) {
+    pub(crate) fn count(&mut self, why: Option<Degenerate>) {
         match why {
             None => {}
             Some(Degenerate::BoundCrossed) => self.bounds_crossed += 1,
@@ -76,7 +76,7 @@ impl Fallbacks {
     }
 
     /// Component-wise sum.
-    pub fn add(&mut self, o: &Fallbacks) {
+    pub(crate) fn add(&mut self, o: &Fallbacks) {
         self.degenerate += o.degenerate;
         self.bounds_crossed += o.bounds_crossed;
     }
@@ -90,7 +90,7 @@ impl PreparedObject {
     /// with its silhouette inside that window, which is all the set difference sees.
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    pub fn spherical_polygon(
+    pub(crate) fn spherical_polygon(
         &self,
         x: DVec3,
         frame: &Frame,

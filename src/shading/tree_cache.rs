@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
 /// Bump whenever a tree build changes what it produces.
-pub const FORMAT: u32 = 6;
+pub(crate) const FORMAT: u32 = 6;
 
 /// The default bound on the cache's size on disk.
 pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
@@ -88,7 +88,7 @@ pub struct CacheVars {
 
 /// The cache directory `vars` name: `cache_dir` (none when it is `off`), else
 /// `xdg_cache_home/penumbra/trees`, else `home/.cache/penumbra/trees`.
-pub fn default_dir(vars: &CacheVars) -> Option<PathBuf> {
+pub(crate) fn default_dir(vars: &CacheVars) -> Option<PathBuf> {
     match &vars.cache_dir {
         Some(d) if d == "off" => None,
         Some(d) => Some(PathBuf::from(d)),
@@ -102,7 +102,7 @@ pub fn default_dir(vars: &CacheVars) -> Option<PathBuf> {
 }
 
 /// A size such as `1048576`, `512K`, `256M`, `2G` or `1.5G` (powers of 1024), in bytes.
-pub fn parse_size(text: &str) -> crate::Result<u64> {
+pub(crate) fn parse_size(text: &str) -> crate::Result<u64> {
     let t = text.trim();
     let (num, unit) = match t.char_indices().find(|(_, c)| c.is_ascii_alphabetic()) {
         Some((i, _)) => (&t[..i], t[i..].to_ascii_uppercase()),
@@ -161,7 +161,7 @@ impl TreeCache {
 
     /// The data stored for `key` by [`TreeCache::store_data`], if a file is on disk, reads
     /// as a `T` and `check` accepts it.
-    pub fn load_data<T: serde::de::DeserializeOwned>(
+    pub(crate) fn load_data<T: serde::de::DeserializeOwned>(
         &self,
         key: u64,
         check: impl Fn(&T) -> bool,
@@ -178,7 +178,7 @@ impl TreeCache {
     }
 
     /// Stores `data` for `key` (see [`CachedTree::Transfer`]).
-    pub fn store_data<T: serde::Serialize>(&self, key: u64, data: &T) {
+    pub(crate) fn store_data<T: serde::Serialize>(&self, key: u64, data: &T) {
         if let Ok(v) = serde_json::to_value(data) {
             self.store(key, &CachedTree::Transfer(v));
         }
@@ -203,7 +203,7 @@ impl TreeCache {
 
     /// Stores `tree` for `key`, then evicts the least recently used files beyond the bound
     /// (errors are ignored: the cache is an optimisation).
-    pub fn store(&self, key: u64, tree: &CachedTree) {
+    pub(crate) fn store(&self, key: u64, tree: &CachedTree) {
         let file = CacheFile {
             format: FORMAT,
             key,
@@ -322,7 +322,7 @@ fn touch(path: &Path) {
 }
 
 /// FNV-1a over everything a tree depends on.
-pub fn tree_key(poly: &Polyhedron, lo: DVec3, hi: DVec3, limit: usize, convex: bool) -> u64 {
+pub(crate) fn tree_key(poly: &Polyhedron, lo: DVec3, hi: DVec3, limit: usize, convex: bool) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |x: u64| {
         for b in x.to_le_bytes() {

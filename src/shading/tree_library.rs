@@ -62,7 +62,7 @@ impl TreeLibrary {
 
     /// The entry of which `poly` is an affine image (det > 0), and the map from `poly`'s frame
     /// into the entry's.
-    pub fn find(&self, poly: &Polyhedron) -> Option<(&LibraryEntry, DAffine3)> {
+    pub(crate) fn find(&self, poly: &Polyhedron) -> Option<(&LibraryEntry, DAffine3)> {
         self.entries.iter().find_map(|e| {
             let has_tree = e.trees.tree.is_some();
             has_tree

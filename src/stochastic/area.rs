@@ -46,7 +46,7 @@ impl AreaLights {
 
     /// Draws a light with `u` uniform in [0, 1): (index, probability).
     #[inline]
-    pub fn pick(&self, u: f64) -> Option<(usize, f64)> {
+    pub(crate) fn pick(&self, u: f64) -> Option<(usize, f64)> {
         if self.total_weight <= 0.0 {
             return None;
         }

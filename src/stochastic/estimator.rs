@@ -72,7 +72,7 @@ pub struct SampleSums {
 
 impl SampleSums {
     /// S_N, Eq. 21 divided by N.
-    pub fn s_n(&self) -> DVec3 {
+    pub(crate) fn s_n(&self) -> DVec3 {
         if self.n == 0 {
             DVec3::ZERO
         } else {
@@ -81,7 +81,7 @@ impl SampleSums {
     }
 
     /// U_N, Eq. 22 divided by N.
-    pub fn u_n(&self) -> DVec3 {
+    pub(crate) fn u_n(&self) -> DVec3 {
         if self.n == 0 {
             DVec3::ZERO
         } else {
@@ -90,7 +90,7 @@ impl SampleSums {
     }
 
     /// Sample variance of S_N's mean (per channel).
-    pub fn s_variance_of_mean(&self) -> DVec3 {
+    pub(crate) fn s_variance_of_mean(&self) -> DVec3 {
         if self.n < 2 {
             return DVec3::ZERO;
         }

@@ -34,7 +34,7 @@ use crate::shading::{PreparedObject, PreparedScene, ShadingPoint};
 use glam::DVec3;
 
 /// Face index of a triangle that belongs to the silhouette fan of a convex light.
-pub const SILHOUETTE: u32 = u32::MAX;
+pub(crate) const SILHOUETTE: u32 = u32::MAX;
 
 /// The triangles of one light at the current shading point.
 #[derive(Clone, Copy, Debug, Default)]
@@ -57,7 +57,7 @@ pub struct LightRun {
 
 /// Reused buffers of the triangulation.
 #[derive(Default)]
-pub struct LightSetScratch {
+pub(crate) struct LightSetScratch {
     silhouette: SilhouetteScratch,
     exact: ExactSilhouetteScratch,
     triangle: SphericalPolygon,
@@ -337,7 +337,7 @@ impl LightSet {
 
     /// Draws a light run with `u` uniform in [0, 1); `None` when the set is empty.
     #[inline]
-    pub fn pick_run(&self, u: f64) -> Option<usize> {
+    pub(crate) fn pick_run(&self, u: f64) -> Option<usize> {
         let mut acc = 0.0;
         let mut last = None;
         for (i, r) in self.runs.iter().enumerate() {
@@ -356,7 +356,7 @@ impl LightSet {
     /// A direction uniform in the solid angle of run `r` (each face counted separately):
     /// returns (direction in the shading frame, face index or [`SILHOUETTE`]).
     #[inline]
-    pub fn sample(&self, r: usize, u0: f64, u1: f64, u2: f64) -> (DVec3, u32) {
+    pub(crate) fn sample(&self, r: usize, u0: f64, u1: f64, u2: f64) -> (DVec3, u32) {
         let run = &self.runs[r];
         let target = u0 * run.solid_angle;
         let cdf = &self.cdf[run.start..run.end];

@@ -47,7 +47,7 @@ pub struct RealMesh {
 
 /// Open meshes with more faces than this are not lights in the family (see
 /// [`RealMesh::can_be_light`]).
-pub const MAX_OPEN_LIGHT_FACES: usize = 2_000;
+pub(crate) const MAX_OPEN_LIGHT_FACES: usize = 2_000;
 
 /// Whether every edge of `mesh` is shared by exactly two faces.
 fn is_closed(mesh: &Mesh) -> bool {
@@ -125,7 +125,7 @@ fn is_flat(mesh: &Mesh) -> bool {
 }
 
 /// The scene of a group, prepared.
-pub struct Group {
+pub(crate) struct Group {
     pub mesh: usize,
     pub perturbation: f64,
     /// The mesh is the light (else an occluder under a quad light).
@@ -172,7 +172,7 @@ fn perturbed(mesh: &Mesh, eps: f64, rng: &mut Pcg32) -> crate::Result<Mesh> {
 
 /// Group `g` of the run with `seed`. The light is object 0 (the oracle counts rays that reach
 /// the front of its faces).
-pub fn group(seed: u64, g: u64) -> crate::Result<Group> {
+pub(crate) fn group(seed: u64, g: u64) -> crate::Result<Group> {
     let meshes = real_meshes()?;
     let mut rng = Pcg32::new(seed ^ 0x7ea1_5eed, g);
     let mesh = rng.below(meshes.len() as u32) as usize;
@@ -239,7 +239,7 @@ impl Group {
     /// The shading point of case `index`: a camera around the mesh, a random image size, pixel
     /// and sub-pixel position, and what its ray hits first (a receiver). `None` when
     /// [`TRIES`] rays all miss.
-    pub fn point(&self, seed: u64, index: u64) -> Option<ShadingPoint> {
+    pub(crate) fn point(&self, seed: u64, index: u64) -> Option<ShadingPoint> {
         let mut rng = Pcg32::new(seed ^ 0x00ca_5e0f_7ea1, index);
         for _ in 0..TRIES {
             let dir = DVec3::new(

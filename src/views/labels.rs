@@ -10,7 +10,7 @@ use crate::figure::font::text_width;
 /// The box a left-aligned label of pixel size `size` covers with its baseline starting at
 /// `at`: from the top of a capital (0.8 em above the baseline) to the bottom of a descender
 /// (0.25 em below), as wide as the stroke font draws it.
-pub fn text_box(text: &str, at: (f32, f32), size: f32) -> Rect {
+pub(crate) fn text_box(text: &str, at: (f32, f32), size: f32) -> Rect {
     [
         at.0,
         at.1 - 0.8 * size,
@@ -26,7 +26,7 @@ pub fn overlaps(a: &Rect, b: &Rect) -> bool {
 
 /// Where a label goes.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Placement {
+pub(crate) struct Placement {
     /// The left end of its baseline.
     pub at: (f32, f32),
     /// Whether it sits away from its anchor (a leader line should join them).
@@ -35,7 +35,7 @@ pub struct Placement {
 
 /// The boxes taken so far, within the figure's bounds.
 #[derive(Clone, Debug)]
-pub struct LabelPlacer {
+pub(crate) struct LabelPlacer {
     bounds: Rect,
     taken: Vec<Rect>,
     /// Labels that found no free position.
@@ -52,13 +52,13 @@ impl LabelPlacer {
     }
 
     /// Marks an area labels must keep out of (a legend, a title).
-    pub fn block(&mut self, area: Rect) {
+    pub(crate) fn block(&mut self, area: Rect) {
         self.taken.push(area);
     }
 
     /// A free position for `text` (pixel size `size`) next to `anchor`, `gap` pixels away,
     /// tried in eight directions, then in eight more at three times the gap; the box is taken.
-    pub fn place(
+    pub(crate) fn place(
         &mut self,
         text: &str,
         anchor: (f32, f32),

@@ -18,13 +18,13 @@ use crate::shading::{LightRecord, PreparedObject};
 use glam::DVec3;
 
 /// The colour of the picked point's leaf cell (and of the point).
-pub const CELL: Rgb = [90, 200, 255];
+pub(crate) const CELL: Rgb = [90, 200, 255];
 /// The colour of the contour edges (the light's colour in the sphere view).
-pub const CONTOUR: Rgb = super::LIGHT;
+pub(crate) const CONTOUR: Rgb = super::LIGHT;
 
 /// How the light is seen and which of its tree's planes are drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LightCamera {
+pub(crate) struct LightCamera {
     /// Azimuth and elevation of the eye about the world's +y, radians.
     pub yaw: f32,
     pub pitch: f32,
@@ -65,7 +65,7 @@ pub struct Drawn {
 
 /// The colour of a plane at `depth` in a tree of depth `max`: red at the root through the
 /// hues to violet at the deepest level (hue 0 to 0.8 of the circle, saturation 0.75).
-pub fn depth_colour(depth: usize, max: usize) -> Rgb {
+pub(crate) fn depth_colour(depth: usize, max: usize) -> Rgb {
     let h = 0.8 * depth as f32 / max.max(1) as f32 * 6.0;
     let (s, v) = (0.75f32, 1.0f32);
     let c = v * s;
@@ -85,7 +85,7 @@ pub fn depth_colour(depth: usize, max: usize) -> Rgb {
 /// The light `obj` as a figure `size` pixels square; with a picked point and the recording of
 /// its light (`record`, the light taken whole), the contour edges and the tree lookup recorded
 /// there.
-pub fn light_figure(
+pub(crate) fn light_figure(
     obj: &PreparedObject,
     point: Option<DVec3>,
     record: Option<&LightRecord>,

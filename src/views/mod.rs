@@ -51,7 +51,7 @@ impl Style {
 
     /// A layer's colour as drawn on this style's background: unchanged on screen; in print,
     /// colours too light to read on white (contour edges, escaped rays) darkened.
-    pub fn on_background(self, c: [u8; 3]) -> [u8; 3] {
+    pub(crate) fn on_background(self, c: [u8; 3]) -> [u8; 3] {
         let luma = 0.2126 * c[0] as f32 + 0.7152 * c[1] as f32 + 0.0722 * c[2] as f32;
         match self {
             Style::Print if luma > 200.0 => c.map(|v| (v as f32 * 0.45) as u8),
@@ -68,8 +68,8 @@ impl Style {
 }
 
 /// The light's region (the subject of the difference): yellow, light in greyscale.
-pub const LIGHT: [u8; 3] = [240, 200, 40];
+pub(crate) const LIGHT: [u8; 3] = [240, 200, 40];
 /// The occluder's region (the clip): vermillion, dark in greyscale.
-pub const OCCLUDER: [u8; 3] = [200, 60, 20];
+pub(crate) const OCCLUDER: [u8; 3] = [200, 60, 20];
 /// What the point sees of the light (the answer): bluish green, outlined.
-pub const VISIBLE: [u8; 3] = [0, 150, 110];
+pub(crate) const VISIBLE: [u8; 3] = [0, 150, 110];

@@ -65,7 +65,7 @@ impl Default for Layers {
 impl Layers {
     /// Only the environment's layers (the environment view): the map, the union terms, the
     /// cones and the rays, with the shading frame's directions.
-    pub fn environment_only() -> Layers {
+    pub(crate) fn environment_only() -> Layers {
         Layers {
             contours: false,
             light_silhouette: false,
@@ -84,26 +84,26 @@ impl Layers {
 /// scheme of every view.
 pub mod colours {
     use crate::figure::Rgb;
-    pub const CONTOUR: Rgb = [235, 235, 245];
-    pub const REJECTED: Rgb = [150, 70, 70];
-    pub const CROSSING: Rgb = [255, 90, 220];
-    pub const LIGHT: Rgb = super::super::LIGHT;
-    pub const LIGHT_CLIPPED: Rgb = [250, 140, 30];
-    pub const OCCLUDER: Rgb = super::super::OCCLUDER;
-    pub const OCCLUDER_CLIPPED: Rgb = [160, 30, 90];
-    pub const VISIBLE: Rgb = super::super::VISIBLE;
-    pub const LTC: Rgb = [170, 90, 230];
-    pub const NORMAL: Rgb = [80, 150, 255];
-    pub const VIEW: Rgb = [200, 200, 200];
-    pub const MIRROR: Rgb = [120, 220, 220];
-    pub const STATIC_TERM: Rgb = [110, 150, 255];
-    pub const DYNAMIC_TERM: Rgb = [255, 90, 40];
-    pub const CONE: Rgb = [190, 190, 130];
-    pub const MERGED_CONE: Rgb = [255, 225, 0];
-    pub const RAY_CULLED: Rgb = [90, 90, 90];
-    pub const RAY_ESCAPED: Rgb = [235, 235, 235];
-    pub const RAY_STATIC: Rgb = [60, 110, 255];
-    pub const RAY_DYNAMIC: Rgb = [255, 30, 30];
+    pub(crate) const CONTOUR: Rgb = [235, 235, 245];
+    pub(crate) const REJECTED: Rgb = [150, 70, 70];
+    pub(crate) const CROSSING: Rgb = [255, 90, 220];
+    pub(crate) const LIGHT: Rgb = super::super::LIGHT;
+    pub(crate) const LIGHT_CLIPPED: Rgb = [250, 140, 30];
+    pub(crate) const OCCLUDER: Rgb = super::super::OCCLUDER;
+    pub(crate) const OCCLUDER_CLIPPED: Rgb = [160, 30, 90];
+    pub(crate) const VISIBLE: Rgb = super::super::VISIBLE;
+    pub(crate) const LTC: Rgb = [170, 90, 230];
+    pub(crate) const NORMAL: Rgb = [80, 150, 255];
+    pub(crate) const VIEW: Rgb = [200, 200, 200];
+    pub(crate) const MIRROR: Rgb = [120, 220, 220];
+    pub(crate) const STATIC_TERM: Rgb = [110, 150, 255];
+    pub(crate) const DYNAMIC_TERM: Rgb = [255, 90, 40];
+    pub(crate) const CONE: Rgb = [190, 190, 130];
+    pub(crate) const MERGED_CONE: Rgb = [255, 225, 0];
+    pub(crate) const RAY_CULLED: Rgb = [90, 90, 90];
+    pub(crate) const RAY_ESCAPED: Rgb = [235, 235, 235];
+    pub(crate) const RAY_STATIC: Rgb = [60, 110, 255];
+    pub(crate) const RAY_DYNAMIC: Rgb = [255, 30, 30];
 }
 
 /// How a curve is drawn.
@@ -168,7 +168,7 @@ pub struct Sky {
 
 impl Sky {
     /// The cell's corners (direction, counter-clockwise in the grid) and its centre.
-    pub fn cell(&self, r: u32, c: u32) -> ([DVec3; 4], DVec3) {
+    pub(crate) fn cell(&self, r: u32, c: u32) -> ([DVec3; 4], DVec3) {
         let (rf, cf) = (r as f64, c as f64);
         let d = |a: f64, b: f64| sky_grid_direction(self.rows, self.cols, a, b);
         (
@@ -194,7 +194,7 @@ pub struct Drawing {
 
 /// Points along the great-circle arc from `a` to `b` (unit vectors), `a` included, `b` not:
 /// one every 0.04 rad (2.3°), dense enough that a polyline reads as the arc in print.
-pub fn arc(a: DVec3, b: DVec3, out: &mut Vec<DVec3>) {
+pub(crate) fn arc(a: DVec3, b: DVec3, out: &mut Vec<DVec3>) {
     let theta = a.cross(b).length().atan2(a.dot(b));
     let n = ((theta / 0.04).ceil() as usize).clamp(1, 200);
     let s = theta.sin();
@@ -210,7 +210,7 @@ pub fn arc(a: DVec3, b: DVec3, out: &mut Vec<DVec3>) {
 }
 
 /// A closed loop of unit vectors sampled along its great-circle edges.
-pub fn arc_loop(vertices: &[DVec3]) -> Vec<DVec3> {
+pub(crate) fn arc_loop(vertices: &[DVec3]) -> Vec<DVec3> {
     let mut points = Vec::new();
     for k in 0..vertices.len() {
         arc(vertices[k], vertices[(k + 1) % vertices.len()], &mut points);

@@ -36,7 +36,7 @@ impl Default for SphereCamera {
 
 /// Largest magnification of the framed camera: a light a few degrees across still shows the
 /// horizon's curve and the normal for context (the hemisphere view's "fit" shows detail).
-pub const MAX_FRAMING_ZOOM: f32 = 8.0;
+pub(crate) const MAX_FRAMING_ZOOM: f32 = 8.0;
 
 impl SphereCamera {
     /// (right, up, toward the eye).
@@ -85,7 +85,7 @@ impl SphereCamera {
 
 /// How directions land on the figure: orthographic along `eye`, `scale` pixels per unit,
 /// `offset` (in units of the picture plane) at `centre`.
-pub struct Projection {
+pub(crate) struct Projection {
     right: DVec3,
     up: DVec3,
     eye: DVec3,
@@ -108,7 +108,7 @@ impl Projection {
     }
 
     /// Whether `p` faces the eye (is drawn solid).
-    pub fn front(&self, p: DVec3) -> bool {
+    pub(crate) fn front(&self, p: DVec3) -> bool {
         p.dot(self.eye) >= 0.0
     }
 
@@ -137,7 +137,7 @@ impl Projection {
 }
 
 /// The projection of the 3-D sphere's figure, `size` pixels square.
-pub fn sphere_projection(camera: &SphereCamera, size: u32) -> Projection {
+pub(crate) fn sphere_projection(camera: &SphereCamera, size: u32) -> Projection {
     let s = size.clamp(64, 8192) as f32;
     let (right, up, eye) = camera.basis();
     Projection {
@@ -188,7 +188,7 @@ pub fn sphere_figure(d: &Drawing, camera: &SphereCamera, size: u32, style: Style
 
 /// The projection of the hemisphere's figure of `d`, `size` pixels square: the whole disk, or
 /// with `fit` the box of what is drawn above the horizon.
-pub fn hemisphere_projection(d: &Drawing, fit: bool, size: u32) -> Projection {
+pub(crate) fn hemisphere_projection(d: &Drawing, fit: bool, size: u32) -> Projection {
     let s = size.clamp(64, 8192) as f32;
     let (offset, half) = match fit.then(|| fit_box(d)).flatten() {
         Some((lo, hi)) => (

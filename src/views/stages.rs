@@ -65,7 +65,7 @@ fn light_label(lr: &LightRecord, light_name: &impl Fn(usize) -> String) -> Strin
 }
 
 /// Every step of a recording, light record by light record, in pipeline order.
-pub fn steps(
+pub(crate) fn steps(
     rec: &StageRecording,
     light_name: impl Fn(usize) -> String,
     occluder_name: impl Fn(usize) -> String,

@@ -17,7 +17,7 @@ use std::collections::HashMap;
 /// A convex polyhedron: its vertices (a subset of the input points) and its faces, convex
 /// polygons counter-clockwise seen from outside.
 #[derive(Clone, Debug, Default)]
-pub struct ConvexHull {
+pub(crate) struct ConvexHull {
     pub vertices: Vec<DVec3>,
     pub faces: Vec<Vec<u32>>,
     /// Index of each hull vertex in the input.
@@ -31,7 +31,7 @@ struct Face {
 }
 
 /// The hull of `points` (non-finite points are ignored); `None` when they span no volume.
-pub fn convex_hull(points: &[DVec3]) -> Option<ConvexHull> {
+pub(crate) fn convex_hull(points: &[DVec3]) -> Option<ConvexHull> {
     let ids: Vec<u32> = (0..points.len() as u32)
         .filter(|&i| points[i as usize].is_finite())
         .collect();

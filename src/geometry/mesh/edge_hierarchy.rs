@@ -45,7 +45,7 @@ use glam::DVec3;
 
 /// Meshes with fewer edges are scanned: measured with `examples/edge_hierarchy_bench.rs`
 /// (docs/silhouettes.md, "Contour edges through a normal-cone hierarchy"; 480 edges break even).
-pub const EDGE_HIERARCHY_MIN_EDGES: usize = 1024;
+pub(crate) const EDGE_HIERARCHY_MIN_EDGES: usize = 1024;
 
 /// What testing one node costs, in plane tests of the scan's edges (measured: about 26 ns a
 /// node against 5.6 ns an edge scanned, on the displaced icospheres and the bunny).
@@ -372,7 +372,7 @@ impl EdgeHierarchy {
     /// An edge is left out when both its faces are seen from the front from the whole ball, or
     /// both from the back, beyond the coplanarity tolerance, or when its ball, grown by the
     /// region's radius, misses the region's cone or its `pyramid`.
-    pub fn tile_candidates(
+    pub(crate) fn tile_candidates(
         &self,
         poly: &Polyhedron,
         region: &RegionCone,
@@ -449,7 +449,7 @@ impl EdgeHierarchy {
 /// [`crate::geometry::silhouettes::windowed_silhouette`]) that lies, seen from `centre`, in the cone of directions
 /// within θ of the unit `axis`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RegionCone {
+pub(crate) struct RegionCone {
     pub centre: DVec3,
     pub radius: f64,
     pub axis: DVec3,
@@ -463,7 +463,7 @@ pub struct RegionCone {
 /// the region lie within `reach` of the apex, and every direction from one of them into its
 /// window is on the inner side of each great circle up to `spread` (a sine).
 #[derive(Clone, Copy, Debug)]
-pub struct RegionPyramid<'a> {
+pub(crate) struct RegionPyramid<'a> {
     pub apex: DVec3,
     pub sides: &'a [DVec3],
     pub reach: f64,

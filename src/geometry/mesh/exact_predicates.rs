@@ -83,7 +83,7 @@ impl Expansion {
 }
 
 /// The sign (−1, 0 or +1) of det[b − a, c − a, d − a], exact for any finite inputs.
-pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
+pub(crate) fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
     let (u, v, w) = (b - a, c - a, d - a);
     let det = u.x * (v.y * w.z - v.z * w.y) - u.y * (v.x * w.z - v.z * w.x)
         + u.z * (v.x * w.y - v.y * w.x);

@@ -11,7 +11,7 @@ use crate::geometry::mesh::polyhedron::Plane;
 use glam::DVec3;
 
 /// Meshes with fewer faces are scanned (the hierarchy does not pay).
-pub const FACE_BVH_MIN_FACES: usize = 64;
+pub(crate) const FACE_BVH_MIN_FACES: usize = 64;
 
 /// Faces per leaf, at most.
 const LEAF_FACES: usize = 4;
@@ -120,7 +120,7 @@ impl FaceBvh {
 
     /// Calls `test(face)` for every face whose box the ray `origin + t·dir`, t ≥ 0, meets,
     /// until `test` returns true; returns whether it did.
-    pub fn any(&self, origin: DVec3, dir: DVec3, test: impl FnMut(u32) -> bool) -> bool {
+    pub(crate) fn any(&self, origin: DVec3, dir: DVec3, test: impl FnMut(u32) -> bool) -> bool {
         if self.nodes.is_empty() {
             return false;
         }
@@ -143,7 +143,7 @@ impl FaceBvh {
     /// angle θ (given by its cosine and sine) of the unit `axis` from `apex`: a superset of the
     /// faces with a point in the cone (each box is tested through its bounding sphere), and,
     /// given `front_of`, with a point not strictly behind that plane.
-    pub fn for_each_in_cone(
+    pub(crate) fn for_each_in_cone(
         &self,
         apex: DVec3,
         axis: DVec3,
@@ -170,7 +170,7 @@ impl FaceBvh {
     /// window inside the cone, given by the inward unit normals `sides` of its great circles
     /// ([`ball_meets_pyramid`]): a superset of the faces with a point seen inside the window,
     /// visited in the cone's order.
-    pub fn for_each_in_window(
+    pub(crate) fn for_each_in_window(
         &self,
         apex: DVec3,
         axis: DVec3,
@@ -267,7 +267,7 @@ impl FaceEdges {
 
     /// The edges of face `f`.
     #[inline]
-    pub fn edges_of(&self, f: usize) -> &[u32] {
+    pub(crate) fn edges_of(&self, f: usize) -> &[u32] {
         &self.edges[self.starts[f] as usize..self.starts[f + 1] as usize]
     }
 }
@@ -277,7 +277,7 @@ impl FaceEdges {
 /// `apex`): false only when the ball lies wholly on the outer side of one of them, by more
 /// than its radius with a relative margin of 1e-9.
 #[inline]
-pub fn ball_meets_pyramid(apex: DVec3, sides: &[DVec3], c: DVec3, r: f64) -> bool {
+pub(crate) fn ball_meets_pyramid(apex: DVec3, sides: &[DVec3], c: DVec3, r: f64) -> bool {
     let d = c - apex;
     let slack = r * (1.0 + 1e-9) + 1e-9 * d.length();
     sides.iter().all(|n| n.dot(d) >= -slack)
@@ -287,7 +287,7 @@ pub fn ball_meets_pyramid(apex: DVec3, sides: &[DVec3], c: DVec3, r: f64) -> boo
 /// angle θ (given by its cosine and sine) of the unit `axis` from `apex` (conservative by a
 /// relative 1e-9).
 #[inline]
-pub fn sphere_meets_cone(
+pub(crate) fn sphere_meets_cone(
     apex: DVec3,
     axis: DVec3,
     cos_theta: f64,

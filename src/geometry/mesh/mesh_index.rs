@@ -70,7 +70,7 @@ impl MeshIndex {
     /// vertices' stars, whose degenerate fan triangles may change with a move's rounding)
     /// built again. The cones are built again only where the first build kept
     /// them, and serve single points only where they did before and still pay.
-    pub fn moved(&self, moved: &Polyhedron) -> Self {
+    pub(crate) fn moved(&self, moved: &Polyhedron) -> Self {
         let (face_bvh, face_edges) = face_hierarchy(moved);
         let edge_hierarchy = self
             .edge_hierarchy
@@ -133,7 +133,7 @@ impl IndexedPolyhedron {
 
     /// This mesh with its vertices moved to `positions` ([`Polyhedron::moved`]), its index
     /// moved with it ([`MeshIndex::moved`]).
-    pub fn moved(&self, positions: &[DVec3]) -> Option<Self> {
+    pub(crate) fn moved(&self, positions: &[DVec3]) -> Option<Self> {
         let mesh = self.mesh.moved(positions)?;
         let index = self.index.moved(&mesh);
         Some(IndexedPolyhedron { mesh, index })

@@ -48,7 +48,7 @@ pub struct ConvexStandIn {
 
 /// Meshes with more vertex–triangle pairs than this are not tested (the test is quadratic);
 /// they keep their own path.
-pub const MAX_NEAR_CONVEX_PAIRS: usize = 400_000_000;
+pub(crate) const MAX_NEAR_CONVEX_PAIRS: usize = 400_000_000;
 
 /// The hull of `mesh` if the mesh is closed, not exactly convex, and convex up to `rounding`
 /// (the test above); `None` otherwise.
@@ -115,11 +115,11 @@ pub fn solid_angle_bound(deviation: f64, distance: f64) -> f64 {
 /// A mesh flat up to rounding is bent by at most this much of its radius (coordinates written
 /// with one decimal have a rounding that would admit a folded sheet): from points farther than
 /// that from its plane, all its faces face one way.
-pub const MAX_FLAT_BEND: f64 = 1e-6;
+pub(crate) const MAX_FLAT_BEND: f64 = 1e-6;
 
 /// Meshes with more vertex–triangle pairs than this are not tested for flatness (flat lights
 /// and cards are small).
-pub const MAX_NEAR_FLAT_PAIRS: usize = 1_000_000;
+pub(crate) const MAX_NEAR_FLAT_PAIRS: usize = 1_000_000;
 
 /// For a mesh that is not planar as stored but flat as meant (a quad light whose six-decimal
 /// corners bend it by 1e-8): the farthest a vertex lies off the plane of one of its fan

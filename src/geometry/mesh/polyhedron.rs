@@ -267,7 +267,7 @@ impl Polyhedron {
     /// faces) is kept, the geometry (face planes, bounds, diagnostics) computed again exactly
     /// as [`Polyhedron::new`] computes it. `None` when the positions do not weld to as many vertices, a face loses its area or
     /// the diagnostics change: build the mesh anew then.
-    pub fn moved(&self, positions: &[DVec3]) -> Option<Polyhedron> {
+    pub(crate) fn moved(&self, positions: &[DVec3]) -> Option<Polyhedron> {
         let mut weld: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
         let mut vertices = Vec::with_capacity(self.vertices.len());
         for p in positions {
@@ -352,7 +352,7 @@ impl Polyhedron {
     /// Whether the silhouette of this mesh from any outside point is the boundary of its
     /// front-facing faces and bounds their projection exactly once: convex closed meshes and
     /// flat (single-plane) meshes. Other meshes take the per-face path.
-    pub fn has_simple_silhouette(&self) -> bool {
+    pub(crate) fn has_simple_silhouette(&self) -> bool {
         self.diagnostics.convex || self.diagnostics.planar
     }
 

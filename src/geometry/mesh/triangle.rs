@@ -100,7 +100,7 @@ pub(crate) struct RawHit {
 
 impl RawHit {
     #[inline]
-    pub fn finish(&self) -> TriangleHit {
+    pub(crate) fn finish(&self) -> TriangleHit {
         TriangleHit {
             t: self.t,
             bary: self.uvw / self.det,
@@ -169,7 +169,7 @@ impl PreparedRay {
 
     /// False for a zero or non-finite direction: such rays hit nothing.
     #[inline]
-    pub fn is_valid(&self) -> bool {
+    pub(crate) fn is_valid(&self) -> bool {
         self.valid
     }
 

@@ -72,7 +72,7 @@ pub(crate) struct ContourArc {
 impl ContourArc {
     /// A whole arc, from vertex to vertex.
     #[inline]
-    pub fn whole(v: [u32; 2], faces: [u32; 2], from: DVec3, to: DVec3, n: DVec3) -> Self {
+    pub(crate) fn whole(v: [u32; 2], faces: [u32; 2], from: DVec3, to: DVec3, n: DVec3) -> Self {
         ContourArc {
             v,
             faces,
@@ -161,7 +161,7 @@ impl ContourPieces {
     /// as `position` judges; a crossing within its tolerance of an end is degenerate. All
     /// pairs with `all_pairs` or few arcs, else the pairs whose boxes meet, in the all-pairs
     /// order (the same result, bit for bit).
-    pub fn find_crossings(
+    pub(crate) fn find_crossings(
         &mut self,
         all_pairs: bool,
         position: impl Fn(&ContourArc, DVec3) -> ArcPosition,
@@ -234,7 +234,7 @@ impl ContourPieces {
     /// Stage 2: the pieces between consecutive crossings along each arc; an end on the
     /// window's boundary gets a boundary point of its own (its position along the boundary is
     /// the windowed silhouette's to fill in).
-    pub fn split_into_pieces(&mut self) {
+    pub(crate) fn split_into_pieces(&mut self) {
         self.cuts
             .sort_unstable_by(|p, q| p.0.cmp(&q.0).then(p.1.total_cmp(&q.1)));
         self.pieces.clear();
@@ -293,7 +293,7 @@ impl ContourPieces {
     /// as boundary edges. `scan`: test every face along a ray (no hierarchy; the reference).
     /// Returns the rays cast.
     #[allow(clippy::too_many_arguments)]
-    pub fn keep_visible(
+    pub(crate) fn keep_visible(
         &mut self,
         poly: &IndexedPolyhedron,
         x: DVec3,
@@ -338,7 +338,7 @@ impl ContourPieces {
     }
 
     /// Indexes the kept pieces by the end they start at, for [`ContourPieces::next_piece`].
-    pub fn index_starts(&mut self) {
+    pub(crate) fn index_starts(&mut self) {
         // A new stamp marks every head of an earlier call stale, without clearing.
         self.start_stamp = self.start_stamp.wrapping_add(1);
         if self.start_stamp == 0 {
@@ -364,7 +364,7 @@ impl ContourPieces {
     /// The kept piece that follows one ending at `end`: the first unused kept piece (in
     /// `kept` order) that starts there.
     #[inline]
-    pub fn next_piece(&self, end: End) -> Option<usize> {
+    pub(crate) fn next_piece(&self, end: End) -> Option<usize> {
         let (kind, id) = end.kind_and_id();
         let mut pos = match self.start_heads[kind].get(id as usize) {
             Some(&(stamp, first)) if stamp == self.start_stamp => first,
@@ -386,7 +386,7 @@ impl ContourPieces {
     /// `chain`. Call [`ContourPieces::index_starts`] first. A piece that starts or ends on the
     /// window's boundary here, or a chain that does not close, is degenerate (`out` is then
     /// left for the caller to clear).
-    pub fn chain_closed_loops(
+    pub(crate) fn chain_closed_loops(
         &mut self,
         frame: &Frame,
         out: &mut SphericalPolygon,

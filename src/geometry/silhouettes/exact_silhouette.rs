@@ -314,13 +314,13 @@ impl ExactSilhouetteScratch {
 
     /// The apparent intersections found by the last call (unit directions from the point, in
     /// world orientation), for the debugger.
-    pub fn crossings(&self) -> &[DVec3] {
+    pub(crate) fn crossings(&self) -> &[DVec3] {
         &self.pieces.crossings
     }
 
     /// The pieces of contour edges the last successful call rejected (their midpoint ray met
     /// the mesh), as (from, to) unit directions in world orientation, for the debugger.
-    pub fn rejected_pieces(&self) -> impl Iterator<Item = [DVec3; 2]> + '_ {
+    pub(crate) fn rejected_pieces(&self) -> impl Iterator<Item = [DVec3; 2]> + '_ {
         self.pieces
             .pieces
             .iter()
@@ -458,7 +458,7 @@ impl PointCoding {
 
     /// Whether every index of `code` is in range for a mesh of `vertices` vertices and `edges`
     /// edges (a tree read from a file is checked before use).
-    pub fn in_range(self, code: u32, vertices: usize, edges: usize) -> bool {
+    pub(crate) fn in_range(self, code: u32, vertices: usize, edges: usize) -> bool {
         match self {
             PointCoding::Vertices8 => match SilhouettePoint::unpack(code) {
                 SilhouettePoint::Vertex(v) => (v as usize) < vertices,

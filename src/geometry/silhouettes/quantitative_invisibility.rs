@@ -111,7 +111,7 @@ impl VertexStars {
 
 /// Pieces whose angle (its sine) is below this take part in no link: the order of two cuts so
 /// close together, or of a cut and an end, is not trusted.
-pub const TINY: f64 = 1e-8;
+pub(crate) const TINY: f64 = 1e-8;
 
 /// Relative size below which a sign (of a determinant of directions, or of the sine of a
 /// crossing angle) is not trusted.

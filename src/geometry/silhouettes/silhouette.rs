@@ -34,7 +34,7 @@ pub struct SilhouetteScratch {
 /// Is face `f` front-facing from `x`, i.e. does `x` lie strictly on its front side?
 /// (001 Eq. 4.1, with the normal pointing to the front.) Points in the face plane see neither side.
 #[inline]
-pub fn is_front_facing(poly: &Polyhedron, f: usize, x: DVec3) -> bool {
+pub(crate) fn is_front_facing(poly: &Polyhedron, f: usize, x: DVec3) -> bool {
     poly.face_planes[f].eval(x) > 0.0
 }
 

@@ -23,7 +23,7 @@ use glam::DVec3;
 
 /// Convex meshes with at least this many edges get a [`ContourWalk`] (below it the scan costs
 /// about what the walk does).
-pub const WALK_MIN_EDGES: usize = 96;
+pub(crate) const WALK_MIN_EDGES: usize = 96;
 
 /// Cells per side of each cube-map face of the start lookup.
 const GRID: usize = 4;
@@ -43,7 +43,7 @@ pub struct ContourWalk {
 
 /// Per-thread state of the walk: which faces were tested at which point, and the loop found.
 #[derive(Clone, Debug, Default)]
-pub struct WalkScratch {
+pub(crate) struct WalkScratch {
     /// Per face: `2·stamp + front` once tested at the current point.
     face_state: Vec<u64>,
     stamp: u64,
@@ -138,7 +138,7 @@ fn compressed_rows(rows: usize, mut pairs: Vec<(u32, u32)>) -> (Vec<u32>, Vec<u3
 /// The silhouette of `poly` (closed, convex, with walk adjacency `walk`) from `x`, exactly as
 /// the scan in [`crate::geometry::silhouettes::silhouette`] writes it; `false` (with `out` cleared) where the walk
 /// cannot decide and the caller must scan.
-pub fn walk_silhouette(
+pub(crate) fn walk_silhouette(
     poly: &Polyhedron,
     walk: &ContourWalk,
     x: DVec3,

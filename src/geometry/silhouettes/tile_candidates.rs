@@ -96,7 +96,7 @@ pub struct TileQuery {
 impl TileQuery {
     /// The cone from the region's centre holding every window of its points (module docs);
     /// `None` where the light is too close or too wide for one to pay.
-    pub fn cone(&self) -> Option<RegionCone> {
+    pub(crate) fn cone(&self) -> Option<RegionCone> {
         let to_light = self.light_centre - self.region.centre;
         let dist = to_light.length();
         let reach = self.light_radius + self.region.radius;
@@ -173,7 +173,7 @@ impl TileCandidates {
     /// `edge_on`: the coplanarity tolerance when `x` lies on the mesh (a face within it of `x`
     /// is left out, and its edges count as boundary edges).
     #[allow(clippy::too_many_arguments)]
-    pub fn fill(
+    pub(crate) fn fill(
         &mut self,
         hierarchy: &EdgeHierarchy,
         poly: &Polyhedron,

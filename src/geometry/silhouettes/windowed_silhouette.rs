@@ -52,7 +52,7 @@ const WIDEN: f64 = 1e-3;
 const MIN_COS_HALF_ANGLE: f64 = 0.5;
 
 /// Window corners at most.
-pub const MAX_WINDOW_CORNERS: usize = 64;
+pub(crate) const MAX_WINDOW_CORNERS: usize = 64;
 
 /// Relative tolerance of the boundary tests (far above rounding of unit vectors).
 const TOL: f64 = 1e-10;

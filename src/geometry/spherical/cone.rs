@@ -21,14 +21,14 @@ pub struct Cone {
 impl Cone {
     /// Whether this cone is the whole hemisphere (the point was inside a sphere).
     #[inline]
-    pub fn is_hemisphere(&self) -> bool {
+    pub(crate) fn is_hemisphere(&self) -> bool {
         self.half_angle >= std::f64::consts::FRAC_PI_2
     }
 
     /// Whether `dir` (unit) lies inside the cone: `arccos(ω·d) < ψ` (Alg. 2 line 7), written
     /// with the cosine. The boundary itself counts as inside.
     #[inline]
-    pub fn contains(&self, dir: DVec3) -> bool {
+    pub(crate) fn contains(&self, dir: DVec3) -> bool {
         dir.dot(self.axis) >= self.cos_half_angle
     }
 }

@@ -25,7 +25,7 @@ const MIN_AZIMUTH_COS: f64 = 0.25;
 
 /// The two parts of a split window.
 #[derive(Clone, Debug, Default)]
-pub struct HorizonSplit {
+pub(crate) struct HorizonSplit {
     /// `W⁺`, one convex loop in the window's orientation (empty when the window lies below the
     /// tilted circle).
     pub upper: Vec<DVec3>,
@@ -38,7 +38,7 @@ pub struct HorizonSplit {
 impl HorizonSplit {
     /// Splits `window` (one positively oriented convex loop of unit directions, z up). `false`
     /// when it spans too much azimuth or has no horizontal extent to tilt toward.
-    pub fn split(&mut self, window: &[DVec3]) -> bool {
+    pub(crate) fn split(&mut self, window: &[DVec3]) -> bool {
         self.upper.clear();
         self.lower_planes.clear();
         let m = window.len();

@@ -21,7 +21,7 @@ pub enum Overlap {
 
 /// Is the loop convex (no right turn)? Collinear vertices, e.g. the points that split a long
 /// horizon arc, are allowed.
-pub fn is_convex_loop(lp: &[DVec3]) -> bool {
+pub(crate) fn is_convex_loop(lp: &[DVec3]) -> bool {
     lp.len() >= 3 && turns(lp).all(|t| t >= 0.0)
 }
 
@@ -93,7 +93,7 @@ fn azimuth_wedge(verts: &[DVec3]) -> Option<(DVec3, DVec3)> {
 /// it), so they are disjoint. The planes tried bound the azimuth wedge of either set: this
 /// is what separates two occluders seen in different directions around the normal, which
 /// bounding boxes of the projection (stretched toward the horizon) often do not. O(|a| + |b|).
-pub fn separated_about_normal(a: &[DVec3], b: &[DVec3]) -> bool {
+pub(crate) fn separated_about_normal(a: &[DVec3], b: &[DVec3]) -> bool {
     let beyond = |wedge: &[DVec3], other: &[DVec3]| {
         azimuth_wedge(wedge).is_some_and(|(lo, hi)| {
             other.iter().all(|&v| side_of_meridian(lo, v) < 0.0)

@@ -47,16 +47,9 @@ impl PolygonLoops {
         Self::default()
     }
 
-    pub fn with_capacity(vertices: usize, loops: usize) -> Self {
-        PolygonLoops {
-            vertices: Vec::with_capacity(vertices),
-            loop_ends: Vec::with_capacity(loops),
-        }
-    }
-
     /// Removes every loop, keeping the capacity.
     #[inline]
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.vertices.clear();
         self.loop_ends.clear();
     }
@@ -100,19 +93,19 @@ impl PolygonLoops {
 
     /// Appends a vertex to the loop under construction (see [`PolygonLoops::close_loop`]).
     #[inline]
-    pub fn push_vertex(&mut self, v: DVec3) {
+    pub(crate) fn push_vertex(&mut self, v: DVec3) {
         self.vertices.push(v);
     }
 
     /// Number of vertices pushed since the last closed loop.
     #[inline]
-    pub fn open_loop_len(&self) -> usize {
+    pub(crate) fn open_loop_len(&self) -> usize {
         self.vertices.len() - self.loop_ends.last().copied().unwrap_or(0) as usize
     }
 
     /// The vertices pushed since the last closed loop.
     #[inline]
-    pub fn open_loop(&self) -> &[DVec3] {
+    pub(crate) fn open_loop(&self) -> &[DVec3] {
         let start = self.loop_ends.last().copied().unwrap_or(0) as usize;
         &self.vertices[start..]
     }
@@ -120,7 +113,7 @@ impl PolygonLoops {
     /// Closes the loop under construction. Loops with fewer than three vertices bound no area
     /// and are discarded. Returns whether a loop was added.
     #[inline]
-    pub fn close_loop(&mut self) -> bool {
+    pub(crate) fn close_loop(&mut self) -> bool {
         let n = self.open_loop_len();
         if n >= 3 {
             self.loop_ends.push(self.vertices.len() as u32);
@@ -133,7 +126,7 @@ impl PolygonLoops {
 
     /// Drops the vertices pushed since the last closed loop.
     #[inline]
-    pub fn discard_open_loop(&mut self) {
+    pub(crate) fn discard_open_loop(&mut self) {
         let start = self.loop_ends.last().copied().unwrap_or(0) as usize;
         self.vertices.truncate(start);
     }
@@ -154,7 +147,7 @@ impl PolygonLoops {
     }
 
     /// Appends all loops of `other`.
-    pub fn extend_from(&mut self, other: &PolygonLoops) {
+    pub(crate) fn extend_from(&mut self, other: &PolygonLoops) {
         let offset = self.vertices.len() as u32;
         self.vertices.extend_from_slice(&other.vertices);
         self.loop_ends
@@ -175,7 +168,7 @@ impl PolygonLoops {
     }
 
     /// Reverses the orientation of every loop.
-    pub fn reverse_loops(&mut self) {
+    pub(crate) fn reverse_loops(&mut self) {
         let mut start = 0usize;
         for &end in &self.loop_ends {
             self.vertices[start..end as usize].reverse();

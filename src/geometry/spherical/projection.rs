@@ -12,7 +12,7 @@
 
 use crate::geometry::{PolygonLoops, SphericalPolygon};
 use crate::math::Frame;
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 use std::ops::{Deref, DerefMut};
 
 /// A polygon of the projection plane, vertices in homogeneous coordinates (x, y, w) with
@@ -50,7 +50,7 @@ pub struct ProjectionPlane {
 
 impl ProjectionPlane {
     /// The plane of Alg. 1 line 2: look-at p = (0, 0, 1), so projection keeps the coordinates.
-    pub const NORMAL: ProjectionPlane = ProjectionPlane {
+    pub(crate) const NORMAL: ProjectionPlane = ProjectionPlane {
         frame: Frame {
             x: DVec3::X,
             y: DVec3::Y,
@@ -59,7 +59,8 @@ impl ProjectionPlane {
     };
 
     /// A plane looking along the unit direction `p`.
-    pub fn looking_along(p: DVec3) -> Self {
+    #[cfg(test)]
+    pub(crate) fn looking_along(p: DVec3) -> Self {
         ProjectionPlane {
             frame: Frame::from_z(p),
         }
@@ -67,14 +68,14 @@ impl ProjectionPlane {
 
     /// Homogeneous coordinates of the direction `v`.
     #[inline]
-    pub fn project_point(&self, v: DVec3) -> DVec3 {
+    pub(crate) fn project_point(&self, v: DVec3) -> DVec3 {
         self.frame.to_local(v)
     }
 
     /// The unit direction of the homogeneous point `h` (the inverse camera matrix, then a
     /// normalisation).
     #[inline]
-    pub fn reproject_point(&self, h: DVec3) -> DVec3 {
+    pub(crate) fn reproject_point(&self, h: DVec3) -> DVec3 {
         self.frame.to_world(h).normalize()
     }
 
@@ -86,7 +87,7 @@ impl ProjectionPlane {
     }
 
     /// `project` of Alg. 1 (lines 6 and 11).
-    pub fn project(&self, sphere: &SphericalPolygon, out: &mut PlanarPolygon) {
+    pub(crate) fn project(&self, sphere: &SphericalPolygon, out: &mut PlanarPolygon) {
         out.copy_from(sphere);
         if !self.is_normal() {
             out.map_vertices(|v| self.project_point(v));
@@ -94,7 +95,7 @@ impl ProjectionPlane {
     }
 
     /// `reproject` of Alg. 1 (line 13).
-    pub fn reproject(&self, plane: &PlanarPolygon, out: &mut SphericalPolygon) {
+    pub(crate) fn reproject(&self, plane: &PlanarPolygon, out: &mut SphericalPolygon) {
         out.copy_from(plane);
         if self.is_normal() {
             out.map_vertices(DVec3::normalize);
@@ -104,8 +105,9 @@ impl ProjectionPlane {
     }
 
     /// Euclidean plane coordinates of a homogeneous point (for display); `None` at infinity.
-    pub fn to_euclidean(h: DVec3) -> Option<DVec2> {
-        (h.z > 0.0).then(|| DVec2::new(h.x / h.z, h.y / h.z))
+    #[cfg(test)]
+    pub(crate) fn to_euclidean(h: DVec3) -> Option<glam::DVec2> {
+        (h.z > 0.0).then(|| glam::DVec2::new(h.x / h.z, h.y / h.z))
     }
 }
 
@@ -145,6 +147,6 @@ mod tests {
         assert_eq!(h, DVec3::X);
         assert!(ProjectionPlane::to_euclidean(h).is_none());
         let e = ProjectionPlane::to_euclidean(DVec3::new(1.0, 2.0, 2.0)).unwrap();
-        assert_eq!(e, DVec2::new(0.5, 1.0));
+        assert_eq!(e, glam::DVec2::new(0.5, 1.0));
     }
 }

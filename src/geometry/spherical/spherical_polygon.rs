@@ -135,7 +135,7 @@ pub(crate) fn turns(lp: &[DVec3]) -> impl Iterator<Item = f64> + '_ {
 /// `m = a × b` has length `len`: `v` lies on the arc to within the angle `tol`, or within
 /// `tol` of its start `a`.
 #[inline]
-pub fn near_arc_start(a: DVec3, b: DVec3, m: DVec3, len: f64, v: DVec3, tol: f64) -> bool {
+pub(crate) fn near_arc_start(a: DVec3, b: DVec3, m: DVec3, len: f64, v: DVec3, tol: f64) -> bool {
     let on_circle = m.dot(v).abs() <= tol * len;
     on_circle && a.cross(v).dot(m) >= 0.0 && v.cross(b).dot(m) >= 0.0
         || v.distance_squared(a) <= tol * tol
@@ -148,7 +148,7 @@ pub fn near_arc_start(a: DVec3, b: DVec3, m: DVec3, len: f64, v: DVec3, tol: f64
 /// and not crossed again, and no point repeats its predecessor (within 1e-12): the set
 /// difference wants no repeated vertices. Bound: one pass per plane, at most two points per
 /// vertex. `tmp` is scratch.
-pub fn clip_loop_to_half_spaces(
+pub(crate) fn clip_loop_to_half_spaces(
     subject: &[DVec3],
     normals: &[DVec3],
     out: &mut Vec<DVec3>,

@@ -91,7 +91,7 @@ pub(crate) fn nodes_well_formed(
 /// node below which every leaf has it (valid for that node's whole cell), how many edges would
 /// the tree hold? `leaf_edges(first, count)` lists a leaf's edges (any encoding, sorted or
 /// not). Returns (edges stored in the leaves, edges stored as high as they stay valid).
-pub fn hoisted_edge_counts(
+pub(crate) fn hoisted_edge_counts(
     nodes: &[BspNode],
     leaf_edges: &dyn Fn(u32, u32) -> Vec<(u64, u64)>,
 ) -> (usize, usize) {
@@ -375,7 +375,12 @@ fn distinct_planes(planes: &[Plane], tol: f64) -> Vec<Plane> {
 /// cells: pass 1 of the convex build alone, a quick trial for the tree of a non-convex mesh,
 /// whose face-plane cells its leaves refine (so it has at least as many leaves as there are
 /// cells). Costs a few microseconds per cell, against about a hundred per leaf of that tree.
-pub fn face_planes_exceed(poly: &Polyhedron, lo: DVec3, hi: DVec3, max_cells: usize) -> bool {
+pub(crate) fn face_planes_exceed(
+    poly: &Polyhedron,
+    lo: DVec3,
+    hi: DVec3,
+    max_cells: usize,
+) -> bool {
     face_plane_cells(poly, lo, hi, max_cells, &mut Vec::new()).is_none()
 }
 

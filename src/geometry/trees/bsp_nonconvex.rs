@@ -33,10 +33,10 @@ use crate::math::Frame;
 use glam::DVec3;
 
 /// Corners of a cell at which its leaf is validated.
-pub const VALIDATION_CORNERS: usize = 6;
+pub(crate) const VALIDATION_CORNERS: usize = 6;
 
 /// Marks a leaf whose silhouette is computed on the fly (`BspNode::Leaf::count`).
-pub const ON_THE_FLY: u32 = u32::MAX;
+pub(crate) const ON_THE_FLY: u32 = u32::MAX;
 
 /// Precomputed exact silhouettes of a closed non-convex mesh, in the mesh's coordinates.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]

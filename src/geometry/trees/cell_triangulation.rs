@@ -590,7 +590,7 @@ fn affine_sign(
 
 /// What [`triangle_keeps_orientation`] found.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Orientation {
+pub(crate) enum Orientation {
     /// Positive at every interior point of the cell (it may degenerate on the boundary).
     Kept,
     /// Not proved; with the plane of an affine factor that changes sign inside the cell (the
@@ -600,7 +600,7 @@ pub enum Orientation {
 
 /// Does the triangle `tri` (positively oriented as seen from the cell's centroid) stay
 /// positively oriented at every interior point of `cell`?
-pub fn triangle_keeps_orientation(
+pub(crate) fn triangle_keeps_orientation(
     poly: &Polyhedron,
     tri: &[SilhouettePoint; 3],
     cell: &ConvexCell,
@@ -883,7 +883,7 @@ impl SilhouetteTriangulation {
     /// The triangles (packed points) of the leaf of `x`; `None` outside the box or where no
     /// triangulation was proved.
     #[inline]
-    pub fn triangles(&self, x: DVec3) -> Option<&[[u32; 3]]> {
+    pub(crate) fn triangles(&self, x: DVec3) -> Option<&[[u32; 3]]> {
         if x.cmplt(self.lo).any() || x.cmpgt(self.hi).any() || self.nodes.is_empty() {
             return None;
         }

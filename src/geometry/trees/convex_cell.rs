@@ -63,7 +63,7 @@ impl ConvexCell {
     }
 
     /// The axis-aligned bounding box (lo > hi for an empty cell).
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    pub(crate) fn bounds(&self) -> (DVec3, DVec3) {
         self.vertices()
             .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
                 (lo.min(p), hi.max(p))
@@ -72,7 +72,7 @@ impl ConvexCell {
 
     /// The plane through `p` across the longest side of the bounding box (a bisector when `p`
     /// is central): how cells are split where no plane of the problem is at hand.
-    pub fn longest_axis_plane(&self, p: DVec3) -> Plane {
+    pub(crate) fn longest_axis_plane(&self, p: DVec3) -> Plane {
         let (lo, hi) = self.bounds();
         let ext = hi - lo;
         let axis = if ext.x >= ext.y && ext.x >= ext.z {
@@ -102,7 +102,7 @@ impl ConvexCell {
 
     /// Which side of `plane` the cell is on: every vertex within `tol` of the plane or on one
     /// side counts as that side.
-    pub fn side(&self, plane: &Plane, tol: f64) -> CellSide {
+    pub(crate) fn side(&self, plane: &Plane, tol: f64) -> CellSide {
         let (mut front, mut back) = (false, false);
         for p in self.vertices() {
             let s = plane.eval(p);
@@ -118,7 +118,7 @@ impl ConvexCell {
 
     /// The part of the cell on the back side of `plane` (`plane.eval ≤ 0`); points within `tol`
     /// of the plane count as on it. The new face lies in the plane, facing its front.
-    pub fn clip_to_back(&self, plane: &Plane, tol: f64) -> ConvexCell {
+    pub(crate) fn clip_to_back(&self, plane: &Plane, tol: f64) -> ConvexCell {
         let mut faces = Vec::with_capacity(self.faces.len() + 1);
         let mut cap: Vec<DVec3> = Vec::new();
         for f in &self.faces {
@@ -158,7 +158,7 @@ impl ConvexCell {
     /// The polygon in which `plane` cuts the cell, counter-clockwise around the plane's
     /// normal: the face both parts of [`ConvexCell::split`] would share. `None` when the plane
     /// does not cut through the interior (it misses the cell or only touches it).
-    pub fn plane_section(&self, plane: &Plane, tol: f64) -> Option<Vec<DVec3>> {
+    pub(crate) fn plane_section(&self, plane: &Plane, tol: f64) -> Option<Vec<DVec3>> {
         if self.side(plane, tol) != CellSide::Straddles {
             return None;
         }
@@ -178,7 +178,7 @@ impl ConvexCell {
     }
 
     /// The two parts of the cell on either side of `plane`: (back, front).
-    pub fn split(&self, plane: &Plane, tol: f64) -> (ConvexCell, ConvexCell) {
+    pub(crate) fn split(&self, plane: &Plane, tol: f64) -> (ConvexCell, ConvexCell) {
         let flipped = Plane {
             n: -plane.n,
             d: -plane.d,

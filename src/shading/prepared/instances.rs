@@ -19,7 +19,7 @@ use glam::{DAffine3, DMat3, DVec3};
 /// Relative tolerance (of the mesh's radius) within which an instance's vertices must be the
 /// affine image of the first member's: far below the trees' own tolerances (1e-9 · radius),
 /// far above the rounding of a scene file's scale, rotate and translate.
-pub const INSTANCE_TOLERANCE: f64 = 1e-10;
+pub(crate) const INSTANCE_TOLERANCE: f64 = 1e-10;
 
 /// The affine map `M` (det M > 0) with `other.vertices[k] = M(base.vertices[k])` for every `k`
 /// within [`INSTANCE_TOLERANCE`], if `other` has the same faces (vertex indices) as `base`.

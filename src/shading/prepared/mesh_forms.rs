@@ -22,7 +22,7 @@ impl FanMesh {
     /// The fan of `mesh`; `None` when every face of it is planar to the polyhedron's tolerance
     /// (1e-9 of its bounding radius, as `Polyhedron::new` judges; the faces are then their own
     /// pieces).
-    pub fn of(mesh: &crate::scene::Mesh) -> Option<FanMesh> {
+    pub(crate) fn of(mesh: &crate::scene::Mesh) -> Option<FanMesh> {
         let p = |i: u32| mesh.positions[i as usize];
         let (_, radius) = mesh.bounding_sphere();
         let tol = 1e-9 * radius.max(f64::MIN_POSITIVE);
@@ -77,7 +77,10 @@ impl StandIn {
     /// A mesh flat up to `rounding` (`geometry::mesh::near_convex::flat_up_to_rounding`) is
     /// classified planar instead, with no stand-in: it keeps its own vertices, and its faces
     /// tile its outline's image exactly.
-    pub fn of(mut mesh: IndexedPolyhedron, rounding: f64) -> (IndexedPolyhedron, Option<StandIn>) {
+    pub(crate) fn of(
+        mut mesh: IndexedPolyhedron,
+        rounding: f64,
+    ) -> (IndexedPolyhedron, Option<StandIn>) {
         if flat_up_to_rounding(&mesh, rounding).is_some() {
             mesh.mesh.diagnostics.planar = true;
             return (mesh, None);

@@ -12,7 +12,7 @@ use std::sync::Arc;
 /// Non-convex meshes without a tree and with at least this many faces (and a face hierarchy)
 /// compute their outline as occluders inside each light's window only: below it, the whole
 /// outline costs little.
-pub const WINDOWED_MIN_FACES: usize = 64;
+pub(crate) const WINDOWED_MIN_FACES: usize = 64;
 
 /// A tree of precomputed silhouettes, as built or as read from the disk cache or a library.
 #[derive(Clone, Debug)]
@@ -25,7 +25,7 @@ pub enum BuiltTree {
 
 impl BuiltTree {
     /// The same tree (one allocation), not merely an equal one.
-    pub fn is_same(&self, other: &BuiltTree) -> bool {
+    pub(crate) fn is_same(&self, other: &BuiltTree) -> bool {
         match (self, other) {
             (BuiltTree::Convex(a), BuiltTree::Convex(b)) => Arc::ptr_eq(a, b),
             (BuiltTree::Exact(a), BuiltTree::Exact(b)) => Arc::ptr_eq(a, b),
@@ -118,7 +118,7 @@ impl MeshPath {
     /// | closed | `ExactTree` | `ExactInWindow` (large, indexed), `ExactAtPoint` |
     /// | open, manifold | `OpenTree` | `OpenInWindow` (large, indexed), `OpenAtPoint` |
     /// | non-manifold | `PerFace` | `PerFace` |
-    pub fn decide(
+    pub(crate) fn decide(
         poly: &IndexedPolyhedron,
         hull: Option<StandIn>,
         tree: Option<PathTree>,
@@ -185,7 +185,7 @@ impl MeshPath {
 
     /// The convex hull standing in for the mesh, on the hull's paths.
     #[inline]
-    pub fn hull(&self) -> Option<&StandIn> {
+    pub(crate) fn hull(&self) -> Option<&StandIn> {
         match self {
             MeshPath::HullTree { hull, .. } | MeshPath::HullAtPoint { hull } => Some(hull),
             _ => None,
@@ -223,12 +223,12 @@ pub enum PathKind {
 
 impl PathKind {
     /// As an occluder, the outline is computed inside each light's polygon only.
-    pub fn is_windowed(self) -> bool {
+    pub(crate) fn is_windowed(self) -> bool {
         matches!(self, PathKind::ExactInWindow | PathKind::OpenInWindow)
     }
 
     /// An open mesh: as a light, face by face.
-    pub fn is_open(self) -> bool {
+    pub(crate) fn is_open(self) -> bool {
         matches!(
             self,
             PathKind::OpenAtPoint | PathKind::OpenInWindow | PathKind::OpenTree
@@ -253,7 +253,7 @@ impl PathKind {
     }
 
     /// The path in the words of the scene notes.
-    pub fn describe(self) -> &'static str {
+    pub(crate) fn describe(self) -> &'static str {
         match self {
             PathKind::ConvexTree => "convex: silhouette from its BSP tree",
             PathKind::ConvexAtPoint => "convex: silhouette chained at each point",

@@ -27,9 +27,7 @@ pub use mesh_forms::{FanMesh, StandIn};
 pub use mesh_path::{BuiltTree, MeshPath, PathKind, PathTree};
 pub use moved::MoveReuse;
 pub use report::{PrepareNote, PrepareReport};
-pub use trees::{
-    MAX_BSP_CELLS, MAX_EXACT_BSP_LEAVES, MeshTrees, build_mesh_trees,
-};
+pub use trees::{MAX_BSP_CELLS, MAX_EXACT_BSP_LEAVES, MeshTrees, build_mesh_trees};
 
 use super::cost_model::DEFAULT_EXPECTED_RAYS;
 use super::face_sides::{FaceSides, light_face_cut};
@@ -199,21 +197,21 @@ impl PreparedObject {
 
     /// The mesh's own faces, also when a hull stands in for it on the silhouette path.
     #[inline]
-    pub fn faces(&self) -> &IndexedPolyhedron {
+    pub(crate) fn faces(&self) -> &IndexedPolyhedron {
         self.path.hull().map_or(&self.poly, |s| &s.mesh)
     }
 
     /// What the face-by-face paths subtract and integrate one by one: the mesh's triangles as
     /// rays see them when some face is bent ([`FanMesh`]), else its faces.
     #[inline]
-    pub fn face_pieces(&self) -> &IndexedPolyhedron {
+    pub(crate) fn face_pieces(&self) -> &IndexedPolyhedron {
         self.fan.as_ref().map_or_else(|| self.faces(), |f| &f.poly)
     }
 
     /// The face of the mesh (`ShadingPoint::face`'s numbering) that piece `g` of
     /// [`PreparedObject::face_pieces`] belongs to.
     #[inline]
-    pub fn piece_face(&self, g: usize) -> u32 {
+    pub(crate) fn piece_face(&self, g: usize) -> u32 {
         self.fan.as_ref().map_or(g as u32, |f| f.face_of[g])
     }
 
@@ -368,7 +366,7 @@ impl PrepareConfig {
 
     /// The options of a scene prepared with these choices, the rest as
     /// [`PrepareOptions::default`] says.
-    pub fn options(&self) -> PrepareOptions<'_> {
+    pub(crate) fn options(&self) -> PrepareOptions<'_> {
         PrepareOptions {
             cache: self.tree_cache.as_ref(),
             hoisted_trees: self.hoisted_trees,
@@ -542,7 +540,7 @@ impl PreparedScene {
     }
 
     /// Builds the trees of precomputed silhouettes again with other size limits (benchmarks).
-    pub fn rebuild_silhouette_trees(&mut self, max_cells: usize, max_leaves: usize) {
+    pub(crate) fn rebuild_silhouette_trees(&mut self, max_cells: usize, max_leaves: usize) {
         let light_ids: Vec<u32> = self.lights.iter().map(|&(l, _)| l).collect();
         // The maps into a library's frame are forgotten with the library.
         self.tree_groups = instance_groups(&mut self.objects, self.share_instances);
@@ -574,7 +572,7 @@ impl PreparedScene {
     /// Whether some occluder other than light `l` itself (index into `lights`) has no plane
     /// separating it from the light: the light is then shaded face by face.
     #[inline]
-    pub fn light_is_crossed(&self, l: usize) -> bool {
+    pub(crate) fn light_is_crossed(&self, l: usize) -> bool {
         let n = self.occluders.len();
         let light = self.lights[l].0;
         (0..n).any(|o| self.occluders[o] != light && self.separations[l * n + o].is_none())
@@ -582,7 +580,7 @@ impl PreparedScene {
 
     /// Whether the points of a tile can share work with `method`: some occluder's outline is
     /// found inside the light's window through an edge hierarchy (`geometry::silhouettes::tile_candidates`).
-    pub fn tiles_share_candidates(&self, method: super::Method) -> bool {
+    pub(crate) fn tiles_share_candidates(&self, method: super::Method) -> bool {
         method == super::Method::Analytic
             && self.occluders.iter().any(|&o| {
                 let obj = &self.objects[o as usize];
@@ -592,7 +590,7 @@ impl PreparedScene {
 
     /// The separating plane of light `l` and occluder `o` (indices into `lights`/`occluders`).
     #[inline]
-    pub fn separation(&self, l: usize, o: usize) -> Option<&Plane> {
+    pub(crate) fn separation(&self, l: usize, o: usize) -> Option<&Plane> {
         self.separations[l * self.occluders.len() + o].as_ref()
     }
 }

@@ -242,14 +242,6 @@ impl PrepareReport {
     pub fn lines(&self) -> Vec<String> {
         self.notes.iter().map(ToString::to_string).collect()
     }
-
-    /// The path each mesh takes, by name.
-    pub fn paths(&self) -> impl Iterator<Item = (&str, PathKind)> {
-        self.notes.iter().filter_map(|n| match n {
-            PrepareNote::Path { object, path, .. } => Some((object.as_str(), *path)),
-            _ => None,
-        })
-    }
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@ pub const MAX_EXACT_BSP_LEAVES: usize = 200_000;
 /// a tree that does not fit stays unbuilt, so that a failed attempt costs milliseconds of a
 /// cold start, where the closed meshes' bound lets two small open meshes' failing attempts
 /// take tens of seconds (docs/silhouettes.md, "Trees of open meshes").
-pub const MAX_OPEN_BSP_LEAVES: usize = 2_000;
+pub(crate) const MAX_OPEN_BSP_LEAVES: usize = 2_000;
 
 /// Convex meshes whose face planes cut the scene into more cells than this keep computing
 /// their silhouette on the fly (the count grows with the cube of the face count).

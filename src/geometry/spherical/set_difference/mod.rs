@@ -76,7 +76,7 @@ pub const COLLAPSE_RADIUS: f64 = 4e-12;
 /// the horizon, 1e-11 apart, whose labels then contradict each other. A long loop within this
 /// of one great circle is a sliver of the same scale and is dropped on loading
 /// (`on_one_great_circle`).
-pub const DETOUR_RADIUS: f64 = 1e-9;
+pub(crate) const DETOUR_RADIUS: f64 = 1e-9;
 
 /// A fragment whose end points lie farther than this (sine of angle) from the line of its input
 /// edge after snapping takes the normal of its own chord (see `finish_clusters`).

@@ -18,7 +18,7 @@ pub enum Operand {
 impl Operand {
     /// The other input.
     #[inline]
-    pub fn other(self) -> Operand {
+    pub(crate) fn other(self) -> Operand {
         match self {
             Operand::Subject => Operand::Clip,
             Operand::Clip => Operand::Subject,
@@ -215,7 +215,7 @@ pub struct GreinerHormannSteps {
 
 impl GreinerHormannSteps {
     /// Empties every record, keeping the capacities.
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.intersections.clear();
         self.labels.clear();
         self.chains.clear();
