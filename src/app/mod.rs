@@ -36,6 +36,7 @@ pub mod viewport_web;
 
 use crate::bench::BenchReport;
 use crate::inspect::{MonteCarloEstimate, monte_carlo, probe_corrected, probe_method};
+use crate::render::request::RenderRequest;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::scene_file;
 use crate::shading::Method;
@@ -100,6 +101,12 @@ fn default_aspect() -> f32 {
     4.0 / 3.0
 }
 
+/// Samples per pixel in one pass of a stochastic method, as the workbench starts. The viewport
+/// renders pass after pass and averages them (`settings.passes`), so a pass is kept short: the
+/// first image comes soon and a camera move restarts quickly. A one-shot render (the command
+/// line's, [`RenderRequest::default`]) takes all its samples in one pass and defaults higher.
+pub const INTERACTIVE_SPP: u32 = 4;
+
 /// The image aspects offered (width / height; 0 fills the tile).
 pub const ASPECTS: [(f32, &str); 5] = [
     (4.0 / 3.0, "4:3"),
@@ -115,7 +122,7 @@ impl Default for Persisted {
             scene: "default".into(),
             orbit: None,
             method: RenderMethod::Analytic,
-            spp: 4,
+            spp: INTERACTIVE_SPP,
             passes: 64,
             aa: 1,
             exposure: 0.0,
@@ -365,9 +372,18 @@ impl AppState {
     }
 
     /// The render context of `scene`, with or without its silhouette trees, lit by the
-    /// environment panel's choice.
+    /// environment panel's choice. The scene is prepared once for every size the viewport
+    /// will render it at (a tile resizes), so its trees keep the default budget rather than
+    /// one sized for the current image ([`RenderRequest::prepare_options`]); the rest is the
+    /// request's (the LTC table, the launch's preparation choices).
     fn context(&mut self, scene: Arc<crate::scene::Scene>) -> Arc<RenderContext> {
-        let mut ctx = RenderContext::configured(scene, &self.prepare);
+        let request = self.request();
+        let options = crate::shading::PrepareOptions {
+            environment: scene.environment.is_some(),
+            ltc: request.ltc,
+            ..request.prepare.options()
+        };
+        let mut ctx = RenderContext::with_options(scene, options);
         if !self.use_trees {
             ctx.prepared.drop_silhouette_trees();
         }
@@ -526,22 +542,32 @@ impl AppState {
         self.context_replaced();
     }
 
-    /// The settings of the full-resolution render.
-    pub fn settings(&self) -> RenderSettings {
-        RenderSettings {
-            width: self.render_size.0.max(1),
-            height: self.render_size.1.max(1),
-            aa: self.settings.aa.max(1),
-            method: self.settings.method,
-            spp: self.settings.spp.max(1),
-            seed: 1,
-            light_sampling: crate::stochastic::LightSampling::SolidAngle,
-            collect_stats: matches!(
-                self.settings.aov,
-                Aov::OccludersKept | Aov::SilhouetteEdges | Aov::Cost
-            ),
-            exact_u: false,
+    /// The render the viewport asks for: [`RenderRequest::default`] with what the user set
+    /// (the image's size, the method, its samples and sub-pixel positions, the statistics
+    /// the AOV shows) and the launch's preparation choices.
+    pub fn request(&self) -> RenderRequest {
+        let defaults = RenderRequest::default();
+        RenderRequest {
+            settings: RenderSettings {
+                width: self.render_size.0.max(1),
+                height: self.render_size.1.max(1),
+                aa: self.settings.aa.max(1),
+                method: self.settings.method,
+                spp: self.settings.spp.max(1),
+                collect_stats: matches!(
+                    self.settings.aov,
+                    Aov::OccludersKept | Aov::SilhouetteEdges | Aov::Cost
+                ),
+                ..defaults.settings
+            },
+            prepare: self.prepare.clone(),
+            ..defaults
         }
+    }
+
+    /// The settings of the full-resolution render (the request's).
+    pub fn settings(&self) -> RenderSettings {
+        self.request().settings
     }
 
     /// Starts a new render if anything it depends on changed.
