@@ -207,6 +207,8 @@ pub struct AppState {
     pub figure_print: bool,
     /// Export ▸ Figure chosen this frame: its dialog opens once the menu has closed.
     pending_figure: Option<figure_export::FigureView>,
+    /// Text a command put on the clipboard this frame (handed to egui at the frame's end).
+    clipboard: Option<String>,
     /// The selected object, its handles and the edit history.
     pub editor: scene_edit::SceneEditor,
     /// Where the viewport was drawn in the last frame (points).
@@ -288,6 +290,7 @@ impl AppState {
             lesson_capture: None,
             figure_print: true,
             pending_figure: None,
+            clipboard: None,
             editor: Default::default(),
             viewport_rect: None,
             selected_light: None,
@@ -720,7 +723,31 @@ impl AppState {
             }
             Command::MonteCarloCheck => self.run_monte_carlo(65536),
             Command::ScreenshotSphere => self.screenshot_dialog(self.sphere_rect),
+            Command::SaveScene => self.save_scene_dialog(),
+            Command::ExportLesson => self.export_lesson_dialog(),
+            Command::CopyCliCommand => self.copy_cli_command(),
+            Command::OpenEmbedded(name) => self.load_scene(name),
+            Command::OpenRecent(name) => self.load_scene(&name),
+            // The dialog opens once the menu that chose the figure has closed.
+            Command::ExportFigure(view) => self.pending_figure = Some(view),
+            Command::Layout(preset) => self.set_preset(preset),
         }
+    }
+
+    /// Puts the command line that renders the view as it is now (the samples of every pass
+    /// so far) on the clipboard, and says it in the status bar.
+    fn copy_cli_command(&mut self) {
+        let passes = self.worker.latest().map_or(1, |f| f.frame.passes);
+        let mut s = self.settings();
+        s.spp *= passes;
+        let cmd = files::cli_command(
+            &self.settings.scene,
+            &self.orbit.camera(),
+            &s,
+            self.settings.exposure,
+        );
+        self.status = format!("copied: {cmd}");
+        self.clipboard = Some(cmd);
     }
 
     /// Requests a screenshot to `path` (of `crop` in points, or the whole window).

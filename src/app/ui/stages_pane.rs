@@ -38,14 +38,9 @@ impl PaneView for StagesPane {
                          the lesson text (lesson.md), for slides",
                     )
                     .on_disabled_hover_text(why_not.unwrap_or_default());
-                #[cfg(not(target_arch = "wasm32"))]
-                if button.clicked()
-                    && let Some(dir) = crate::app::platform::pick_folder()
-                {
-                    app.export_lesson(dir);
+                if button.clicked() {
+                    app.run_command(Command::ExportLesson);
                 }
-                #[cfg(target_arch = "wasm32")]
-                let _ = button;
             }
         }
     }
