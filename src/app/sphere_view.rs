@@ -152,10 +152,10 @@ impl SphereView {
         if let Some(pos) = resp.hover_pos() {
             let project = match which {
                 SphereFigure::Sphere => {
-                    views::sphere_figure::sphere_projection(&self.camera_for(probe, step), side)
+                    views::sphere::figure::sphere_projection(&self.camera_for(probe, step), side)
                 }
                 SphereFigure::Hemisphere => {
-                    views::sphere_figure::hemisphere_projection(&d, self.fit, side)
+                    views::sphere::figure::hemisphere_projection(&d, self.fit, side)
                 }
             };
             let to_screen = |p: DVec3| at.to_screen(project.project(p));
