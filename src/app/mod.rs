@@ -5,7 +5,9 @@
 //! * [`viewport`]: the render thread (progressive, cancelled on every change).
 //! * [`tonemap`]: AOVs and display colours.
 //! * [`orbit`]: the orbit camera.
-//! * [`inspector`], [`stages`], [`sphere_view`], [`planar_view`]: the picked point.
+//! * [`inspector`]: the picked point and where the stepper stands.
+//! * [`ui`]: the panes, each drawing itself (the sphere's in `ui/sphere/`), and the bars.
+//! * [`command`]: every action a key, a menu entry or a button starts.
 //! * [`files`]: scenes, dumps, bench reports, images, the CLI command.
 
 pub mod bench_job;
@@ -26,8 +28,6 @@ pub mod orbit;
 pub mod panes;
 pub mod platform;
 pub mod scene_edit;
-pub mod sphere_view;
-
 pub mod tonemap;
 pub mod ui;
 pub mod viewport;
@@ -46,10 +46,10 @@ use files::Opened;
 use inspector::Inspector;
 use layout::{Pane, Preset};
 use orbit::OrbitCamera;
-use sphere_view::SphereView;
 use std::path::PathBuf;
 use std::sync::Arc;
 use tonemap::{Aov, ToneMap};
+use ui::SphereView;
 #[cfg(not(target_arch = "wasm32"))]
 use viewport::RenderWorker;
 use viewport::frame_image;
