@@ -90,8 +90,9 @@ impl WorkbenchApp {
                 .ok_or_else(|| "no occluder is subtracted at this point".into()),
             FigureView::LightStructure => {
                 let (obj, point, record) = self
-                    .app
-                    .light_subject()
+                    .panes
+                    .light_structure
+                    .subject(&self.app)
                     .ok_or("select a light in the light structure pane")?;
                 Ok(self
                     .panes

@@ -213,8 +213,6 @@ pub struct AppState {
     pub editor: scene_edit::SceneEditor,
     /// Where the viewport was drawn in the last frame (points).
     pub viewport_rect: Option<egui::Rect>,
-    /// The light whose polyhedron the structure view shows (index into the prepared lights).
-    selected_light: Option<usize>,
     /// Read silhouettes from the BSP trees (as the renderer does by default); off, every
     /// silhouette is computed at its point, and the recording then holds the contour pieces
     /// the exact silhouette's ray test rejected there.
@@ -293,7 +291,6 @@ impl AppState {
             clipboard: None,
             editor: Default::default(),
             viewport_rect: None,
-            selected_light: None,
             use_trees: true,
             prepare,
             env_error: None,
