@@ -508,6 +508,23 @@ fn the_command_palette_runs_a_command_by_name() {
     assert!(h.state().help_shown());
 }
 
+/// File ▸ Embedded scenes and File ▸ Recent issue commands carrying the scene: each opens it
+/// and puts it first among the recent scenes.
+#[test]
+fn the_scene_menus_open_scenes_by_command() {
+    use penumbra::app::command::Command;
+    let mut h = harness(Persisted::default());
+    h.run_steps(2);
+    h.state_mut().run_command(Command::OpenEmbedded("fig4"));
+    assert_eq!(h.state().settings.scene, "fig4");
+    assert_eq!(h.state().settings.recent[0], "fig4");
+    h.state_mut()
+        .run_command(Command::OpenRecent("default".to_string()));
+    assert_eq!(h.state().settings.scene, "default");
+    assert_eq!(h.state().settings.recent[..2], ["default", "fig4"]);
+    h.run_steps(2);
+}
+
 /// Export ▸ Figure: at the point the workbench picks on its own, every view pane's
 /// figure is written as SVG, PDF and PNG, the SVG parses, and a view with nothing to show
 /// says why instead of writing an empty file. On env_figures, the environment's figure too.

@@ -3,10 +3,14 @@
 //! shown in the menus and in the help from here), and whether it waits while a text field has
 //! the keyboard. `AppState::run_command` carries them out.
 
+use super::figure_export::FigureView;
+use super::layout::Preset;
 use egui::{InputState, Key};
 
-/// An action of the workbench.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// An action of the workbench. Most take no argument and are listed in [`Command::ALL`]; those
+/// carrying one (which scene, which figure, which layout) are issued by the menu entries that
+/// choose it.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Command {
     Undo,
     Redo,
@@ -28,11 +32,27 @@ pub enum Command {
     MonteCarloCheck,
     /// A screenshot of the sphere view only.
     ScreenshotSphere,
+    /// Save the scene as it is now, moved objects included.
+    SaveScene,
+    /// Every stage of the picked point as frames, a GIF and the lesson's text.
+    ExportLesson,
+    /// The command line that renders the view, to the clipboard.
+    CopyCliCommand,
+    /// Open the embedded scene of this name.
+    OpenEmbedded(&'static str),
+    /// Open a scene opened before (an embedded scene's name or a path).
+    OpenRecent(String),
+    /// Write the figure a view shows (asks where).
+    ExportFigure(FigureView),
+    /// Arrange the panes as a preset does.
+    Layout(Preset),
 }
 
 impl Command {
-    /// Every command, in the order a frame's key presses are carried out.
-    pub const ALL: [Command; 16] = [
+    /// Every command without an argument, in the order a frame's key presses are carried out:
+    /// what the keys, the help and the palette go through. A command carrying an argument has
+    /// no shortcut and is issued from its menu.
+    pub const ALL: [Command; 19] = [
         Command::Undo,
         Command::Redo,
         Command::Restore,
@@ -49,10 +69,13 @@ impl Command {
         Command::CommandPalette,
         Command::MonteCarloCheck,
         Command::ScreenshotSphere,
+        Command::SaveScene,
+        Command::ExportLesson,
+        Command::CopyCliCommand,
     ];
 
     /// What the command does, as the help and the menus say it.
-    pub fn label(self) -> &'static str {
+    pub fn label(&self) -> &'static str {
         match self {
             Command::Undo => "undo the last move",
             Command::Redo => "redo",
@@ -70,12 +93,21 @@ impl Command {
             Command::CommandPalette => "find a command by name",
             Command::MonteCarloCheck => "check the picked point by Monte Carlo (65,536 samples)",
             Command::ScreenshotSphere => "screenshot of the sphere view",
+            Command::SaveScene => "save the scene as it is now (TOML, with its OBJ and MTL)",
+            Command::ExportLesson => {
+                "export the lesson of the picked point (frames, an animated GIF, its text)"
+            }
+            Command::CopyCliCommand => "copy the command line that renders this view",
+            Command::OpenEmbedded(_) => "open an embedded scene",
+            Command::OpenRecent(_) => "open a recent scene",
+            Command::ExportFigure(_) => "export a view's figure (SVG, PDF or PNG)",
+            Command::Layout(_) => "arrange the panes by a preset",
         }
     }
 
     /// The shortcut as written in the help and the menus; empty for a command without one
     /// (issued from its button, a menu or the palette).
-    pub fn shortcut_text(self) -> &'static str {
+    pub fn shortcut_text(&self) -> &'static str {
         match self {
             Command::Undo => "Ctrl+Z",
             Command::Redo => "Ctrl+Y / Ctrl+Shift+Z",
@@ -91,13 +123,21 @@ impl Command {
             Command::Screenshot => "F12",
             Command::ToggleHelp => "F1",
             Command::CommandPalette => "Ctrl+P",
-            Command::MonteCarloCheck | Command::ScreenshotSphere => "",
+            Command::MonteCarloCheck
+            | Command::ScreenshotSphere
+            | Command::SaveScene
+            | Command::ExportLesson
+            | Command::CopyCliCommand
+            | Command::OpenEmbedded(_)
+            | Command::OpenRecent(_)
+            | Command::ExportFigure(_)
+            | Command::Layout(_) => "",
         }
     }
 
     /// The shortcut as the help lists it: "—" for a command without one (its button, a menu
     /// or the palette issues it).
-    pub fn help_keys(self) -> &'static str {
+    pub fn help_keys(&self) -> &'static str {
         match self.shortcut_text() {
             "" => "—",
             keys => keys,
@@ -105,7 +145,7 @@ impl Command {
     }
 
     /// A menu entry's text: `name (shortcut)`, or the name alone without a shortcut.
-    pub fn menu_text(self, name: &str) -> String {
+    pub fn menu_text(&self, name: &str) -> String {
         match self.shortcut_text() {
             "" => name.to_string(),
             keys => format!("{name} ({keys})"),
@@ -114,7 +154,7 @@ impl Command {
 
     /// Whether the command's shortcut was pressed this frame (Ctrl is the command key: ⌘ on
     /// macOS).
-    pub fn pressed(self, i: &InputState) -> bool {
+    pub fn pressed(&self, i: &InputState) -> bool {
         let ctrl = i.modifiers.command;
         match self {
             Command::Undo => ctrl && !i.modifiers.shift && i.key_pressed(Key::Z),
@@ -133,13 +173,21 @@ impl Command {
             Command::Screenshot => i.key_pressed(Key::F12),
             Command::ToggleHelp => i.key_pressed(Key::F1),
             Command::CommandPalette => ctrl && i.key_pressed(Key::P),
-            Command::MonteCarloCheck | Command::ScreenshotSphere => false,
+            Command::MonteCarloCheck
+            | Command::ScreenshotSphere
+            | Command::SaveScene
+            | Command::ExportLesson
+            | Command::CopyCliCommand
+            | Command::OpenEmbedded(_)
+            | Command::OpenRecent(_)
+            | Command::ExportFigure(_)
+            | Command::Layout(_) => false,
         }
     }
 
     /// Whether the shortcut acts while a text field has the keyboard (a plain key such as
     /// Space or R belongs to the text field then).
-    pub fn while_typing(self) -> bool {
+    pub fn while_typing(&self) -> bool {
         !matches!(
             self,
             Command::Undo
@@ -236,6 +284,7 @@ mod tests {
         }
         // The palette finds a command by any words of its label.
         assert_eq!(matching("SAVE dump"), vec![Command::SaveDump]);
+        assert_eq!(matching("save scene"), vec![Command::SaveScene]);
         assert_eq!(matching("stage").len(), 4);
         assert_eq!(matching("").len(), Command::ALL.len() - 1);
         assert!(matching("no such thing").is_empty());

@@ -108,12 +108,15 @@ impl EnvironmentChoice {
         }
     }
 
-    /// The render settings of this choice (seed 0, as the workbench renders).
+    /// The render settings of this choice, with the request's default seed (the workbench's
+    /// render's, `AppState::request`).
     pub fn settings(&self) -> crate::render::environment_passes::EnvironmentSettings {
         let mut s = crate::render::environment_passes::EnvironmentSettings::new(
             self.method,
             self.spp.max(1),
-            0,
+            crate::render::request::RenderRequest::default()
+                .settings
+                .seed,
         );
         s.filter = s.filter && self.filter;
         s

@@ -3,7 +3,7 @@
 //! `penumbra figure` writes the same figures from the command line.
 
 use super::WorkbenchApp;
-use super::sphere_view::SphereFigure;
+use super::ui::{PlanarPane, SphereFigure};
 use crate::figure::Figure;
 use crate::views::Style;
 use crate::views::sphere::{Layers, drawing};
@@ -86,14 +86,13 @@ impl WorkbenchApp {
                 let camera = self.settings.sphere.camera_for(&ins.probe, ins.current());
                 Ok(crate::views::sphere_figure(&d, &camera, side, style))
             }
-            FigureView::Plane => ins
-                .ok_or_else(pick_first)?
-                .plane_figure(side, style)
+            FigureView::Plane => PlanarPane::figure(ins.ok_or_else(pick_first)?, side, style)
                 .ok_or_else(|| "no occluder is subtracted at this point".into()),
             FigureView::LightStructure => {
                 let (obj, point, record) = self
-                    .app
-                    .light_subject()
+                    .panes
+                    .light_structure
+                    .subject(&self.app)
                     .ok_or("select a light in the light structure pane")?;
                 Ok(self
                     .panes

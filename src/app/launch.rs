@@ -232,7 +232,7 @@ impl eframe::App for AutoScreenshot {
         match self.state {
             0 if self.app.render_finished() || t > self.after => {
                 self.prepare();
-                if self.app.selected_light.is_some() {
+                if self.app.panes.light_structure.light.is_some() {
                     layout::reveal(&mut self.app.tree, Pane::LightStructure);
                 }
                 self.state = 1;

@@ -5,7 +5,9 @@
 //! * [`viewport`]: the render thread (progressive, cancelled on every change).
 //! * [`tonemap`]: AOVs and display colours.
 //! * [`orbit`]: the orbit camera.
-//! * [`inspector`], [`stages`], [`sphere_view`], [`planar_view`]: the picked point.
+//! * [`inspector`]: the picked point and where the stepper stands.
+//! * [`ui`]: the panes, each drawing itself (the sphere's in `ui/sphere/`), and the bars.
+//! * [`command`]: every action a key, a menu entry or a button starts.
 //! * [`files`]: scenes, dumps, bench reports, images, the CLI command.
 
 pub mod bench_job;
@@ -26,8 +28,6 @@ pub mod orbit;
 pub mod panes;
 pub mod platform;
 pub mod scene_edit;
-pub mod sphere_view;
-
 pub mod tonemap;
 pub mod ui;
 pub mod viewport;
@@ -36,6 +36,7 @@ pub mod viewport_web;
 
 use crate::bench::table::BenchReport;
 use crate::inspect::{MonteCarloEstimate, monte_carlo, probe_corrected, probe_method};
+use crate::render::request::RenderRequest;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::scene_file;
 use crate::shading::Method;
@@ -45,10 +46,10 @@ use files::Opened;
 use inspector::Inspector;
 use layout::{Pane, Preset};
 use orbit::OrbitCamera;
-use sphere_view::SphereView;
 use std::path::PathBuf;
 use std::sync::Arc;
 use tonemap::{Aov, ToneMap};
+use ui::SphereView;
 #[cfg(not(target_arch = "wasm32"))]
 use viewport::RenderWorker;
 use viewport::frame_image;
@@ -100,6 +101,12 @@ fn default_aspect() -> f32 {
     4.0 / 3.0
 }
 
+/// Samples per pixel in one pass of a stochastic method, as the workbench starts. The viewport
+/// renders pass after pass and averages them (`settings.passes`), so a pass is kept short: the
+/// first image comes soon and a camera move restarts quickly. A one-shot render (the command
+/// line's, [`RenderRequest::default`]) takes all its samples in one pass and defaults higher.
+pub const INTERACTIVE_SPP: u32 = 4;
+
 /// The image aspects offered (width / height; 0 fills the tile).
 pub const ASPECTS: [(f32, &str); 5] = [
     (4.0 / 3.0, "4:3"),
@@ -115,7 +122,7 @@ impl Default for Persisted {
             scene: "default".into(),
             orbit: None,
             method: RenderMethod::Analytic,
-            spp: 4,
+            spp: INTERACTIVE_SPP,
             passes: 64,
             aa: 1,
             exposure: 0.0,
@@ -200,12 +207,12 @@ pub struct AppState {
     pub figure_print: bool,
     /// Export ▸ Figure chosen this frame: its dialog opens once the menu has closed.
     pending_figure: Option<figure_export::FigureView>,
+    /// Text a command put on the clipboard this frame (handed to egui at the frame's end).
+    clipboard: Option<String>,
     /// The selected object, its handles and the edit history.
     pub editor: scene_edit::SceneEditor,
     /// Where the viewport was drawn in the last frame (points).
     pub viewport_rect: Option<egui::Rect>,
-    /// The light whose polyhedron the structure view shows (index into the prepared lights).
-    selected_light: Option<usize>,
     /// Read silhouettes from the BSP trees (as the renderer does by default); off, every
     /// silhouette is computed at its point, and the recording then holds the contour pieces
     /// the exact silhouette's ray test rejected there.
@@ -281,9 +288,9 @@ impl AppState {
             lesson_capture: None,
             figure_print: true,
             pending_figure: None,
+            clipboard: None,
             editor: Default::default(),
             viewport_rect: None,
-            selected_light: None,
             use_trees: true,
             prepare,
             env_error: None,
@@ -365,9 +372,18 @@ impl AppState {
     }
 
     /// The render context of `scene`, with or without its silhouette trees, lit by the
-    /// environment panel's choice.
+    /// environment panel's choice. The scene is prepared once for every size the viewport
+    /// will render it at (a tile resizes), so its trees keep the default budget rather than
+    /// one sized for the current image ([`RenderRequest::prepare_options`]); the rest is the
+    /// request's (the LTC table, the launch's preparation choices).
     fn context(&mut self, scene: Arc<crate::scene::Scene>) -> Arc<RenderContext> {
-        let mut ctx = RenderContext::configured(scene, &self.prepare);
+        let request = self.request();
+        let options = crate::shading::PrepareOptions {
+            environment: scene.environment.is_some(),
+            ltc: request.ltc,
+            ..request.prepare.options()
+        };
+        let mut ctx = RenderContext::with_options(scene, options);
         if !self.use_trees {
             ctx.prepared.drop_silhouette_trees();
         }
@@ -526,22 +542,32 @@ impl AppState {
         self.context_replaced();
     }
 
-    /// The settings of the full-resolution render.
-    pub fn settings(&self) -> RenderSettings {
-        RenderSettings {
-            width: self.render_size.0.max(1),
-            height: self.render_size.1.max(1),
-            aa: self.settings.aa.max(1),
-            method: self.settings.method,
-            spp: self.settings.spp.max(1),
-            seed: 1,
-            light_sampling: crate::stochastic::LightSampling::SolidAngle,
-            collect_stats: matches!(
-                self.settings.aov,
-                Aov::OccludersKept | Aov::SilhouetteEdges | Aov::Cost
-            ),
-            exact_u: false,
+    /// The render the viewport asks for: [`RenderRequest::default`] with what the user set
+    /// (the image's size, the method, its samples and sub-pixel positions, the statistics
+    /// the AOV shows) and the launch's preparation choices.
+    pub fn request(&self) -> RenderRequest {
+        let defaults = RenderRequest::default();
+        RenderRequest {
+            settings: RenderSettings {
+                width: self.render_size.0.max(1),
+                height: self.render_size.1.max(1),
+                aa: self.settings.aa.max(1),
+                method: self.settings.method,
+                spp: self.settings.spp.max(1),
+                collect_stats: matches!(
+                    self.settings.aov,
+                    Aov::OccludersKept | Aov::SilhouetteEdges | Aov::Cost
+                ),
+                ..defaults.settings
+            },
+            prepare: self.prepare.clone(),
+            ..defaults
         }
+    }
+
+    /// The settings of the full-resolution render (the request's).
+    pub fn settings(&self) -> RenderSettings {
+        self.request().settings
     }
 
     /// Starts a new render if anything it depends on changed.
@@ -694,7 +720,31 @@ impl AppState {
             }
             Command::MonteCarloCheck => self.run_monte_carlo(65536),
             Command::ScreenshotSphere => self.screenshot_dialog(self.sphere_rect),
+            Command::SaveScene => self.save_scene_dialog(),
+            Command::ExportLesson => self.export_lesson_dialog(),
+            Command::CopyCliCommand => self.copy_cli_command(),
+            Command::OpenEmbedded(name) => self.load_scene(name),
+            Command::OpenRecent(name) => self.load_scene(&name),
+            // The dialog opens once the menu that chose the figure has closed.
+            Command::ExportFigure(view) => self.pending_figure = Some(view),
+            Command::Layout(preset) => self.set_preset(preset),
         }
+    }
+
+    /// Puts the command line that renders the view as it is now (the samples of every pass
+    /// so far) on the clipboard, and says it in the status bar.
+    fn copy_cli_command(&mut self) {
+        let passes = self.worker.latest().map_or(1, |f| f.frame.passes);
+        let mut s = self.settings();
+        s.spp *= passes;
+        let cmd = files::cli_command(
+            &self.settings.scene,
+            &self.orbit.camera(),
+            &s,
+            self.settings.exposure,
+        );
+        self.status = format!("copied: {cmd}");
+        self.clipboard = Some(cmd);
     }
 
     /// Requests a screenshot to `path` (of `crop` in points, or the whole window).

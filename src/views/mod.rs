@@ -10,12 +10,11 @@ pub mod light;
 pub(crate) mod plane;
 pub(crate) mod recording_figure;
 pub mod sphere;
-pub(crate) mod sphere_figure;
 pub mod stages;
 
 pub use plane::{plane_figure, warp, warped_loop};
 pub use recording_figure::{FigureRequest, current_stage, recording_figure};
-pub use sphere_figure::{SphereCamera, hemisphere_figure, sphere_figure};
+pub use sphere::figure::{SphereCamera, hemisphere_figure, sphere_figure};
 
 /// Colours for a screen (dark background) or for print (light background, and colours that
 /// stay apart in greyscale: the light's region light, the occluder's dark, the answer mid-dark

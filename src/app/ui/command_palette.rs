@@ -35,7 +35,7 @@ impl AppState {
         }
         palette.selected = palette.selected.min(found.len().saturating_sub(1));
         let mut chosen = enter
-            .then(|| found.get(palette.selected).copied())
+            .then(|| found.get(palette.selected).cloned())
             .flatten();
         egui::Window::new("Commands")
             .title_bar(false)
@@ -64,7 +64,7 @@ impl AppState {
                             ui.weak(c.shortcut_text());
                         });
                         if row.clicked() {
-                            chosen = Some(*c);
+                            chosen = Some(c.clone());
                         }
                     });
                 }

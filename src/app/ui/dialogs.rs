@@ -1,5 +1,6 @@
-//! The workbench's file dialogs (open, save image, save dump, screenshot, save scene): a
-//! path on the desktop, the browser's picker and downloads on the web (`app::platform`).
+//! The workbench's file dialogs (open, save image, save dump, screenshot, save scene, export
+//! lesson): a path on the desktop, the browser's picker and downloads on the web
+//! (`app::platform`).
 
 use super::super::platform::{self, SaveTarget};
 use super::super::*;
@@ -75,6 +76,29 @@ impl AppState {
                 ),
                 Err(e) => e.to_string(),
             };
+        }
+    }
+
+    /// Asks for a folder and exports the picked point's lesson into it (`export_lesson`); a
+    /// folder of frames, so the desktop's only.
+    pub(in crate::app) fn export_lesson_dialog(&mut self) {
+        if self.inspector.is_none() {
+            self.status = "pick a point before exporting its lesson".into();
+            return;
+        }
+        if self.lesson_capture.is_some() {
+            self.status = "a lesson is being exported".into();
+            return;
+        }
+        match platform::unavailable_here("exporting a lesson") {
+            Some(why) => self.status = why,
+            None =>
+            {
+                #[cfg(not(target_arch = "wasm32"))]
+                if let Some(dir) = platform::pick_folder() {
+                    self.export_lesson(dir);
+                }
+            }
         }
     }
 }

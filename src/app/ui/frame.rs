@@ -70,6 +70,9 @@ impl WorkbenchApp {
             });
         }
         self.palette_ui(&ctx);
+        if let Some(text) = self.clipboard.take() {
+            ctx.copy_text(text);
+        }
         self.maybe_request();
         self.worker.tick();
         self.maybe_auto_pick();

@@ -4,10 +4,12 @@
 use super::super::*;
 use super::PaneView;
 
-/// Its own state: the structure view's orientation and layers.
+/// Its own state: the light shown, and the structure view's orientation and layers.
 #[derive(Default)]
 pub struct LightStructurePane {
     pub view: light_view::LightView,
+    /// The light shown (index into the prepared lights).
+    pub light: Option<usize>,
 }
 
 impl PaneView for LightStructurePane {
@@ -23,39 +25,62 @@ impl PaneView for LightStructurePane {
             .collect();
         egui::ComboBox::from_label("light")
             .selected_text(
-                app.selected_light
+                self.light
                     .and_then(|l| names.get(l).cloned())
                     .unwrap_or_else(|| "none".into()),
             )
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut app.selected_light, None, "none");
+                ui.selectable_value(&mut self.light, None, "none");
                 for (i, n) in names.iter().enumerate() {
-                    ui.selectable_value(&mut app.selected_light, Some(i), n);
+                    ui.selectable_value(&mut self.light, Some(i), n);
                 }
             });
-        if let Some((obj, point, record)) = app.light_subject() {
+        if let Some((obj, point, record)) = subject(self.light, app) {
             self.view.ui(ui, obj, point, record);
         }
     }
 }
 
-impl AppState {
-    /// The light the structure pane shows: its prepared object, the picked point and the
-    /// light's record there taken whole (a light taken face by face has no outline).
-    pub fn light_subject(&self) -> Option<LightSubject<'_>> {
-        let ctx = self.ctx.as_ref()?;
-        let l = self.selected_light?;
-        let &(id, _) = ctx.prepared.lights.get(l)?;
-        let obj = &ctx.prepared.objects[id as usize];
-        let probe = self.inspector.as_ref().map(|i| &i.probe);
-        let point = probe.and_then(|p| p.point).map(|p| p.position);
-        let record = probe.and_then(|p| {
-            p.recording
+impl LightStructurePane {
+    /// The light the pane shows: its prepared object, the picked point and the light's record
+    /// there taken whole (a light taken face by face has no outline).
+    pub fn subject<'a>(&self, app: &'a AppState) -> Option<LightSubject<'a>> {
+        subject(self.light, app)
+    }
+}
+
+fn subject(light: Option<usize>, app: &AppState) -> Option<LightSubject<'_>> {
+    let ctx = app.ctx.as_ref()?;
+    let l = light?;
+    let &(id, _) = ctx.prepared.lights.get(l)?;
+    let obj = &ctx.prepared.objects[id as usize];
+    let probe = app.inspector.as_ref().map(|i| &i.probe);
+    let point = probe.and_then(|p| p.point).map(|p| p.position);
+    let record = probe.and_then(|p| {
+        p.recording
+            .lights
+            .iter()
+            .find(|r| r.light == l && r.piece.is_none())
+    });
+    Some((obj, point, record))
+}
+
+impl WorkbenchApp {
+    /// Shows the light named `name` in the light structure pane (a status message if none).
+    pub fn select_light(&mut self, name: &str) {
+        let found = self.app.ctx.as_ref().and_then(|ctx| {
+            ctx.prepared
                 .lights
                 .iter()
-                .find(|r| r.light == l && r.piece.is_none())
+                .position(|&(id, _)| ctx.prepared.objects[id as usize].name == name)
         });
-        Some((obj, point, record))
+        match found {
+            Some(l) => {
+                self.panes.light_structure.light = Some(l);
+                layout::reveal(&mut self.app.tree, Pane::LightStructure);
+            }
+            None => self.app.status = format!("no light named '{name}'"),
+        }
     }
 }
 

@@ -1,4 +1,4 @@
-//! The workbench's the menu bar (its entries issue `Command`s).
+//! The workbench's menu bar (its entries issue `Command`s).
 
 use super::super::*;
 
@@ -12,14 +12,14 @@ impl AppState {
                 ui.menu_button("Embedded scenes", |ui| {
                     for name in scene_file::embedded_scene_names() {
                         if ui.button(*name).clicked() {
-                            self.load_scene(name);
+                            self.run_command(Command::OpenEmbedded(name));
                         }
                     }
                 });
                 ui.menu_button("Recent", |ui| {
                     for r in self.settings.recent.clone() {
                         if ui.button(&r).clicked() {
-                            self.load_scene(&r);
+                            self.run_command(Command::OpenRecent(r));
                         }
                     }
                 });
@@ -48,25 +48,18 @@ impl AppState {
                 {
                     self.run_command(Command::ScreenshotSphere);
                 }
-                if ui.button("Copy CLI command").clicked() {
-                    let passes = self.worker.latest().map_or(1, |f| f.frame.passes);
-                    let mut s = self.settings();
-                    s.spp *= passes;
-                    let cmd = files::cli_command(
-                        &self.settings.scene,
-                        &self.orbit.camera(),
-                        &s,
-                        self.settings.exposure,
-                    );
-                    ui.ctx().copy_text(cmd.clone());
-                    self.status = format!("copied: {cmd}");
+                if ui
+                    .button(Command::CopyCliCommand.menu_text("Copy CLI command"))
+                    .clicked()
+                {
+                    self.run_command(Command::CopyCliCommand);
                 }
             });
             ui.menu_button("Export", |ui| {
                 ui.menu_button("Figure", |ui| {
                     for v in figure_export::FigureView::ALL {
                         if ui.button(format!("{}…", v.title())).clicked() {
-                            self.pending_figure = Some(v);
+                            self.run_command(Command::ExportFigure(v));
                             ui.close();
                         }
                     }
@@ -90,7 +83,7 @@ impl AppState {
                             .selectable_label(self.settings.preset == p, p.name())
                             .clicked()
                         {
-                            self.set_preset(p);
+                            self.run_command(Command::Layout(p));
                         }
                     }
                 });

@@ -1,7 +1,9 @@
 //! The panes and bars of the workbench, one file each. A pane is its own type
-//! ([`PaneView`]) holding only its own view state, drawn from the app's state and the picked
-//! point's recording; the bars (menu, status), dialogs, picking and the lesson capture are
-//! `impl AppState` blocks, so that `mod.rs` keeps the state and its lifecycle.
+//! ([`PaneView`]) in a file named after it, holding only its own view state and drawing
+//! itself from the app's state and the picked point's recording; the sphere's two panes and
+//! the view state they share are in `sphere/`. The bars (menu, status), dialogs, picking and
+//! the lesson capture are `impl AppState` blocks, so that `app/mod.rs` keeps the state and its
+//! lifecycle.
 //!
 //! A new pane: a variant of `layout::Pane` (its title, where the presets put it), a type here
 //! in its own file implementing [`PaneView`], and its field in [`Panes`].
@@ -10,7 +12,6 @@ mod command_palette;
 mod dialogs;
 mod environment_pane;
 mod frame;
-mod hemisphere_pane;
 mod lesson_capture;
 mod light_structure_pane;
 mod menu;
@@ -20,27 +21,29 @@ mod planar_pane;
 mod plots_pane;
 mod scene_pane;
 mod settings_pane;
-mod sphere_pane;
+mod sphere;
 mod stages_pane;
 mod status;
 mod viewport_pane;
 
 pub use command_palette::CommandPalette;
 pub use environment_pane::EnvironmentPane;
-pub use hemisphere_pane::HemispherePane;
 pub use light_structure_pane::LightStructurePane;
 pub use numbers_pane::NumbersPane;
 pub use planar_pane::PlanarPane;
 pub use plots_pane::PlotsPane;
 pub use scene_pane::ScenePane;
 pub use settings_pane::SettingsPane;
-pub use sphere_pane::SpherePane;
+pub use sphere::{HemispherePane, SphereFigure, SpherePane, SphereView};
 pub use stages_pane::StagesPane;
 pub use viewport_pane::ViewportPane;
 
 use super::AppState;
 use super::layout::Pane;
 use egui::Ui;
+
+/// What a pane of the picked point says before a pick.
+const PICK_FIRST: &str = "Click a pixel of the viewport to see its shading point here.";
 
 /// A pane of the workbench.
 pub trait PaneView {

@@ -3,6 +3,8 @@
 
 use super::super::*;
 use super::PaneView;
+use crate::inspect::Probe;
+use crate::shading::{EnvironmentSide, RayOutcome};
 
 /// Draws the picked point's recorded numbers; no state of its own.
 #[derive(Default)]
@@ -10,14 +12,243 @@ pub struct NumbersPane;
 
 impl PaneView for NumbersPane {
     fn ui(&mut self, ui: &mut Ui, app: &mut AppState) {
-        let Some(ins) = &mut app.inspector else {
+        let Some(ins) = &app.inspector else {
             ui.label("Click a pixel to inspect its shading point, or open a debug dump.");
             return;
         };
-        ins.numbers_ui(ui, app.monte_carlo.as_ref());
-        ins.environment_ui(ui);
+        point_numbers_ui(ui, &ins.probe, app.monte_carlo.as_ref());
+        environment_ui(ui, &ins.probe);
         if ui.button("Monte Carlo check (65536 samples)").clicked() {
             app.run_command(Command::MonteCarloCheck);
         }
     }
+}
+
+/// The numbers of the point: per light U and S, solid angles, the MC check.
+fn point_numbers_ui(ui: &mut Ui, p: &Probe, monte_carlo: Option<&MonteCarloEstimate>) {
+    let Some(sp) = p.point else {
+        ui.label("The ray hits nothing.");
+        return;
+    };
+    egui::Grid::new("point_numbers")
+        .num_columns(2)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.label("pixel");
+            ui.label(format!(
+                "({:.1}, {:.1}) of {}×{}",
+                p.pixel.0, p.pixel.1, p.size.0, p.size.1
+            ));
+            ui.end_row();
+            ui.label("object");
+            ui.label(p.object_name.clone().unwrap_or_default());
+            ui.end_row();
+            ui.label("position");
+            ui.label(fmt3(sp.position));
+            ui.end_row();
+            ui.label("normal");
+            ui.label(fmt3(sp.normal));
+            ui.end_row();
+            ui.label("view");
+            ui.label(fmt3(sp.view));
+            ui.end_row();
+            if let Some(m) = &p.material {
+                ui.label("material");
+                ui.label(format!(
+                    "{}: kd {} ks {} α {:.3}",
+                    m.name,
+                    fmt3(m.kd),
+                    fmt3(m.ks),
+                    m.alpha
+                ));
+                ui.end_row();
+            }
+            ui.label("radiance");
+            ui.label(RichText::new(fmt3(p.radiance)).strong());
+            ui.end_row();
+            if let Some(c) = &p.correction {
+                // analytic-exact: radiance = LTC + this sampled correction.
+                ui.label("GGX − LTC (sampled)");
+                ui.label(format!(
+                    "{} ± {} (95 %, {} directions per light)",
+                    fmt3(c.value),
+                    fmt3(c.stderr * 1.96),
+                    c.samples
+                ));
+                ui.end_row();
+            }
+            if let Some(mc) = monte_carlo {
+                ui.label("Monte Carlo");
+                ui.label(format!(
+                    "{} ± {} (95 %, {} samples)",
+                    fmt3(mc.mean + p.emitted),
+                    fmt3(mc.stderr * 1.96),
+                    mc.samples
+                ));
+                ui.end_row();
+            }
+        });
+    ui.add_space(4.0);
+    let corrected = p.correction.is_some();
+    egui::Grid::new("light_numbers")
+        .num_columns(5 + usize::from(corrected))
+        .striped(true)
+        .show(ui, |ui| {
+            ui.strong("light");
+            ui.strong("unshadowed U");
+            ui.strong("shadowed S");
+            if corrected {
+                ui.strong("GGX − LTC");
+            }
+            ui.strong("solid angle (sr)");
+            ui.strong("visible");
+            ui.end_row();
+            for l in &p.lights {
+                ui.label(&l.name);
+                ui.label(fmt3(l.unshadowed));
+                ui.label(fmt3(l.shadowed));
+                if corrected {
+                    ui.label(fmt3(l.correction));
+                }
+                ui.label(format!("{:.5}", l.solid_angle));
+                ui.label(format!("{:.1} %", 100.0 * l.visible_fraction()));
+                ui.end_row();
+            }
+        });
+}
+
+/// The environment's numbers at the point (paper 002): E_unshadowed (Eq. 7), E_static,
+/// E_occluded, E (Eq. 3) and ρ/π·E, the exact integrals beside a ray-traced method's,
+/// and the union terms with their integrals and sums.
+fn environment_ui(ui: &mut Ui, p: &Probe) {
+    let Some(e) = &p.environment else {
+        return;
+    };
+    let rec = &p.recording.environment;
+    ui.add_space(4.0);
+    let method = e.settings.map_or("?", |s| s.method.name());
+    ui.strong(format!(
+        "environment {} (rotate {:.0}°, scale {}), {method}",
+        e.label, e.rotate_deg, e.scale
+    ));
+    egui::Grid::new("environment_numbers")
+        .num_columns(2)
+        .striped(true)
+        .show(ui, |ui| {
+            let mut row = |name: &str, value: String| {
+                ui.label(name);
+                ui.label(value);
+                ui.end_row();
+            };
+            if let Some(s) = &e.sample {
+                row("E_unshadowed (Eq. 7)", fmt3(s.unshadowed));
+                if let Some(st) = s.e_static {
+                    row("E_static", fmt3(st));
+                }
+                if let Some(oc) = s.occluded {
+                    row("E_occluded", fmt3(oc));
+                }
+                row("E (Eq. 3)", fmt3(s.irradiance));
+                if let Some(se) = s.stderr {
+                    row("standard error of E", fmt3(se));
+                }
+                row("ρ/π · E", fmt3(s.radiance));
+            }
+            if e.filtered_in_render {
+                row(
+                    "",
+                    "(the render filters E_occluded 5×5: its pixel differs)".into(),
+                );
+            }
+            if method != "analytic" {
+                if let Some(st) = e.exact_static {
+                    row("exact E_static", fmt3(st));
+                }
+                if let Some(oc) = e.exact_occluded {
+                    row("exact E_occluded", fmt3(oc));
+                }
+            }
+            if !rec.rays.is_empty() {
+                let count = |o: RayOutcome| rec.rays.iter().filter(|r| r.outcome == o).count();
+                row(
+                    "rays",
+                    format!(
+                        "{} traced ({} hit dynamic, {} static, {} escaped), {} culled of {}",
+                        rec.rays.len() - count(RayOutcome::Culled),
+                        count(RayOutcome::Dynamic),
+                        count(RayOutcome::Static),
+                        count(RayOutcome::Escaped),
+                        count(RayOutcome::Culled),
+                        rec.rays.len()
+                    ),
+                );
+                row(
+                    "cones",
+                    format!(
+                        "{} (Eq. 4), {} merged (Alg. 1)",
+                        rec.cones.len(),
+                        rec.merged_cones.len()
+                    ),
+                );
+            }
+        });
+    let terms = if rec.terms.is_empty() {
+        &e.exact_terms
+    } else {
+        &rec.terms
+    };
+    if terms.is_empty() {
+        return;
+    }
+    ui.label(if rec.terms.is_empty() {
+        "union terms of the exact method (for comparison):"
+    } else {
+        "union terms integrated:"
+    });
+    let name = |i: usize| {
+        p.occluder_names
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("#{i}"))
+    };
+    egui::Grid::new("environment_terms")
+        .num_columns(4)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.strong("term");
+            ui.strong("occluder");
+            ui.strong("vertices");
+            ui.strong("∫ L cos (RGB)");
+            ui.end_row();
+            for t in terms {
+                ui.label(match t.side {
+                    EnvironmentSide::Static => "S_k − S_<k",
+                    EnvironmentSide::Dynamic => "D_i − S − D_<i",
+                });
+                ui.label(name(t.occluder));
+                ui.label(t.polygon.vertices().len().to_string());
+                ui.label(fmt3(t.integral));
+                ui.end_row();
+            }
+            let sums = [
+                (EnvironmentSide::Static, "Σ static"),
+                (EnvironmentSide::Dynamic, "Σ dynamic = E_occluded"),
+            ];
+            for (side, label) in sums {
+                let sum: glam::DVec3 = terms
+                    .iter()
+                    .filter(|t| t.side == side)
+                    .map(|t| t.integral)
+                    .sum();
+                ui.strong(label);
+                ui.label("");
+                ui.label("");
+                ui.strong(fmt3(sum));
+                ui.end_row();
+            }
+        });
+}
+
+fn fmt3(v: glam::DVec3) -> String {
+    format!("({:.5}, {:.5}, {:.5})", v.x, v.y, v.z)
 }

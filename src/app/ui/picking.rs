@@ -1,4 +1,5 @@
-//! The workbench's picking a pixel: the probe of the picked point (`inspect::probe_method`), its Monte Carlo check, the light shown.
+//! The workbench's picking a pixel: the probe of the picked point (`inspect::probe_method`)
+//! and its Monte Carlo check.
 
 use super::super::*;
 
@@ -86,23 +87,6 @@ impl AppState {
         };
         if let (Some(sp), Some(m)) = (ins.probe.point, ins.probe.material.as_ref()) {
             self.monte_carlo = Some(monte_carlo(ctx, &sp, m, samples, 7));
-        }
-    }
-
-    /// Shows the light named `name` in the light structure view (a status message if none).
-    pub fn select_light(&mut self, name: &str) {
-        let found = self.ctx.as_ref().and_then(|ctx| {
-            ctx.prepared
-                .lights
-                .iter()
-                .position(|&(id, _)| ctx.prepared.objects[id as usize].name == name)
-        });
-        match found {
-            Some(l) => {
-                self.selected_light = Some(l);
-                layout::reveal(&mut self.tree, Pane::LightStructure);
-            }
-            None => self.status = format!("no light named '{name}'"),
         }
     }
 }

@@ -48,7 +48,7 @@ impl PaneView for ScenePane {
                 .on_disabled_hover_text(why_not.unwrap_or_default())
                 .clicked()
             {
-                app.save_scene_dialog();
+                app.run_command(Command::SaveScene);
             }
         });
         ui.small(

@@ -1,4 +1,4 @@
-//! The workbench's the status bar.
+//! The workbench's status bar.
 
 use super::super::*;
 

@@ -1,16 +1,15 @@
-//! The unit sphere at the picked shading point, as the workbench shows it: the figures of
-//! `views` (the 3-D sphere framed on the lights, and the hemisphere seen from above, where
-//! areas are form factors) painted by egui, with what only a window has: orbit and zoom, and
+//! The view state the sphere and hemisphere panes share, kept between sessions: the camera,
+//! the layers, the flat view's zoom; the figures of `views::sphere` it paints with egui, and
 //! the name and coordinates of the vertex under the mouse. Everything is in the shading frame
 //! (z = n).
 
-use super::figure_painter::{self, FigureRect};
+use crate::app::figure_painter::{self, FigureRect};
+use crate::app::inspector::Inspector;
 use crate::inspect::Probe;
-use crate::shading::LightRecord;
 use crate::views::sphere::{Drawing, Layers, drawing, region_of_interest};
-use crate::views::stages::{Step, StepKind};
+use crate::views::stages::Step;
 use crate::views::{self, SphereCamera, Style};
-use egui::{Pos2, Rect, Sense, Stroke, Ui, Vec2};
+use egui::{Pos2, Rect, RichText, Sense, Stroke, Ui, Vec2};
 use glam::DVec3;
 
 /// State of the sphere view: camera, layers, the vertex under the mouse.
@@ -95,39 +94,20 @@ impl SphereView {
         });
     }
 
-    /// The rotatable 3D unit sphere, as large as the space given (drag to rotate, scroll to
-    /// zoom, double-click to frame the lights again).
-    pub fn sphere_ui(&mut self, ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
-        let (resp, painter) = canvas(ui, "unit sphere (drag to rotate)", Sense::click_and_drag());
-        let mut camera = self.camera_for(probe, step);
-        if resp.dragged() {
-            let d = resp.drag_delta();
-            camera.yaw -= d.x * 0.01;
-            camera.pitch = (camera.pitch + d.y * 0.01).clamp(-1.5, 1.5);
-            self.camera = Some(camera);
-        }
-        if resp.hovered() {
-            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
-            if scroll != 0.0 {
-                camera.zoom = (camera.zoom * (scroll * 0.003).exp()).clamp(0.5, 50.0);
-                self.camera = Some(camera);
-            }
-        }
-        if resp.double_clicked() {
-            self.camera = None;
-        }
-        self.sphere_side = resp.rect.width();
-        self.paint(ui, &resp, &painter, SphereFigure::Sphere, probe, step);
+    /// The header of a pane: the layer menu and the current stage's label.
+    pub fn header_ui(&mut self, ui: &mut Ui, ins: &Inspector) {
+        ui.horizontal(|ui| {
+            self.layers_ui(ui, &ins.probe);
+            let label = match ins.current() {
+                Some(s) => s.label.clone(),
+                None => format!("all {} stages", ins.steps.len()),
+            };
+            ui.add(egui::Label::new(RichText::new(label).strong()).truncate());
+        });
     }
 
-    /// The hemisphere seen from the normal (orthographic: areas are form factors).
-    pub fn hemisphere_ui(&mut self, ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
-        let (resp, painter) = canvas(ui, "hemisphere seen from the normal", Sense::hover());
-        self.paint(ui, &resp, &painter, SphereFigure::Hemisphere, probe, step);
-    }
-
-    /// Paints the pane's figure at the canvas' size and the vertex under the mouse.
-    fn paint(
+    /// Paints a pane's figure at the canvas' size and the vertex under the mouse.
+    pub(super) fn paint(
         &mut self,
         ui: &Ui,
         resp: &egui::Response,
@@ -152,10 +132,10 @@ impl SphereView {
         if let Some(pos) = resp.hover_pos() {
             let project = match which {
                 SphereFigure::Sphere => {
-                    views::sphere_figure::sphere_projection(&self.camera_for(probe, step), side)
+                    views::sphere::figure::sphere_projection(&self.camera_for(probe, step), side)
                 }
                 SphereFigure::Hemisphere => {
-                    views::sphere_figure::hemisphere_projection(&d, self.fit, side)
+                    views::sphere::figure::hemisphere_projection(&d, self.fit, side)
                 }
             };
             let to_screen = |p: DVec3| at.to_screen(project.project(p));
@@ -205,36 +185,12 @@ impl SphereView {
     }
 }
 
-/// How the exact silhouette of the step's mesh (if non-convex) was found, in words.
-fn exact_silhouette_text(rec: &LightRecord, step: &Step) -> Option<String> {
-    let occluder = match step.kind {
-        StepKind::LightSilhouette => None,
-        StepKind::OccluderSilhouette { k } => Some(rec.occluder_polygons.get(k)?.0),
-        _ => return None,
-    };
-    let ex = rec.exact.iter().find(|e| e.occluder == occluder)?;
-    let crossings = format!(
-        "{} apparent intersection(s) (Eq. 4.4, magenta circles: contour edges crossing as \
-         seen from the point)",
-        ex.crossings.len()
-    );
-    Some(if ex.from_tree {
-        format!(
-            "Exact silhouette read from the BSP tree: {crossings}. A tree stores only the \
-             result, so no rejected contour pieces are recorded; untick \"silhouettes from \
-             BSP trees\" to see them."
-        )
-    } else {
-        format!(
-            "Exact silhouette computed at the point: {crossings}; {} contour piece(s) rejected \
-             by the ray test (dim red: hidden by the mesh itself).",
-            ex.rejected.len()
-        )
-    })
-}
-
 /// A square canvas as large as the space left (centred), named for accessibility.
-fn canvas(ui: &mut Ui, name: &'static str, sense: Sense) -> (egui::Response, egui::Painter) {
+pub(super) fn canvas(
+    ui: &mut Ui,
+    name: &'static str,
+    sense: Sense,
+) -> (egui::Response, egui::Painter) {
     let avail = ui.available_size();
     let side = avail.x.min(avail.y).max(120.0);
     let (rect, _) = ui.allocate_exact_size(avail.max(Vec2::splat(side)), Sense::hover());
@@ -242,27 +198,4 @@ fn canvas(ui: &mut Ui, name: &'static str, sense: Sense) -> (egui::Response, egu
     let resp = ui.interact(square, ui.scope_id().with(name), sense);
     resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, name));
     (resp, ui.painter_at(square))
-}
-
-/// What the current step adds in words: how an exact silhouette was found, and at the
-/// integral step each lobe's value with its per-edge terms (000 Eq. 9's sum, over 2π).
-pub fn step_details_ui(ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
-    let Some(s) = step else {
-        return;
-    };
-    let Some(rec) = probe.recording.lights.get(s.record) else {
-        return;
-    };
-    if let Some(text) = exact_silhouette_text(rec, s) {
-        ui.add(egui::Label::new(egui::RichText::new(text).small()).wrap());
-    }
-    if s.kind == StepKind::Integral {
-        for ((lobe, _, _, integral), (_, terms)) in rec.lobes.iter().zip(&rec.lobe_edge_terms) {
-            ui.label(format!("{lobe:?} lobe: ∫ = {integral:.6}; per edge:"));
-            for (li, loop_terms) in terms.iter().enumerate() {
-                let parts: Vec<String> = loop_terms.iter().map(|t| format!("{t:+.5}")).collect();
-                ui.add(egui::Label::new(format!("  loop {li}: {}", parts.join(" "))).wrap());
-            }
-        }
-    }
 }

@@ -5,12 +5,12 @@
 //! sphere facing the eye ([`clip_to_horizon`] in the eye's frame) before they are filled, so
 //! that a region reaching behind the sphere does not fold over itself.
 
-use super::Style;
-use super::labels::{LabelPlacer, Placement};
-use super::sphere::{CurveKind, Drawing, arc_loop};
+use super::{CurveKind, Drawing, arc_loop};
 use crate::figure::font::TextStyle;
 use crate::figure::{Figure, Rect, Rgb, Shape, Subpath};
 use crate::geometry::{HorizonScratch, SphericalPolygon, clip_to_horizon};
+use crate::views::Style;
+use crate::views::labels::{LabelPlacer, Placement};
 use glam::DVec3;
 
 /// An orthographic camera around the unit sphere.
@@ -51,8 +51,8 @@ impl SphereCamera {
         (right, e.cross(right), e)
     }
 
-    /// The camera framed on `directions` (the region of interest, [`super::sphere::
-    /// region_of_interest`]): looking at their mean direction, magnified until they fill about
+    /// The camera framed on `directions` (the region of interest,
+    /// [`super::region_of_interest`]): looking at their mean direction, magnified until they fill about
     /// two thirds of the side (at most [`MAX_FRAMING_ZOOM`]). The default camera without any.
     pub fn framed(directions: &[DVec3]) -> SphereCamera {
         let Some(mean) = directions.iter().copied().sum::<DVec3>().try_normalize() else {

@@ -1,9 +1,11 @@
 //! What the unit sphere at a picked point shows, as plain data read from the recording (the
-//! data half of the sphere and hemisphere views; [`super::sphere_figure`] draws it): the
-//! regions (light, occluders, visible polygon) as spherical polygons to fill, the curves on
-//! the sphere (contour edges, polygon outlines, cones), point markers (apparent
-//! intersections, rays), the shading frame's directions and the environment's radiance.
-//! Everything is in the shading frame (z = n). Nothing here recomputes a stage.
+//! data half of the sphere and hemisphere views; [`figure`] draws it): the regions (light,
+//! occluders, visible polygon) as spherical polygons to fill, the curves on the sphere
+//! (contour edges, polygon outlines, cones), point markers (apparent intersections, rays),
+//! the shading frame's directions and the environment's radiance. Everything is in the
+//! shading frame (z = n). Nothing here recomputes a stage.
+
+pub(crate) mod figure;
 
 use super::stages::{Step, StepKind};
 use crate::figure::Rgb;
