@@ -261,7 +261,7 @@ fn light_view_shapes(
     obj: &penumbra::shading::PreparedObject,
     x: glam::DVec3,
     record: &penumbra::shading::LightRecord,
-) -> (usize, penumbra::app::light_view::Drawn) {
+) -> (usize, penumbra::views::light::Drawn) {
     use penumbra::app::light_view::LightView;
     let mut h = Harness::new_ui_state(
         |ui, v: &mut LightView| v.ui(ui, obj, Some(x), Some(record)),

@@ -10,11 +10,11 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 /// What a finished bench run produced: the report and the files written.
-pub type BenchOutcome = crate::Result<(BenchReport, Vec<PathBuf>)>;
+pub(crate) type BenchOutcome = crate::Result<(BenchReport, Vec<PathBuf>)>;
 
 /// Progress and outcome of a background bench run.
 #[derive(Default)]
-pub struct BenchProgress {
+pub(crate) struct BenchProgress {
     pub done: usize,
     pub total: usize,
     pub label: String,
@@ -22,13 +22,13 @@ pub struct BenchProgress {
 }
 
 /// A running (or finished) bench.
-pub struct BenchJob {
+pub(crate) struct BenchJob {
     pub progress: Arc<Mutex<BenchProgress>>,
 }
 
 impl BenchJob {
     /// Starts `penumbra bench` on `camera` at `width`×`height` with a short ladder.
-    pub fn start(
+    pub(crate) fn start(
         ctx: Arc<RenderContext>,
         scene: String,
         camera: Camera,
@@ -61,7 +61,7 @@ impl BenchJob {
     }
 
     /// (fraction done, label, finished result).
-    pub fn poll(&self) -> (f32, String, Option<BenchOutcome>) {
+    pub(crate) fn poll(&self) -> (f32, String, Option<BenchOutcome>) {
         let mut p = self.progress.lock().unwrap_or_else(|e| e.into_inner());
         let frac = if p.total > 0 {
             p.done as f32 / p.total as f32

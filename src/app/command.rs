@@ -75,7 +75,7 @@ impl Command {
     ];
 
     /// What the command does, as the help and the menus say it.
-    pub fn label(&self) -> &'static str {
+    pub(crate) fn label(&self) -> &'static str {
         match self {
             Command::Undo => "undo the last move",
             Command::Redo => "redo",
@@ -107,7 +107,7 @@ impl Command {
 
     /// The shortcut as written in the help and the menus; empty for a command without one
     /// (issued from its button, a menu or the palette).
-    pub fn shortcut_text(&self) -> &'static str {
+    pub(crate) fn shortcut_text(&self) -> &'static str {
         match self {
             Command::Undo => "Ctrl+Z",
             Command::Redo => "Ctrl+Y / Ctrl+Shift+Z",
@@ -137,7 +137,7 @@ impl Command {
 
     /// The shortcut as the help lists it: "—" for a command without one (its button, a menu
     /// or the palette issues it).
-    pub fn help_keys(&self) -> &'static str {
+    pub(crate) fn help_keys(&self) -> &'static str {
         match self.shortcut_text() {
             "" => "—",
             keys => keys,
@@ -145,7 +145,7 @@ impl Command {
     }
 
     /// A menu entry's text: `name (shortcut)`, or the name alone without a shortcut.
-    pub fn menu_text(&self, name: &str) -> String {
+    pub(crate) fn menu_text(&self, name: &str) -> String {
         match self.shortcut_text() {
             "" => name.to_string(),
             keys => format!("{name} ({keys})"),
@@ -154,7 +154,7 @@ impl Command {
 
     /// Whether the command's shortcut was pressed this frame (Ctrl is the command key: ⌘ on
     /// macOS).
-    pub fn pressed(&self, i: &InputState) -> bool {
+    pub(crate) fn pressed(&self, i: &InputState) -> bool {
         let ctrl = i.modifiers.command;
         match self {
             Command::Undo => ctrl && !i.modifiers.shift && i.key_pressed(Key::Z),
@@ -187,7 +187,7 @@ impl Command {
 
     /// Whether the shortcut acts while a text field has the keyboard (a plain key such as
     /// Space or R belongs to the text field then).
-    pub fn while_typing(&self) -> bool {
+    pub(crate) fn while_typing(&self) -> bool {
         !matches!(
             self,
             Command::Undo
@@ -203,7 +203,7 @@ impl Command {
 
 /// The commands whose label contains every word of `query` (case-insensitive), in
 /// [`Command::ALL`]'s order; all of them for an empty query. The palette lists these.
-pub fn matching(query: &str) -> Vec<Command> {
+pub(crate) fn matching(query: &str) -> Vec<Command> {
     let words: Vec<String> = query.split_whitespace().map(str::to_lowercase).collect();
     Command::ALL
         .into_iter()
@@ -216,7 +216,7 @@ pub fn matching(query: &str) -> Vec<Command> {
 }
 
 /// The help's rows: every command's shortcut and what it does, then the mouse.
-pub fn help_rows() -> impl Iterator<Item = (&'static str, &'static str)> {
+pub(crate) fn help_rows() -> impl Iterator<Item = (&'static str, &'static str)> {
     const MOUSE: [(&str, &str); 2] = [
         ("drag", "orbit (left), pan (right or middle); scroll: zoom"),
         ("click", "pick a pixel"),

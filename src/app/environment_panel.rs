@@ -110,7 +110,7 @@ impl EnvironmentChoice {
 
     /// The render settings of this choice, with the request's default seed (the workbench's
     /// render's, `AppState::request`).
-    pub fn settings(&self) -> crate::render::environment_passes::EnvironmentSettings {
+    pub(crate) fn settings(&self) -> crate::render::environment_passes::EnvironmentSettings {
         let mut s = crate::render::environment_passes::EnvironmentSettings::new(
             self.method,
             self.spp.max(1),
@@ -125,14 +125,14 @@ impl EnvironmentChoice {
 
 /// Loaded maps, so that turning the rotation or the scale does not read the file again.
 #[derive(Default)]
-pub struct MapCache {
+pub(crate) struct MapCache {
     loaded: Option<(MapChoice, crate::environment::EnvironmentMap, String)>,
 }
 
 impl MapCache {
     /// The light of `choice` (`Ok(None)` for no environment): the map loaded once per source,
     /// rotated, scaled and projected (`EnvironmentLight::from_map`).
-    pub fn light(
+    pub(crate) fn light(
         &mut self,
         choice: &EnvironmentChoice,
     ) -> crate::Result<Option<Arc<EnvironmentLight>>> {
@@ -166,7 +166,7 @@ impl MapCache {
 /// The panel. `ui` returns true when the choice changed (the caller relights and restarts
 /// the render).
 #[derive(Default)]
-pub struct EnvironmentPanel {
+pub(crate) struct EnvironmentPanel {
     /// Rotation and scale while their slider is dragged (applied when it is let go: each
     /// change projects the map on SH again and restarts the render).
     rotate_edit: Option<f64>,
@@ -179,7 +179,12 @@ pub struct EnvironmentPanel {
 impl EnvironmentPanel {
     /// The controls over `choice`, with `error` (from the last load) under them; `true` when
     /// the choice changed.
-    pub fn ui(&mut self, ui: &mut Ui, choice: &mut EnvironmentChoice, error: Option<&str>) -> bool {
+    pub(crate) fn ui(
+        &mut self,
+        ui: &mut Ui,
+        choice: &mut EnvironmentChoice,
+        error: Option<&str>,
+    ) -> bool {
         let mut changed = false;
         let before = choice.clone();
         ui.horizontal_wrapped(|ui| {

@@ -31,7 +31,7 @@ impl FigureView {
     ];
 
     /// The menu's words, and `penumbra figure --view`'s name for the same figure.
-    pub fn title(self) -> &'static str {
+    pub(crate) fn title(self) -> &'static str {
         match self {
             FigureView::Sphere => "the unit sphere",
             FigureView::Hemisphere => "the hemisphere",
@@ -56,12 +56,17 @@ impl FigureView {
 }
 
 /// Side of an exported figure in pixels (SVG user units, PDF points).
-pub const EXPORT_SIDE: u32 = 800;
+pub(crate) const EXPORT_SIDE: u32 = 800;
 
 impl WorkbenchApp {
     /// The figure `view` shows now, `side` pixels square (the chart `side` wide), or why there
     /// is none (nothing picked, no set difference at the point, no light selected...).
-    pub fn view_figure(&self, view: FigureView, side: u32, style: Style) -> crate::Result<Figure> {
+    pub(crate) fn view_figure(
+        &self,
+        view: FigureView,
+        side: u32,
+        style: Style,
+    ) -> crate::Result<Figure> {
         let pick_first = || "pick a point first".to_string();
         let ins = self.inspector.as_ref();
         match view {

@@ -20,7 +20,7 @@ pub struct FigureRect {
 
 impl FigureRect {
     /// The figure drawn to fill `rect`'s width.
-    pub fn fit(figure: &Figure, rect: Rect) -> Self {
+    pub(crate) fn fit(figure: &Figure, rect: Rect) -> Self {
         FigureRect {
             origin: rect.min,
             scale: rect.width() / figure.width.max(1) as f32,

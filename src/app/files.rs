@@ -10,7 +10,7 @@ use crate::scene::{Camera, Scene, scene_file};
 use std::path::Path;
 
 /// What a dropped or opened file is.
-pub enum Opened {
+pub(crate) enum Opened {
     Scene(String, Scene),
     Dump(Box<Probe>),
     Bench(Box<BenchReport>),
@@ -20,13 +20,13 @@ pub enum Opened {
 }
 
 /// Loads a scene by embedded name or path (`scene_file::load_scene_by_name`).
-pub fn load_scene(name: &str) -> Result<Scene> {
+pub(crate) fn load_scene(name: &str) -> Result<Scene> {
     scene_file::load_scene_by_name(name)
 }
 
 /// Opens a file by its content: a scene (.toml, .obj, .glb, .gltf), a debug dump or bench report (.json),
 /// or a reference image (.pfm).
-pub fn open(path: &Path) -> Result<Opened> {
+pub(crate) fn open(path: &Path) -> Result<Opened> {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
@@ -74,7 +74,9 @@ fn open_json(text: &str, name: &str) -> Result<Opened> {
 /// OBJ takes an MTL of the same drop (the one its `mtllib` names, else the only one); a TOML
 /// scene's `obj` paths are matched by file name among the dropped OBJs (with their MTLs).
 /// MTL files alone open nothing.
-pub fn open_contents(files: &[super::platform::FileContent]) -> Vec<(String, Result<Opened>)> {
+pub(crate) fn open_contents(
+    files: &[super::platform::FileContent],
+) -> Vec<(String, Result<Opened>)> {
     let ext = |name: &str| {
         Path::new(name)
             .extension()
@@ -167,7 +169,7 @@ pub fn save_dump(probe: &Probe, path: &Path) -> Result<()> {
 }
 
 /// Writes an image as PNG (tone-mapped with `exposure`), PFM or EXR by the extension.
-pub fn save_image(img: &Image, path: &Path, exposure: f64) -> Result<()> {
+pub(crate) fn save_image(img: &Image, path: &Path, exposure: f64) -> Result<()> {
     let rgb = img.to_rgb32();
     match path
         .extension()
@@ -183,12 +185,12 @@ pub fn save_image(img: &Image, path: &Path, exposure: f64) -> Result<()> {
 }
 
 /// [`save_image`]'s PNG as bytes (a download in the browser).
-pub fn png_bytes(img: &Image, exposure: f64) -> Result<Vec<u8>> {
+pub(crate) fn png_bytes(img: &Image, exposure: f64) -> Result<Vec<u8>> {
     crate::raster::io::png_bytes(img.width, img.height, &img.to_rgb32(), exposure)
 }
 
 /// [`save_screenshot`]'s PNG as bytes (a download in the browser).
-pub fn screenshot_png_bytes(img: &egui::ColorImage) -> Result<Vec<u8>> {
+pub(crate) fn screenshot_png_bytes(img: &egui::ColorImage) -> Result<Vec<u8>> {
     let bytes: Vec<u8> = img.pixels.iter().flat_map(|c| c.to_array()).collect();
     crate::raster::io::encode_png(
         &bytes,
@@ -199,12 +201,12 @@ pub fn screenshot_png_bytes(img: &egui::ColorImage) -> Result<Vec<u8>> {
 }
 
 /// Writes an RGBA screenshot as PNG.
-pub fn save_screenshot(img: &egui::ColorImage, path: &Path) -> Result<()> {
+pub(crate) fn save_screenshot(img: &egui::ColorImage, path: &Path) -> Result<()> {
     std::fs::write(path, screenshot_png_bytes(img)?).in_file(path.display(), "")
 }
 
 /// The `penumbra render` command that reproduces the current view headless.
-pub fn cli_command(
+pub(crate) fn cli_command(
     scene: &str,
     camera: &Camera,
     settings: &RenderSettings,

@@ -18,7 +18,7 @@ pub enum Handle {
 
 /// What a pointer motion on a handle asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Motion {
+pub(crate) enum Motion {
     Translate(DVec3),
     /// Radians about +y (right-handed).
     RotateY(f64),
@@ -130,7 +130,7 @@ impl Gizmo {
     /// What moving the pointer from `from` to `to` on `handle` asks for. An arrow follows the
     /// pointer's motion along the arrow's screen direction; the ring, the pointer's angle
     /// about the pivot's screen position (in the ring's screen orientation).
-    pub fn motion(&self, handle: Handle, from: Pos2, to: Pos2) -> Option<Motion> {
+    pub(crate) fn motion(&self, handle: Handle, from: Pos2, to: Pos2) -> Option<Motion> {
         let c = self.project(self.pivot)?;
         match handle {
             Handle::Axis(i) => {
@@ -170,7 +170,7 @@ impl Gizmo {
     }
 
     /// Draws the handles; `active` (dragged) or `hovered` ones are highlighted.
-    pub fn paint(&self, painter: &Painter, hovered: Option<Handle>, active: Option<Handle>) {
+    pub(crate) fn paint(&self, painter: &Painter, hovered: Option<Handle>, active: Option<Handle>) {
         let Some(c) = self.project(self.pivot) else {
             return;
         };

@@ -41,7 +41,7 @@ impl Inspector {
     }
 
     /// The group of step `i`.
-    pub fn group_of(&self, i: usize) -> Option<usize> {
+    pub(crate) fn group_of(&self, i: usize) -> Option<usize> {
         self.groups.iter().position(|g| g.contains(i))
     }
 
@@ -81,7 +81,7 @@ impl Inspector {
     }
 
     /// Advances the player by `dt` seconds (one step per 0.8 s); stops at the end.
-    pub fn tick(&mut self, dt: f64) -> bool {
+    pub(crate) fn tick(&mut self, dt: f64) -> bool {
         if !self.playing {
             return false;
         }
@@ -100,7 +100,7 @@ impl Inspector {
     }
 
     /// Whether the current step is a set difference (the planar view is then the one to see).
-    pub fn at_set_difference(&self) -> bool {
+    pub(crate) fn at_set_difference(&self) -> bool {
         matches!(
             self.current().map(|s| s.kind),
             Some(StepKind::SetDifference { .. })

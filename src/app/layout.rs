@@ -47,14 +47,14 @@ impl Pane {
     ];
 
     /// A picture rather than a form: it can be maximised.
-    pub fn is_view(self) -> bool {
+    pub(crate) fn is_view(self) -> bool {
         matches!(
             self,
             Pane::Viewport | Pane::Sphere | Pane::Hemisphere | Pane::Planar | Pane::Plots
         )
     }
 
-    pub fn title(self) -> &'static str {
+    pub(crate) fn title(self) -> &'static str {
         match self {
             Pane::Viewport => "Viewport",
             Pane::Sphere => "Sphere",
@@ -100,7 +100,7 @@ impl Preset {
     /// The tree of this preset. Shares are fractions of the parent's size; at the default
     /// 1280×800 window they give the sphere at least 400 px in `explore` and `teach`
     /// (checked by `tests/workbench_layout.rs`).
-    pub fn tree(self) -> Tree<Pane> {
+    pub(crate) fn tree(self) -> Tree<Pane> {
         let mut t = Tiles::default();
         let root = match self {
             Preset::Explore => {
@@ -176,13 +176,13 @@ fn linear(t: &mut Tiles<Pane>, dir: LinearDir, children: &[(TileId, f32)]) -> Ti
 }
 
 /// The tile of `pane`, if the tree has it.
-pub fn find(tree: &Tree<Pane>, pane: Pane) -> Option<TileId> {
+pub(crate) fn find(tree: &Tree<Pane>, pane: Pane) -> Option<TileId> {
     tree.tiles.find_pane(&pane)
 }
 
 /// Adds every pane the tree lacks, hidden, to the root container (a persisted tree from an
 /// older version, or a preset that leaves a pane out), so that every pane can be shown.
-pub fn add_missing_panes(tree: &mut Tree<Pane>) {
+pub(crate) fn add_missing_panes(tree: &mut Tree<Pane>) {
     let Some(root) = tree.root() else {
         *tree = Preset::Explore.tree();
         return;

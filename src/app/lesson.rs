@@ -41,7 +41,7 @@ pub fn stages() -> &'static [LessonStage] {
 }
 
 /// Parses the `### lesson: KEY — title` sections of a page.
-pub fn parse(page: &str) -> Vec<LessonStage> {
+pub(crate) fn parse(page: &str) -> Vec<LessonStage> {
     let mut out: Vec<LessonStage> = Vec::new();
     let mut current: Option<LessonStage> = None;
     for line in page.lines() {
@@ -79,7 +79,7 @@ pub fn parse(page: &str) -> Vec<LessonStage> {
 }
 
 /// The page's key of a step kind.
-pub fn key_of(kind: StepKind) -> &'static str {
+pub(crate) fn key_of(kind: StepKind) -> &'static str {
     match kind {
         StepKind::LightSilhouette => "light-silhouette",
         StepKind::LightClipped => "light-clipped",
@@ -119,7 +119,7 @@ fn loops_of(p: &PolygonLoops) -> (usize, usize) {
 }
 
 /// The numbers of `step` at the probed point, by the names the `Here:` lines use.
-pub fn numbers(probe: &Probe, step: &Step) -> Vec<(&'static str, String)> {
+pub(crate) fn numbers(probe: &Probe, step: &Step) -> Vec<(&'static str, String)> {
     let mut out = Vec::new();
     let Some(rec) = probe.recording.lights.get(step.record) else {
         return out;
@@ -245,7 +245,7 @@ pub fn numbers(probe: &Probe, step: &Step) -> Vec<(&'static str, String)> {
 
 /// Replaces each `{name}` of `template` by its number; a name without one stays visible as
 /// `{name?}` (the tests require none).
-pub fn fill(template: &str, numbers: &[(&str, String)]) -> String {
+pub(crate) fn fill(template: &str, numbers: &[(&str, String)]) -> String {
     let mut out = String::with_capacity(template.len());
     let mut rest = template;
     while let Some(start) = rest.find('{') {

@@ -17,7 +17,7 @@ use std::sync::{Arc, Mutex};
 
 /// One frame of the lesson: what the stepper showed and the picture of it.
 #[derive(Clone, Debug)]
-pub struct LessonFrame {
+pub(crate) struct LessonFrame {
     /// The stepper's label of the stage ("light quad: clipped to the horizon", …).
     pub label: String,
     /// The lesson text of the stage with the point's numbers (`None` if the page lacks it).
@@ -27,7 +27,7 @@ pub struct LessonFrame {
 
 /// What [`write_lesson`] wrote.
 #[derive(Clone, Debug)]
-pub struct LessonFiles {
+pub(crate) struct LessonFiles {
     pub frames: Vec<PathBuf>,
     pub gif: PathBuf,
     pub text: PathBuf,
@@ -36,7 +36,11 @@ pub struct LessonFiles {
 /// Writes `frame_000.png`, … , `lesson.gif` (each frame shown `seconds`, looping) and
 /// `lesson.md` (per frame: the stage, its explanation, equation and numbers) into `dir`.
 /// Frames of a different size than the first are padded or cropped to it (a GIF has one size).
-pub fn write_lesson(dir: &Path, frames: &[LessonFrame], seconds: f64) -> Result<LessonFiles> {
+pub(crate) fn write_lesson(
+    dir: &Path,
+    frames: &[LessonFrame],
+    seconds: f64,
+) -> Result<LessonFiles> {
     if frames.is_empty() {
         return Err(crate::Error::from(
             "no frames to write (pick a point first)",
@@ -94,7 +98,7 @@ fn to_rgba(img: &ColorImage, size: [usize; 2]) -> RgbaImage {
 const SETTLE_FRAMES: u32 = 3;
 
 /// A capture in progress, advanced by the app once per frame ([`LessonCapture::advance`]).
-pub struct LessonCapture {
+pub(crate) struct LessonCapture {
     pub dir: PathBuf,
     /// Seconds per frame in the GIF.
     pub seconds: f64,
@@ -112,7 +116,7 @@ pub struct LessonCapture {
 }
 
 /// What the app should do this frame.
-pub enum CaptureAction {
+pub(crate) enum CaptureAction {
     /// Show this step (and repaint).
     Show(usize),
     /// Take the picture of the subject's tile (the step shown is settled).
@@ -143,7 +147,7 @@ impl LessonCapture {
     }
 
     /// Frames captured so far and in all.
-    pub fn progress(&self) -> (usize, usize) {
+    pub(crate) fn progress(&self) -> (usize, usize) {
         let done = self
             .images
             .lock()
@@ -153,7 +157,7 @@ impl LessonCapture {
     }
 
     /// One frame of the state machine.
-    pub fn advance(&mut self) -> CaptureAction {
+    pub(crate) fn advance(&mut self) -> CaptureAction {
         if let Some(i) = self.showing {
             if self.settle > 0 {
                 self.settle -= 1;
@@ -189,7 +193,7 @@ impl LessonCapture {
     }
 
     /// The callback that stores step `i`'s picture (cropped to `crop`, in points).
-    pub fn receiver(
+    pub(crate) fn receiver(
         &self,
         i: usize,
         crop: Option<egui::Rect>,

@@ -6,7 +6,7 @@
 use super::figure_painter::{self, FigureRect};
 use crate::shading::{LightRecord, PreparedObject};
 use crate::views::Style;
-pub use crate::views::light::Drawn;
+pub(crate) use crate::views::light::Drawn;
 use crate::views::light::{LightCamera, light_figure};
 use egui::{Sense, Ui, Vec2};
 use glam::DVec3;
@@ -41,7 +41,7 @@ impl Default for LightView {
 
 impl LightView {
     /// The figure this view shows (also what Export ▸ Figure writes), and what it drew.
-    pub fn figure(
+    pub(crate) fn figure(
         &self,
         obj: &PreparedObject,
         point: Option<DVec3>,

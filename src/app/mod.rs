@@ -105,10 +105,10 @@ fn default_aspect() -> f32 {
 /// renders pass after pass and averages them (`settings.passes`), so a pass is kept short: the
 /// first image comes soon and a camera move restarts quickly. A one-shot render (the command
 /// line's, [`RenderRequest::default`]) takes all its samples in one pass and defaults higher.
-pub const INTERACTIVE_SPP: u32 = 4;
+pub(crate) const INTERACTIVE_SPP: u32 = 4;
 
 /// The image aspects offered (width / height; 0 fills the tile).
-pub const ASPECTS: [(f32, &str); 5] = [
+pub(crate) const ASPECTS: [(f32, &str); 5] = [
     (4.0 / 3.0, "4:3"),
     (16.0 / 9.0, "16:9"),
     (3.0 / 2.0, "3:2"),
@@ -237,7 +237,7 @@ struct WebLog {
 impl AppState {
     /// A workbench on `state.scene`, its scenes prepared as `prepare` says; `repaint` wakes
     /// the UI when a frame is ready.
-    pub fn new(
+    pub(crate) fn new(
         state: Persisted,
         prepare: crate::shading::PrepareConfig,
         repaint: impl Fn() + Send + Sync + 'static,
@@ -331,7 +331,7 @@ impl AppState {
     }
 
     /// Loads a scene (embedded name or path) and resets the camera to the scene's.
-    pub fn load_scene(&mut self, name: &str) {
+    pub(crate) fn load_scene(&mut self, name: &str) {
         match files::load_scene(name) {
             Ok(scene) => self.set_scene(name.to_string(), scene),
             Err(e) => {
@@ -460,7 +460,7 @@ impl AppState {
     }
 
     /// Undoes the last move of an object.
-    pub fn undo_edit(&mut self) {
+    pub(crate) fn undo_edit(&mut self) {
         if let Some(ctx) = self.ctx.clone()
             && let Some(moved) = self.editor.undo(&ctx)
         {
@@ -470,7 +470,7 @@ impl AppState {
     }
 
     /// Redoes the last undone move.
-    pub fn redo_edit(&mut self) {
+    pub(crate) fn redo_edit(&mut self) {
         if let Some(ctx) = self.ctx.clone()
             && let Some(moved) = self.editor.redo(&ctx)
         {
@@ -533,7 +533,7 @@ impl AppState {
 
     /// Switches the silhouette trees on or off: the scene is prepared again, rendered again,
     /// and the picked pixel (if any) picked again.
-    pub fn set_use_trees(&mut self, on: bool) {
+    pub(crate) fn set_use_trees(&mut self, on: bool) {
         self.use_trees = on;
         let Some(scene) = self.ctx.as_ref().map(|c| c.scene.clone()) else {
             return;
@@ -545,7 +545,7 @@ impl AppState {
     /// The render the viewport asks for: [`RenderRequest::default`] with what the user set
     /// (the image's size, the method, its samples and sub-pixel positions, the statistics
     /// the AOV shows) and the launch's preparation choices.
-    pub fn request(&self) -> RenderRequest {
+    pub(crate) fn request(&self) -> RenderRequest {
         let defaults = RenderRequest::default();
         RenderRequest {
             settings: RenderSettings {
@@ -566,7 +566,7 @@ impl AppState {
     }
 
     /// The settings of the full-resolution render (the request's).
-    pub fn settings(&self) -> RenderSettings {
+    pub(crate) fn settings(&self) -> RenderSettings {
         self.request().settings
     }
 
@@ -635,7 +635,7 @@ impl AppState {
 
     /// Opens files handed over by content (the browser): a scene with the files it refers to
     /// among them (an OBJ's MTL, a TOML's OBJs), a dump, a bench report.
-    pub fn open_contents(&mut self, contents: &[platform::FileContent]) {
+    pub(crate) fn open_contents(&mut self, contents: &[platform::FileContent]) {
         for (file, opened) in files::open_contents(contents) {
             self.take_opened(&file, opened);
         }
@@ -768,7 +768,7 @@ impl AppState {
     }
 
     /// Replaces the tiles by `preset`'s.
-    pub fn set_preset(&mut self, preset: Preset) {
+    pub(crate) fn set_preset(&mut self, preset: Preset) {
         self.settings.preset = preset;
         self.tree = preset.tree();
         self.maximised = None;
@@ -828,7 +828,7 @@ impl WorkbenchApp {
     }
 
     /// Creates the app inside eframe (restoring the persisted state).
-    pub fn from_creation_context(
+    pub(crate) fn from_creation_context(
         cc: &eframe::CreationContext<'_>,
         prepare: crate::shading::PrepareConfig,
     ) -> Self {

@@ -20,7 +20,7 @@ pub struct OrbitCamera {
 
 impl OrbitCamera {
     /// The orbit that reproduces `cam` (its up vector is taken as +y).
-    pub fn from_camera(cam: &Camera) -> Self {
+    pub(crate) fn from_camera(cam: &Camera) -> Self {
         let d = cam.eye - cam.target;
         let distance = d.length().max(1e-9);
         OrbitCamera {
@@ -47,14 +47,14 @@ impl OrbitCamera {
     }
 
     /// Rotates by a drag of (dx, dy) in points.
-    pub fn orbit(&mut self, dx: f64, dy: f64) {
+    pub(crate) fn orbit(&mut self, dx: f64, dy: f64) {
         self.yaw -= dx * 0.008;
         self.pitch = (self.pitch + dy * 0.008).clamp(-1.55, 1.55);
     }
 
     /// Moves the target in the image plane by a drag of (dx, dy) points in a view `height`
     /// points high.
-    pub fn pan(&mut self, dx: f64, dy: f64, height: f64) {
+    pub(crate) fn pan(&mut self, dx: f64, dy: f64, height: f64) {
         let cam = self.camera();
         let Ok(b) = cam.basis() else {
             return;
@@ -64,7 +64,7 @@ impl OrbitCamera {
     }
 
     /// Zooms by `steps` (positive: closer).
-    pub fn zoom(&mut self, steps: f64) {
+    pub(crate) fn zoom(&mut self, steps: f64) {
         self.distance = (self.distance * (-0.1 * steps).exp()).max(1e-6);
     }
 }

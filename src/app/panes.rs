@@ -8,7 +8,7 @@ use egui::Ui;
 use egui_tiles::{SimplificationOptions, TileId, Tiles, UiResponse};
 
 /// The behaviour the tree is drawn with, borrowing the workbench for one frame.
-pub struct PaneHost<'a> {
+pub(crate) struct PaneHost<'a> {
     pub app: &'a mut WorkbenchApp,
     /// A pane whose "maximise" button was pressed this frame.
     pub maximise: Option<Pane>,

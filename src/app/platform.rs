@@ -16,7 +16,7 @@ pub enum SaveTarget {
 
 /// Asks where to save a file of kind `what` (`extensions` without dots, the first the
 /// default), suggesting `name`. `None` when the user cancels.
-pub fn save_as(what: &str, extensions: &[&str], name: &str) -> Option<SaveTarget> {
+pub(crate) fn save_as(what: &str, extensions: &[&str], name: &str) -> Option<SaveTarget> {
     #[cfg(not(target_arch = "wasm32"))]
     {
         let mut dialog = rfd::FileDialog::new().set_file_name(name);
@@ -34,7 +34,7 @@ pub fn save_as(what: &str, extensions: &[&str], name: &str) -> Option<SaveTarget
 
 impl SaveTarget {
     /// The extension the file will have, lower case.
-    pub fn extension(&self) -> String {
+    pub(crate) fn extension(&self) -> String {
         let name = match self {
             SaveTarget::Path(p) => p.as_path(),
             SaveTarget::Download(n) => Path::new(n),
@@ -46,7 +46,7 @@ impl SaveTarget {
 
     /// Writes the file: `to_path` writes it at a chosen path, `to_bytes` makes a download's
     /// content. Returns the status line.
-    pub fn write(
+    pub(crate) fn write(
         &self,
         to_path: impl FnOnce(&Path) -> crate::Result<()>,
         to_bytes: impl FnOnce() -> crate::Result<Vec<u8>>,
@@ -96,7 +96,7 @@ fn download(name: &str, _bytes: &[u8]) -> crate::Result<()> {
 
 /// Asks for a file to open (the desktop's dialog).
 #[cfg(not(target_arch = "wasm32"))]
-pub fn pick_file(what: &str, extensions: &[&str]) -> Option<PathBuf> {
+pub(crate) fn pick_file(what: &str, extensions: &[&str]) -> Option<PathBuf> {
     rfd::FileDialog::new()
         .add_filter(what, extensions)
         .pick_file()
@@ -104,24 +104,24 @@ pub fn pick_file(what: &str, extensions: &[&str]) -> Option<PathBuf> {
 
 /// Asks for a folder (the desktop's dialog).
 #[cfg(not(target_arch = "wasm32"))]
-pub fn pick_folder() -> Option<PathBuf> {
+pub(crate) fn pick_folder() -> Option<PathBuf> {
     rfd::FileDialog::new().pick_folder()
 }
 
 /// A file the browser handed over (dropped, or chosen in its picker): its name and content.
 #[derive(Clone)]
-pub struct FileContent {
+pub(crate) struct FileContent {
     pub name: String,
     pub bytes: std::sync::Arc<[u8]>,
 }
 
 /// Files the browser's picker has answered with, waiting for the next frame.
 #[derive(Clone, Default)]
-pub struct FileInbox(std::sync::Arc<std::sync::Mutex<Vec<FileContent>>>);
+pub(crate) struct FileInbox(std::sync::Arc<std::sync::Mutex<Vec<FileContent>>>);
 
 impl FileInbox {
     /// The files that arrived since the last call.
-    pub fn take(&self) -> Vec<FileContent> {
+    pub(crate) fn take(&self) -> Vec<FileContent> {
         std::mem::take(&mut *self.0.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
@@ -153,7 +153,7 @@ impl FileInbox {
     /// Reads the files of one drop on the page; they arrive in this inbox together (so that
     /// an OBJ finds its MTL), and `wake` is called.
     #[cfg(target_arch = "wasm32")]
-    pub fn read_dropped(&self, dropped: Vec<egui::DroppedFileHandle>, wake: Wake) {
+    pub(crate) fn read_dropped(&self, dropped: Vec<egui::DroppedFileHandle>, wake: Wake) {
         let inbox = self.0.clone();
         wasm_bindgen_futures::spawn_local(async move {
             let mut files = Vec::new();
@@ -177,11 +177,12 @@ impl FileInbox {
 }
 
 /// Wakes the UI.
-pub type Wake = std::sync::Arc<dyn Fn() + Send + Sync>;
+#[cfg(target_arch = "wasm32")]
+pub(crate) type Wake = std::sync::Arc<dyn Fn() + Send + Sync>;
 
 /// Why work that needs a thread of its own (a benchmark, a lesson's export into a folder)
 /// cannot run here; `None` where it can.
-pub fn unavailable_here(what: &str) -> Option<String> {
+pub(crate) fn unavailable_here(what: &str) -> Option<String> {
     if cfg!(target_arch = "wasm32") {
         Some(format!(
             "{what}: in the desktop build only (the browser page has one thread and no folders)"
@@ -194,6 +195,6 @@ pub fn unavailable_here(what: &str) -> Option<String> {
 /// A line for the browser's console (`penumbra: …`); nothing on the desktop, whose status
 /// bar and terminal say the same.
 #[cfg(target_arch = "wasm32")]
-pub fn note(line: &str) {
+pub(crate) fn note(line: &str) {
     web_sys::console::info_1(&format!("penumbra: {line}").into());
 }

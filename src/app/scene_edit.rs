@@ -47,7 +47,7 @@ pub struct SceneEditor {
 }
 
 /// What a frame of input did to the scene.
-pub struct EditOutcome {
+pub(crate) struct EditOutcome {
     /// The pointer is on a handle or dragging one: the viewport must not orbit.
     pub consumed: bool,
     /// The scene moved: the new context to render and probe.
@@ -56,7 +56,7 @@ pub struct EditOutcome {
 
 impl SceneEditor {
     /// Forgets the selection and the history (a new scene was loaded).
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         *self = SceneEditor::default();
     }
 
@@ -65,16 +65,16 @@ impl SceneEditor {
             .get_or_insert_with(|| EditHistory::new(&ctx.scene))
     }
 
-    pub fn can_undo(&self) -> bool {
+    pub(crate) fn can_undo(&self) -> bool {
         self.history.as_ref().is_some_and(|h| h.can_undo())
     }
 
-    pub fn can_redo(&self) -> bool {
+    pub(crate) fn can_redo(&self) -> bool {
         self.history.as_ref().is_some_and(|h| h.can_redo())
     }
 
     /// The object at image position (x, y), as the renderer's primary ray hits it.
-    pub fn object_at(
+    pub(crate) fn object_at(
         ctx: &RenderContext,
         camera: &Camera,
         size: (u32, u32),
@@ -90,7 +90,12 @@ impl SceneEditor {
     }
 
     /// The selected object's gizmo as drawn in the viewport `rect`.
-    pub fn gizmo(&mut self, ctx: &RenderContext, camera: &Camera, rect: Rect) -> Option<Gizmo> {
+    pub(crate) fn gizmo(
+        &mut self,
+        ctx: &RenderContext,
+        camera: &Camera,
+        rect: Rect,
+    ) -> Option<Gizmo> {
         let object = self.selected?;
         let pivot = self.history(ctx).pivot(object).ok()?;
         // During a drag the gizmo follows the object.
@@ -104,7 +109,7 @@ impl SceneEditor {
     /// The viewport's input for the selected object's handles, and their drawing. Returns
     /// whether the pointer belongs to the gizmo this frame and the new context if the object
     /// moved.
-    pub fn viewport_input(
+    pub(crate) fn viewport_input(
         &mut self,
         ui: &Ui,
         resp: &Response,
@@ -195,12 +200,12 @@ impl SceneEditor {
     }
 
     /// Undoes the last move; the new context if something moved.
-    pub fn undo(&mut self, ctx: &Arc<RenderContext>) -> Option<Arc<RenderContext>> {
+    pub(crate) fn undo(&mut self, ctx: &Arc<RenderContext>) -> Option<Arc<RenderContext>> {
         self.history_step(ctx, EditHistory::undo)
     }
 
     /// Redoes the last undone move; the new context if something moved.
-    pub fn redo(&mut self, ctx: &Arc<RenderContext>) -> Option<Arc<RenderContext>> {
+    pub(crate) fn redo(&mut self, ctx: &Arc<RenderContext>) -> Option<Arc<RenderContext>> {
         self.history_step(ctx, EditHistory::redo)
     }
 
@@ -263,7 +268,7 @@ impl SceneEditor {
     }
 
     /// The list of objects, selectable; the selected one's current transform.
-    pub fn list_ui(&mut self, ui: &mut Ui, ctx: &RenderContext) {
+    pub(crate) fn list_ui(&mut self, ui: &mut Ui, ctx: &RenderContext) {
         let selected = self.selected;
         for (i, o) in ctx.scene.objects.iter().enumerate() {
             let mut flags = Vec::new();

@@ -42,7 +42,7 @@ impl Aov {
         Aov::Cost,
     ];
 
-    pub fn label(self) -> &'static str {
+    pub(crate) fn label(self) -> &'static str {
         match self {
             Aov::Final => "final",
             Aov::U => "U (analytic unshadowed)",
@@ -57,7 +57,7 @@ impl Aov {
     }
 
     /// Whether the AOV is a colour image (tone-mapped) or a scalar (false colour).
-    pub fn is_radiance(self) -> bool {
+    pub(crate) fn is_radiance(self) -> bool {
         matches!(self, Aov::Final | Aov::U | Aov::SN | Aov::UN)
     }
 }
@@ -72,13 +72,13 @@ pub enum ToneMap {
 }
 
 /// The values of an AOV, either colours or scalars, at the render's resolution.
-pub enum AovValues {
+pub(crate) enum AovValues {
     Radiance(Vec<DVec3>),
     Scalar(Vec<f64>),
 }
 
 /// Extracts `aov` from a render; `None` when the method did not compute it.
-pub fn aov_values(out: &RenderOutput, aov: Aov) -> Option<AovValues> {
+pub(crate) fn aov_values(out: &RenderOutput, aov: Aov) -> Option<AovValues> {
     let b = out.buffers.as_ref();
     let img = |i: &Image| AovValues::Radiance(i.pixels.clone());
     match aov {
@@ -114,7 +114,7 @@ pub fn aov_values(out: &RenderOutput, aov: Aov) -> Option<AovValues> {
 
 /// One radiance value to a display colour.
 #[inline]
-pub fn tonemap(c: DVec3, exposure: f64, op: ToneMap) -> Color32 {
+pub(crate) fn tonemap(c: DVec3, exposure: f64, op: ToneMap) -> Color32 {
     let scale = exposure.exp2();
     let f = |v: f64| {
         let x = if v.is_finite() {
@@ -132,7 +132,7 @@ pub fn tonemap(c: DVec3, exposure: f64, op: ToneMap) -> Color32 {
 }
 
 /// A perceptually ordered false-colour ramp (dark blue → teal → yellow), for t in [0, 1].
-pub fn false_colour(t: f64) -> Color32 {
+pub(crate) fn false_colour(t: f64) -> Color32 {
     let t = if t.is_finite() {
         t.clamp(0.0, 1.0)
     } else {
@@ -155,7 +155,7 @@ pub fn false_colour(t: f64) -> Color32 {
 }
 
 /// Display colours of an AOV, and for scalars the value range the ramp spans.
-pub fn display(
+pub(crate) fn display(
     values: &AovValues,
     exposure: f64,
     op: ToneMap,

@@ -44,7 +44,7 @@ pub struct ViewFrame {
 }
 
 /// A frame mapped to display colours: the settings used, the image, the scalar range.
-pub type MappedFrame = (Display, ColorImage, Option<(f64, f64)>);
+pub(crate) type MappedFrame = (Display, ColorImage, Option<(f64, f64)>);
 
 /// How frames are mapped to display colours.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -282,7 +282,7 @@ impl RenderWorker {
     }
 
     /// The generation of the last request.
-    pub fn generation(&self) -> u64 {
+    pub(crate) fn generation(&self) -> u64 {
         self.generation
     }
 
@@ -296,12 +296,12 @@ impl RenderWorker {
     }
 
     /// Whether the thread is still rendering the newest job.
-    pub fn is_busy(&self) -> bool {
+    pub(crate) fn is_busy(&self) -> bool {
         self.working.load(Ordering::Relaxed) == self.generation
     }
 
     /// Nothing: the render thread works on its own (the browser's loop renders here).
-    pub fn tick(&mut self) {}
+    pub(crate) fn tick(&mut self) {}
 }
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -319,7 +319,7 @@ impl Drop for RenderWorker {
 }
 
 /// The display image of a frame for an AOV; `None` when the method did not compute it.
-pub fn frame_image(
+pub(crate) fn frame_image(
     frame: &ProgressiveFrame,
     aov: Aov,
     exposure: f64,

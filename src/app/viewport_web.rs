@@ -35,7 +35,7 @@ struct Running {
 }
 
 /// The render loop and what the UI reads of it (the desktop's `RenderWorker`'s interface).
-pub struct RenderWorker {
+pub(crate) struct RenderWorker {
     /// Display settings new frames are mapped with.
     pub display: Arc<Mutex<Display>>,
     running: Option<Running>,
@@ -46,7 +46,7 @@ pub struct RenderWorker {
 
 impl RenderWorker {
     /// A render loop that runs in [`RenderWorker::tick`]; `repaint` asks for the next frame.
-    pub fn start(repaint: impl Fn() + Send + Sync + 'static) -> Self {
+    pub(crate) fn start(repaint: impl Fn() + Send + Sync + 'static) -> Self {
         RenderWorker {
             display: Arc::new(Mutex::new(Display {
                 aov: Aov::Final,
@@ -61,7 +61,7 @@ impl RenderWorker {
     }
 
     /// Drops the running render and starts a new one; returns its generation.
-    pub fn request(
+    pub(crate) fn request(
         &mut self,
         ctx: Arc<RenderContext>,
         camera: Camera,
@@ -86,7 +86,7 @@ impl RenderWorker {
     }
 
     /// Renders one slice of the running render and publishes the frames it finished.
-    pub fn tick(&mut self) {
+    pub(crate) fn tick(&mut self) {
         let Some(run) = &mut self.running else {
             return;
         };
@@ -149,20 +149,15 @@ impl RenderWorker {
         (self.repaint)();
     }
 
-    /// The generation of the last request.
-    pub fn generation(&self) -> u64 {
-        self.generation
-    }
-
     /// The newest frame of the newest render, if any has been finished.
-    pub fn latest(&self) -> Option<Arc<ViewFrame>> {
+    pub(crate) fn latest(&self) -> Option<Arc<ViewFrame>> {
         self.latest
             .clone()
             .filter(|f| f.generation == self.generation)
     }
 
     /// Whether the newest render is still running.
-    pub fn is_busy(&self) -> bool {
+    pub(crate) fn is_busy(&self) -> bool {
         self.running.is_some()
     }
 }

@@ -19,7 +19,7 @@ pub fn load_scene(name: &str) -> Result<Scene> {
     Ok(scene)
 }
 
-pub(crate) fn camera(args: &CameraArgs, scene: &Scene) -> Result<Camera> {
+pub fn camera(args: &CameraArgs, scene: &Scene) -> Result<Camera> {
     let base = scene.camera;
     let pick = |v: Option<DVec3>, f: fn(&Camera) -> DVec3, what: &str| -> Result<DVec3> {
         v.or(base.as_ref().map(f))

@@ -48,7 +48,7 @@ impl TileProgress {
     }
 
     /// The watch of this thread, if any.
-    pub(crate) fn current() -> Option<Arc<TileProgress>> {
+    pub fn current() -> Option<Arc<TileProgress>> {
         CURRENT.with(|c| c.borrow().clone())
     }
 

@@ -75,7 +75,7 @@ impl EnvironmentSource {
     }
 
     /// The name [`EnvironmentSource::from_name`] reads back: `sky`, `sky-sh` or the path.
-    pub(crate) fn name(&self) -> String {
+    pub fn name(&self) -> String {
         match self {
             EnvironmentSource::Sky => "sky".to_string(),
             EnvironmentSource::SkySh => "sky-sh".to_string(),

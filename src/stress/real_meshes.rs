@@ -285,7 +285,7 @@ impl Group {
     }
 
     /// Runs case `index` of this group; `None` when its camera found no surface.
-    pub(crate) fn run(
+    pub fn run(
         &self,
         seed: u64,
         index: u64,

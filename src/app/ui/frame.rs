@@ -90,7 +90,7 @@ impl WorkbenchApp {
     }
 
     /// Draws one pane of the tile tree: the pane's own type, over the app's state.
-    pub fn pane_ui(&mut self, ui: &mut Ui, pane: Pane) {
+    pub(crate) fn pane_ui(&mut self, ui: &mut Ui, pane: Pane) {
         let WorkbenchApp { app, panes } = self;
         let view = panes.get(pane);
         match pane {

@@ -44,7 +44,7 @@ impl PaneView for LightStructurePane {
 impl LightStructurePane {
     /// The light the pane shows: its prepared object, the picked point and the light's record
     /// there taken whole (a light taken face by face has no outline).
-    pub fn subject<'a>(&self, app: &'a AppState) -> Option<LightSubject<'a>> {
+    pub(crate) fn subject<'a>(&self, app: &'a AppState) -> Option<LightSubject<'a>> {
         subject(self.light, app)
     }
 }
@@ -85,7 +85,7 @@ impl WorkbenchApp {
 }
 
 /// A light's prepared object, the picked point, and the light's record there.
-pub type LightSubject<'a> = (
+pub(crate) type LightSubject<'a> = (
     &'a crate::shading::PreparedObject,
     Option<glam::DVec3>,
     Option<&'a crate::shading::LightRecord>,

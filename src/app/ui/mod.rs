@@ -46,7 +46,7 @@ use egui::Ui;
 const PICK_FIRST: &str = "Click a pixel of the viewport to see its shading point here.";
 
 /// A pane of the workbench.
-pub trait PaneView {
+pub(crate) trait PaneView {
     /// Draws the pane from `app` (changing it through its methods and commands).
     fn ui(&mut self, ui: &mut Ui, app: &mut AppState);
 }
@@ -69,7 +69,7 @@ pub struct Panes {
 
 impl Panes {
     /// The pane that draws `pane`.
-    pub fn get(&mut self, pane: Pane) -> &mut dyn PaneView {
+    pub(crate) fn get(&mut self, pane: Pane) -> &mut dyn PaneView {
         match pane {
             Pane::Viewport => &mut self.viewport,
             Pane::Sphere => &mut self.sphere,

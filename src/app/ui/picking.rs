@@ -81,7 +81,7 @@ impl AppState {
     }
 
     /// The Monte Carlo check of the picked point, computed on demand.
-    pub fn run_monte_carlo(&mut self, samples: u32) {
+    pub(crate) fn run_monte_carlo(&mut self, samples: u32) {
         let (Some(ctx), Some(ins)) = (&self.ctx, &self.inspector) else {
             return;
         };

@@ -45,7 +45,11 @@ impl PlanarPane {
     /// The projected plane of the set difference at the inspector's step (the last one
     /// before it, or the first), `side` pixels square; `None` when no occluder is subtracted.
     /// What the pane paints and Export ▸ Figure writes.
-    pub fn figure(ins: &Inspector, side: u32, style: Style) -> Option<crate::figure::Figure> {
+    pub(crate) fn figure(
+        ins: &Inspector,
+        side: u32,
+        style: Style,
+    ) -> Option<crate::figure::Figure> {
         let (sd, phase) = subject(ins)?;
         let name = ins
             .probe

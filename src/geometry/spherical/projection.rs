@@ -87,7 +87,7 @@ impl ProjectionPlane {
     }
 
     /// `project` of Alg. 1 (lines 6 and 11).
-    pub(crate) fn project(&self, sphere: &SphericalPolygon, out: &mut PlanarPolygon) {
+    pub fn project(&self, sphere: &SphericalPolygon, out: &mut PlanarPolygon) {
         out.copy_from(sphere);
         if !self.is_normal() {
             out.map_vertices(|v| self.project_point(v));

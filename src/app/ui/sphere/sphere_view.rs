@@ -40,13 +40,13 @@ pub enum SphereFigure {
 
 impl SphereView {
     /// The camera the 3-D sphere is drawn with for `probe`.
-    pub fn camera_for(&self, probe: &Probe, step: Option<&Step>) -> SphereCamera {
+    pub(crate) fn camera_for(&self, probe: &Probe, step: Option<&Step>) -> SphereCamera {
         self.camera
             .unwrap_or_else(|| SphereCamera::framed(&region_of_interest(probe, step)))
     }
 
     /// The figure a pane shows (also what Export ▸ Figure writes), `side` pixels square.
-    pub fn figure(
+    pub(crate) fn figure(
         &self,
         which: SphereFigure,
         probe: &Probe,
@@ -73,7 +73,7 @@ impl SphereView {
     }
 
     /// The layer switches, as a menu (a row of checkboxes would take the sphere's room).
-    pub fn layers_ui(&mut self, ui: &mut Ui, probe: &Probe) {
+    pub(crate) fn layers_ui(&mut self, ui: &mut Ui, probe: &Probe) {
         ui.menu_button("layers", |ui| {
             let l = &mut self.layers;
             ui.checkbox(&mut l.contours, "contour edges");
@@ -95,7 +95,7 @@ impl SphereView {
     }
 
     /// The header of a pane: the layer menu and the current stage's label.
-    pub fn header_ui(&mut self, ui: &mut Ui, ins: &Inspector) {
+    pub(crate) fn header_ui(&mut self, ui: &mut Ui, ins: &Inspector) {
         ui.horizontal(|ui| {
             self.layers_ui(ui, &ins.probe);
             let label = match ins.current() {
