@@ -10,53 +10,69 @@
 //! | 002 | Y. Xu et al.: *Real-Time Ray-Traced Soft Shadows of Environmental Lighting by Conical Ray Culling*, I3D 2022 |
 //! | 003 | E. Heitz, S. Hill, M. McGuire: *Combining Analytic Direct Illumination and Stochastic Shadows*, I3D 2018 |
 //!
-//! The modules follow the pipeline of KT et al. 2021 (paper 000, Alg. 1):
+//! # What a reader meets first
 //!
-//! * [`app`]: the egui workbench (viewport, picked point, sphere view, stepping, plots, exports).
-//! * [`scene`]: OBJ/MTL and scene files, procedural shapes, the camera.
-//! * [`geometry`]: polyhedra, contour edges and silhouettes, spherical polygons,
-//!   horizon clipping, the planar projection and the set difference.
-//! * [`ltc`]: the GGX BRDF, Linearly Transformed Cosines and the edge integral.
-//! * [`shading`]: one shading point, light by light (Alg. 1), with an optional recorder.
-//! * [`accel`]: rays, triangles and the BVH for camera rays and the ray-cast oracle.
-//! * [`render`]: images, tiles, output files.
-//! * [`environment`]: the environment light of paper 002: equirectangular maps, 3-band SH
-//!   (Eq. 7, 8), conical ray culling, and E_occluded computed exactly by the closed-form SH
-//!   integral over spherical polygons.
-//! * [`denoise`]: the ratio denoiser of paper 003 (Sect. 3.5, 4.1–4.2): `U × denoise[S_N] /
-//!   denoise[U_N]` with a noise-driven joint-bilateral filter.
-//! * [`inspect`]: one pixel under the microscope: the recorded stages and per-light numbers
-//!   (the debug dump).
-//! * [`views`]: the debugger's views as figures (plain data from a recording), for the
-//!   command line's `penumbra figure`.
-//! * [`reference`]: brute-force ray-cast estimates used as independent oracles.
-//! * [`stochastic`]: solid-angle and BRDF sampling with MIS, and the estimators of 003.
-//! * [`stress`]: random and adversarial shading configurations.
-//! * [`bench`](mod@bench): the report of `penumbra bench`: rows of time and error, equal-time
-//!   comparisons, scaling fits, PNG charts.
+//! * [`scene`]: a scene from a file (penumbra's TOML, OBJ/MTL, glTF) or by name, its camera.
+//! * [`render`]: a render as a user asks for it ([`render::request::RenderRequest`], with its
+//!   defaults), the renderers ([`render::RenderMethod`]) and their images.
+//! * [`raster`]: images in linear radiance and their PFM/EXR/PNG files.
+//! * [`shading`]: one shading point, light by light (000 Alg. 1), and the recording a
+//!   [`shading::Recorder`] makes of it: what the debugger shows.
+//! * [`inspect`]: one pixel under the microscope, the recorded stages and numbers (the debug
+//!   dump).
+//! * [`views`] and [`figure`]: the debugger's views as figures, plain data drawn as PNG, SVG or
+//!   PDF, or by the workbench.
+//! * `app` (feature `gui`): the egui workbench.
+//! * [`Error`], one error type, and [`Choice`], the options a user picks by name.
+//!
+//! # The stages and the tools
+//!
+//! The pipeline's stages and the tools built on them are public, so that the command line,
+//! Python, the benchmark, the stress test and the integration tests (`tests/`) call the same
+//! functions the renderer does, but hidden from these pages: `geometry` (polyhedra, contours
+//! and silhouettes, spherical polygons, horizon clipping, the planar projection and the set
+//! difference), `ltc` (GGX, the LTC table, the edge integral), `accel` (rays, the BVH),
+//! `sampling` and `stochastic` (003's estimators), `environment` (002), `denoise` (003's ratio
+//! denoiser), `reference` (the ray-cast oracles), `math`, and the tools `bench` (the report of
+//! `penumbra bench`) and `stress` (`penumbra stress`). docs/architecture.md maps every module,
+//! and one page per algorithm maps its equations to functions.
+
+// A public type is nameable: it has a public path (one, as the modules are laid out).
+#![warn(unnameable_types)]
 
 pub use choice::Choice;
 pub use error::{Error, InFile, Result};
 
+#[doc(hidden)]
 pub mod accel;
 #[cfg(feature = "gui")]
 pub mod app;
+#[doc(hidden)]
 pub mod bench;
 mod choice;
+#[doc(hidden)]
 pub mod denoise;
+#[doc(hidden)]
 pub mod environment;
 mod error;
 pub mod figure;
+#[doc(hidden)]
 pub mod geometry;
 pub mod inspect;
+#[doc(hidden)]
 pub mod ltc;
+#[doc(hidden)]
 pub mod math;
 pub mod raster;
+#[doc(hidden)]
 pub mod reference;
 pub mod render;
+#[doc(hidden)]
 pub mod sampling;
 pub mod scene;
 pub mod shading;
+#[doc(hidden)]
 pub mod stochastic;
+#[doc(hidden)]
 pub mod stress;
 pub mod views;

@@ -1,9 +1,10 @@
 //! The integration tests, as one test binary: each module below is one file of `tests/`.
 //!
 //! One binary instead of one per file: every test binary links the whole dependency stack
-//! (egui, wgpu), and thirty of them filled a CI machine's disk. The tests that change
-//! process-wide state (the environment, the global allocator) stay binaries of their own:
-//! `set_difference_alloc`, `tree_cache`, `tree_cache_bound` (see `Cargo.toml`).
+//! (egui, wgpu), and thirty of them filled a CI machine's disk. A test that changes
+//! process-wide state stays a binary of its own: `set_difference_alloc`, which replaces the
+//! global allocator (see `Cargo.toml`). Each file is a crate of its own and reaches the library
+//! through its public paths, the stages' included (docs/architecture.md, "The public surface").
 //! Run one module with `cargo test --test suite <module>::`.
 
 mod ltc_common;

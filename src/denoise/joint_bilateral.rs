@@ -248,8 +248,8 @@ fn pass(
 mod tests {
     use super::super::test_util::{flat, gaussian_kernel, image_from_fn, normal, plane_surface};
     use super::*;
-    use crate::denoise::Surface;
     use crate::math::Pcg32;
+    use crate::raster::gbuffer::Surface;
 
     /// A gently curved, tilted surface (paraboloid) with a hole of invalid pixels.
     fn curved_gbuffer(w: u32, h: u32) -> GBuffer {

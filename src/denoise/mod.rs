@@ -31,7 +31,7 @@ pub(crate) mod settings;
 #[cfg(test)]
 mod test_util;
 
-pub use gbuffer::{GBuffer, Surface};
+pub(crate) use gbuffer::GBuffer;
 pub use joint_bilateral::{MAX_KERNEL_RADIUS, joint_bilateral, joint_bilateral_cancellable};
 pub use noise_estimate::{box_filter_3x3, line_total_variation, noise_estimate};
 pub use ratio::{

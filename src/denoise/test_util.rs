@@ -1,8 +1,9 @@
 //! Shared helpers of the denoiser tests.
 
-use super::{GBuffer, Surface};
+use super::GBuffer;
 use crate::math::Pcg32;
 use crate::raster::Image;
+use crate::raster::gbuffer::Surface;
 use glam::DVec3;
 
 /// A standard normal deviate (Box–Muller).

@@ -19,7 +19,7 @@ pub mod scene_file;
 pub mod shapes;
 pub mod thesis_polyhedra;
 
-pub use camera::Camera;
+pub use camera::{Camera, CameraBasis};
 
 use glam::DVec3;
 

@@ -26,15 +26,16 @@ pub use invariant::visible_within_light;
 pub use ltc_correction::CorrectionSampling;
 pub use outline::{Fallbacks, Outline, OutlineScratch, Role};
 pub use prepared::{
-    BuiltTree, MeshPath, MoveReuse, PathKind, PrepareConfig, PrepareNote, PrepareOptions,
-    PrepareReport, PreparedObject, PreparedScene, instance_map,
+    BuiltTree, FanMesh, MeshPath, MeshTrees, MoveReuse, NoExactTree, PathKind, PathTree,
+    PrepareConfig, PrepareNote, PrepareOptions, PrepareReport, PreparedObject, PreparedScene,
+    StandIn, instance_map,
 };
 pub use recorder::{
     DifferenceMethod, EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide,
     EnvironmentTerm, ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, RayOutcome, Recorder,
     SetDifferenceRecord, Stage, StageRecording, TileShareRecord, TreeLookupRecord,
 };
-pub use tree_library::TreeLibrary;
+pub use tree_library::{LibraryEntry, TreeLibrary};
 
 use glam::DVec3;
 

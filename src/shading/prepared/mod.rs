@@ -26,7 +26,7 @@ pub use instances::instance_map;
 pub use mesh_forms::{FanMesh, StandIn};
 pub use mesh_path::{BuiltTree, MeshPath, PathKind, PathTree};
 pub use moved::MoveReuse;
-pub use report::{PrepareNote, PrepareReport};
+pub use report::{NoExactTree, PrepareNote, PrepareReport};
 pub use trees::{MAX_BSP_CELLS, MAX_EXACT_BSP_LEAVES, MeshTrees, build_mesh_trees};
 
 use super::cost_model::DEFAULT_EXPECTED_RAYS;
