@@ -164,7 +164,7 @@ pub struct StressReport {
     /// Shading points where a path gave up for one exact there: at a degenerate
     /// configuration, or because a walk crossed the bound its input sets.
     pub fallbacks: FallbackTotals,
-    /// The first cases (by index, at most [`MAX_LISTED`]) that broke the invariant, gave an
+    /// The first cases (by index, at most `MAX_LISTED`) that broke the invariant, gave an
     /// invalid value or lay beyond 6σ: each reruns alone with `--only INDEX`.
     pub failing_cases: Vec<u64>,
     /// The real-mesh family's own counts.
@@ -964,7 +964,7 @@ pub(crate) const LIBRARY_HALF_SIDE: f64 = 20.0;
 /// 10 s).
 pub(crate) const LIBRARY_LIMIT_FACTOR: usize = 8;
 
-/// The trees of the nine Table 7.1 polyhedra and of the convex shapes of [`random_convex`]
+/// The trees of the nine Table 7.1 polyhedra and of the convex shapes of `random_convex`
 /// (the unit cube, icosahedron and cylinders of 3 to 16 segments, of which every generated
 /// box, icosahedron and cylinder is an affine image), built once per process and lent to
 /// every case; nothing of a stress run touches the disk cache.

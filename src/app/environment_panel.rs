@@ -2,7 +2,7 @@
 //! SH projection, or an `.hdr`/`.exr` file), its rotation and scale, and how its shadows are
 //! computed. A small self-contained panel in the manner of egui's demo panels: it edits an
 //! [`EnvironmentChoice`] and says when the choice changed; the app turns the choice into a
-//! lit render context ([`MapCache::light`]) and restarts the progressive render.
+//! lit render context (`MapCache::light`) and restarts the progressive render.
 
 use crate::environment::{EnvMethod, EnvironmentLight, EnvironmentSource, EnvironmentSpec};
 use egui::Ui;

@@ -27,7 +27,7 @@
 //!   `None`.
 //! * **Deterministic methods** (every row with `spp == None`) have one point whatever the
 //!   budget: their error is reported as it is (not extrapolated) and their time-to-match is
-//!   their own time when their error is within [`MATCH_TOLERANCE`] of the target's (more time
+//!   their own time when their error is within `MATCH_TOLERANCE` of the target's (more time
 //!   would not lower it), `None` otherwise.
 
 use super::plot::{Chart, Series};

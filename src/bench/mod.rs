@@ -2,7 +2,7 @@
 //! budgets. The driver renders and times; this module holds what it produces and what is read
 //! off it, all pure data. See `docs/benchmarks.md`.
 //!
-//! * [`table`]: one row per render ([`BenchRow`]), the report of a scene ([`BenchReport`]),
+//! * [`table`]: one row per render (`BenchRow`), the report of a scene (`BenchReport`),
 //!   CSV and JSON files, the noise-corrected RMSE.
 //! * [`equal_time`](mod@equal_time): the error each method reaches in the analytic method's time, and the time
 //!   it needs for the analytic method's error (000 Fig. 6), by log–log interpolation.
@@ -11,12 +11,12 @@
 //! * [`scaling`]: run time against vertex counts (000 Figs. 5 and 7).
 //! * [`polyhedra`]: 001 Tables 7.2 and 7.4 on the nine polyhedra of Table 7.1.
 //! * [`realworld`]: `--suite realworld`, the scenes users load ([`realworld_scenes`]).
-//! * [`environment`](mod@environment): `--env SCENE`, the environment light in the form of
+//! * `environment`: `--env SCENE`, the environment light in the form of
 //!   002's Tables 1 and 2.
 //! * [`speed`]: `--suite speed`, the speed guard: ratios measured in one run against a
 //!   committed baseline.
 //! * [`memory`]: the peak resident memory of a row.
-//! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of [`font`].
+//! * [`plot`]: PNG charts drawn with tiny-skia, labelled with the stroke font of `font`.
 
 pub mod environment_tables;
 pub mod equal_time;

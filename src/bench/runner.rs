@@ -122,7 +122,7 @@ pub struct ReferenceImage {
 }
 
 /// Renders the reference: the full-stochastic estimator at `reference_spp`, with a seed no
-/// ladder render uses. Stops with [`CANCELLED`] soon after `cancel` is raised.
+/// ladder render uses. Stops with `CANCELLED` soon after `cancel` is raised.
 pub fn render_reference(
     ctx: &RenderContext,
     config: &BenchConfig,
@@ -159,7 +159,7 @@ pub struct BenchImage {
 /// Renders every method of `config` (stochastic ones at every budget of the ladder), times
 /// and compares each with `reference`. `progress(done, total, label)` is called before every
 /// render. Returns the report and, per method, the image whose time is closest to the
-/// analytic method's (for an equal-time comparison strip). Stops with [`CANCELLED`] soon
+/// analytic method's (for an equal-time comparison strip). Stops with `CANCELLED` soon
 /// after `cancel` is raised (each render checks it tile by tile).
 pub fn run_bench(
     ctx: &RenderContext,

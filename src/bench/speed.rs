@@ -14,7 +14,7 @@
 //! Each ratio is the median over `runs` rounds, every round measuring the three workloads one
 //! after another. [`run_speed`] compares the medians with a baseline committed in the repository
 //! (`tests/data/speed_baseline.json`) and reports every workload whose cost grew by more than
-//! the baseline's tolerance against its yardsticks ([`regressions`]). A scene that crosses it
+//! the baseline's tolerance against its yardsticks (`regressions`). A scene that crosses it
 //! is measured again after the others and fails only when the second measurement crosses it
 //! too, so that a few noisy seconds of a shared machine are not a failure, while a real
 //! slowdown (which every measurement sees) is.

@@ -96,7 +96,7 @@ pub struct ReferenceInfo {
     /// Mean of the per-channel standard error of the reference.
     #[serde(deserialize_with = "f64_or_nan")]
     pub mean_stderr: f64,
-    /// sqrt(mean(stderr²)) over channels: what [`corrected_rmse`] takes out.
+    /// sqrt(mean(stderr²)) over channels: what `corrected_rmse` takes out.
     #[serde(deserialize_with = "f64_or_nan")]
     pub rms_stderr: f64,
 }
@@ -344,7 +344,7 @@ pub(crate) fn write_json(report: &BenchReport, path: &Path) -> io::Result<()> {
     w.flush()
 }
 
-/// Reads a file written by [`write_json`].
+/// Reads a file written by `write_json`.
 pub fn read_json(path: &Path) -> io::Result<BenchReport> {
     Ok(serde_json::from_reader(BufReader::new(File::open(path)?))?)
 }

@@ -11,11 +11,11 @@
 //! W_N = S_N/U_N itself is biased (Eq. 26).
 //!
 //! * [`gbuffer`]: [`GBuffer`], the per-pixel surface the bilateral weights compare.
-//! * [`settings`]: [`DenoiseSettings`] and the reasoning behind its defaults.
-//! * [`noise_estimate`](mod@noise_estimate): E, Eq. 29 (003 Sect. 4.2) and its 3×3 box filter.
-//! * [`joint_bilateral`](mod@joint_bilateral): the separable joint-bilateral filter of S_N and
+//! * `settings`: [`DenoiseSettings`] and the reasoning behind its defaults.
+//! * `noise_estimate`: E, Eq. 29 (003 Sect. 4.2) and its 3×3 box filter.
+//! * `joint_bilateral`: the separable joint-bilateral filter of S_N and
 //!   U_N (003 Sect. 4.1, passes 3–4).
-//! * [`ratio`]: W_N (Eq. 23), U × dS/dU (Eq. 25) and the two pipelines: [`ratio_denoised`]
+//! * `ratio`: W_N (Eq. 23), U × dS/dU (Eq. 25) and the two pipelines: [`ratio_denoised`]
 //!   (003 Sect. 4.1, σ from E) and [`ratio_bilateral`] (fixed σ, paper 000's comparison).
 //!
 //! Every function parallelises over rows with rayon, allocates whole images per call and

@@ -112,13 +112,13 @@ fn applied_sigma(sigma: f64, settings: &DenoiseSettings) -> f64 {
 /// The denoiser of 003 Sect. 4.1, passes 1–4 (no temporal pass):
 ///
 /// 1. W_N from luminance ([`weighted_shadow`], Eq. 23), E from W_N
-///    ([`noise_estimate`](fn@noise_estimate), Eq. 29);
-/// 2. E box-filtered 3×3 (inside [`noise_estimate`](fn@noise_estimate));
+///    (`noise_estimate`, Eq. 29);
+/// 2. E box-filtered 3×3 (inside `noise_estimate`);
 /// 3. σ = min(`sigma_gain`·E, `sigma_max`) per pixel (0 below `sigma_min`: the pixel is copied);
 ///    003 Sect. 4.1: "the standard deviation of the Gaussian kernel proportional to the noise
 ///    estimate E";
 /// 4. the joint-bilateral filter of S_N and U_N with that σ
-///    ([`joint_bilateral`](fn@joint_bilateral)), then
+///    (`joint_bilateral`), then
 ///    `U × denoise[S_N] / denoise[U_N]` per channel ([`ratio_combine`], Eq. 25, 27).
 ///
 /// Returns the final image and the intermediate images.
@@ -153,7 +153,7 @@ pub fn ratio_denoised_cancellable(
 }
 
 /// The plain bilateral of paper 000's comparison (000 Sect. 5: S_N and U_N each denoised with a
-/// bilateral filter, then combined): [`joint_bilateral`](fn@joint_bilateral) with the same
+/// bilateral filter, then combined): `joint_bilateral` with the same
 /// fixed `sigma_px` at every valid pixel (no noise estimate), then
 /// `U × denoise[S_N] / denoise[U_N]` (Eq. 25). `sigma_max` does not apply; the kernel radius is
 /// still capped at [`super::MAX_KERNEL_RADIUS`]; below `sigma_min` nothing is filtered.

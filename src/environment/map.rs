@@ -344,7 +344,7 @@ fn read_exr(path: &Path) -> crate::Result<(usize, usize, Vec<DVec3>)> {
 
 /// Importance sampling of an [`EnvironmentMap`] for Monte Carlo references: a piecewise-constant
 /// distribution over pixels, proportional to luminance × solid angle, mixed with a uniform
-/// floor ([`Self::UNIFORM_FLOOR`] of the samples uniform on the sphere) so that the pdf is
+/// floor (`Self::UNIFORM_FLOOR` of the samples uniform on the sphere) so that the pdf is
 /// positive everywhere, even where the map is black. Inside a pixel the direction is uniform
 /// on the sphere (uniform in cos θ and φ), so the pdf is exactly the pixel's probability over
 /// its solid angle.

@@ -2,16 +2,16 @@
 //! 3-band spherical harmonics, E = E_unshadowed − E_occluded (Eq. 3), conical ray culling, and
 //! penumbra's own exact E_occluded over spherical polygons. See docs/environment.md.
 //!
-//! * [`map`]: [`EnvironmentMap`] (y up, equirectangular, rotation about +y, scale; `.hdr` and
+//! * `map`: [`EnvironmentMap`] (y up, equirectangular, rotation about +y, scale; `.hdr` and
 //!   `.exr` files; a procedural default sky) and [`EnvironmentSampler`].
-//! * [`sh`]: [`Sh9`] (projection, reconstruction, irradiance) and its quadratic form
+//! * `sh`: [`Sh9`] (projection, reconstruction, irradiance) and its quadratic form
 //!   [`ShQuadratic`], in world or in a local shading frame.
-//! * [`polygon_integral`]: [`PolygonMoments`] and [`cosine_weighted_integral`]: the SH radiance
+//! * `polygon_integral`: [`PolygonMoments`] and [`cosine_weighted_integral`]: the SH radiance
 //!   × cos integrated over a spherical polygon in closed form.
-//! * [`light`]: [`EnvironmentLight`]: the map, its projection and its sampler together.
-//! * [`cones`]: 002 Eq. 4, Alg. 1 (merging) and the culling test of Alg. 2.
-//! * [`hemisphere_samples`]: the cosine-weighted Hammersley rays and per-pixel rotations.
-//! * [`cross_bilateral`]: 002's 5×5 cross-bilateral filter of E_occluded.
+//! * `light`: [`EnvironmentLight`]: the map, its projection and its sampler together.
+//! * `cones`: 002 Eq. 4, Alg. 1 (merging) and the culling test of Alg. 2.
+//! * `hemisphere_samples`: the cosine-weighted Hammersley rays and per-pixel rotations.
+//! * `cross_bilateral`: 002's 5×5 cross-bilateral filter of E_occluded.
 
 pub(crate) mod cones;
 pub(crate) mod cross_bilateral;

@@ -54,7 +54,7 @@ pub enum Item {
         color: Rgb,
         opacity: f32,
     },
-    /// A label with its baseline through `at` ([`super::font::draw_text`]'s anchor).
+    /// A label with its baseline through `at` (`super::font::draw_text`'s anchor).
     Text {
         text: String,
         at: (f32, f32),

@@ -1,4 +1,4 @@
-//! Figures as plain data and their back ends: a figure description ([`description`]), drawn
+//! Figures as plain data and their back ends: a figure description (`description`), drawn
 //! into pixmaps ([`raster`], labels in the vector font of [`font`]) or written as SVG
 //! ([`svg`]) or PDF ([`pdf`]); and charts built as such descriptions ([`plot`]). Below every layer that draws a
 //! chart or a heat map (the benchmark, the LTC error map).

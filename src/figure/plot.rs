@@ -4,7 +4,7 @@
 //! A chart has a white background, a frame, ticks at nice values with grid lines and labels
 //! (1-2-5 steps on a linear axis; decades subdivided at 2 and 5 on a log axis), axis labels, a
 //! title and a legend. Series take colours from the Okabe–Ito palette (told apart with the
-//! common forms of colour blindness) and marker shapes from [`MARKERS`]; the two cycle with
+//! common forms of colour blindness) and marker shapes from `MARKERS`; the two cycle with
 //! different periods, so the first 56 series differ in colour or marker.
 //!
 //! Points that cannot be placed are skipped, never a panic: a coordinate that is NaN or
@@ -522,8 +522,8 @@ fn thin_labels(mut labels: Vec<Placed>, gap: f32) -> Vec<Placed> {
     kept
 }
 
-/// `chart` as a figure of `width`×`height` pixels (each side clamped to 1..=[`MAX_SIDE`]): the
-/// one description the PNG ([`render_chart`]) and the SVG ([`chart_svg`]) are drawn from.
+/// `chart` as a figure of `width`×`height` pixels (each side clamped to 1..=`MAX_SIDE`): the
+/// one description the PNG (`render_chart`) and the SVG (`chart_svg`) are drawn from.
 pub fn chart_figure(chart: &Chart, width: u32, height: u32) -> Figure {
     let lay = ChartLayout::new(chart, width, height);
     let mut fig = Figure::new(lay.width, lay.height, [255; 3]);

@@ -11,7 +11,7 @@ use tiny_skia::{
 /// The largest side a figure is drawn at.
 pub(crate) const MAX_SIDE: u32 = 16384;
 
-/// Draws `figure` into a pixmap of its size (each side clamped to 1..=[`MAX_SIDE`]).
+/// Draws `figure` into a pixmap of its size (each side clamped to 1..=`MAX_SIDE`).
 pub fn render(figure: &Figure) -> Pixmap {
     let (w, h) = (
         figure.width.clamp(1, MAX_SIDE),

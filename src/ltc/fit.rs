@@ -12,7 +12,7 @@
 //! * parameters `q = [ln m11, ln m22, m13/m11, m31]` (scale-free in α, positive-definite
 //!   diagonal by construction), minimised with [`super::nelder_mead`] for the L3 error
 //!   `∫ |brdf_cos/norm − D̂_M|³ dω`, estimated with both distributions as importance samplers
-//!   and the balance heuristic (see [`L3Error`]);
+//!   and the balance heuristic (see `L3Error`);
 //! * warm start: the normal-incidence column (a one-parameter fit `K = diag(m, m, 1)`, exact
 //!   by symmetry) from rough to smooth, then every row (fixed α) independently and in parallel
 //!   from normal to grazing incidence, each cell starting from its fitted neighbour.
@@ -204,7 +204,7 @@ impl FitPolygons {
     }
 }
 
-/// Options of [`fit_cell`] and the table fits.
+/// Options of `fit_cell` and the table fits.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct FitOptions {
     pub objective: Objective,

@@ -350,7 +350,7 @@ pub(crate) fn polygon_values(
         .collect()
 }
 
-/// Summarise [`polygon_values`] of `table.lookup(cosθv, α)` (see [`CellError`]).
+/// Summarise `polygon_values` of `table.lookup(cosθv, α)` (see [`CellError`]).
 pub fn cell_error(
     table: &LtcTable,
     cos_theta_v: f64,

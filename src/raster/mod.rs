@@ -1,5 +1,5 @@
 //! Images as every layer above needs them: a linear-radiance [`Image`], Rec. 709
-//! [`luminance`], the G-buffer the denoisers and the environment's filter read
+//! `luminance`, the G-buffer the denoisers and the environment's filter read
 //! ([`gbuffer`]), and image files ([`io`]: PFM, OpenEXR, PNG).
 
 pub mod gbuffer;

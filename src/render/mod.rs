@@ -77,10 +77,10 @@ crate::choice! {
         Ratio = "ratio",
         /// U · lum(S_N) / lum(U_N) (003 Sect. 3.4, grayscale weighted shadow).
         RatioGray = "ratio-gray",
-        /// U · denoise[S_N] / denoise[U_N] with the joint-bilateral filter driven by the noise
+        /// U · denoiseS_N / denoiseU_N with the joint-bilateral filter driven by the noise
         /// estimate E (003 Sect. 4).
         RatioDenoised = "ratio-denoised",
-        /// U · bilateral[S_N] / bilateral[U_N] with a fixed filter width (000's comparison).
+        /// U · bilateralS_N / bilateralU_N with a fixed filter width (000's comparison).
         RatioBilateral = "ratio-bilateral",
         /// A converged full-stochastic image with its per-pixel standard error.
         Reference = "reference",
@@ -218,7 +218,7 @@ pub struct RenderContext {
     /// The lights prepared for area sampling (the stochastic baseline).
     pub area_lights: AreaLights,
     /// An environment light (paper 002), if the scene has one: its term is added to the area
-    /// lights' image by every render ([`environment_passes::render_environment`]).
+    /// lights' image by every render (`environment_passes::render_environment`).
     pub environment: Option<environment_passes::SceneEnvironment>,
 }
 

@@ -1,7 +1,7 @@
 //! How far a render is: the tiles finished out of the tiles started, for a progress bar.
 //!
 //! A caller that wants to watch a render runs it inside [`TileProgress::watch`]; every
-//! [`super::render_tiles`] call made on that thread (a render may make several: passes, the
+//! `super::render_tiles` call made on that thread (a render may make several: passes, the
 //! environment's term) adds its tiles to the total and counts each finished tile, from
 //! whichever worker finished it. Without a watch nothing is counted.
 

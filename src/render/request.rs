@@ -76,7 +76,7 @@ impl RenderRequest {
         }
     }
 
-    /// `scene` with the request's environment merged into it ([`resolve_environment`]), then
+    /// `scene` with the request's environment merged into it (`resolve_environment`), then
     /// prepared for the request ([`prepare`]): the command line's and Python's one way to a
     /// render.
     pub fn prepare(&self, scene: &mut Scene) -> crate::Result<PreparedRender> {
@@ -116,7 +116,7 @@ pub(crate) fn resolve_environment(
     Ok(())
 }
 
-/// Prepares `scene` (its environment already resolved, [`resolve_environment`]) for
+/// Prepares `scene` (its environment already resolved, `resolve_environment`) for
 /// `request`: the context (its trees sized for the request's image, its LTC table), and the
 /// environment loaded and attached with the request's options and `settings.seed`.
 pub fn prepare(scene: &Scene, request: &RenderRequest) -> crate::Result<PreparedRender> {

@@ -1,7 +1,7 @@
 //! Time slices: a render that runs on a thread which must not block for long (a browser page
 //! has only one) is run again and again, a slice of its tiles at a time, until it is done.
 //!
-//! Every renderer evaluates its pixels through [`render_tiles`](super::render_tiles). While a
+//! Every renderer evaluates its pixels through `render_tiles`. While a
 //! [`Slicer`] is installed on the calling thread ([`Slicer::run`], as rayon's
 //! `ThreadPool::install` installs a pool), `render_tiles` keeps each call's finished tiles in
 //! the slicer's memo, computes new tiles until the slice's deadline, and then answers as a

@@ -25,7 +25,7 @@ pub struct CameraBasis {
     pub right: DVec3,
     pub up: DVec3,
     /// tan(fov / 2) of the vertical field of view, for images at least [`Camera::aspect`]
-    /// wide (see [`CameraBasis::tan_half_fov_at`]).
+    /// wide (see `CameraBasis::tan_half_fov_at`).
     pub tan_half_fov: f64,
     pub aspect: Option<f64>,
 }

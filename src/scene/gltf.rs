@@ -8,7 +8,7 @@
 //! Each drawn node's mesh becomes one object per material: the triangles of its primitives
 //! with that material, in world space (f64), with bit-identical positions welded (glTF splits
 //! vertices at UV seams and normal creases; welded, a closed mesh is closed). The triangles
-//! then go through the OBJ loader's face repair ([`super::obj::build_object`]), which groups
+//! then go through the OBJ loader's face repair (`super::obj::build_object`), which groups
 //! its warnings per object.
 
 mod accessor;

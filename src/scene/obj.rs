@@ -13,7 +13,7 @@
 //! The models are then rebuilt from the pre-scan's f64 data (tobj is compiled with f32
 //! numbers): the k-th face tobj reports is the k-th face of the pre-scan, the k-th material
 //! the k-th material definition met through the `mtllib` statements. Faces are repaired (see
-//! [`repair_face`]) and each object keeps only the vertices it uses.
+//! `repair_face`) and each object keeps only the vertices it uses.
 
 use super::face_triangulation::{FaceSurface, Split, face_surface};
 use super::precision::{PrecisionSurvey, WrittenPrecision, written_number};

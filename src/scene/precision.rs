@@ -19,12 +19,12 @@
 //!   carries an error of the order of its *largest* coordinate's ulp in every coordinate, not
 //!   of each coordinate's own ulp: half an ulp for the arithmetic and half for the storage.
 //!   So each coordinate's rounding is at least one f32 ulp of the vertex's largest coordinate
-//!   ([`WrittenPrecision::vertex_rounding`]), and half an ulp of its own value alone
-//!   ([`WrittenPrecision::coordinate_rounding`]), however many digits were printed.
+//!   (`WrittenPrecision::vertex_rounding`), and half an ulp of its own value alone
+//!   (`WrittenPrecision::coordinate_rounding`), however many digits were printed.
 //!
 //! A coordinate's rounding also never falls below the f64 rounding of its value (4 ulp). A
 //! vertex is within the Euclidean norm of its three coordinates' roundings of its meant
-//! position: its *rounding radius*. [`planarity_tolerance`] turns those radii into the
+//! position: its *rounding radius*. `planarity_tolerance` turns those radii into the
 //! largest distance from its fitted plane at which a face that was planar as meant can still
 //! be found.
 

@@ -461,7 +461,7 @@ fn outward(positions: &[DVec3], [a, b, c]: [u32; 3]) -> Vec<u32> {
 
 /// Icosphere: the icosahedron with each triangle split into four `subdivisions` times, new
 /// vertices pushed onto the sphere. Vertex counts 12, 42, 162, 642, ... (10 * 4^s + 2).
-/// `subdivisions` is capped at [`MAX_ICOSPHERE_SUBDIVISIONS`].
+/// `subdivisions` is capped at `MAX_ICOSPHERE_SUBDIVISIONS`.
 pub fn icosphere(center: DVec3, radius: f64, subdivisions: u32) -> Mesh {
     let mut m = unit_icosahedron();
     for _ in 0..subdivisions.min(MAX_ICOSPHERE_SUBDIVISIONS) {

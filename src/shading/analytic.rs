@@ -303,7 +303,7 @@ impl CorrectedRadiance {
 }
 
 /// [`shade`] plus the LTC's error sampled inside each exact visible polygon
-/// ([`super::ltc_correction`]): `--method analytic-exact`, and the unbiased U of the ratio
+/// (`super::ltc_correction`): `--method analytic-exact`, and the unbiased U of the ratio
 /// estimator with `Method::Unshadowed`.
 pub fn shade_corrected<R: Recorder>(
     scene: &PreparedScene,

@@ -5,7 +5,7 @@
 //! A tree saves, at every query, the difference between computing the silhouette at the point
 //! and reading it from the tree; it costs its build, in proportion to its cells (convex) or
 //! leaves (not convex). Over the queries a render is expected to make, the largest tree worth
-//! building is the one whose build takes [`PAYBACK`]⁻¹ of what it saves: that is the budget
+//! building is the one whose build takes `PAYBACK`⁻¹ of what it saves: that is the budget
 //! the build is given. A build that outgrows its budget stops there, so a tree that does not
 //! fit costs at most that share of the time it would have saved, and the mesh takes the path
 //! computed at the point. For a mesh that is not convex, the cells of its face planes (which

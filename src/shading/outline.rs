@@ -33,7 +33,7 @@ pub enum Outline {
     Whole { exact: bool, from_tree: bool },
     /// A convex or flat light seen from a point on itself: it lights nothing there.
     Nothing,
-    /// The caller goes face by face over [`PreparedObject::faces`].
+    /// The caller goes face by face over `PreparedObject::faces`.
     Faces,
 }
 

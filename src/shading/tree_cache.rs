@@ -4,7 +4,7 @@
 //! attempted again.
 //!
 //! The directory is `$PENUMBRA_CACHE_DIR` (`off` disables the cache), else
-//! `$XDG_CACHE_HOME/penumbra/trees`, else `~/.cache/penumbra/trees` ([`default_dir`], from the
+//! `$XDG_CACHE_HOME/penumbra/trees`, else `~/.cache/penumbra/trees` (`default_dir`, from the
 //! values the caller read: [`CacheVars`]). A file is used only if it
 //! names the same key and format and its tree is well formed (every index in range); anything
 //! else is ignored and rebuilt. Writes go to a temporary file renamed into place. Failing to
@@ -41,7 +41,7 @@ pub enum CachedTree {
     /// Data a layer above keeps here under a key of its own, as it serializes itself: the
     /// environment's precomputed transfer over a scene's static surfaces (002 Eq. 6,
     /// `environment::prt`). The cache only stores and bounds it
-    /// ([`TreeCache::load_data`], [`TreeCache::store_data`]).
+    /// (`TreeCache::load_data`, `TreeCache::store_data`).
     Transfer(serde_json::Value),
     /// The tree would exceed its size budget: it needs more than `tried` cells or leaves
     /// (a later, larger budget tries again).
@@ -78,7 +78,7 @@ pub struct CacheUsage {
 pub struct CacheVars {
     /// `$PENUMBRA_CACHE_DIR`: the directory, or `off`.
     pub cache_dir: Option<OsString>,
-    /// `$PENUMBRA_CACHE_MAX`: the bound, as [`parse_size`] reads it.
+    /// `$PENUMBRA_CACHE_MAX`: the bound, as `parse_size` reads it.
     pub cache_max: Option<String>,
     /// `$XDG_CACHE_HOME`.
     pub xdg_cache_home: Option<OsString>,

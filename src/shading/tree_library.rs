@@ -33,8 +33,8 @@ pub struct TreeLibrary {
 impl TreeLibrary {
     /// Builds the trees of every mesh (in parallel, without the disk cache) over the box
     /// `bounds`, with triangulations for the meshes that are neither convex nor star-shaped,
-    /// within the size limits of [`super::prepared::MAX_BSP_CELLS`] and
-    /// [`super::prepared::MAX_EXACT_BSP_LEAVES`] times `limit_factor`.
+    /// within the size limits of `super::prepared::MAX_BSP_CELLS` and
+    /// `super::prepared::MAX_EXACT_BSP_LEAVES` times `limit_factor`.
     pub fn build(meshes: &[Mesh], bounds: (DVec3, DVec3), limit_factor: usize) -> Self {
         let limits = (
             super::prepared::MAX_BSP_CELLS * limit_factor,

@@ -74,7 +74,7 @@ pub struct LightSet {
     pub tris: Vec<SphericalTriangle>,
     /// Vertices of `tris` (for containment tests), in the same order.
     pub corners: Vec<[DVec3; 3]>,
-    /// The light face each triangle comes from, or [`SILHOUETTE`].
+    /// The light face each triangle comes from, or `SILHOUETTE`.
     pub faces: Vec<u32>,
     /// Cumulative solid angle within each run (ends at the run's Ω).
     pub cdf: Vec<f64>,

@@ -2,12 +2,12 @@
 //! angle sampling of triangulated silhouettes, MIS with BRDF sampling, and the estimators built
 //! from S_N, U_N and the analytic U.
 //!
-//! * [`light_set`]: the lights at one shading point as spherical triangles (the silhouette
+//! * `light_set`: the lights at one shading point as spherical triangles (the silhouette
 //!   stages of the analytic path, then a fan).
-//! * [`estimator`]: the sums S_N and U_N from the same samples (003 Eq. 21, 22).
-//! * [`estimators`]: full-stochastic, control variate, ratio and grayscale ratio (Eq. 10, 11,
+//! * `estimator`: the sums S_N and U_N from the same samples (003 Eq. 21, 22).
+//! * `estimators`: full-stochastic, control variate, ratio and grayscale ratio (Eq. 10, 11,
 //!   15, Sect. 3.4).
-//! * [`area`]: area sampling, the baseline.
+//! * `area`: area sampling, the baseline.
 
 pub(crate) mod area;
 pub(crate) mod estimator;

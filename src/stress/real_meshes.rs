@@ -38,7 +38,7 @@ pub struct RealMesh {
     pub name: String,
     pub mesh: Mesh,
     /// It may take the light's role: closed (its exact silhouette), or open with at most
-    /// [`MAX_OPEN_LIGHT_FACES`] faces. An open light is taken face by face, each face
+    /// `MAX_OPEN_LIGHT_FACES` faces. An open light is taken face by face, each face
     /// hidden by the mesh's own faces in front of it, which costs about the product of its
     /// face count and the faces in each face's cone per point: Blender's monkey (7,872 faces)
     /// takes about 1.5 s a point that way, over the family's 1 s bound for a case.

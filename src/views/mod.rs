@@ -3,7 +3,7 @@
 //! Python module, draw what the workbench shows without a window. One function per view.
 //!
 //! - [`stages`]: the stepper's numbering of a recording (000 Alg. 1, stage by stage).
-//! - [`plane`]: the projected plane of one set difference (000 Alg. 1 line 12).
+//! - `plane`: the projected plane of one set difference (000 Alg. 1 line 12).
 
 pub mod labels;
 pub mod light;

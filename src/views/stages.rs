@@ -221,7 +221,7 @@ impl StepGroup {
     }
 }
 
-/// The groups of `steps` (as [`steps`] made them from `rec`), in order, covering every step.
+/// The groups of `steps` (as `steps` made them from `rec`), in order, covering every step.
 pub fn groups(
     rec: &StageRecording,
     steps: &[Step],

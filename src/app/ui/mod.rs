@@ -1,12 +1,12 @@
 //! The panes and bars of the workbench, one file each. A pane is its own type
-//! ([`PaneView`]) in a file named after it, holding only its own view state and drawing
+//! (`PaneView`) in a file named after it, holding only its own view state and drawing
 //! itself from the app's state and the picked point's recording; the sphere's two panes and
 //! the view state they share are in `sphere/`. The bars (menu, status), dialogs, picking and
 //! the lesson capture are `impl AppState` blocks, so that `app/mod.rs` keeps the state and its
 //! lifecycle.
 //!
 //! A new pane: a variant of `layout::Pane` (its title, where the presets put it), a type here
-//! in its own file implementing [`PaneView`], and its field in [`Panes`].
+//! in its own file implementing `PaneView`, and its field in [`Panes`].
 
 mod command_palette;
 mod dialogs;

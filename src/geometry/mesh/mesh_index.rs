@@ -17,7 +17,7 @@ use std::sync::Arc;
 /// answer.
 #[derive(Clone, Debug, Default)]
 pub struct MeshIndex {
-    /// The faces' boxes in a hierarchy, for meshes of at least [`FACE_BVH_MIN_FACES`] faces
+    /// The faces' boxes in a hierarchy, for meshes of at least `FACE_BVH_MIN_FACES` faces
     /// (the exact silhouette's ray tests, the windowed silhouette's cone query).
     pub face_bvh: Option<Arc<FaceBvh>>,
     /// Each face's edges, with the hierarchy (the windowed silhouette walks from faces to edges).

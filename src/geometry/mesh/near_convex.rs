@@ -124,14 +124,14 @@ pub(crate) const MAX_NEAR_FLAT_PAIRS: usize = 1_000_000;
 /// For a mesh that is not planar as stored but flat as meant (a quad light whose six-decimal
 /// corners bend it by 1e-8): the farthest a vertex lies off the plane of one of its fan
 /// triangles, when every vertex lies within the tolerance `τ(v, t)` of the convexity test
-/// (module documentation) of every triangle's plane and within [`MAX_FLAT_BEND`] of the radius,
+/// (module documentation) of every triangle's plane and within `MAX_FLAT_BEND` of the radius,
 /// and every triangle faces the same way; `None` otherwise, and for closed or non-manifold meshes.
 ///
 /// Such a mesh's faces are one polygon as meant, and seen from a point not within the
 /// tolerance of that plane they all face the same way, so the images of its faces tile the
 /// image of its outline exactly: the flat path (the outline of the boundary edges) and the
 /// face-by-face path integrate the same region, with the mesh's own vertices. Within the
-/// bend of the plane (at most [`MAX_FLAT_BEND`] of the radius) the light is seen edge-on.
+/// bend of the plane (at most `MAX_FLAT_BEND` of the radius) the light is seen edge-on.
 pub fn flat_up_to_rounding(mesh: &Polyhedron, rounding: f64) -> Option<f64> {
     let d = &mesh.diagnostics;
     if d.closed_manifold || d.planar || d.nonmanifold_edges > 0 || !is_rounding(rounding) {

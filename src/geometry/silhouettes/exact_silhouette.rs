@@ -560,7 +560,7 @@ fn blocked(poly: &IndexedPolyhedron, x: DVec3, dir: DVec3, skip: [u32; 2], scan:
 }
 
 /// How many faces of `poly` other than `skip` the ray from `x` along `dir` meets: the count
-/// `c` of quantitative invisibility, by the very test of [`blocked`] (which is `c > 0`).
+/// `c` of quantitative invisibility, by the very test of `blocked` (which is `c > 0`).
 pub fn count_ray_hits(
     poly: &IndexedPolyhedron,
     x: DVec3,

@@ -62,7 +62,7 @@ pub enum Sidedness {
     TwoSided,
 }
 
-/// `SphPolySilhouette` of 000 Alg. 1/2 for a mesh with [`Polyhedron::has_simple_silhouette`]:
+/// `SphPolySilhouette` of 000 Alg. 1/2 for a mesh with `Polyhedron::has_simple_silhouette`:
 /// the contour of the mesh seen from `x`, chained into loops, moved to `x` as origin, expressed
 /// in `frame` and projected to the unit sphere. Writes positively oriented loops into `out`
 /// (cleared first). Vertices that coincide with `x` are dropped (they subtend no solid angle).

@@ -587,7 +587,7 @@ const CLIP_DIRECTIONS: [(f64, f64); 4] = [
 /// intersections on the chords, so they lie on both great circles up to rounding), into `out`.
 ///
 /// `B` is the octagon of the window's corners in the gnomonic plane at their mean direction
-/// `c` (the extremes along u, v, u ± v), widened by [`WIDEN`] of its extent. A great-circle arc
+/// `c` (the extremes along u, v, u ± v), widened by `WIDEN` of its extent. A great-circle arc
 /// is a segment in that plane, so `B`, convex there and holding every corner, holds all of `W`
 /// whether or not `W` is convex, and with a margin: `W ∖ (subject ∩ B) = W ∖ subject`, with
 /// far fewer vertices for the set difference when the subject is a large outline around a
@@ -595,7 +595,7 @@ const CLIP_DIRECTIONS: [(f64, f64); 4] = [
 /// cylinder light seen from the side). The side through the extreme `s` along a unit direction
 /// `d` of the plane is the great circle of the points `w` with `w·d = s (w·c)`, whose normal is
 /// `s c − d` (inside: `w·(s c − d) ≥ 0`). `false` (and `out` untouched) when the window is too
-/// wide for its gnomonic plane ([`MIN_COS_HALF_ANGLE`]), degenerate, or the subject not one loop.
+/// wide for its gnomonic plane (`MIN_COS_HALF_ANGLE`), degenerate, or the subject not one loop.
 pub fn clip_to_window(
     subject: &SphericalPolygon,
     window: &[DVec3],

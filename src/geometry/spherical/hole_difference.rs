@@ -52,7 +52,7 @@ pub struct HoleScratch {
 
 /// Writes the part of `clip` inside `subject` into `part`, so that `subject ∖ clip` is
 /// `subject` less `part`, or returns `false` (and leaves `part` alone) when `subject` is not one
-/// strictly convex loop with no edge shorter than [`MIN_EDGE_SINE`], or `clip` not one loop. Both are positively oriented loops of homogeneous
+/// strictly convex loop with no edge shorter than `MIN_EDGE_SINE`, or `clip` not one loop. Both are positively oriented loops of homogeneous
 /// points (w ≥ 0), as the projection gives them, and so is `part` (empty when nothing of
 /// `clip` is inside).
 ///

@@ -27,7 +27,7 @@ pub(crate) fn is_convex_loop(lp: &[DVec3]) -> bool {
 
 /// Classifies `subject` against the loop `clip` (positively oriented, within the hemisphere
 /// w ≥ 0 of the projection). Any clip may be found disjoint by a plane through the normal
-/// ([`separated_about_normal`]); the other answers need a convex clip, and
+/// (`separated_about_normal`); the other answers need a convex clip, and
 /// [`Overlap::Unknown`] is returned for the rest.
 pub fn classify(subject: &PolygonLoops, clip: &[DVec3]) -> Overlap {
     let verts = subject.vertices();

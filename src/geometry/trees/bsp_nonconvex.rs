@@ -78,7 +78,7 @@ pub struct ExactBspLimits {
     pub max_leaves: usize,
     /// Depth of the splits made for validation, below a cell of the mesh's own planes.
     pub max_validation_depth: u32,
-    /// Corners of a cell at which its leaf is validated ([`VALIDATION_CORNERS`]; 0 builds the
+    /// Corners of a cell at which its leaf is validated (`VALIDATION_CORNERS`; 0 builds the
     /// tree as the thesis does, without validation: for comparing build times only).
     pub validation_corners: usize,
 }

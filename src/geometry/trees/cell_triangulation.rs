@@ -137,7 +137,7 @@ pub fn concave_edge_endpoints(poly: &Polyhedron) -> Vec<u32> {
 
 /// Triangulates the silhouette `loops` (positively oriented loops of silhouette points, holes
 /// included) seen from `x`, into `out` (cleared first), choosing ears that keep their
-/// orientation best at `samples` (at most [`SCORE_CORNERS`] + 1 points); `optional` vertices
+/// orientation best at `samples` (at most `SCORE_CORNERS` + 1 points); `optional` vertices
 /// are brought in only where no ear exists. Every triangle is positively oriented at `x`.
 /// `false` if no triangulation was found.
 pub fn triangulate_silhouette(

@@ -13,7 +13,7 @@ pub struct ConvexCell {
     pub faces: Vec<Vec<DVec3>>,
 }
 
-/// Which side of a plane a cell lies on, with the tolerance of [`ConvexCell::side`].
+/// Which side of a plane a cell lies on, with the tolerance of `ConvexCell::side`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CellSide {
     Front,

@@ -66,7 +66,7 @@ pub trait SilhouetteTree: Send + Sync {
     /// The silhouette of `poly` from `x` as loops in `frame`, looked up at `tree_x` (`x` in the
     /// tree's frame; an instance shares its group's tree). `false`, and `out` untouched or
     /// cleared, outside the box or in a leaf left to the on-the-fly path. `buf` is room for the
-    /// hoisted layout (see [`SilhouetteTree::scratch`]).
+    /// hoisted layout (see `SilhouetteTree::scratch`).
     #[allow(clippy::too_many_arguments)]
     fn silhouette_at(
         &self,

@@ -22,7 +22,7 @@ use glam::{DAffine3, DMat3, DVec3};
 pub(crate) const INSTANCE_TOLERANCE: f64 = 1e-10;
 
 /// The affine map `M` (det M > 0) with `other.vertices[k] = M(base.vertices[k])` for every `k`
-/// within [`INSTANCE_TOLERANCE`], if `other` has the same faces (vertex indices) as `base`.
+/// within `INSTANCE_TOLERANCE`, if `other` has the same faces (vertex indices) as `base`.
 /// `M` is solved from four vertices of `base` spanning a tetrahedron of large volume and then
 /// verified on all vertices; flat meshes (no such tetrahedron) are not matched.
 pub fn instance_map(base: &Polyhedron, other: &Polyhedron) -> Option<DAffine3> {

@@ -89,7 +89,7 @@ pub enum MeshPath {
     ExactTree(PathTree),
     /// Closed, not convex, without a tree: the exact silhouette at each point.
     ExactAtPoint,
-    /// As `ExactAtPoint` for a large mesh (at least [`WINDOWED_MIN_FACES`] faces): as an
+    /// As `ExactAtPoint` for a large mesh (at least `WINDOWED_MIN_FACES` faces): as an
     /// occluder, only the part of its exact silhouette inside the light's polygon is computed
     /// (`geometry::silhouettes::windowed_silhouette`), from the faces the light's cone meets.
     ExactInWindow,

@@ -50,10 +50,10 @@ pub struct PreparedObject {
     pub object: u32,
     pub name: String,
     /// The mesh as its path reads it: the convex hull when one stands in for the mesh
-    /// ([`MeshPath::hull`]; [`PreparedObject::faces`] is the mesh's own faces).
+    /// (`MeshPath::hull`; `PreparedObject::faces` is the mesh's own faces).
     pub poly: IndexedPolyhedron,
     /// How the analytic method finds its spherical polygon, with the tree or hull that path
-    /// reads: decided by [`MeshPath::decide`] whenever the mesh or its trees change.
+    /// reads: decided by `MeshPath::decide` whenever the mesh or its trees change.
     pub path: MeshPath,
     /// Maps a world point into the frame of the tree this object shares with its instances
     /// (the world frame of the group's first member); `None` when the tree is in this object's
@@ -69,7 +69,7 @@ pub struct PreparedObject {
     pub triangulation: Option<Arc<SilhouetteTriangulation>>,
     /// The mesh's faces as the triangles rays see, when some face is not planar to the
     /// polyhedron's tolerance (a quad bent by the rounding of its digits): the face-by-face
-    /// paths go over these ([`PreparedObject::face_pieces`]).
+    /// paths go over these (`PreparedObject::face_pieces`).
     pub fan: Option<FanMesh>,
     /// A light that may go face by face (not convex): where its own mesh lies against each of
     /// its face pieces' cutting planes, so that lighting its own points does not count the

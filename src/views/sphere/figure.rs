@@ -53,7 +53,7 @@ impl SphereCamera {
 
     /// The camera framed on `directions` (the region of interest,
     /// [`super::region_of_interest`]): looking at their mean direction, magnified until they fill about
-    /// two thirds of the side (at most [`MAX_FRAMING_ZOOM`]). The default camera without any.
+    /// two thirds of the side (at most `MAX_FRAMING_ZOOM`). The default camera without any.
     pub fn framed(directions: &[DVec3]) -> SphereCamera {
         let Some(mean) = directions.iter().copied().sum::<DVec3>().try_normalize() else {
             return SphereCamera::default();

@@ -1,5 +1,5 @@
 //! What the unit sphere at a picked point shows, as plain data read from the recording (the
-//! data half of the sphere and hemisphere views; [`figure`] draws it): the regions (light,
+//! data half of the sphere and hemisphere views; `figure` draws it): the regions (light,
 //! occluders, visible polygon) as spherical polygons to fill, the curves on the sphere
 //! (contour edges, polygon outlines, cones), point markers (apparent intersections, rays),
 //! the shading frame's directions and the environment's radiance. Everything is in the
@@ -82,7 +82,7 @@ impl Layers {
 }
 
 /// Colours of the layers (also the legend's and the planar view's). The light, occluder and
-/// visible colours are [`super::LIGHT`], [`super::OCCLUDER`] and [`super::VISIBLE`], the one
+/// visible colours are `super::LIGHT`, `super::OCCLUDER` and `super::VISIBLE`, the one
 /// scheme of every view.
 pub mod colours {
     use crate::figure::Rgb;

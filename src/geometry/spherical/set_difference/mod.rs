@@ -59,7 +59,7 @@ pub const EPS_POINT: f64 = 5e-13;
 /// Features smaller than this (sine of angle), four times [`EPS_LINE`], are folded onto one
 /// point: consecutive input vertices closer than this are merged on loading (edges shorter than
 /// the tolerances). (Detours of one operand through an intersection point are removed within
-/// a wider radius, [`DETOUR_RADIUS`], and so are loops thinner than it.)
+/// a wider radius, `DETOUR_RADIUS`, and so are loops thinner than it.)
 ///
 /// An edge shorter than a few [`EPS_LINE`] has a well-defined line, but the tolerance band
 /// around that line is as wide as the edge is long, so "on the line" says nothing about the
