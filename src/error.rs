@@ -1,12 +1,12 @@
 //! The library's one error type: every fallible function of the library returns [`Result`].
 //! A message names the input's file, and its line where the format has lines, worded as the
-//! command line prints it. A module's structured error (an edit that cannot be made, a file
-//! that is not an LTC table) converts into it whole, so that a caller can still match on it
-//! (`Error::Typed`, `downcast_ref`). Errors are cheap to clone, so that a result kept for
+//! command line prints it. Where a caller acts on why (an edit that cannot be made, a file
+//! that is not an LTC table), the error carries its kind as a value to match on
+//! (`Error::Edit(EditError::NoDrag)`). Errors are cheap to clone, so that a result kept for
 //! later callers (a cached load, a step of a sliced render) can be handed out again.
 
 /// Why the library could not do what was asked.
-#[derive(Clone, Debug, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Error {
     /// A file that cannot be read or written as what it should be.
     #[error("{file}: {message}")]
@@ -23,9 +23,75 @@ pub enum Error {
     /// the error of a library the files are read with, where the caller names the file.
     #[error("{0}")]
     Request(String),
-    /// A module's structured error, kept whole.
+    /// An edit of a scene that cannot be made.
     #[error(transparent)]
-    Typed(std::sync::Arc<dyn std::error::Error + Send + Sync>),
+    Edit(#[from] EditError),
+    /// Bytes that are not an LTC table.
+    #[error(transparent)]
+    TableFormat(#[from] TableFormatError),
+    /// A three.js LTC source that cannot be imported.
+    #[error(transparent)]
+    Import(#[from] ImportError),
+}
+
+/// Why an edit of a scene could not be made (`scene::edit`).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EditError {
+    #[error("object index {index} is out of range: the scene has {count} objects")]
+    ObjectOutOfRange { index: usize, count: usize },
+    #[error("no object is named '{0}'")]
+    NoSuchObject(String),
+    #[error("{count} objects are named '{name}'; give its index instead ({indices})")]
+    AmbiguousName {
+        name: String,
+        count: usize,
+        indices: String,
+    },
+    #[error("no drag is in progress")]
+    NoDrag,
+    #[error("the transform is not finite (or its rotation axis is zero)")]
+    NotFinite,
+    #[error(
+        "the scene does not match the edit history (object {0} has another vertex count, or the \
+         object count differs)"
+    )]
+    SceneMismatch(usize),
+}
+
+/// Why bytes are not an LTC table (`ltc::LtcTable::from_bytes`).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum TableFormatError {
+    #[error("not an LTC table (bad magic)")]
+    Magic,
+    #[error("unsupported LTC table version {0}")]
+    Version(u32),
+    #[error("bad LTC table header: {0}")]
+    Header(&'static str),
+    #[error("LTC table has {got} bytes, expected {expected}")]
+    Length { got: usize, expected: usize },
+    #[error("LTC table checksum mismatch")]
+    Checksum,
+    #[error(
+        "LTC table record {0} holds a non-finite value, a scale <= 0 or a cosine share outside [0, 1)"
+    )]
+    Record(usize),
+}
+
+/// Why a three.js LTC source cannot be imported (`ltc::published::from_three_js`).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ImportError {
+    #[error("array {0} not found")]
+    Missing(&'static str),
+    #[error("array {name}: bad number {text:?}")]
+    Number { name: &'static str, text: String },
+    #[error("array {name} has {got} numbers, expected {expected}")]
+    Length {
+        name: &'static str,
+        got: usize,
+        expected: usize,
+    },
+    #[error("texel ({x}, {y}): M⁻¹ has determinant {det} <= 0")]
+    Determinant { x: usize, y: usize, det: f64 },
 }
 
 /// The library's result.
@@ -54,15 +120,6 @@ impl<T, E: std::fmt::Display> InFile<T> for std::result::Result<T, E> {
             "" => Error::file(file, e),
             what => Error::file(file, format!("{what}: {e}")),
         })
-    }
-}
-
-/// Two errors are equal when they are of one kind and say the same (a typed error by its
-/// words), which is what a test of an error asks.
-impl PartialEq for Error {
-    fn eq(&self, other: &Self) -> bool {
-        std::mem::discriminant(self) == std::mem::discriminant(other)
-            && self.to_string() == other.to_string()
     }
 }
 

@@ -41,7 +41,7 @@
 #![warn(unnameable_types)]
 
 pub use choice::Choice;
-pub use error::{Error, InFile, Result};
+pub use error::{EditError, Error, ImportError, InFile, Result, TableFormatError};
 
 #[doc(hidden)]
 pub mod accel;

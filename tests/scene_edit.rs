@@ -387,8 +387,9 @@ fn cli_edit_moves_and_saves() {
 
 mod history {
     use glam::DVec3;
-    use penumbra::scene::edit::{EditError, EditHistory, Rigid, resolve_object};
+    use penumbra::scene::edit::{EditHistory, Rigid, resolve_object};
     use penumbra::scene::{Material, Mesh, ObjectFlags, Scene, SceneObject, shapes};
+    use penumbra::{EditError, Error};
 
     fn step(k: u32) -> f64 {
         0.01 * k as f64
@@ -486,12 +487,18 @@ mod history {
         let mut h = EditHistory::new(&s);
         assert_eq!(
             h.begin_drag(7),
-            Err(EditError::ObjectOutOfRange { index: 7, count: 2 })
+            Err(Error::Edit(EditError::ObjectOutOfRange {
+                index: 7,
+                count: 2
+            }))
         );
-        assert_eq!(h.update_drag(Rigid::IDENTITY), Err(EditError::NoDrag));
+        assert_eq!(
+            h.update_drag(Rigid::IDENTITY),
+            Err(Error::Edit(EditError::NoDrag))
+        );
         h.begin_drag(1).unwrap();
         let bad = Rigid::translation(DVec3::new(f64::INFINITY, 0.0, 0.0));
-        assert_eq!(h.update_drag(bad), Err(EditError::NotFinite));
+        assert_eq!(h.update_drag(bad), Err(Error::Edit(EditError::NotFinite)));
         assert_eq!(h.end_drag(), None); // no motion, no step
         assert!(h.edit(&mut s, 5, Rigid::IDENTITY).is_err());
         let mut other = s.clone();

@@ -7,7 +7,7 @@
 use super::gizmo::{Gizmo, Handle, Motion};
 use crate::render::RenderContext;
 use crate::scene::Camera;
-use crate::scene::edit::{EditError, EditHistory, Rigid};
+use crate::scene::edit::{EditHistory, Rigid};
 use egui::{Painter, Pos2, Rect, Response, Ui};
 use glam::DVec3;
 use std::sync::Arc;
@@ -213,7 +213,7 @@ impl SceneEditor {
     fn history_step(
         &mut self,
         ctx: &Arc<RenderContext>,
-        step: fn(&mut EditHistory, &mut crate::scene::Scene) -> Result<Option<usize>, EditError>,
+        step: fn(&mut EditHistory, &mut crate::scene::Scene) -> crate::Result<Option<usize>>,
     ) -> Option<Arc<RenderContext>> {
         self.drag = None;
         let mut scene = (*ctx.scene).clone();

@@ -17,6 +17,4 @@ pub mod published;
 pub(crate) mod table;
 
 pub use edge_integral::{edge_integral, form_factor, form_factor_terms};
-pub use table::{
-    ALPHA_MIN, COS_THETA_MIN, LTC_TABLE_SIZE, LtcEntry, LtcTable, MAGIC, TableFormatError,
-};
+pub use table::{ALPHA_MIN, COS_THETA_MIN, LTC_TABLE_SIZE, LtcEntry, LtcTable, MAGIC};

@@ -15,6 +15,7 @@
 //! `fresnel = t2.y`.
 
 use super::table::{ALPHA_MIN, COS_THETA_MIN, LtcEntry, LtcTable};
+use crate::ImportError;
 use glam::{DMat3, DVec3};
 use std::sync::OnceLock;
 
@@ -28,29 +29,6 @@ pub fn published() -> &'static LtcTable {
     TABLE.get_or_init(|| {
         LtcTable::from_bytes(BYTES).expect("the published LTC table asset is a valid table file")
     })
-}
-
-/// Error of [`from_three_js`].
-#[derive(Debug, thiserror::Error)]
-pub enum ImportError {
-    #[error("array {0} not found")]
-    Missing(&'static str),
-    #[error("array {name}: bad number {text:?}")]
-    Number { name: &'static str, text: String },
-    #[error("array {name} has {got} numbers, expected {expected}")]
-    Length {
-        name: &'static str,
-        got: usize,
-        expected: usize,
-    },
-    #[error("texel ({x}, {y}): M⁻¹ has determinant {det} <= 0")]
-    Determinant { x: usize, y: usize, det: f64 },
-}
-
-impl From<ImportError> for crate::Error {
-    fn from(e: ImportError) -> Self {
-        crate::Error::Typed(std::sync::Arc::new(e))
-    }
 }
 
 /// The numbers of the JavaScript array literal `const NAME = [ … ];` in `js` (numbers may
@@ -94,7 +72,7 @@ pub(crate) fn entry_from_texels(t1: [f64; 4], t2: [f64; 4]) -> LtcEntry {
 /// `cos_theta_min` as ours: row 0 and the last column were fitted at α = 0 and cosθv = 0 by
 /// Heitz et al.; on our grid they only weight the interpolation toward those nodes).
 /// Every `M⁻¹` must have a positive determinant (all do).
-pub fn from_three_js(js: &str) -> Result<LtcTable, ImportError> {
+pub fn from_three_js(js: &str) -> crate::Result<LtcTable> {
     let n = PUBLISHED_SIZE;
     let m1 = js_array(js, "LTC_MAT_1")?;
     let m2 = js_array(js, "LTC_MAT_2")?;
@@ -104,7 +82,8 @@ pub fn from_three_js(js: &str) -> Result<LtcTable, ImportError> {
                 name,
                 got: a.len(),
                 expected: 4 * n * n,
-            });
+            }
+            .into());
         }
     }
     let texel = |a: &[f64], x: usize, y: usize| -> [f64; 4] {
@@ -118,7 +97,7 @@ pub fn from_three_js(js: &str) -> Result<LtcTable, ImportError> {
             let e = entry_from_texels(texel(&m1, i, j), texel(&m2, i, j));
             let det = e.m_inv.determinant();
             if det.is_nan() || det <= 0.0 {
-                return Err(ImportError::Determinant { x: i, y: j, det });
+                return Err(ImportError::Determinant { x: i, y: j, det }.into());
             }
             entries.push(e);
         }

@@ -15,6 +15,7 @@
 //! integral is `scale · (F0 (norm − fresnel) + fresnel) · ((1 − cosine) E(M⁻¹P) + cosine E(P))`
 //! (docs/ltc.md, "The cosine tail").
 
+use crate::TableFormatError;
 use glam::{DMat3, DVec3};
 use std::io;
 use std::path::Path;
@@ -149,31 +150,6 @@ fn all_renormalized(records: &[[f64; RECORD_VALUES]]) -> bool {
         let e = LtcEntry::from_record(r);
         (e.scale * e.horizon_fraction() - 1.0).abs() <= 1e-9
     })
-}
-
-/// Error of [`LtcTable::from_bytes`].
-#[derive(Debug, thiserror::Error)]
-pub enum TableFormatError {
-    #[error("not an LTC table (bad magic)")]
-    Magic,
-    #[error("unsupported LTC table version {0}")]
-    Version(u32),
-    #[error("bad LTC table header: {0}")]
-    Header(&'static str),
-    #[error("LTC table has {got} bytes, expected {expected}")]
-    Length { got: usize, expected: usize },
-    #[error("LTC table checksum mismatch")]
-    Checksum,
-    #[error(
-        "LTC table record {0} holds a non-finite value, a scale <= 0 or a cosine share outside [0, 1)"
-    )]
-    Record(usize),
-}
-
-impl From<TableFormatError> for crate::Error {
-    fn from(e: TableFormatError) -> Self {
-        crate::Error::Typed(std::sync::Arc::new(e))
-    }
 }
 
 /// FNV-1a, 64 bit.
@@ -390,38 +366,37 @@ impl LtcTable {
     }
 
     /// Parse and validate the binary format.
-    pub fn from_bytes(bytes: &[u8]) -> Result<Self, TableFormatError> {
+    pub fn from_bytes(bytes: &[u8]) -> crate::Result<Self> {
         if bytes.len() < HEADER_LEN + 8 {
-            return Err(TableFormatError::Header("truncated"));
+            return Err(TableFormatError::Header("truncated").into());
         }
         if bytes[..8] != MAGIC {
-            return Err(TableFormatError::Magic);
+            return Err(TableFormatError::Magic.into());
         }
         let version = u32_at(bytes, 8);
         if version != VERSION {
-            return Err(TableFormatError::Version(version));
+            return Err(TableFormatError::Version(version).into());
         }
         let n = u32_at(bytes, 12) as usize;
         if !(2..=4096).contains(&n) {
-            return Err(TableFormatError::Header("size out of range"));
+            return Err(TableFormatError::Header("size out of range").into());
         }
         let expected = HEADER_LEN + n * n * RECORD_LEN + 8;
         if bytes.len() != expected {
             return Err(TableFormatError::Length {
                 got: bytes.len(),
                 expected,
-            });
+            }
+            .into());
         }
         let body = &bytes[..expected - 8];
         if fnv1a64(body) != u64::from_le_bytes(bytes[expected - 8..].try_into().unwrap()) {
-            return Err(TableFormatError::Checksum);
+            return Err(TableFormatError::Checksum.into());
         }
         let alpha_min = f64_at(bytes, 16);
         let cos_theta_min = f64_at(bytes, 24);
         if !(alpha_min > 0.0 && alpha_min < 1.0 && cos_theta_min > 0.0 && cos_theta_min < 1.0) {
-            return Err(TableFormatError::Header(
-                "alpha_min / cos_theta_min out of (0, 1)",
-            ));
+            return Err(TableFormatError::Header("alpha_min / cos_theta_min out of (0, 1)").into());
         }
         let mut records = Vec::with_capacity(n * n);
         for k in 0..n * n {
@@ -431,7 +406,7 @@ impl LtcTable {
                 *x = f64_at(bytes, off + 8 * q);
             }
             if !(r.iter().all(|x| x.is_finite()) && r[6] > 0.0 && (0.0..1.0).contains(&r[7])) {
-                return Err(TableFormatError::Record(k));
+                return Err(TableFormatError::Record(k).into());
             }
             records.push(r);
         }

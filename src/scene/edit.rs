@@ -22,6 +22,7 @@
 //! ```
 
 use super::Scene;
+use crate::EditError;
 use glam::{DMat3, DQuat, DVec3};
 
 /// A rigid motion `p ↦ R p + t` (a rotation, then a translation), in f64.
@@ -35,36 +36,6 @@ pub struct Rigid {
 impl Default for Rigid {
     fn default() -> Self {
         Rigid::IDENTITY
-    }
-}
-
-/// Why an edit could not be made.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum EditError {
-    #[error("object index {index} is out of range: the scene has {count} objects")]
-    ObjectOutOfRange { index: usize, count: usize },
-    #[error("no object is named '{0}'")]
-    NoSuchObject(String),
-    #[error("{count} objects are named '{name}'; give its index instead ({indices})")]
-    AmbiguousName {
-        name: String,
-        count: usize,
-        indices: String,
-    },
-    #[error("no drag is in progress")]
-    NoDrag,
-    #[error("the transform is not finite (or its rotation axis is zero)")]
-    NotFinite,
-    #[error(
-        "the scene does not match the edit history (object {0} has another vertex count, or the \
-         object count differs)"
-    )]
-    SceneMismatch(usize),
-}
-
-impl From<EditError> for crate::Error {
-    fn from(e: EditError) -> Self {
-        crate::Error::Typed(std::sync::Arc::new(e))
     }
 }
 
@@ -84,10 +55,10 @@ impl Rigid {
 
     /// The rotation by `angle` radians about `axis` (right-handed) through the origin; an error
     /// for a zero or non-finite axis or angle.
-    pub fn rotation(axis: DVec3, angle: f64) -> Result<Rigid, EditError> {
+    pub fn rotation(axis: DVec3, angle: f64) -> crate::Result<Rigid> {
         let axis = axis.try_normalize().ok_or(EditError::NotFinite)?;
         if !angle.is_finite() {
-            return Err(EditError::NotFinite);
+            return Err(EditError::NotFinite.into());
         }
         Ok(Rigid {
             rotation: DQuat::from_axis_angle(axis, angle),
@@ -97,9 +68,9 @@ impl Rigid {
 
     /// The rotation by `angle` radians about the axis through `pivot` along `axis`:
     /// `p ↦ R (p − pivot) + pivot`.
-    pub fn rotation_about(pivot: DVec3, axis: DVec3, angle: f64) -> Result<Rigid, EditError> {
+    pub fn rotation_about(pivot: DVec3, axis: DVec3, angle: f64) -> crate::Result<Rigid> {
         if !pivot.is_finite() {
-            return Err(EditError::NotFinite);
+            return Err(EditError::NotFinite.into());
         }
         let r = Rigid::rotation(axis, angle)?;
         Ok(Rigid {
@@ -196,20 +167,20 @@ pub struct EditHistory {
 }
 
 /// The index of the object `spec` names: an index (`"3"`), else a name, which must be unique.
-pub fn resolve_object(scene: &Scene, spec: &str) -> Result<usize, EditError> {
+pub fn resolve_object(scene: &Scene, spec: &str) -> crate::Result<usize> {
     let count = scene.objects.len();
     if let Ok(index) = spec.trim().parse::<usize>() {
         return if index < count {
             Ok(index)
         } else {
-            Err(EditError::ObjectOutOfRange { index, count })
+            Err(EditError::ObjectOutOfRange { index, count }.into())
         };
     }
     let found: Vec<usize> = (0..count)
         .filter(|&i| scene.objects[i].name == spec)
         .collect();
     match found.len() {
-        0 => Err(EditError::NoSuchObject(spec.to_owned())),
+        0 => Err(EditError::NoSuchObject(spec.to_owned()).into()),
         1 => Ok(found[0]),
         n => Err(EditError::AmbiguousName {
             name: spec.to_owned(),
@@ -219,7 +190,8 @@ pub fn resolve_object(scene: &Scene, spec: &str) -> Result<usize, EditError> {
                 .map(|i| i.to_string())
                 .collect::<Vec<_>>()
                 .join(", "),
-        }),
+        }
+        .into()),
     }
 }
 
@@ -238,7 +210,7 @@ impl EditHistory {
         }
     }
 
-    fn check(&self, object: usize) -> Result<(), EditError> {
+    fn check(&self, object: usize) -> crate::Result<()> {
         let count = self.originals.len();
         if object < count {
             Ok(())
@@ -246,13 +218,14 @@ impl EditHistory {
             Err(EditError::ObjectOutOfRange {
                 index: object,
                 count,
-            })
+            }
+            .into())
         }
     }
 
     /// The object's transform relative to its original vertices, the drag in progress
     /// included.
-    pub(crate) fn transform(&self, object: usize) -> Result<Rigid, EditError> {
+    pub(crate) fn transform(&self, object: usize) -> crate::Result<Rigid> {
         self.check(object)?;
         Ok(match self.drag {
             Some(d) if d.object == object => d.delta.after(&d.start),
@@ -262,7 +235,7 @@ impl EditHistory {
 
     /// The point rotations of the object turn about: the centre of its current bounding box
     /// (during a drag of it, the centre when the drag began, so that the pivot stays put).
-    pub fn pivot(&self, object: usize) -> Result<DVec3, EditError> {
+    pub fn pivot(&self, object: usize) -> crate::Result<DVec3> {
         self.check(object)?;
         if let Some(d) = self.drag.filter(|d| d.object == object) {
             return Ok(d.pivot);
@@ -284,7 +257,7 @@ impl EditHistory {
     }
 
     /// Starts dragging `object` (a drag in progress is ended first); returns its pivot.
-    pub fn begin_drag(&mut self, object: usize) -> Result<DVec3, EditError> {
+    pub fn begin_drag(&mut self, object: usize) -> crate::Result<DVec3> {
         self.check(object)?;
         self.end_drag();
         let pivot = self.pivot(object)?;
@@ -300,9 +273,9 @@ impl EditHistory {
     /// Sets the drag's motion: `delta` is the whole motion since [`EditHistory::begin_drag`]
     /// (world space, applied after the object's transform at the start), not an increment, so
     /// that the object's position never depends on how many updates there were.
-    pub fn update_drag(&mut self, delta: Rigid) -> Result<(), EditError> {
+    pub fn update_drag(&mut self, delta: Rigid) -> crate::Result<()> {
         if !delta.is_finite() {
-            return Err(EditError::NotFinite);
+            return Err(EditError::NotFinite.into());
         }
         let d = self.drag.as_mut().ok_or(EditError::NoDrag)?;
         d.delta = delta;
@@ -341,7 +314,7 @@ impl EditHistory {
         scene: &mut Scene,
         object: usize,
         delta: Rigid,
-    ) -> Result<Option<Edit>, EditError> {
+    ) -> crate::Result<Option<Edit>> {
         self.check_scene(scene)?;
         self.begin_drag(object)?;
         if let Err(e) = self.update_drag(delta) {
@@ -353,29 +326,29 @@ impl EditHistory {
         Ok(edit)
     }
 
-    fn check_scene(&self, scene: &Scene) -> Result<(), EditError> {
+    fn check_scene(&self, scene: &Scene) -> crate::Result<()> {
         if scene.objects.len() != self.originals.len() {
-            return Err(EditError::SceneMismatch(scene.objects.len()));
+            return Err(EditError::SceneMismatch(scene.objects.len()).into());
         }
         Ok(())
     }
 
     /// Writes the object's current position (the drag in progress included) into `scene`:
     /// its transform applied to its original vertices.
-    pub fn apply(&self, scene: &mut Scene, object: usize) -> Result<(), EditError> {
+    pub fn apply(&self, scene: &mut Scene, object: usize) -> crate::Result<()> {
         self.check_scene(scene)?;
         let t = self.transform(object)?;
         let original = &self.originals[object];
         let mesh = &mut scene.objects[object].mesh;
         if mesh.positions.len() != original.len() {
-            return Err(EditError::SceneMismatch(object));
+            return Err(EditError::SceneMismatch(object).into());
         }
         t.apply_all(original, &mut mesh.positions);
         Ok(())
     }
 
     /// A copy of `scene` with the object at its current position (for a drag's frame).
-    pub fn moved_scene(&self, scene: &Scene, object: usize) -> Result<Scene, EditError> {
+    pub fn moved_scene(&self, scene: &Scene, object: usize) -> crate::Result<Scene> {
         let mut s = scene.clone();
         self.apply(&mut s, object)?;
         Ok(s)
@@ -383,7 +356,7 @@ impl EditHistory {
 
     /// Undoes the last edit (a drag in progress is cancelled instead); returns the object that
     /// moved, after writing its position into `scene`.
-    pub fn undo(&mut self, scene: &mut Scene) -> Result<Option<usize>, EditError> {
+    pub fn undo(&mut self, scene: &mut Scene) -> crate::Result<Option<usize>> {
         self.check_scene(scene)?;
         if let Some(object) = self.cancel_drag() {
             self.apply(scene, object)?;
@@ -400,7 +373,7 @@ impl EditHistory {
 
     /// Redoes the last undone edit; returns the object that moved, after writing its position
     /// into `scene`.
-    pub fn redo(&mut self, scene: &mut Scene) -> Result<Option<usize>, EditError> {
+    pub fn redo(&mut self, scene: &mut Scene) -> crate::Result<Option<usize>> {
         self.check_scene(scene)?;
         self.end_drag();
         let Some(edit) = self.redo.pop() else {
@@ -435,7 +408,7 @@ pub fn move_object(
     translate: DVec3,
     rotate_y_deg: f64,
     pivot: Option<DVec3>,
-) -> Result<(usize, DVec3), EditError> {
+) -> crate::Result<(usize, DVec3)> {
     let index = resolve_object(scene, object)?;
     let mut history = EditHistory::new(scene);
     let pivot = match pivot {

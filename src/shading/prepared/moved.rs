@@ -5,9 +5,9 @@ use super::mesh_forms::{FanMesh, StandIn};
 use super::mesh_path::MeshPath;
 use super::report::PrepareNote;
 use super::{PreparedScene, scene_box, unseparated, without_vertex_rule};
+use crate::EditError;
 use crate::geometry::{IndexedPolyhedron, separating_plane, star_centre};
 use crate::scene::Scene;
-use crate::scene::edit::EditError;
 use glam::DVec3;
 use std::sync::Arc;
 
