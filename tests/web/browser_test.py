@@ -1,5 +1,5 @@
 """The browser build in a real browser: serves dist/ on 127.0.0.1, drives headless Chromium
-through the DevTools protocol and checks what a student would see (issue 30):
+through the DevTools protocol and checks what a student would see:
 
 1. the first image arrives (the page's console says so, with where the viewport is);
 2. a click on the viewport picks that pixel, and the sphere pane then shows its recording:
