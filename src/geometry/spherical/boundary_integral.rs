@@ -740,6 +740,146 @@ mod tests {
         assert!(horizon_terms.abs() > 1e-3);
     }
 
+    /// Oracles: the occluder as one polygon (the boundary path and GH), for occluders given as
+    /// the triangles of a fan (each clipped to the horizon on its own, as faces taken one by
+    /// one are): edges shared by two triangles, vertices shared by all, on 500 random
+    /// configurations.
+    #[test]
+    fn fan_triangulated_occluders_match_the_whole() {
+        let mut rng = Pcg32::new(17, 4);
+        let mut worst = 0.0f64;
+        for case in 0..500 {
+            let el = rng.range(0.05, 1.4);
+            let az = rng.range(0.0, TAU);
+            let mut light = SphericalPolygon::new();
+            random_star_loop(&mut light, &Frame::from_z(dir(el, az)), 6, 0.7, &mut rng);
+            let light = clipped(&light);
+            let oc = dir(
+                (el + rng.range(-0.4, 0.4)).max(-0.2),
+                az + rng.range(-0.5, 0.5),
+            );
+            let mut star = SphericalPolygon::new();
+            // Four or more points: the angle of each triangle at the centre stays below π.
+            let k = 4 + (rng.next_f64() * 6.0) as usize;
+            random_star_loop(&mut star, &Frame::from_z(oc), k, 0.6, &mut rng);
+            let ring = star.loop_at(0).to_vec();
+            let fan: Vec<SphericalPolygon> = (0..k)
+                .map(|j| clipped(&poly(&[oc, ring[j], ring[(j + 1) % k]])))
+                .filter(|t| !t.is_empty())
+                .collect();
+            let whole = [clipped(&star)];
+            let Some(gh) = gh_ff(&light, &whole) else {
+                continue;
+            };
+            let b_whole = boundary_ff(&light, &whole);
+            let b_fan = boundary_ff(&light, &fan);
+            for b in [b_whole, b_fan] {
+                let err = rel_err(b, gh);
+                assert!(err < 1e-10, "case {case}: {b_whole} {b_fan} GH {gh}");
+                worst = worst.max(err);
+            }
+        }
+        println!("fans: max rel diff {worst:e}");
+    }
+
+    /// Oracle: the other part written down (`form_factor`) and GH, for an occluder that is the
+    /// light cut by a great circle through it: every occluder edge but the cut lies on a light
+    /// edge in the same direction, its vertices are the light's; 500 random cuts of convex and
+    /// non-convex lights.
+    #[test]
+    fn occluder_cut_from_the_light() {
+        use crate::geometry::spherical::spherical_polygon::clip_loop_to_half_spaces;
+        let mut rng = Pcg32::new(8, 8);
+        let (mut tmp, mut part, mut rest) = (Vec::new(), Vec::new(), Vec::new());
+        let mut worst = 0.0f64;
+        for case in 0..500 {
+            let c = dir(rng.range(0.3, 1.5), rng.range(0.0, TAU));
+            let lp = if case % 2 == 0 {
+                regular(c, rng.range(0.2, 0.8), 3 + case % 5, rng.range(0.0, TAU))
+            } else {
+                let mut l = SphericalPolygon::new();
+                random_star_loop(&mut l, &Frame::from_z(c), 7, 0.6, &mut rng);
+                l
+            };
+            let light = clipped(&lp);
+            // A great circle through the light's centre direction.
+            let n = c.cross(rng.unit_vector()).normalize();
+            clip_loop_to_half_spaces(light.loop_at(0), &[n], &mut part, &mut tmp);
+            clip_loop_to_half_spaces(light.loop_at(0), &[-n], &mut rest, &mut tmp);
+            if part.is_empty() || rest.is_empty() {
+                continue;
+            }
+            // The cut is of the light's first loop: skip lights the horizon left in several
+            // loops. (For a non-convex light the part may run along the cut twice, in opposite
+            // directions; those pieces cancel.)
+            if light.loop_count() != 1 {
+                continue;
+            }
+            let occ = [poly(&part)];
+            let b = boundary_ff(&light, &occ);
+            let want = form_factor([rest.as_slice()]);
+            let err = rel_err(b, want);
+            assert!(err < 1e-10, "case {case}: {b} want {want}");
+            worst = worst.max(err);
+            if let Some(gh) = gh_ff(&light, &occ) {
+                assert!(rel_err(b, gh) < 1e-10, "case {case}: {b} GH {gh}");
+            }
+        }
+        println!("cuts: max rel diff {worst:e}");
+    }
+
+    /// Timing, not a check (`cargo test --release --lib boundary_integral::tests::timing --
+    /// --ignored --nocapture`): per configuration of the random test, the GH path (project,
+    /// subtract per occluder, reproject, `form_factor`) against the boundary sum, both with
+    /// warm scratch buffers, best of five passes.
+    #[test]
+    #[ignore]
+    fn timing_boundary_against_greiner_hormann() {
+        use std::time::Instant;
+        let mut rng = Pcg32::new(2021, 7);
+        let configs: Vec<_> = (0..2000).map(|_| random_config(&mut rng)).collect();
+        let plane = ProjectionPlane::NORMAL;
+        let (mut v, mut clip, mut out) = (
+            PlanarPolygon::new(),
+            PlanarPolygon::new(),
+            PlanarPolygon::new(),
+        );
+        let mut sph = SphericalPolygon::new();
+        let mut sd = SetDifference::new();
+        let mut bs = BoundaryScratch::new();
+        let (mut best_gh, mut best_b) = (f64::INFINITY, f64::INFINITY);
+        let mut sink = 0.0;
+        for _ in 0..5 {
+            let t = Instant::now();
+            for (light, occ) in &configs {
+                plane.project(light, &mut v);
+                for o in occ {
+                    if v.is_empty() {
+                        break;
+                    }
+                    plane.project(o, &mut clip);
+                    sd.subtract(&v, &clip, &mut out, None);
+                    std::mem::swap(&mut v, &mut out);
+                }
+                plane.reproject(&v, &mut sph);
+                sink += form_factor(sph.loops());
+            }
+            best_gh = best_gh.min(t.elapsed().as_secs_f64());
+            let t = Instant::now();
+            for (light, occ) in &configs {
+                sink += visible_integral_from_boundary(light, occ, &mut bs, edge_integral);
+            }
+            best_b = best_b.min(t.elapsed().as_secs_f64());
+        }
+        let n = configs.len() as f64;
+        println!(
+            "per configuration: GH {:.2} µs, boundary {:.2} µs, ratio boundary/GH {:.2} ({sink})",
+            best_gh / n * 1e6,
+            best_b / n * 1e6,
+            best_b / best_gh
+        );
+    }
+
     /// Degenerate input gives a finite answer and no panic: zero-length edges, repeated
     /// vertices, antipodal vertices, empty polygons, loops of one or two vertices.
     #[test]
