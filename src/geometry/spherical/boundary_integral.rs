@@ -148,6 +148,10 @@ pub struct BoundaryScratch {
     cuts: Vec<f64>,
     /// Edges collinear with the edge being cut.
     collinear: Vec<u32>,
+    /// Per polygon, for the edge being cut: whether it cut the edge (or has an edge on its
+    /// circle), and if not, its sides along the whole edge once known.
+    touches: Vec<bool>,
+    constant: Vec<Option<(bool, bool)>>,
 }
 
 /// Whether edges `e` and `f` lie on one great circle: every endpoint of each within
@@ -217,6 +221,10 @@ impl BoundaryScratch {
         self.collinear.clear();
         self.cuts.push(0.0);
         self.cuts.push(e.theta);
+        self.touches.clear();
+        self.touches.resize(self.polys.len(), false);
+        self.constant.clear();
+        self.constant.resize(self.polys.len(), None);
         let add = |cuts: &mut Vec<f64>, t: f64| {
             if t > 0.0 && t < e.theta {
                 cuts.push(t);
@@ -226,6 +234,7 @@ impl BoundaryScratch {
             if pi == e.poly as usize || !may_meet(&e, p) {
                 continue;
             }
+            let (cuts_before, collinear_before) = (self.cuts.len(), self.collinear.len());
             for fi in p.first..p.end {
                 let f = &self.edges[fi as usize];
                 if collinear(&e, f) {
@@ -251,6 +260,8 @@ impl BoundaryScratch {
                     }
                 }
             }
+            self.touches[pi] =
+                self.cuts.len() > cuts_before || self.collinear.len() > collinear_before;
         }
         self.cuts.sort_unstable_by(f64::total_cmp);
         self.cuts.dedup();
@@ -258,9 +269,22 @@ impl BoundaryScratch {
 
     /// The sides of polygon `pi` at the point `m` of edge `e`'s circle: (left inside, right
     /// inside), from the winding number in which the collinear edges count half a turn.
-    fn sides(&self, e: &Edge, pi: usize, m: DVec3) -> (bool, bool) {
+    fn sides(&mut self, e: &Edge, pi: usize, m: DVec3) -> (bool, bool) {
+        if !self.touches[pi] {
+            // No boundary of the polygon meets the edge: one side, the same along all of it.
+            if let Some(s) = self.constant[pi] {
+                return s;
+            }
+            let s = self.winding_sides(e, pi, m);
+            self.constant[pi] = Some(s);
+            return s;
+        }
+        self.winding_sides(e, pi, m)
+    }
+
+    fn winding_sides(&self, e: &Edge, pi: usize, m: DVec3) -> (bool, bool) {
         let p = &self.polys[pi];
-        if !may_meet(e, p) {
+        if !may_meet(e, p) || (p.bounded && m.dot(p.centre) < (p.radius + 1e-9).cos()) {
             return (false, false);
         }
         let mut w = 0.0;
@@ -291,7 +315,7 @@ impl BoundaryScratch {
     }
 
     /// What the sub-arc at `m` of edge `e` is: +1 a piece along e, −1 against it, 0 none.
-    fn decide(&self, e: &Edge, m: DVec3) -> i8 {
+    fn decide(&mut self, e: &Edge, m: DVec3) -> i8 {
         if self.owned_earlier(e, m) {
             return 0;
         }
