@@ -33,6 +33,9 @@ pub use silhouettes::tile_candidates::{TileCandidates, TileQuery, TileRegion};
 pub use silhouettes::windowed_silhouette::{
     WindowScratch, WindowStats, clip_to_window, exact_silhouette_in_window, window_cone,
 };
+pub use spherical::boundary_integral::{
+    BoundaryPiece, BoundaryScratch, PieceSource, boundary_pieces, visible_integral_from_boundary,
+};
 pub use spherical::cone::Cone;
 pub use spherical::hole_difference::{HoleScratch, part_inside_convex};
 pub use spherical::horizon::{HorizonScratch, clip_to_horizon};

@@ -2,6 +2,7 @@
 //! horizon clipping (000 Alg. 3), the planar projection, overlap tests, and the set difference
 //! of a light and an occluder (Greiner–Hormann, 000 appendix); cones of directions.
 
+pub mod boundary_integral;
 pub mod cone;
 pub mod hole_difference;
 pub mod horizon;
