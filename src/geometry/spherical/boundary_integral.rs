@@ -2,8 +2,9 @@
 //! `V = L ∖ (O_1 ∪ … ∪ O_n)` beside the Greiner–Hormann set difference, which finds V's
 //! oriented boundary edge by edge without building V (docs/boundary-integral.md).
 //!
-//! Every integral the shader takes over V is a sum of edge terms over V's boundary (Stokes;
-//! 000 Eq. 9, and the same after the LTC transform M⁻¹, which maps arcs to arcs). The boundary
+//! Every integral the shader takes over V is a sum of edge terms over V's boundary (Stokes:
+//! 000 Eq. 2 written edge by edge, 001 Eq. 3.14; the same after the LTC transform M⁻¹, which
+//! maps arcs to arcs). The boundary
 //! of V consists of
 //!
 //! - (a) the pieces of L's edges that lie outside every occluder, in L's orientation, and
