@@ -105,24 +105,24 @@ impl Command {
         }
     }
 
-    /// The shortcut as written in the help and the menus; empty for a command without one
-    /// (issued from its button, a menu or the palette).
-    pub(crate) fn shortcut_text(&self) -> &'static str {
+    /// The key chords that run the command, the one description its text and its test
+    /// read; none for a command issued from its button, a menu or the palette.
+    pub(crate) fn shortcuts(&self) -> &'static [Chord] {
         match self {
-            Command::Undo => "Ctrl+Z",
-            Command::Redo => "Ctrl+Y / Ctrl+Shift+Z",
-            Command::Restore => "Esc",
-            Command::NextStage => "Right / Space",
-            Command::PreviousStage => "Left",
-            Command::AllStages => "Home",
-            Command::PlayStages => "P",
-            Command::ResetCamera => "R",
-            Command::SaveImage => "Ctrl+S",
-            Command::SaveDump => "Ctrl+D",
-            Command::Open => "Ctrl+O",
-            Command::Screenshot => "F12",
-            Command::ToggleHelp => "F1",
-            Command::CommandPalette => "Ctrl+P",
+            Command::Undo => const { &[Chord::ctrl(Key::Z)] },
+            Command::Redo => const { &[Chord::ctrl(Key::Y), Chord::ctrl_shift(Key::Z)] },
+            Command::Restore => const { &[Chord::key(Key::Escape)] },
+            Command::NextStage => const { &[Chord::key(Key::ArrowRight), Chord::key(Key::Space)] },
+            Command::PreviousStage => const { &[Chord::key(Key::ArrowLeft)] },
+            Command::AllStages => const { &[Chord::key(Key::Home)] },
+            Command::PlayStages => const { &[Chord::key(Key::P)] },
+            Command::ResetCamera => const { &[Chord::key(Key::R)] },
+            Command::SaveImage => const { &[Chord::ctrl(Key::S)] },
+            Command::SaveDump => const { &[Chord::ctrl(Key::D)] },
+            Command::Open => const { &[Chord::ctrl(Key::O)] },
+            Command::Screenshot => const { &[Chord::key(Key::F12)] },
+            Command::ToggleHelp => const { &[Chord::key(Key::F1)] },
+            Command::CommandPalette => const { &[Chord::ctrl(Key::P)] },
             Command::MonteCarloCheck
             | Command::ScreenshotSphere
             | Command::SaveScene
@@ -131,15 +131,22 @@ impl Command {
             | Command::OpenEmbedded(_)
             | Command::OpenRecent(_)
             | Command::ExportFigure(_)
-            | Command::Layout(_) => "",
+            | Command::Layout(_) => &[],
         }
+    }
+
+    /// The shortcut as written in the help and the menus ("Ctrl+Y / Ctrl+Shift+Z"); empty for
+    /// a command without one.
+    pub(crate) fn shortcut_text(&self) -> String {
+        let chords: Vec<String> = self.shortcuts().iter().map(|c| c.to_string()).collect();
+        chords.join(" / ")
     }
 
     /// The shortcut as the help lists it: "—" for a command without one (its button, a menu
     /// or the palette issues it).
-    pub(crate) fn help_keys(&self) -> &'static str {
+    pub(crate) fn help_keys(&self) -> String {
         match self.shortcut_text() {
-            "" => "—",
+            keys if keys.is_empty() => "—".to_string(),
             keys => keys,
         }
     }
@@ -147,42 +154,14 @@ impl Command {
     /// A menu entry's text: `name (shortcut)`, or the name alone without a shortcut.
     pub(crate) fn menu_text(&self, name: &str) -> String {
         match self.shortcut_text() {
-            "" => name.to_string(),
+            keys if keys.is_empty() => name.to_string(),
             keys => format!("{name} ({keys})"),
         }
     }
 
-    /// Whether the command's shortcut was pressed this frame (Ctrl is the command key: ⌘ on
-    /// macOS).
+    /// Whether one of the command's chords was pressed this frame.
     pub(crate) fn pressed(&self, i: &InputState) -> bool {
-        let ctrl = i.modifiers.command;
-        match self {
-            Command::Undo => ctrl && !i.modifiers.shift && i.key_pressed(Key::Z),
-            Command::Redo => {
-                ctrl && (i.key_pressed(Key::Y) || (i.modifiers.shift && i.key_pressed(Key::Z)))
-            }
-            Command::Restore => i.key_pressed(Key::Escape),
-            Command::NextStage => i.key_pressed(Key::ArrowRight) || i.key_pressed(Key::Space),
-            Command::PreviousStage => i.key_pressed(Key::ArrowLeft),
-            Command::AllStages => i.key_pressed(Key::Home),
-            Command::PlayStages => !ctrl && i.key_pressed(Key::P),
-            Command::ResetCamera => i.key_pressed(Key::R),
-            Command::SaveImage => ctrl && i.key_pressed(Key::S),
-            Command::SaveDump => ctrl && i.key_pressed(Key::D),
-            Command::Open => ctrl && i.key_pressed(Key::O),
-            Command::Screenshot => i.key_pressed(Key::F12),
-            Command::ToggleHelp => i.key_pressed(Key::F1),
-            Command::CommandPalette => ctrl && i.key_pressed(Key::P),
-            Command::MonteCarloCheck
-            | Command::ScreenshotSphere
-            | Command::SaveScene
-            | Command::ExportLesson
-            | Command::CopyCliCommand
-            | Command::OpenEmbedded(_)
-            | Command::OpenRecent(_)
-            | Command::ExportFigure(_)
-            | Command::Layout(_) => false,
-        }
+        self.shortcuts().iter().any(|c| c.pressed(i))
     }
 
     /// Whether the shortcut acts while a text field has the keyboard (a plain key such as
@@ -201,6 +180,64 @@ impl Command {
     }
 }
 
+/// A key with exactly the modifiers it needs (Ctrl is the command key: ⌘ on macOS), so that
+/// Ctrl+P and P are different shortcuts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Chord {
+    ctrl: bool,
+    shift: bool,
+    key: Key,
+}
+
+impl Chord {
+    const fn key(key: Key) -> Chord {
+        Chord {
+            ctrl: false,
+            shift: false,
+            key,
+        }
+    }
+
+    const fn ctrl(key: Key) -> Chord {
+        Chord {
+            ctrl: true,
+            shift: false,
+            key,
+        }
+    }
+
+    const fn ctrl_shift(key: Key) -> Chord {
+        Chord {
+            ctrl: true,
+            shift: true,
+            key,
+        }
+    }
+
+    fn pressed(self, i: &InputState) -> bool {
+        i.modifiers.command == self.ctrl
+            && i.modifiers.shift == self.shift
+            && i.key_pressed(self.key)
+    }
+}
+
+impl std::fmt::Display for Chord {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.ctrl {
+            f.write_str("Ctrl+")?;
+        }
+        if self.shift {
+            f.write_str("Shift+")?;
+        }
+        f.write_str(match self.key {
+            Key::Escape => "Esc",
+            Key::ArrowRight => "Right",
+            Key::ArrowLeft => "Left",
+            key => key.name(),
+        })
+    }
+}
+
 /// The commands whose label contains every word of `query` (case-insensitive), in
 /// [`Command::ALL`]'s order; all of them for an empty query. The palette lists these.
 pub(crate) fn matching(query: &str) -> Vec<Command> {
@@ -216,7 +253,7 @@ pub(crate) fn matching(query: &str) -> Vec<Command> {
 }
 
 /// The help's rows: every command's shortcut and what it does, then the mouse.
-pub(crate) fn help_rows() -> impl Iterator<Item = (&'static str, &'static str)> {
+pub(crate) fn help_rows() -> impl Iterator<Item = (String, &'static str)> {
     const MOUSE: [(&str, &str); 2] = [
         ("drag", "orbit (left), pan (right or middle); scroll: zoom"),
         ("click", "pick a pixel"),
@@ -224,7 +261,7 @@ pub(crate) fn help_rows() -> impl Iterator<Item = (&'static str, &'static str)> 
     Command::ALL
         .into_iter()
         .map(|c| (c.help_keys(), c.label()))
-        .chain(MOUSE)
+        .chain(MOUSE.map(|(k, what)| (k.to_string(), what)))
 }
 
 #[cfg(test)]
@@ -288,6 +325,12 @@ mod tests {
         assert_eq!(matching("stage").len(), 4);
         assert_eq!(matching("").len(), Command::ALL.len() - 1);
         assert!(matching("no such thing").is_empty());
+        // Shortcuts read as the keys are labelled.
+        assert_eq!(Command::Redo.shortcut_text(), "Ctrl+Y / Ctrl+Shift+Z");
+        assert_eq!(Command::NextStage.shortcut_text(), "Right / Space");
+        assert_eq!(Command::Restore.menu_text("restore"), "restore (Esc)");
+        assert_eq!(Command::ToggleHelp.help_keys(), "F1");
+        assert_eq!(Command::SaveScene.help_keys(), "—");
         // Every command is in the help, with its shortcut (or "—").
         let rows: Vec<_> = help_rows().collect();
         for c in Command::ALL {
