@@ -1,7 +1,7 @@
 //! The sphere pane: the unit sphere at the picked point in 3-D, with every recorded stage.
 
-use super::sphere_view::{SphereFigure, SphereView, canvas};
-use crate::app::ui::{PICK_FIRST, PaneView};
+use super::sphere_view::{SphereFigure, SphereView, canvas, picked};
+use crate::app::ui::PaneView;
 use crate::app::*;
 use crate::inspect::Probe;
 use crate::views::stages::Step;
@@ -14,13 +14,9 @@ pub struct SpherePane;
 
 impl PaneView for SpherePane {
     fn ui(&mut self, ui: &mut Ui, app: &mut AppState) {
-        let Some(ins) = &app.inspector else {
-            ui.label(PICK_FIRST);
+        let Some((ins, view)) = picked(ui, app) else {
             return;
         };
-        app.subject_rect = Some(ui.max_rect());
-        let view = &mut app.settings.sphere;
-        view.header_ui(ui, ins);
         sphere_ui(ui, view, &ins.probe, ins.current());
         app.sphere_rect = Some(ui.min_rect());
     }

@@ -185,6 +185,23 @@ impl SphereView {
     }
 }
 
+/// What both sphere panes start with: the picked point (or, without one, the hint to pick
+/// one), the pane's area as the app's subject (what a screenshot or a lesson frame crops to),
+/// and the shared header of layers and stage.
+pub(super) fn picked<'a>(
+    ui: &mut Ui,
+    app: &'a mut crate::app::AppState,
+) -> Option<(&'a Inspector, &'a mut SphereView)> {
+    let Some(ins) = &app.inspector else {
+        ui.label(crate::app::ui::PICK_FIRST);
+        return None;
+    };
+    app.subject_rect = Some(ui.max_rect());
+    let view = &mut app.settings.sphere;
+    view.header_ui(ui, ins);
+    Some((ins, view))
+}
+
 /// A square canvas as large as the space left (centred), named for accessibility.
 pub(super) fn canvas(
     ui: &mut Ui,
