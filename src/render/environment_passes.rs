@@ -84,7 +84,6 @@ crate::choice! {
 }
 
 impl EnvironmentSettings {
-    /// The settings `method` implies: culling per its name, the filter on for `rt`.
     /// The settings a scene's environment asks for: its method and rays, or the defaults
     /// (`EnvironmentSpec::method_or_default`, `spp_or_default`).
     pub(crate) fn for_spec(
@@ -100,6 +99,7 @@ impl EnvironmentSettings {
         self.method.is_filterable() && self.filter
     }
 
+    /// The settings `method` implies: culling per its name, the filter on for `rt`.
     pub fn new(method: EnvMethod, spp: u32, seed: u64) -> Self {
         EnvironmentSettings {
             method,
