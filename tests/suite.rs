@@ -19,6 +19,7 @@ mod bsp_hoisted;
 mod bsp_nonconvex;
 mod cell_triangulation;
 mod cli;
+mod derivative;
 mod edge_hierarchy;
 mod environment_math;
 mod environment_probe;

@@ -348,6 +348,12 @@ pub(crate) struct RenderArgs {
     /// the horizon renormalisation (docs/ltc.md).
     #[arg(long, default_value = "embedded")]
     pub(crate) ltc_table: String,
+    /// Also write the image's exact derivative along a rigid motion of one object,
+    /// OBJECT:AXIS with AXIS one of tx, ty, tz (per scene unit) or ry (per radian, about +y
+    /// through the centre of its bounding box): OUT_derivative.pfm/.exr/.png and
+    /// OUT_derivative_mask.pfm (1 where a pixel is masked). `--method analytic` only.
+    #[arg(long)]
+    pub(crate) derivative: Option<String>,
 }
 
 /// The environment light (paper 002), on top of or instead of the scene file's

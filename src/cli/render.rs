@@ -110,6 +110,9 @@ pub fn render(args: &RenderArgs) -> Result<()> {
     let request = request(args)?;
     let (scene, prepared) = prepared_scene(args, &request)?;
     let cam = camera(&args.camera, &scene)?;
+    if let Some(spec) = &args.derivative {
+        return render_derivative(args, &request, prepared, &cam, spec);
+    }
     let settings = request.settings;
     let (ctx, env) = (prepared.ctx, prepared.environment);
     let out = super::progress::with_tile_bar(|| ctx.render_full(&cam, &settings, None))
@@ -177,6 +180,82 @@ pub fn render(args: &RenderArgs) -> Result<()> {
             p.display()
         );
     }
+    for f in files {
+        say!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+/// `OUT_suffix.ext` beside `OUT.png`.
+fn beside(out: &Path, suffix: &str, ext: &str) -> PathBuf {
+    out.with_file_name(format!(
+        "{}_{suffix}.{ext}",
+        out.file_stem()
+            .map(|s| s.to_string_lossy())
+            .unwrap_or_default()
+    ))
+}
+
+/// `penumbra render --derivative OBJECT:AXIS`: the image as usual and its derivative beside
+/// it (`render::derivative`).
+fn render_derivative(
+    args: &RenderArgs,
+    request: &RenderRequest,
+    prepared: PreparedRender,
+    cam: &Camera,
+    spec: &str,
+) -> Result<()> {
+    use penumbra::render::derivative::{parse_motion, write_derivative_png};
+    let ctx = prepared.ctx;
+    let motion = parse_motion(&ctx, spec).map_err(anyhow::Error::msg)?;
+    let settings = request.settings;
+    let out =
+        super::progress::with_tile_bar(|| ctx.render_derivative(cam, &settings, &motion, None))
+            .map_err(anyhow::Error::msg)?;
+    let mut files = write_outputs(&out.image, &args.out, args.exposure)?;
+    let d = &out.derivative;
+    let rgb = d.to_rgb32();
+    let (pfm, exr, png) = (
+        beside(&args.out, "derivative", "pfm"),
+        beside(&args.out, "derivative", "exr"),
+        beside(&args.out, "derivative", "png"),
+    );
+    image_io::write_pfm(&pfm, d.width, d.height, &rgb)
+        .with_context(|| format!("{}", pfm.display()))?;
+    image_io::write_exr(&exr, d.width, d.height, &rgb)?;
+    let unit = if motion.axis == penumbra::shading::derivative::Axis::Ry {
+        "radian"
+    } else {
+        "scene unit"
+    };
+    write_derivative_png(d, &out.mask, unit, &png).map_err(anyhow::Error::msg)?;
+    let mask = beside(&args.out, "derivative_mask", "pfm");
+    image_io::write_pfm(&mask, d.width, d.height, &out.mask.to_rgb32())
+        .with_context(|| format!("{}", mask.display()))?;
+    files.extend([pfm, exr, png, mask]);
+    let m = out.masked;
+    say!(
+        "{} {}x{} aa {} with d/d{} of '{}': {:.3} s ({} threads)",
+        args.scene,
+        settings.width,
+        settings.height,
+        settings.aa,
+        motion.axis.name(),
+        ctx.scene.objects[motion.object as usize].name,
+        out.stats.seconds,
+        rayon::current_num_threads()
+    );
+    say!(
+        "masked {} of {} pixels: {} see several faces, {} change face within the step, {} \
+         degenerate, {} with an unsupported edge, {} at an LTC table node",
+        m.pixels,
+        settings.width * settings.height,
+        m.several_faces,
+        m.face_changes,
+        m.degenerate,
+        m.unsupported,
+        m.table_nodes
+    );
     for f in files {
         say!("wrote {}", f.display());
     }

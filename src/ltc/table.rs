@@ -67,6 +67,17 @@ impl LtcEntry {
         x * (1.0 / x.length())
     }
 
+    /// Every field times `k`: a rate in `cosθv` ([`LtcTable::lookup_rate`]) made a rate in θ.
+    pub fn scaled(&self, k: f64) -> LtcEntry {
+        LtcEntry {
+            m_inv: self.m_inv * k,
+            norm: self.norm * k,
+            fresnel: self.fresnel * k,
+            scale: self.scale * k,
+            cosine: self.cosine * k,
+        }
+    }
+
     /// The distribution's integral over a horizon-clipped polygon `P` from its two parts:
     /// `e_ltc = E(clip(M⁻¹P))` and `e_cos = E(P)`.
     #[inline]
@@ -90,6 +101,21 @@ impl LtcEntry {
         let m = self.m_inv.inverse();
         let n = DVec3::new(m.x_axis.z, m.y_axis.z, m.z_axis.z);
         self.mix(0.5 * (1.0 + n.z / n.length()), 1.0)
+    }
+
+    /// The rate of [`LtcEntry::horizon_fraction`] when the entry changes at `rate` (a field's
+    /// rate in each field): `H = (1 − c)(1 + k)/2 + c` with `k = n_z/|n|`, `n` the third row of
+    /// `M = (M⁻¹)⁻¹`, and `dM = −M dM⁻¹ M`.
+    pub(crate) fn horizon_fraction_rate(&self, rate: &LtcEntry) -> f64 {
+        let m = self.m_inv.inverse();
+        let dm = -(m * rate.m_inv * m);
+        let row = |a: &DMat3| DVec3::new(a.x_axis.z, a.y_axis.z, a.z_axis.z);
+        let (n, dn) = (row(&m), row(&dm));
+        let len = n.length();
+        let k = n.z / len;
+        let dk = (dn.z * len * len - n.z * n.dot(dn)) / (len * len * len);
+        let c = self.cosine;
+        -rate.cosine * 0.5 * (1.0 + k) + (1.0 - c) * 0.5 * dk + rate.cosine
     }
 
     /// `[m00, m02, m20, m22, norm, fresnel, scale, cosine]` of `M⁻¹ / M⁻¹[y][y]` (`mRC` =
@@ -306,6 +332,62 @@ impl LtcTable {
             e.scale = 1.0 / e.horizon_fraction();
         }
         e
+    }
+
+    /// The rate of [`LtcTable::lookup`] in `cosθv` at fixed `α`: each field of the returned
+    /// entry is the derivative of that field of the lookup (`m_inv` the matrix of derivatives),
+    /// and the distance in `cosθv` from `cos_theta_v` to the nearest column node, where the
+    /// rate jumps. The lookup is linear in `cosθv` between nodes, so its rate is constant
+    /// there: the derivative of the function the renderer evaluates, taken in the cell the
+    /// lookup picks. Zero where `cosθv` is clamped. For a renormalised table, `scale = 1/H` of
+    /// the blend is differentiated through `H` ([`LtcEntry::horizon_fraction`]).
+    pub fn lookup_rate(&self, cos_theta_v: f64, alpha: f64) -> (LtcEntry, f64) {
+        let a = if alpha > self.alpha_min {
+            alpha.min(1.0)
+        } else {
+            self.alpha_min
+        };
+        let node_distance = self
+            .cosines
+            .iter()
+            .map(|&c| (c - cos_theta_v).abs())
+            .fold(f64::INFINITY, f64::min);
+        let zero = LtcEntry {
+            m_inv: DMat3::ZERO,
+            norm: 0.0,
+            fresnel: 0.0,
+            scale: 0.0,
+            cosine: 0.0,
+        };
+        if !(cos_theta_v > self.cos_theta_min && cos_theta_v < 1.0) {
+            return (zero, node_distance);
+        }
+        let c = cos_theta_v;
+        let (i0, ta) = bracket(&self.alphas, a.sqrt(), a);
+        // At a node the lookup is continuous but its rate has two sides: the cell's is taken.
+        let (j0, _) = bracket_desc(&self.cosines, (1.0 - c).sqrt(), c);
+        let den = self.cosines[j0] - self.cosines[j0 + 1];
+        if den == 0.0 {
+            return (zero, node_distance);
+        }
+        // tc = (v0 − c)/(v0 − v1): dtc/dc = −1/(v0 − v1).
+        let dtc = -1.0 / den;
+        let n = self.n;
+        let r00 = &self.records[i0 * n + j0];
+        let r01 = &self.records[i0 * n + j0 + 1];
+        let r10 = &self.records[(i0 + 1) * n + j0];
+        let r11 = &self.records[(i0 + 1) * n + j0 + 1];
+        let mut r = [0.0; RECORD_VALUES];
+        for k in 0..RECORD_VALUES {
+            r[k] = dtc * ((1.0 - ta) * (r01[k] - r00[k]) + ta * (r11[k] - r10[k]));
+        }
+        let mut rate = LtcEntry::from_record(&r);
+        rate.m_inv.y_axis = DVec3::ZERO;
+        if self.renormalized {
+            let e = self.lookup(c, alpha);
+            rate.scale = -e.scale * e.scale * e.horizon_fraction_rate(&rate);
+        }
+        (rate, node_distance)
     }
 
     /// Are the stored scales the horizon renormalisation (and lookups renormalise)?

@@ -1,6 +1,7 @@
 //! Images of a scene: camera rays, the shading point of each hit, tiles in parallel.
 
 pub mod compare;
+pub mod derivative;
 pub mod environment_passes;
 pub mod progress;
 pub mod progressive;

@@ -27,6 +27,7 @@
 use super::face_sides::{InFront, in_front, light_face_cut};
 mod occluder_cache;
 mod sky_windows;
+use super::derivative::{self, DerivativeScratch, FD_STEP, LobeMap, PointMotion, PointRates};
 use super::get_between::get_between;
 use super::invariant::visible_within_light;
 use super::ltc_correction::{
@@ -199,6 +200,8 @@ pub struct ShadingScratch {
     /// (`geometry::silhouettes::tile_candidates`), the same edges as alone.
     tile_region: Option<TileRegion>,
     pub stats: ShadingStats,
+    /// The derivative's buffers and the point's rate ([`shade_with_rate`]).
+    pub(super) derivative: DerivativeScratch,
 }
 
 impl ShadingScratch {
@@ -208,6 +211,7 @@ impl ShadingScratch {
         self.outline.fallbacks = Fallbacks::default();
         self.correction_sum = CorrectionEstimate::default();
         self.occluders.begin_point(scene.occluders.len());
+        self.derivative.begin_point(scene.objects.len());
     }
 
     /// Caps the set difference's walks at `steps` when the polygon subtracted has more than
@@ -261,6 +265,8 @@ pub(super) struct PointContext<'a> {
     pub(super) method: Method,
     /// Samples of the LTC's correction (`shade_corrected`), if any.
     pub(super) correction: Option<CorrectionSampling>,
+    /// The motion a derivative follows (`shade_with_rate`), if any.
+    pub(super) rates: Option<PointRates<'a>>,
 }
 
 /// Outgoing radiance at `sp` toward the viewer, by 000 Alg. 1 (diffuse + specular). `rec`
@@ -273,7 +279,7 @@ pub fn shade<R: Recorder>(
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> DVec3 {
-    shade_point(scene, sp, material, method, None, scratch, rec)
+    shade_point(scene, sp, material, method, None, None, scratch, rec)
 }
 
 /// Radiance at a shading point split into the LTC's value and a sampled correction of it.
@@ -314,7 +320,16 @@ pub fn shade_corrected<R: Recorder>(
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> CorrectedRadiance {
-    let ltc = shade_point(scene, sp, material, method, Some(sampling), scratch, rec);
+    let ltc = shade_point(
+        scene,
+        sp,
+        material,
+        method,
+        Some(sampling),
+        None,
+        scratch,
+        rec,
+    );
     CorrectedRadiance {
         ltc,
         correction: scratch.correction_sum.mean,
@@ -322,12 +337,59 @@ pub fn shade_corrected<R: Recorder>(
     }
 }
 
+/// [`shade`] and its derivative along `motion` at the point (docs/derivatives.md): returns
+/// the radiance and its rate `dL/dθ`. The same stages compute the radiance; the derivative is
+/// taken of the visible polygons they found. What made the rate unreliable at the point is
+/// in [`ShadingScratch::rate_notes`].
+pub fn shade_with_rate<R: Recorder>(
+    scene: &PreparedScene,
+    sp: &ShadingPoint,
+    material: &Material,
+    method: Method,
+    motion: &PointMotion,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> (DVec3, DVec3) {
+    let l = shade_point(
+        scene,
+        sp,
+        material,
+        method,
+        None,
+        Some(motion),
+        scratch,
+        rec,
+    );
+    (l, scratch.derivative.sum)
+}
+
+/// What made a point's rate unreliable ([`shade_with_rate`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RateNotes {
+    /// Edges of a visible polygon whose support was not found though they may move.
+    pub unsupported: u32,
+    /// The LTC lookup lies within the finite-difference step of a table node.
+    pub near_table_node: bool,
+}
+
+impl ShadingScratch {
+    /// What made the last point's rate unreliable.
+    pub fn rate_notes(&self) -> RateNotes {
+        RateNotes {
+            unsupported: self.derivative.unsupported,
+            near_table_node: self.derivative.near_table_node,
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 fn shade_point<R: Recorder>(
     scene: &PreparedScene,
     sp: &ShadingPoint,
     material: &Material,
     method: Method,
     correction: Option<&CorrectionSampling>,
+    motion: Option<&PointMotion>,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> DVec3 {
@@ -348,6 +410,15 @@ fn shade_point<R: Recorder>(
             let v = frame.to_local(sp.view);
             GlossyLobe::new(entry, *scale, v, material.alpha, material.ks)
         });
+    let rates = motion.map(|point| {
+        let cos = sp.normal.dot(sp.view).clamp(0.0, 1.0);
+        let ltc = (point.cos_rate != 0.0 && specular.is_some()).then(|| {
+            let (rate, node) = scene.ltc.lookup_rate(cos, material.alpha);
+            scratch.derivative.near_table_node = node <= 2.0 * FD_STEP * point.cos_rate.abs();
+            rate.scaled(point.cos_rate)
+        });
+        PointRates { point, ltc }
+    });
     let lobes = Lobes {
         kd: material.kd,
         specular,
@@ -360,6 +431,7 @@ fn shade_point<R: Recorder>(
         lobes,
         method,
         correction: correction.copied(),
+        rates,
     };
     let mut total = DVec3::ZERO;
     for l in 0..scene.lights.len() {
@@ -715,7 +787,8 @@ fn shade_light_piece<R: Recorder>(
     {
         scratch.stats.violations += 1;
     }
-    let (mut diffuse, mut specular) = integrate_lobes(ctx, piece, f_visible, scratch, rec);
+    let (mut diffuse, mut specular, mut rate) =
+        integrate_lobes(ctx, piece, f_visible, scratch, rec);
     if let Some(own) = piece.sky_window
         && !scratch.visible.is_empty()
     {
@@ -723,10 +796,15 @@ fn shade_light_piece<R: Recorder>(
         // what is left of it once the light's mesh is subtracted as well.
         subtract_occluder(ctx, own, Some(piece), scratch, rec);
         let f_rest = visible_on_sphere(scratch, rec);
-        let (d, s) = integrate_lobes(ctx, piece, f_rest, scratch, rec);
+        let (d, s, r) = integrate_lobes(ctx, piece, f_rest, scratch, rec);
+        rate -= r;
         // Rounding can leave the difference of two equal integrals a few ulps below zero.
         diffuse = (diffuse - d).max(DVec3::ZERO);
         specular = (specular - s).max(DVec3::ZERO);
+    }
+    if ctx.rates.is_some() {
+        scratch.derivative.sum += rate;
+        rec.light_rate(rate);
     }
     rec.end_light(diffuse, specular);
     diffuse + specular
@@ -1635,7 +1713,7 @@ fn integrate_lobes<R: Recorder>(
     f_visible: f64,
     scratch: &mut ShadingScratch,
     rec: &mut R,
-) -> (DVec3, DVec3) {
+) -> (DVec3, DVec3, DVec3) {
     let (lobes, radiance) = (&ctx.lobes, piece.radiance);
     // Rounding can leave a value a few ulps below zero for an empty visible region.
     let e_diffuse = f_visible.max(0.0);
@@ -1651,6 +1729,7 @@ fn integrate_lobes<R: Recorder>(
     let diffuse = lobes.kd * radiance * e_diffuse;
     let mut specular = DVec3::ZERO;
     let mut lobe_mass = 0.0;
+    let mut f_lobe_value = 0.0;
     if let Some((entry, scale)) = &lobes.specular {
         let mut f_lobe = lobe_form_factor(
             entry,
@@ -1708,7 +1787,11 @@ fn integrate_lobes<R: Recorder>(
         );
         specular = *scale * radiance * e_spec;
         lobe_mass = e_spec;
+        f_lobe_value = f_lobe.max(0.0);
     }
+    let rate = ctx.rates.as_ref().map_or(DVec3::ZERO, |r| {
+        lobe_rates(ctx, r, piece, e_diffuse, f_lobe_value, scratch, rec)
+    });
     if let (Some(glossy), Some(sampling)) = (&lobes.glossy, &ctx.correction) {
         let mut rng = sampling.rng(piece.light, piece.face.map(|(f, _)| f));
         let region = if hole {
@@ -1729,5 +1812,67 @@ fn integrate_lobes<R: Recorder>(
         scratch.correction_sum.mean += c.mean * radiance;
         scratch.correction_sum.variance += c.variance * radiance * radiance;
     }
-    (diffuse, specular)
+    (diffuse, specular, rate)
+}
+
+/// The rate `d(diffuse + specular)/dθ` of one light piece's radiance, from the rates of the
+/// visible region's form factors (`derivative::region_rates`) and, where the point's normal
+/// turns, of the LTC entry: `e_spec = (1 − c) f_lobe + c e_diffuse` and the specular scale
+/// `s (f0 (norm − fresnel) + fresnel)` change with it.
+fn lobe_rates<R: Recorder>(
+    ctx: &PointContext,
+    rates: &PointRates,
+    piece: &LightPiece,
+    e_diffuse: f64,
+    f_lobe: f64,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> DVec3 {
+    let (scene, pm, x) = (ctx.scene, rates.point, ctx.sp.position);
+    let light = scene.lights[piece.light].0;
+    let kept = scratch.kept.iter().map(|&k| scene.occluders[k as usize]);
+    let objects = std::iter::once(light)
+        .chain(kept)
+        .chain(piece.sky_window.map(|_| light));
+    let light_face = piece.face.map(|(f, _)| (light, f));
+    if !derivative::begin_piece(&mut scratch.derivative, scene, pm, x, objects, light_face)
+        && rates.ltc.is_none()
+    {
+        return DVec3::ZERO;
+    }
+    let lobe = ctx
+        .lobes
+        .specular
+        .as_ref()
+        .map(|(entry, _)| LobeMap::new(entry, rates.ltc.as_ref()));
+    let (d_diffuse, d_lobe) = derivative::region_rates(
+        &mut scratch.derivative,
+        pm,
+        x,
+        &ctx.frame,
+        &scratch.visible_sph,
+        &scratch.hole_sph,
+        lobe.as_ref(),
+        rec,
+    );
+    let radiance = piece.radiance;
+    let mut rate = ctx.lobes.kd * radiance * d_diffuse;
+    if let Some((entry, scale)) = &ctx.lobes.specular {
+        let e_spec = entry.mix(f_lobe, e_diffuse);
+        let mut d_spec = entry.mix(d_lobe, d_diffuse);
+        let mut d_scale = DVec3::ZERO;
+        if let Some(r) = &rates.ltc {
+            d_spec += r.cosine * (e_diffuse - f_lobe);
+            let ks = ctx
+                .sp
+                .object
+                .map_or(DVec3::ZERO, |o| ctx.scene.materials[o as usize].ks);
+            d_scale = ks.map(|f0| {
+                r.scale * (f0 * (entry.norm - entry.fresnel) + entry.fresnel)
+                    + entry.scale * (f0 * (r.norm - r.fresnel) + r.fresnel)
+            });
+        }
+        rate += radiance * (*scale * d_spec + d_scale * e_spec);
+    }
+    rate
 }

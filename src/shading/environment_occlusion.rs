@@ -258,6 +258,7 @@ impl<'a> PointContext<'a> {
             },
             method: Method::Analytic,
             correction: None,
+            rates: None,
         }
     }
 }

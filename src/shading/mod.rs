@@ -3,6 +3,7 @@
 pub(crate) mod analytic;
 pub mod brdf;
 pub mod cost_model;
+pub mod derivative;
 pub(crate) mod environment_occlusion;
 pub mod face_sides;
 pub mod get_between;
@@ -15,8 +16,8 @@ pub mod tree_cache;
 pub(crate) mod tree_library;
 
 pub use analytic::{
-    CorrectedRadiance, ShadingScratch, ShadingStats, Shortcuts, analytic_exact_pixel, shade,
-    shade_corrected,
+    CorrectedRadiance, RateNotes, ShadingScratch, ShadingStats, Shortcuts, analytic_exact_pixel,
+    shade, shade_corrected, shade_with_rate,
 };
 pub use environment_occlusion::{
     EnvironmentIntegrals, EnvironmentOccluders, EnvironmentPass, environment_integrals,
@@ -31,9 +32,10 @@ pub use prepared::{
     StandIn, instance_map,
 };
 pub use recorder::{
-    DifferenceMethod, EnvironmentRay, EnvironmentRecord, EnvironmentSample, EnvironmentSide,
-    EnvironmentTerm, ExactSilhouetteRecord, LightRecord, Lobe, NoRecorder, RayOutcome, Recorder,
-    SetDifferenceRecord, Stage, StageRecording, TileShareRecord, TreeLookupRecord,
+    DifferenceMethod, EdgeSupport, EnvironmentRay, EnvironmentRecord, EnvironmentSample,
+    EnvironmentSide, EnvironmentTerm, ExactSilhouetteRecord, LightRecord, Lobe, MovingEdge,
+    NoRecorder, RayOutcome, Recorder, SetDifferenceRecord, Stage, StageRecording, TileShareRecord,
+    TreeLookupRecord,
 };
 pub use tree_library::{LibraryEntry, TreeLibrary};
 

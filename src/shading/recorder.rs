@@ -75,6 +75,10 @@ pub trait Recorder {
         _integral: f64,
     ) {
     }
+    /// One edge of the visible polygon as the derivative took it (`shading::derivative`).
+    fn moving_edge(&mut self, _edge: &MovingEdge) {}
+    /// The light piece's rate `d(diffuse + specular)/dθ` (`shading::shade_with_rate`).
+    fn light_rate(&mut self, _rate: DVec3) {}
     fn end_light(&mut self, _diffuse: DVec3, _specular: DVec3) {}
     /// The sampled correction of the LTC over the light's visible polygon (radiance, per
     /// channel), for `--method analytic-exact` (`shading::ltc_correction`).
@@ -187,6 +191,42 @@ pub struct SetDifferenceRecord {
     pub steps: Option<GreinerHormannSteps>,
 }
 
+/// The plane an edge of the visible polygon lies on, as the derivative found it
+/// (docs/derivatives.md, "The support of an edge").
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum EdgeSupport {
+    /// The horizon: it does not move in the shading frame.
+    #[default]
+    Horizon,
+    /// The plane through the point and the mesh edge `p → q` (world space) of prepared object
+    /// `object`, moving with the motion or not.
+    MeshEdge {
+        object: u32,
+        p: DVec3,
+        q: DVec3,
+        moving: bool,
+    },
+    /// No edge of the moving object: the edge stays.
+    Still,
+    /// Not found, though it may move (its pixel is masked).
+    NotFound,
+}
+
+/// One edge `a → b` (shading frame) of a light piece's visible polygon, as the derivative took
+/// it: its support, the rate `ν̇` of its circle's normal, and its shares of the rates of the
+/// diffuse form factor `E(P)` and of the LTC lobe's `E(M⁻¹P)` (before the lobe's factors).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MovingEdge {
+    pub a: DVec3,
+    pub b: DVec3,
+    /// An edge of the hole the region is held less (its share counts negatively).
+    pub in_hole: bool,
+    pub support: EdgeSupport,
+    pub normal_rate: DVec3,
+    pub diffuse: f64,
+    pub lobe: f64,
+}
+
 /// Everything recorded for one light (or one face of a light on the per-triangle path).
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct LightRecord {
@@ -224,6 +264,12 @@ pub struct LightRecord {
     /// unbiased estimate of the GGX radiance.
     #[serde(default)]
     pub correction: DVec3,
+    /// With a derivative (`shading::shade_with_rate`): the visible polygon's edges as it took
+    /// them, and the piece's rate `d(diffuse + specular)/dθ`.
+    #[serde(default)]
+    pub moving_edges: Vec<MovingEdge>,
+    #[serde(default)]
+    pub rate: DVec3,
 }
 
 /// Which of 002's two kinds of object an environment term belongs to (Sect. 3.2): static
@@ -449,6 +495,12 @@ impl Recorder for StageRecording {
         cur.lobes
             .push((lobe, transformed.clone(), clipped.clone(), integral));
         cur.lobe_edge_terms.push((lobe, terms));
+    }
+    fn moving_edge(&mut self, edge: &MovingEdge) {
+        self.current().moving_edges.push(*edge);
+    }
+    fn light_rate(&mut self, rate: DVec3) {
+        self.current().rate = rate;
     }
     fn end_light(&mut self, diffuse: DVec3, specular: DVec3) {
         let cur = self.current();

@@ -1,0 +1,337 @@
+//! An image and its exact derivative along the rigid motion of one object
+//! (`penumbra render --derivative OBJECT:AXIS`, docs/derivatives.md): the analytic image of
+//! [`RenderContext::render_full`], each camera sample shaded by the same stages, with the rate
+//! of its radiance from the visible polygons they found (`shading::shade_with_rate`).
+//!
+//! A pixel is *masked* where the derivative of its value is not the mean of its samples'
+//! rates, or not a slope at all: its samples see more than one face (primary visibility and
+//! faceted normals are steps), a sample's face changes within the finite-difference step
+//! [`FD_STEP`] (found by casting the sample's ray into the scene moved by ±`FD_STEP`), the LTC
+//! lookup crosses a table node within the step (where the interpolated table's rate jumps),
+//! an edge of a visible polygon had no support though it may move, or the point's rates are
+//! degenerate. Masked pixels keep their computed value and are counted by reason.
+
+use super::{Image, RenderContext, RenderSettings, RenderStats, render_tiles};
+use crate::Choice;
+use crate::figure::font::{Align, TextStyle, draw_text};
+use crate::scene::Camera;
+use crate::shading::derivative::{Axis, FD_STEP, Motion, PointMotion};
+use crate::shading::{Method, NoRecorder, ShadingScratch, shade_with_rate};
+use glam::DVec3;
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use web_time::Instant;
+
+/// Why pixels were masked, counted once per pixel under the first reason that applies (in
+/// this order).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct MaskCounts {
+    /// Pixels masked in all.
+    pub pixels: u64,
+    /// Samples of the pixel see more than one face (object and plane).
+    pub several_faces: u64,
+    /// A sample's face changes within the finite-difference step.
+    pub face_changes: u64,
+    /// A sample's rates are degenerate (a grazing camera ray; the view along a turning normal).
+    pub degenerate: u64,
+    /// An edge of a visible polygon had no support though it may move.
+    pub unsupported: u64,
+    /// A sample's LTC lookup crosses a table node within the step.
+    pub table_nodes: u64,
+}
+
+/// A render with its derivative.
+#[derive(Clone, Debug)]
+pub struct DerivativeOutput {
+    pub image: Image,
+    /// `d image / dθ`, per scene unit (translations) or per radian (`ry`).
+    pub derivative: Image,
+    /// 1 (in every channel) where the pixel is masked, 0 elsewhere.
+    pub mask: Image,
+    pub masked: MaskCounts,
+    pub stats: RenderStats,
+}
+
+#[derive(Clone, Copy, Default)]
+struct PixelRate {
+    value: DVec3,
+    rate: DVec3,
+    /// 0: not masked; else 1 + the index of the reason in [`MaskCounts`]'s order.
+    reason: u8,
+}
+
+impl RenderContext {
+    /// The motion of scene object `object` along `axis`, rotations about the centre of its
+    /// bounding box (as `penumbra edit` turns it).
+    pub fn motion(&self, object: usize, axis: Axis) -> crate::Result<Motion> {
+        let pivot = crate::scene::edit::EditHistory::new(&self.scene).pivot(object)?;
+        Ok(Motion {
+            object: object as u32,
+            axis,
+            pivot,
+        })
+    }
+
+    /// This context with `motion`'s object moved to θ = `theta`.
+    pub fn moved_by(&self, motion: &Motion, theta: f64) -> crate::Result<RenderContext> {
+        let mut scene = (*self.scene).clone();
+        let rigid = motion.at(theta);
+        let index = motion.object as usize;
+        let mut history = crate::scene::edit::EditHistory::new(&scene);
+        history.edit(&mut scene, index, rigid)?;
+        self.with_moved_object(index, Arc::new(scene))
+    }
+
+    /// The analytic image seen by `camera` and its derivative along `motion` (module docs).
+    /// Only `--method analytic` has one; a scene with an environment light is refused, since
+    /// the environment's derivative is not computed.
+    pub fn render_derivative(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        motion: &Motion,
+        cancel: Option<&AtomicBool>,
+    ) -> crate::Result<DerivativeOutput> {
+        if settings.method.analytic() != Some(Method::Analytic) {
+            return Err(format!(
+                "a derivative is computed with --method analytic only, not {}",
+                settings.method.name()
+            )
+            .into());
+        }
+        if self.environment.is_some() {
+            return Err(
+                "a derivative of the environment light's term is not computed: \
+                        render the scene without its environment (--env none)"
+                    .into(),
+            );
+        }
+        if motion.object as usize >= self.scene.objects.len() {
+            return Err(format!("no object {} in the scene", motion.object).into());
+        }
+        let basis = camera.basis()?;
+        let (w, h, aa) = (settings.width, settings.height, settings.aa);
+        if w == 0 || h == 0 || aa == 0 {
+            return Err("image size and --aa must be positive".into());
+        }
+        let start = Instant::now();
+        let plus = self.moved_by(motion, FD_STEP)?;
+        let minus = self.moved_by(motion, -FD_STEP)?;
+        let samples = aa * aa;
+        let inv = 1.0 / samples as f64;
+        let pixels = render_tiles(w, h, cancel, ShadingScratch::default, |scratch, x, y| {
+            let mut out = PixelRate::default();
+            let mut first: Option<(u32, DVec3, f64)> = None;
+            let mut reason = 0u8;
+            let mut flag = |r: u8| {
+                if reason == 0 || r < reason {
+                    reason = r;
+                }
+            };
+            for ray in super::subpixel_rays(&basis, x, y, aa, w, h) {
+                let hit = self.primary_hit(&ray);
+                let key =
+                    |c: &RenderContext| c.primary_hit(&ray).map(|h| (h.point.object, h.point.face));
+                let here = hit.as_ref().map(|h| (h.point.object, h.point.face));
+                if key(&plus) != here || key(&minus) != here {
+                    flag(2);
+                }
+                let Some(hit) = hit else {
+                    if first.is_some() {
+                        flag(1);
+                    }
+                    first.get_or_insert((u32::MAX, DVec3::ZERO, 0.0));
+                    continue;
+                };
+                let p = &hit.point;
+                let face = (
+                    p.object.unwrap_or(u32::MAX),
+                    p.normal,
+                    p.normal.dot(p.position),
+                );
+                match first {
+                    None => first = Some(face),
+                    Some(f) => {
+                        let scale = p.position.abs().max_element().max(1.0);
+                        if f.0 != face.0
+                            || f.1.dot(face.1) < 1.0 - 1e-12
+                            || (f.2 - face.2).abs() > 1e-9 * scale
+                        {
+                            flag(1);
+                        }
+                    }
+                }
+                out.value += hit.emitted;
+                if hit.receiver {
+                    let pm = PointMotion::at(motion, p, ray.dir);
+                    if pm.degenerate {
+                        flag(3);
+                    }
+                    let material = &self.prepared.materials[p.object.unwrap_or(0) as usize];
+                    let (l, r) = shade_with_rate(
+                        &self.prepared,
+                        p,
+                        material,
+                        Method::Analytic,
+                        &pm,
+                        scratch,
+                        &mut NoRecorder,
+                    );
+                    let notes = scratch.rate_notes();
+                    if notes.unsupported > 0 {
+                        flag(4);
+                    }
+                    if notes.near_table_node {
+                        flag(5);
+                    }
+                    out.value += l;
+                    out.rate += r;
+                }
+            }
+            out.value *= inv;
+            out.rate *= inv;
+            out.reason = reason;
+            out
+        });
+        let Some(pixels) = pixels else {
+            return Err("cancelled".into());
+        };
+        let image = |f: &dyn Fn(&PixelRate) -> DVec3| Image {
+            width: w,
+            height: h,
+            pixels: pixels.iter().map(f).collect(),
+        };
+        let mut masked = MaskCounts::default();
+        for p in &pixels {
+            let count = match p.reason {
+                0 => continue,
+                1 => &mut masked.several_faces,
+                2 => &mut masked.face_changes,
+                3 => &mut masked.degenerate,
+                4 => &mut masked.unsupported,
+                _ => &mut masked.table_nodes,
+            };
+            *count += 1;
+            masked.pixels += 1;
+        }
+        let seconds = start.elapsed().as_secs_f64();
+        Ok(DerivativeOutput {
+            image: image(&|p| p.value),
+            derivative: image(&|p| p.rate),
+            mask: image(&|p| DVec3::splat(if p.reason > 0 { 1.0 } else { 0.0 })),
+            masked,
+            stats: RenderStats {
+                seconds,
+                pixels_per_second: (w * h) as f64 / seconds.max(1e-12),
+                ..RenderStats::default()
+            },
+        })
+    }
+}
+
+/// The derivative `OBJECT:AXIS` names in `ctx`'s scene: an object's index or unique name,
+/// and one of [`Axis::names`].
+pub fn parse_motion(ctx: &RenderContext, spec: &str) -> crate::Result<Motion> {
+    let (object, axis) = spec.rsplit_once(':').ok_or_else(|| {
+        crate::Error::from(format!(
+            "--derivative takes OBJECT:AXIS with AXIS one of {}, got '{spec}'",
+            Axis::names().collect::<Vec<_>>().join(", ")
+        ))
+    })?;
+    let axis = Axis::named(axis).ok_or_else(|| {
+        crate::Error::from(format!(
+            "--derivative: no axis '{axis}' (one of {})",
+            Axis::names().collect::<Vec<_>>().join(", ")
+        ))
+    })?;
+    let index = crate::scene::edit::resolve_object(&ctx.scene, object)?;
+    ctx.motion(index, axis)
+}
+
+/// The derivative's luminance as a PNG in a diverging colour map (blue below zero, white at
+/// zero, red above), symmetric about zero up to the 99th percentile of its magnitude over the
+/// unmasked pixels, masked pixels grey, with a colour bar labelled in the image's units per
+/// `unit`.
+pub fn write_derivative_png(
+    derivative: &Image,
+    mask: &Image,
+    unit: &str,
+    path: &Path,
+) -> crate::Result<()> {
+    use tiny_skia::{Color, Paint, Pixmap, Rect, Transform};
+    let (w, h) = (derivative.width, derivative.height);
+    let lum: Vec<f64> = derivative
+        .pixels
+        .iter()
+        .map(|&c| crate::raster::luminance(c))
+        .collect();
+    let mut mags: Vec<f64> = lum
+        .iter()
+        .zip(&mask.pixels)
+        .filter(|(v, m)| m.x == 0.0 && v.is_finite())
+        .map(|(v, _)| v.abs())
+        .collect();
+    mags.sort_by(f64::total_cmp);
+    let top = mags
+        .get((mags.len() as f64 * 0.99) as usize)
+        .or(mags.last())
+        .copied()
+        .filter(|&t| t > 0.0)
+        .unwrap_or(1.0);
+    let colour = |v: f64| -> [u8; 3] {
+        let t = (v / top).clamp(-1.0, 1.0);
+        let (r, g, b) = if t >= 0.0 {
+            (1.0, 1.0 - t, 1.0 - t)
+        } else {
+            (1.0 + t, 1.0 + t, 1.0)
+        };
+        let q = |x: f64| (x * 255.0).round() as u8;
+        [q(r * 0.98 + 0.02 * g), q(g), q(b)]
+    };
+    let bar = 110u32;
+    let mut pm = Pixmap::new(w + bar, h.max(120)).ok_or_else(|| crate::Error::from("pixmap"))?;
+    pm.fill(Color::WHITE);
+    {
+        let data = pm.data_mut();
+        let stride = (w + bar) as usize * 4;
+        for y in 0..h as usize {
+            for x in 0..w as usize {
+                let i = y * w as usize + x;
+                let c = if mask.pixels[i].x != 0.0 {
+                    [128, 128, 128]
+                } else {
+                    colour(lum[i])
+                };
+                let o = y * stride + x * 4;
+                data[o..o + 4].copy_from_slice(&[c[0], c[1], c[2], 255]);
+            }
+        }
+    }
+    let (bx, by, bh) = (w as f32 + 12.0, 16.0f32, h.max(120) as f32 - 40.0);
+    let steps = 64;
+    for s in 0..steps {
+        let f = s as f64 / (steps - 1) as f64;
+        let c = colour(top * (1.0 - 2.0 * f));
+        let mut paint = Paint::default();
+        paint.set_color(Color::from_rgba8(c[0], c[1], c[2], 255));
+        let y = by + bh * s as f32 / steps as f32;
+        if let Some(r) = Rect::from_xywh(bx, y, 16.0, bh / steps as f32 + 0.5) {
+            pm.fill_rect(r, &paint, Transform::identity(), None);
+        }
+    }
+    let ink = [0u8, 0, 0];
+    let style = TextStyle::new(11.0, ink).align(Align::Left);
+    for (f, v) in [(0.0f32, top), (0.5, 0.0), (1.0, -top)] {
+        draw_text(
+            &mut pm,
+            &format!("{v:+.3e}"),
+            bx + 20.0,
+            by + bh * f + 4.0,
+            &style,
+        );
+    }
+    draw_text(&mut pm, &format!("per {unit}"), bx, by + bh + 18.0, &style);
+    let bytes = crate::figure::plot::pixmap_png_bytes(&pm)?;
+    std::fs::write(path, bytes).map_err(|e| crate::Error::from(format!("{}: {e}", path.display())))
+}

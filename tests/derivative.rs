@@ -1,0 +1,200 @@
+//! The image's derivative along a rigid motion (`render::derivative`) against its oracle:
+//! central finite differences of the analytic renderer itself, which is exact, so that a small
+//! step gives a sharp reference (docs/derivatives.md, "Verified").
+
+use penumbra::Choice;
+use penumbra::render::request::RenderRequest;
+use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
+use penumbra::shading::derivative::{Axis, FD_STEP};
+
+/// How the derivative of one object along one axis compares with central differences.
+#[derive(Debug)]
+pub struct FdReport {
+    pub unmasked: usize,
+    pub masked: u64,
+    /// Unmasked pixels where |d − d_FD| > 1e-6 · max(|d_FD|, max |d|) at the step h and at
+    /// h/10 both.
+    pub disagree: usize,
+    /// Unmasked pixels that disagree at h and agree at h/10: the visible region changes its
+    /// topology within ±h of θ = 0 (a vertex crossing an edge), so the difference straddles a
+    /// kink, and a smaller step leaves it outside.
+    pub topology: usize,
+    /// The largest relative error at h over unmasked pixels, the differences' rounding
+    /// included.
+    pub worst: f64,
+    pub max_rate: f64,
+}
+
+/// The pixels (indices) where `d` and the central difference of `ctx` at `step` disagree.
+fn disagreeing(
+    ctx: &RenderContext,
+    motion: &penumbra::shading::derivative::Motion,
+    camera: &penumbra::scene::Camera,
+    settings: &RenderSettings,
+    out: &penumbra::render::derivative::DerivativeOutput,
+    step: f64,
+    pixels: &[usize],
+) -> (Vec<usize>, f64, f64) {
+    let image = |theta: f64| {
+        ctx.moved_by(motion, theta)
+            .unwrap()
+            .render(camera, settings, None)
+            .unwrap()
+            .0
+    };
+    let (plus, minus) = (image(step), image(-step));
+    let max_rate = (0..out.mask.pixels.len())
+        .filter(|&i| out.mask.pixels[i].x == 0.0)
+        .map(|i| out.derivative.pixels[i].abs().max_element())
+        .fold(0.0, f64::max);
+    // The differences' own rounding: each image carries a few ulps of its largest value,
+    // divided by 2h (with h = 1e-6 that is about 1e-8 of the image's largest value).
+    let max_value = out
+        .image
+        .pixels
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0, f64::max);
+    let noise = 32.0 * f64::EPSILON * max_value / step;
+    let mut worst = 0.0f64;
+    let mut bad = Vec::new();
+    for &i in pixels {
+        let f = (plus.pixels[i] - minus.pixels[i]) / (2.0 * step);
+        let d = out.derivative.pixels[i];
+        let raw = (d - f).abs().max_element();
+        let err = (raw - noise).max(0.0);
+        let scale = f.abs().max_element().max(max_rate).max(1e-300);
+        worst = worst.max(raw / scale);
+        if err > 1e-6 * scale {
+            bad.push(i);
+            if std::env::var_os("FD_DEBUG").is_some() {
+                let w = settings.width as usize;
+                eprintln!("pixel {} {}: d {d} fd {f} (h {step})", i % w, i / w);
+            }
+        }
+    }
+    (bad, worst, max_rate)
+}
+
+/// `render_derivative` of `object` (index or name) along `axis` in the embedded scene
+/// `scene_name`, against central differences of the analytic renderer (the oracle).
+pub fn fd_check(scene_name: &str, object: &str, axis: Axis, w: u32, h: u32, aa: u32) -> FdReport {
+    let scene = penumbra::scene::scene_file::load_scene_by_name(scene_name).unwrap();
+    let camera = scene.camera.unwrap();
+    let settings = RenderSettings {
+        width: w,
+        height: h,
+        aa,
+        method: RenderMethod::Analytic,
+        ..RenderSettings::default()
+    };
+    let request = RenderRequest::with_settings(settings);
+    let ctx = RenderContext::for_render(&scene, &request);
+    let index = penumbra::scene::edit::resolve_object(&scene, object).unwrap();
+    let motion = ctx.motion(index, axis).unwrap();
+    let out = ctx
+        .render_derivative(&camera, &settings, &motion, None)
+        .unwrap();
+    let step = std::env::var("FD_H")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(FD_STEP);
+    let unmasked: Vec<usize> = (0..out.mask.pixels.len())
+        .filter(|&i| out.mask.pixels[i].x == 0.0)
+        .collect();
+    let (bad, worst, max_rate) =
+        disagreeing(&ctx, &motion, &camera, &settings, &out, step, &unmasked);
+    let still = if bad.is_empty() {
+        bad.clone()
+    } else {
+        disagreeing(&ctx, &motion, &camera, &settings, &out, step / 10.0, &bad).0
+    };
+    FdReport {
+        unmasked: unmasked.len(),
+        masked: out.masked.pixels,
+        disagree: still.len(),
+        topology: bad.len() - still.len(),
+        worst,
+        max_rate,
+    }
+}
+
+#[test]
+#[ignore = "a survey: prints every embedded scene, object and axis"]
+fn survey() {
+    for name in penumbra::scene::scene_file::embedded_scene_names() {
+        let scene = penumbra::scene::scene_file::load_scene_by_name(name).unwrap();
+        if scene.environment.is_some() || scene.camera.is_none() {
+            continue;
+        }
+        for (i, o) in scene.objects.iter().enumerate() {
+            for axis in Axis::ALL {
+                let r = fd_check(name, &i.to_string(), axis, 48, 36, 2);
+                println!("{name} {} {}: {r:?}", o.name, axis.name());
+            }
+        }
+    }
+}
+
+#[test]
+#[ignore = "debugging: FD_SCENE, FD_OBJECT, FD_AXIS"]
+fn one() {
+    let var = |k: &str| std::env::var(k).unwrap();
+    let axis = Axis::named(&var("FD_AXIS")).unwrap();
+    let r = fd_check(&var("FD_SCENE"), &var("FD_OBJECT"), axis, 48, 36, 2);
+    println!("{r:?}");
+}
+
+/// Oracle: central differences of the analytic renderer. The two derivatives the issue names,
+/// at a size where the penumbrae span many pixels.
+#[test]
+fn default_sphere_tx_and_panel_light_ty_match_central_differences() {
+    for (object, axis) in [("sphere", Axis::Tx), ("panel_light", Axis::Ty)] {
+        let r = fd_check("default", object, axis, 96, 72, 2);
+        println!("default {object}:{}: {r:?}", axis.name());
+        assert!(r.max_rate > 0.1, "{r:?}");
+        assert_eq!(r.disagree, 0, "{r:?}");
+        assert!(r.topology * 1000 <= r.unmasked, "{r:?}");
+    }
+}
+
+/// Oracle: central differences of the analytic renderer, for every object of every embedded
+/// scene without an environment, along every axis: the pixels that disagree at the step must
+/// agree at a tenth of it (a topology change within the step), and be rare.
+#[test]
+fn every_embedded_object_and_axis_matches_central_differences() {
+    let (mut cases, mut moving, mut topology, mut pixels, mut masked) = (0, 0, 0, 0, 0);
+    let mut worst = Vec::new();
+    for name in penumbra::scene::scene_file::embedded_scene_names() {
+        let scene = penumbra::scene::scene_file::load_scene_by_name(name).unwrap();
+        if scene.environment.is_some() || scene.camera.is_none() {
+            continue;
+        }
+        for i in 0..scene.objects.len() {
+            for axis in Axis::ALL {
+                let r = fd_check(name, &i.to_string(), axis, 32, 24, 2);
+                assert_eq!(r.disagree, 0, "{name} object {i} {}: {r:?}", axis.name());
+                assert!(
+                    r.topology * 500 <= r.unmasked.max(500),
+                    "{name} object {i} {}: {r:?}",
+                    axis.name()
+                );
+                cases += 1;
+                moving += (r.max_rate > 0.0) as usize;
+                topology += r.topology;
+                pixels += r.unmasked;
+                masked += r.masked;
+                worst.push(r.worst);
+            }
+        }
+    }
+    worst.sort_by(f64::total_cmp);
+    println!(
+        "{cases} cases ({moving} with a derivative), {pixels} unmasked and {masked} masked \
+         pixels, {topology} at a topology change within the step; worst relative error at the \
+         step per case: median {:.1e}, largest {:.1e}",
+        worst[worst.len() / 2],
+        worst[worst.len() - 1]
+    );
+    assert!(cases > 200 && moving > 150, "{cases} {moving}");
+}
