@@ -39,8 +39,15 @@ class Scene:
         spp: Optional[int] = None,
         seed: int = 1,
         env: Optional[str] = None,
-    ) -> npt.NDArray[np.float32]:
+        derivative: Optional[Tuple[str, str]] = None,
+        mask: bool = False,
+    ) -> Any:
         """A float32 (h, w, 3) image, equal bit for bit to `penumbra render`'s PFM.
+
+        With `derivative=(object, axis)` (axis tx, ty, tz or ry; `method="analytic"`):
+        `(image, derivative)` as float64 (h, w, 3) arrays, the derivative exact, per scene unit
+        or per radian (docs/derivatives.md); `mask=True` adds a float64 (h, w) array, 1 where
+        a pixel is masked.
 
         The interpreter is released while it renders; Ctrl-C stops it (KeyboardInterrupt).
         """

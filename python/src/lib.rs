@@ -4,7 +4,7 @@
 //! Errors are Python exceptions carrying the library's message (file and line where it has
 //! them); long renders release the interpreter.
 
-use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
+use numpy::{IntoPyArray, PyReadonlyArray3};
 use penumbra::render::request::{self, EnvironmentOptions, RenderRequest};
 use std::sync::Arc;
 use penumbra::shading::PrepareConfig;
@@ -74,6 +74,13 @@ fn to_dvec3(v: (f64, f64, f64)) -> glam::DVec3 {
 
 fn from_dvec3(v: glam::DVec3) -> (f64, f64, f64) {
     (v.x, v.y, v.z)
+}
+
+/// What `Scene::render` computed: an image (float32, as the PFM), or an image, its derivative
+/// and its mask (float64).
+enum Rendered {
+    Image(Vec<f32>),
+    Derivative(Vec<f64>, Vec<f64>, Vec<f64>),
 }
 
 /// A scene: its objects, its camera and its environment, loaded once; renders leave it as
@@ -170,7 +177,13 @@ impl Scene {
 
     /// Renders the scene: a float32 array of shape (h, w, 3), linear radiance, equal bit for
     /// bit to the PFM `penumbra render` writes with the same settings.
-    #[pyo3(signature = (method="analytic", size=(320, 240), aa=1, spp=None, seed=1, env=None))]
+    ///
+    /// With `derivative=(object, axis)` (an object's name or index; `axis` one of tx, ty, tz,
+    /// ry, as `penumbra render --derivative` takes), returns `(image, derivative)` instead:
+    /// float64 arrays of shape (h, w, 3), the image and its exact derivative along the motion
+    /// (per scene unit, or per radian for ry; docs/derivatives.md), with `method="analytic"`
+    /// only. `mask=True` adds a third array, float64 (h, w), 1 where a pixel is masked.
+    #[pyo3(signature = (method="analytic", size=(320, 240), aa=1, spp=None, seed=1, env=None, derivative=None, mask=false))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -181,7 +194,9 @@ impl Scene {
         spp: Option<u32>,
         seed: u64,
         env: Option<String>,
-    ) -> PyResult<Bound<'py, PyArray3<f32>>> {
+        derivative: Option<(String, String)>,
+        mask: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let key = PrepareKey {
             size,
             aa,
@@ -194,6 +209,7 @@ impl Scene {
         let kept = self.kept(&key);
         let count = self.preparations.clone();
         let mut scene = self.scene.clone();
+        let (w, h) = (size.0 as usize, size.1 as usize);
         // The long part without the interpreter (other Python threads run meanwhile), and
         // stopped by Ctrl-C.
         let done = interruptible(py, move |cancel| -> penumbra::Result<_> {
@@ -204,17 +220,55 @@ impl Scene {
                     Arc::new(request.prepare(&mut scene)?)
                 }
             };
-            let out = prepared
-                .ctx
-                .render_full(&camera, &request.settings, Some(cancel))?;
-            let rgb: Vec<f32> = out.image.to_rgb32().into_iter().flatten().collect();
-            Ok((rgb, prepared))
+            let images = match &derivative {
+                None => {
+                    let out = prepared
+                        .ctx
+                        .render_full(&camera, &request.settings, Some(cancel))?;
+                    Rendered::Image(out.image.to_rgb32().into_iter().flatten().collect())
+                }
+                Some((object, axis)) => {
+                    let ctx = &prepared.ctx;
+                    let motion = penumbra::render::derivative::parse_motion(
+                        ctx,
+                        &format!("{object}:{axis}"),
+                    )?;
+                    let out =
+                        ctx.render_derivative(&camera, &request.settings, &motion, Some(cancel))?;
+                    let flat = |i: &penumbra::raster::Image| -> Vec<f64> {
+                        i.pixels.iter().flat_map(|p| p.to_array()).collect()
+                    };
+                    Rendered::Derivative(
+                        flat(&out.image),
+                        flat(&out.derivative),
+                        out.mask.pixels.iter().map(|p| p.x).collect(),
+                    )
+                }
+            };
+            Ok((images, prepared))
         })?;
-        let (rgb, prepared) = done.map_err(value_error)?;
+        let (images, prepared) = done.map_err(value_error)?;
         self.keep(key, prepared);
-        let (w, h) = (size.0 as usize, size.1 as usize);
-        let array = numpy::ndarray::Array3::from_shape_vec((h, w, 3), rgb).map_err(value_error)?;
-        Ok(array.into_pyarray(py))
+        use numpy::ndarray::{Array2, Array3};
+        match images {
+            Rendered::Image(rgb) => {
+                let array = Array3::from_shape_vec((h, w, 3), rgb).map_err(value_error)?;
+                Ok(array.into_pyarray(py).into_any())
+            }
+            Rendered::Derivative(image, rate, masked) => {
+                let image = Array3::from_shape_vec((h, w, 3), image).map_err(value_error)?;
+                let rate = Array3::from_shape_vec((h, w, 3), rate).map_err(value_error)?;
+                let (image, rate) = (image.into_pyarray(py), rate.into_pyarray(py));
+                if mask {
+                    let m = Array2::from_shape_vec((h, w), masked).map_err(value_error)?;
+                    Ok((image, rate, m.into_pyarray(py))
+                        .into_pyobject(py)?
+                        .into_any())
+                } else {
+                    Ok((image, rate).into_pyobject(py)?.into_any())
+                }
+            }
+        }
     }
 
     /// The recording of the shading point at pixel (x, y) of an image of `size`, as

@@ -16,3 +16,17 @@ def test_the_notebook_runs():
         exec(compile(text, str(NOTEBOOK), "exec"), namespace)
     figure = namespace["recording"].figure(view="sphere", stage=namespace["visible"], size=480)
     assert figure._repr_svg_().startswith("<svg")
+
+
+LIGHT_FIT = NOTEBOOK.parent / "light_fit.ipynb"
+
+
+def test_the_light_fit_converges():
+    cells = json.loads(LIGHT_FIT.read_text())["cells"]
+    namespace = {}
+    for c in cells:
+        if c["cell_type"] == "code":
+            text = c["source"] if isinstance(c["source"], str) else "".join(c["source"])
+            exec(compile(text, str(LIGHT_FIT), "exec"), namespace)
+    # The notebook asserts the fit; here, that it converged to the true position within 1e-6.
+    assert namespace["history"][-1][1] < 1e-6

@@ -290,3 +290,27 @@ def test_bench_gives_the_cli_rows(tmp_path):
         assert f">{name}<" in (tmp_path / "b" / "time_vs_rmse.svg").read_text()
     with pytest.raises(ValueError, match="not a bench report"):
         penumbra.bench_chart({"rows": 3})
+
+
+def test_the_derivative_comes_with_the_image_and_matches_differences():
+    """Oracle: central differences of float64 renders of the moved scene."""
+    scene = penumbra.load_scene("default")
+    image, rate, mask = scene.render(size=(40, 30), derivative=("sphere", "tx"), mask=True)
+    assert image.dtype == np.float64 and rate.dtype == np.float64
+    assert image.shape == rate.shape == (30, 40, 3) and mask.shape == (30, 40)
+    plain = scene.render(size=(40, 30))
+    assert np.allclose(image, plain, rtol=1e-6, atol=1e-7)
+    h = 1e-6
+    scene.move("sphere", translate=(h, 0.0, 0.0))
+    plus, _ = scene.render(size=(40, 30), derivative=("sphere", "tx"))
+    scene.move("sphere", translate=(-2 * h, 0.0, 0.0))
+    minus, _ = scene.render(size=(40, 30), derivative=("sphere", "tx"))
+    fd = (plus - minus) / (2 * h)
+    keep = mask == 0
+    scale = np.abs(rate[keep]).max()
+    assert scale > 0.1
+    assert np.abs(rate - fd)[keep].max() < 1e-5 * scale
+    with pytest.raises(ValueError, match="analytic"):
+        scene.render(method="mc", size=(8, 6), derivative=("sphere", "tx"))
+    with pytest.raises(ValueError, match="axis"):
+        scene.render(size=(8, 6), derivative=("sphere", "rx"))
