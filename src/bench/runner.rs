@@ -43,6 +43,10 @@ pub struct BenchConfig {
     /// its sampled correction), reported as `ratio+exact-u` and `control-variate+exact-u`.
     #[serde(default)]
     pub exact_u_variants: bool,
+    /// Also time the analytic image with its exact derivative along this motion,
+    /// `OBJECT:AXIS` (`render::derivative`), reported as `analytic+derivative`.
+    #[serde(default)]
+    pub derivative: Option<String>,
     /// How scenes are prepared (the tree cache): the caller's, not part of the report.
     #[serde(skip)]
     pub prepare: crate::shading::PrepareConfig,
@@ -68,6 +72,7 @@ impl BenchConfig {
             repeats: 2,
             area_baseline: true,
             exact_u_variants: true,
+            derivative: None,
             prepare: Default::default(),
         }
     }
@@ -250,6 +255,28 @@ pub fn run_bench(
             spp,
             seconds,
             image,
+        });
+    }
+    if let Some(spec) = &config.derivative {
+        progress(jobs.len(), jobs.len() + 1, "analytic+derivative");
+        let settings = config.settings(RenderMethod::Analytic, 1, config.seed);
+        let motion = crate::render::derivative::parse_motion(ctx, spec)?;
+        let mut best: Option<(f64, Image)> = None;
+        super::memory::reset_peak();
+        for _ in 0..config.repeats.max(1) {
+            let out = ctx.render_derivative(&config.camera, &settings, &motion, cancel)?;
+            check(cancel)?;
+            if best.as_ref().is_none_or(|(t, _)| out.stats.seconds < *t) {
+                best = Some((out.stats.seconds, out.image));
+            }
+        }
+        let peak_mb = super::memory::peak_mb();
+        let (seconds, image) = best.expect("at least one render");
+        let cmp = compare(&image.to_rgb32(), &ref_rgb, Some(&err_rgb));
+        let name = "analytic+derivative";
+        rows.push(BenchRow {
+            peak_mb,
+            ..BenchRow::from_comparison(&config.scene, name, None, seconds, &cmp, info.rms_stderr)
         });
     }
     progress(jobs.len(), jobs.len(), "done");

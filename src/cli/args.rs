@@ -248,6 +248,10 @@ pub(crate) struct BenchArgs {
     /// Deterministic methods are timed as the best of this many renders.
     #[arg(long, default_value_t = 2)]
     pub(crate) repeats: u32,
+    /// Also time the analytic image with its exact derivative along OBJECT:AXIS (as
+    /// `penumbra render --derivative` computes it), as the row `analytic+derivative`.
+    #[arg(long)]
+    pub(crate) derivative: Option<String>,
     /// Output directory (default out/bench/SCENE, or out/bench/scaling).
     #[arg(long)]
     pub(crate) out_dir: Option<PathBuf>,

@@ -105,6 +105,7 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
     config.reference_spp = args.reference_spp;
     config.seed = args.seed;
     config.repeats = args.repeats;
+    config.derivative = args.derivative.clone();
     config.prepare = super::process_env::prepare_config();
     let ctx = config.prepare(&scene);
     let reference = match &args.reference {
@@ -143,6 +144,20 @@ pub(crate) fn bench(args: &BenchArgs) -> Result<()> {
     })
     .map_err(anyhow::Error::msg)?;
     say!("{}", output::equal_time_markdown(&report));
+    let seconds = |name: &str| {
+        report
+            .rows
+            .iter()
+            .find(|r| r.method == name)
+            .map(|r| r.seconds)
+    };
+    if let (Some(d), Some(a)) = (seconds("analytic+derivative"), seconds("analytic")) {
+        say!(
+            "the image with its derivative along {}: {d:.3} s, {:.2}x the analytic render ({a:.3} s)",
+            config.derivative.as_deref().unwrap_or(""),
+            d / a
+        );
+    }
     for f in output::write_bench_files(&report, &strip, &dir, args.exposure)? {
         say!("wrote {}", f.display());
     }

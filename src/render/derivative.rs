@@ -118,6 +118,9 @@ impl RenderContext {
         let start = Instant::now();
         let plus = self.moved_by(motion, FD_STEP)?;
         let minus = self.moved_by(motion, -FD_STEP)?;
+        // A ray can change face within the step only where it passes the moving object's
+        // bounding sphere grown by the step's largest displacement.
+        let reach = self.moving_reach(motion);
         let samples = aa * aa;
         let inv = 1.0 / samples as f64;
         let pixels = render_tiles(w, h, cancel, ShadingScratch::default, |scratch, x, y| {
@@ -134,7 +137,9 @@ impl RenderContext {
                 let key =
                     |c: &RenderContext| c.primary_hit(&ray).map(|h| (h.point.object, h.point.face));
                 let here = hit.as_ref().map(|h| (h.point.object, h.point.face));
-                if key(&plus) != here || key(&minus) != here {
+                if reach.is_none_or(|(c, r)| ray_meets_ball(&ray, c, r))
+                    && (key(&plus) != here || key(&minus) != here)
+                {
                     flag(2);
                 }
                 let Some(hit) = hit else {
@@ -228,6 +233,43 @@ impl RenderContext {
             },
         })
     }
+}
+
+impl RenderContext {
+    /// A ball that holds the moving object at every θ within ±`FD_STEP` (with a margin), or
+    /// `None` when the object has no bounds.
+    fn moving_reach(&self, motion: &Motion) -> Option<(DVec3, f64)> {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for p in &self
+            .scene
+            .objects
+            .get(motion.object as usize)?
+            .mesh
+            .positions
+        {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        if lo.x > hi.x || lo.x.is_nan() {
+            return None;
+        }
+        let centre = 0.5 * (lo + hi);
+        let radius = 0.5 * (hi - lo).length();
+        let speed = match motion.axis {
+            Axis::Ry => (centre - motion.pivot).length() + radius,
+            _ => 1.0,
+        };
+        let scale = centre.abs().max_element().max(radius).max(1.0);
+        Some((centre, radius + 2.0 * FD_STEP * speed + 1e-9 * scale))
+    }
+}
+
+/// Whether the ray (from its origin on) passes within `r` of `c`.
+fn ray_meets_ball(ray: &crate::accel::Ray, c: DVec3, r: f64) -> bool {
+    let d = ray.dir.normalize_or_zero();
+    let oc = c - ray.origin;
+    let t = oc.dot(d).max(0.0);
+    (oc - d * t).length_squared() <= r * r
 }
 
 /// The derivative `OBJECT:AXIS` names in `ctx`'s scene: an object's index or unique name,
