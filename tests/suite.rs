@@ -14,6 +14,7 @@ mod silhouette_common;
 mod accel_bvh;
 mod accel_triangle;
 mod blender_exports;
+mod boundary_agreement;
 mod bsp;
 mod bsp_hoisted;
 mod bsp_nonconvex;

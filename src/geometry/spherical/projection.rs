@@ -50,7 +50,7 @@ pub struct ProjectionPlane {
 
 impl ProjectionPlane {
     /// The plane of Alg. 1 line 2: look-at p = (0, 0, 1), so projection keeps the coordinates.
-    pub(crate) const NORMAL: ProjectionPlane = ProjectionPlane {
+    pub const NORMAL: ProjectionPlane = ProjectionPlane {
         frame: Frame {
             x: DVec3::X,
             y: DVec3::Y,
@@ -75,7 +75,7 @@ impl ProjectionPlane {
     /// The unit direction of the homogeneous point `h` (the inverse camera matrix, then a
     /// normalisation).
     #[inline]
-    pub(crate) fn reproject_point(&self, h: DVec3) -> DVec3 {
+    pub fn reproject_point(&self, h: DVec3) -> DVec3 {
         self.frame.to_world(h).normalize()
     }
 
@@ -95,7 +95,7 @@ impl ProjectionPlane {
     }
 
     /// `reproject` of Alg. 1 (line 13).
-    pub(crate) fn reproject(&self, plane: &PlanarPolygon, out: &mut SphericalPolygon) {
+    pub fn reproject(&self, plane: &PlanarPolygon, out: &mut SphericalPolygon) {
         out.copy_from(plane);
         if self.is_normal() {
             out.map_vertices(DVec3::normalize);
