@@ -154,6 +154,12 @@ fn derivative_ui(ui: &mut Ui, p: &Probe) {
             .find(|s| s.light == l)
             .map_or_else(|| l.to_string(), |s| s.name.clone())
     };
+    if p.recording.lights.iter().all(|l| l.moving_edges.is_empty()) {
+        ui.label(format!(
+            "Nothing seen from this point moves with {}: no edge has a rate.",
+            d.object_name
+        ));
+    }
     for (r, rec) in p.recording.lights.iter().enumerate() {
         if rec.moving_edges.is_empty() {
             continue;
