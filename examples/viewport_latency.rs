@@ -32,7 +32,7 @@ fn main() {
         let mut cam = cam0;
         cam.eye.x += 0.05 * k as f64;
         let t = Instant::now();
-        let g = worker.request(ctx.clone(), cam, settings, 64);
+        let g = worker.request(ctx.clone(), cam, settings, 64, None);
         loop {
             if let Some(f) = worker.latest()
                 && f.generation == g

@@ -8,10 +8,11 @@ use crate::math::{Frame, Pcg32};
 use crate::render::RenderContext;
 use crate::render::environment_passes::{EnvironmentSettings, environment_pixel};
 use crate::scene::{Camera, Material};
+use crate::shading::derivative::{Axis, Motion, PointMotion};
 use crate::shading::{
     CorrectionSampling, EnvironmentPass, EnvironmentSample, EnvironmentTerm, Method, ShadingPoint,
     ShadingScratch, ShadingStats, Stage, StageRecording, environment_integrals, shade,
-    shade_corrected,
+    shade_corrected, shade_with_rate,
 };
 use crate::stochastic::{EstimatorScratch, LightSampling, direct_samples};
 use glam::DVec3;
@@ -115,6 +116,44 @@ pub struct CorrectionProbe {
     pub stderr: DVec3,
 }
 
+/// The derivative a probe recorded along a rigid motion (`shading::shade_with_rate`, the
+/// renderer's `render_derivative` at this point): the motion, and the point's rate. Each light
+/// record of the recording holds its moving edges and its own rate.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct DerivativeProbe {
+    /// The moving object (its index in the scene) and its name.
+    pub object: u32,
+    pub object_name: String,
+    pub axis: Axis,
+    /// The pivot of a rotation ([`Axis::Ry`]), world space.
+    pub pivot: DVec3,
+    /// `d radiance / dθ` at the point (the shaded value's; what is emitted does not move).
+    pub rate: DVec3,
+    /// Edges of visible polygons whose support was not found though they may move (the
+    /// renderer masks such a pixel).
+    pub unsupported: u32,
+    /// The LTC lookup lies within the finite-difference step of a table node (masked too).
+    pub near_table_node: bool,
+    /// The point's rates are degenerate (a grazing ray; the view along a turning normal).
+    pub degenerate: bool,
+}
+
+impl DerivativeProbe {
+    /// The motion the derivative follows.
+    pub fn motion(&self) -> Motion {
+        Motion {
+            object: self.object,
+            axis: self.axis,
+            pivot: self.pivot,
+        }
+    }
+
+    /// "d/dtx of NAME", as the workbench labels the derivative.
+    pub fn label(&self) -> String {
+        format!("d/d{} of {}", self.axis.name(), self.object_name)
+    }
+}
+
 /// Everything known about one probed pixel: the debug dump.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Probe {
@@ -148,6 +187,10 @@ pub struct Probe {
     /// (`radiance` then includes the correction).
     #[serde(default)]
     pub correction: Option<CorrectionProbe>,
+    /// With a derivative along a rigid motion (`probe_full`'s `derivative`): the motion and
+    /// the point's rate; the light records hold the moving edges.
+    #[serde(default)]
+    pub derivative: Option<DerivativeProbe>,
 }
 
 impl Probe {
@@ -292,6 +335,30 @@ pub fn probe_corrected(
     correction: Option<CorrectionSampling>,
     gh_steps: bool,
 ) -> crate::Result<Probe> {
+    probe_full(
+        ctx, scene_name, camera, size, pixel, method, correction, gh_steps, None,
+    )
+}
+
+/// [`probe_corrected`], and with `derivative` the point shaded as the derivative's renderer
+/// shades it (`shading::shade_with_rate`, the same stages with the rate of each edge): the
+/// recording's light records then hold their moving edges and rates, and
+/// [`Probe::derivative`] the point's rate. A derivative is computed for `Method::Analytic`
+/// without a correction only (as `RenderContext::render_derivative` refuses the others);
+/// for any other method `derivative` is ignored and `Probe::derivative` stays `None`.
+#[allow(clippy::too_many_arguments)]
+pub fn probe_full(
+    ctx: &RenderContext,
+    scene_name: &str,
+    camera: &Camera,
+    size: (u32, u32),
+    pixel: (f64, f64),
+    method: Method,
+    correction: Option<CorrectionSampling>,
+    gh_steps: bool,
+    derivative: Option<&Motion>,
+) -> crate::Result<Probe> {
+    let derivative = derivative.filter(|_| correction.is_none() && method == Method::Analytic);
     let ray = pixel_ray(camera, size, pixel)?;
     let mut probe = Probe {
         scene: scene_name.into(),
@@ -376,16 +443,50 @@ pub fn probe_corrected(
     let mut scratch = ShadingScratch::default();
     // Through its tile, as the renderer shades it (an `--aa 1` pixel): the region of its
     // block shares what it can, and the recording says what.
-    if ctx.prepared.tiles_share_candidates(method) && pixel.0 >= 0.0 && pixel.1 >= 0.0 {
+    // (The derivative's renderer shades every sample on its own.)
+    if ctx.prepared.tiles_share_candidates(method)
+        && derivative.is_none()
+        && pixel.0 >= 0.0
+        && pixel.1 >= 0.0
+    {
         let basis = camera.basis()?;
         let at = (pixel.0.floor() as u32, pixel.1.floor() as u32);
         scratch.share_with_tile(ctx.tile_region_of(&basis, (size.0, size.1, 1), at));
     }
     // The pixel's value: exactly what `RenderContext::radiance` computes, plus the
     // environment's term as `RenderContext::render_full` adds it.
-    probe.radiance = match &correction {
+    probe.radiance = match (&correction, derivative) {
+        // `RenderContext::render_derivative`'s sample: emitted + `shade_with_rate`.
+        (None, Some(motion)) => {
+            let pm = PointMotion::at(motion, &sp, ray.dir);
+            let (l, rate) = shade_with_rate(
+                &ctx.prepared,
+                &sp,
+                &material,
+                method,
+                &pm,
+                &mut scratch,
+                &mut recording,
+            );
+            let notes = scratch.rate_notes();
+            probe.derivative = Some(DerivativeProbe {
+                object: motion.object,
+                object_name: ctx
+                    .scene
+                    .objects
+                    .get(motion.object as usize)
+                    .map_or_else(|| format!("#{}", motion.object), |o| o.name.clone()),
+                axis: motion.axis,
+                pivot: motion.pivot,
+                rate,
+                unsupported: notes.unsupported,
+                near_table_node: notes.near_table_node,
+                degenerate: pm.degenerate,
+            });
+            hit.emitted + l
+        }
         // `RenderContext::radiance` with the correction: emitted + `shade_corrected`.
-        Some(c) => {
+        (Some(c), _) => {
             let r = shade_corrected(
                 &ctx.prepared,
                 &sp,
@@ -403,7 +504,7 @@ pub fn probe_corrected(
             });
             crate::shading::analytic_exact_pixel(hit.emitted, r.ltc, r.correction)
         }
-        None => ctx.radiance(&ray, method, &mut scratch, &mut recording),
+        (None, None) => ctx.radiance(&ray, method, &mut scratch, &mut recording),
     } + env_radiance;
     probe.stats = scratch.stats;
     let mut unshadowed = StageRecording::new(false);
@@ -502,11 +603,41 @@ pub fn debug_dump(
     pixel: (f64, f64),
     gh_steps: bool,
 ) -> crate::Result<Probe> {
+    debug_dump_with(ctx, scene_name, camera, settings, pixel, gh_steps, None)
+}
+
+/// [`debug_dump`], with the derivative along `derivative` recorded as [`probe_full`] records
+/// it (`penumbra probe --derivative OBJECT:AXIS`). A derivative of a method other than
+/// `analytic`, or of a scene with an environment light, is refused, as the renderer refuses
+/// it.
+pub fn debug_dump_with(
+    ctx: &RenderContext,
+    scene_name: &str,
+    camera: &Camera,
+    settings: &crate::render::RenderSettings,
+    pixel: (f64, f64),
+    gh_steps: bool,
+    derivative: Option<&Motion>,
+) -> crate::Result<Probe> {
     let size = (settings.width, settings.height);
     let (method, correction) =
         probe_method(settings.method, settings.spp, settings.seed, pixel, size.0)?;
-    let mut dump = probe_corrected(
-        ctx, scene_name, camera, size, pixel, method, correction, gh_steps,
+    if derivative.is_some() && settings.method.analytic() != Some(Method::Analytic) {
+        return Err(format!(
+            "a derivative is computed with --method analytic only, not {}",
+            settings.method.name()
+        )
+        .into());
+    }
+    if derivative.is_some() && ctx.environment.is_some() {
+        return Err(
+            "a derivative of the environment light's term is not computed: \
+                    probe the scene without its environment (--env none)"
+                .into(),
+        );
+    }
+    let mut dump = probe_full(
+        ctx, scene_name, camera, size, pixel, method, correction, gh_steps, derivative,
     )?;
     if let (Some(sp), Some(m)) = (dump.point, dump.material.clone()) {
         dump.monte_carlo = Some(monte_carlo(ctx, &sp, &m, 65536, settings.seed));

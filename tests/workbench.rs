@@ -637,3 +637,259 @@ fn a_mesh_taken_face_by_face_is_stepped_as_groups() {
     ins.previous();
     assert_eq!(ins.step, Some(group.last()));
 }
+
+/// The derivative in the workbench (issue 40 item 4), on the default scene with the sphere
+/// moving along tx: without a selected object the derivative AOV says so and renders nothing
+/// of its own; with the sphere selected the viewport shows the derivative (its frame carries
+/// the rate, the mapped AOV image and the screenshot both have red and blue pixels); a click
+/// on the pixel of largest rate probes it with the rate, whose recording holds moving edges,
+/// a stepper stage "derivative: moving edges", the numbers of each edge, and a sphere figure
+/// with velocity arrows, drawn on screen. The screenshot is written to
+/// `$CARGO_TARGET_TMPDIR/derivative_workbench.png`.
+#[test]
+fn the_derivative_aov_and_the_moving_edges_on_the_sphere() {
+    use penumbra::app::tonemap::Aov;
+    use penumbra::figure::Item;
+    use penumbra::shading::derivative::Axis;
+    use penumbra::views::sphere::{VELOCITY_LEGEND, colours, drawing};
+    use penumbra::views::{FigureRequest, recording_figure};
+
+    let mut h = harness(Persisted::default());
+    wait_for_render(&mut h);
+    assert!(
+        h.state()
+            .latest_frame()
+            .unwrap()
+            .frame
+            .output
+            .derivative
+            .is_none()
+    );
+
+    // No object selected: the AOV says why and the render is the plain image.
+    h.state_mut().settings.aov = Aov::Derivative;
+    wait_for_render(&mut h);
+    let why = h.state().derivative_motion().unwrap_err();
+    assert!(why.contains("select an object"), "{why}");
+    assert!(
+        h.state()
+            .latest_frame()
+            .unwrap()
+            .frame
+            .output
+            .derivative
+            .is_none()
+    );
+
+    // The sphere along tx.
+    h.state_mut().select_object("sphere");
+    h.state_mut().editor.set_axis(Axis::Tx);
+    wait_for_render(&mut h);
+    h.run_steps(2);
+    let ctx = h.state().render_context().unwrap();
+    let sphere = ctx
+        .scene
+        .objects
+        .iter()
+        .position(|o| o.name == "sphere")
+        .unwrap();
+    let frame = h.state().latest_frame().expect("a frame");
+    assert_eq!(frame.frame.scale, 1);
+    let d = frame
+        .frame
+        .output
+        .derivative
+        .as_ref()
+        .expect("the derivative AOV renders the derivative");
+    assert_eq!(
+        (d.motion.object as usize, d.motion.axis),
+        (sphere, Axis::Tx)
+    );
+    let size = (d.derivative.width, d.derivative.height);
+    let lum: Vec<f64> = d
+        .derivative
+        .pixels
+        .iter()
+        .map(|&c| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z)
+        .collect();
+    let unmasked = |i: usize| d.mask.pixels[i].x == 0.0;
+    let positive = (0..lum.len())
+        .filter(|&i| unmasked(i) && lum[i] > 0.0)
+        .count();
+    let negative = (0..lum.len())
+        .filter(|&i| unmasked(i) && lum[i] < 0.0)
+        .count();
+    assert!(
+        positive > 100 && negative > 100,
+        "{positive} > 0, {negative} < 0"
+    );
+    // The AOV as the render thread mapped it: red where the image brightens, blue where it
+    // darkens, grey where masked.
+    let (_, img, range) = frame.display.as_ref().expect("mapped for display");
+    let (_, top) = range.expect("the scale of the colour map");
+    assert!(top > 0.0);
+    let red = |c: &egui::Color32| c.r() > 200 && c.g() < 140 && c.b() < 140;
+    let blue = |c: &egui::Color32| c.b() > 200 && c.r() < 140 && c.g() < 140;
+    let (reds, blues) = (
+        img.pixels.iter().filter(|c| red(c)).count(),
+        img.pixels.iter().filter(|c| blue(c)).count(),
+    );
+    assert!(reds > 50 && blues > 50, "{reds} red, {blues} blue pixels");
+    let status = h.state().derivative_label(&d.motion);
+    assert_eq!(status, "d/dtx of sphere");
+
+    // Pick the unmasked pixel of largest rate in the sphere's shadow on another object (off
+    // the image's border), as a click picks it (a click could land on the sphere's handles,
+    // which take the pointer first). There some edges of the visible polygon move (the
+    // sphere's outline) and others stay (the light's).
+    let (w, ht) = size;
+    let basis = frame.camera.basis().unwrap();
+    let on_other = |x: u32, y: u32| {
+        let ray = penumbra::accel::Ray {
+            origin: basis.eye,
+            dir: basis.direction(x as f64 + 0.5, y as f64 + 0.5, w, ht),
+        };
+        ctx.primary_hit(&ray)
+            .is_some_and(|hit| hit.point.object.is_some_and(|o| o as usize != sphere))
+    };
+    let best = (0..lum.len())
+        .filter(|&i| {
+            let (x, y) = (i as u32 % w, i as u32 / w);
+            unmasked(i) && x > 2 && y > 2 && x + 3 < w && y + 3 < ht && on_other(x, y)
+        })
+        .max_by(|&a, &b| lum[a].abs().total_cmp(&lum[b].abs()))
+        .unwrap();
+    let (x, y) = (best as u32 % w, best as u32 / w);
+    h.state_mut().pick(x as f64, y as f64);
+    h.step();
+    let ins = h.state().inspector.as_ref().expect("picked");
+    assert_eq!(ins.probe.pixel, (x as f64, y as f64));
+    let pd = ins.probe.derivative.as_ref().expect("probed with the rate");
+    assert_eq!(pd.label(), "d/dtx of sphere");
+    // The probe's rate is the rendered pixel's (`--aa 1`: one sample, the same function).
+    let rendered = d.derivative.pixels[best];
+    assert!(
+        (pd.rate - rendered).abs().max_element() <= 1e-9 * rendered.abs().max_element(),
+        "{} against {rendered}",
+        pd.rate
+    );
+    let moving = ins
+        .probe
+        .recording
+        .lights
+        .iter()
+        .flat_map(|l| &l.moving_edges)
+        .filter(|e| penumbra::views::stages::moves(e))
+        .count();
+    let edges = ins
+        .probe
+        .recording
+        .lights
+        .iter()
+        .map(|l| l.moving_edges.len())
+        .sum::<usize>();
+    assert!(
+        moving > 0 && moving < edges,
+        "{moving} of {edges} edges move"
+    );
+    let stage = ins
+        .steps
+        .iter()
+        .position(|s| s.kind == StepKind::Derivative)
+        .expect("a derivative stage");
+    assert!(
+        ins.steps[stage].label.contains("moving edges"),
+        "{}",
+        ins.steps[stage].label
+    );
+
+    // The sphere's figure (what the pane paints and `penumbra figure` writes) has the arrows:
+    // their legend and their heads.
+    let fig = recording_figure(&ins.probe, None, &FigureRequest::default()).unwrap();
+    assert!(
+        fig.items
+            .iter()
+            .any(|i| matches!(i, Item::Text { text, .. } if text == VELOCITY_LEGEND))
+    );
+    let heads = fig
+        .items
+        .iter()
+        .filter(|i| matches!(i, Item::Fill { color, .. } if *color == colours::VELOCITY))
+        .count();
+    let arrows = drawing(&ins.probe, None, &Default::default()).velocities;
+    assert!(!arrows.is_empty());
+    assert_eq!(heads, arrows.len());
+    // Each arrow is v_n = m · dν/dθ along −ν of its edge.
+    for v in &arrows {
+        assert!((v.outward.length() - 1.0).abs() < 1e-9 && v.outward.dot(v.at).abs() < 1e-9);
+    }
+
+    // The stepper at the derivative's stage, the numbers of its edges.
+    h.state_mut().inspector.as_mut().unwrap().step = Some(stage);
+    layout::reveal(&mut h.state_mut().tree, Pane::Numbers);
+    h.run_steps(2);
+    assert!(h.query_all_by_label("diffuse share").count() > 0);
+    assert!(h.query_all_by_label("lobe share").count() > 0);
+    layout::reveal(&mut h.state_mut().tree, Pane::Stages);
+    layout::reveal(&mut h.state_mut().tree, Pane::Sphere);
+    h.run_steps(2);
+    assert!(h.query_all_by_label(&ins_label(&h, stage)).count() > 0);
+
+    // The screenshot: the derivative's colours in the viewport, the arrows on the sphere.
+    let shot = h.render().expect("the harness renders");
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("derivative_workbench.png");
+    shot.save(&path).unwrap();
+    eprintln!("screenshot: {}", path.display());
+    let ppp = h.ctx.pixels_per_point();
+    let count = |r: egui::Rect, f: &dyn Fn([u8; 3]) -> bool| {
+        let (x0, y0) = ((r.min.x * ppp) as u32, (r.min.y * ppp) as u32);
+        let (x1, y1) = ((r.max.x * ppp) as u32, (r.max.y * ppp) as u32);
+        let mut n = 0;
+        for y in y0..y1.min(shot.height()) {
+            for x in x0..x1.min(shot.width()) {
+                let p = shot.get_pixel(x, y).0;
+                n += f([p[0], p[1], p[2]]) as u32;
+            }
+        }
+        n
+    };
+    let view = h.state().viewport_rect.unwrap();
+    let on_screen_red = count(view, &|c| c[0] > 200 && c[1] < 140 && c[2] < 140);
+    let on_screen_blue = count(view, &|c| c[2] > 200 && c[0] < 140 && c[1] < 140);
+    assert!(
+        on_screen_red > 100 && on_screen_blue > 100,
+        "{on_screen_red} red, {on_screen_blue} blue in the viewport"
+    );
+    let sphere_rect = h.state().settings.sphere.sphere_side;
+    assert!(sphere_rect > 100.0);
+    let [vr, vg, vb] = colours::VELOCITY;
+    let near =
+        |c: [u8; 3]| c[0].abs_diff(vr) < 30 && c[1].abs_diff(vg) < 30 && c[2].abs_diff(vb) < 30;
+    let arrow_pixels = count(
+        egui::Rect::from_min_size(Pos2::ZERO, egui::vec2(1280.0, 800.0)),
+        &near,
+    ) - count(view, &near);
+    assert!(
+        arrow_pixels > 20,
+        "{arrow_pixels} pixels of velocity arrows"
+    );
+
+    // Back to the plain image: no derivative is rendered.
+    h.state_mut().settings.aov = Aov::Final;
+    wait_for_render(&mut h);
+    assert!(
+        h.state()
+            .latest_frame()
+            .unwrap()
+            .frame
+            .output
+            .derivative
+            .is_none()
+    );
+}
+
+fn ins_label(h: &Harness<'static, WorkbenchApp>, stage: usize) -> String {
+    h.state().inspector.as_ref().unwrap().steps[stage]
+        .label
+        .clone()
+}

@@ -6,6 +6,7 @@ use penumbra::app::layout::{self, Pane, Preset};
 use penumbra::app::lesson;
 use penumbra::app::{Persisted, WorkbenchApp};
 use penumbra::inspect::monte_carlo;
+use penumbra::views::stages::StepKind;
 
 /// Opens the workbench in `preset`, lets the render finish and the first point be picked.
 fn open(preset: Preset) -> egui_kittest::Harness<'static, WorkbenchApp> {
@@ -104,13 +105,21 @@ fn the_layout_is_persisted() {
 
 /// Every stage of the recording has its lesson from `docs/analytic-pipeline.md`, with an
 /// equation and every `{name}` replaced by a number of this point; every stage of the page is
-/// used by some step kind.
+/// used by some step kind. The point is recorded again with the derivative AOV on (its
+/// occluder along tx), which adds the derivative's stage.
 #[test]
 fn every_stage_has_its_lesson_with_the_points_numbers() {
-    let h = open(Preset::Teach);
+    let mut h = open(Preset::Teach);
+    h.state_mut().settings.aov = penumbra::app::tonemap::Aov::Derivative;
+    // The occluder of the point's first set difference: its motion moves edges there.
+    let occluder = h.state().picked_occluder().expect("a penumbra point");
+    h.state_mut().select_object(&occluder.to_string());
+    h.run_steps(2);
     let ins = h.state().inspector.as_ref().expect("a point is picked");
+    assert!(ins.probe.derivative.is_some(), "probed again with the rate");
     let all = &ins.steps;
     assert!(all.len() > 5);
+    assert!(all.iter().any(|s| s.kind == StepKind::Derivative));
     let mut keys = std::collections::BTreeSet::new();
     for step in all {
         let l = lesson::lesson(&ins.probe, step)

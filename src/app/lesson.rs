@@ -103,6 +103,7 @@ pub(crate) fn key_of(kind: StepKind) -> &'static str {
         StepKind::LtcTransformed { .. } => "ltc-transformed",
         StepKind::LtcClipped { .. } => "ltc-clipped",
         StepKind::Integral => "integral",
+        StepKind::Derivative => "derivative",
     }
 }
 
@@ -238,6 +239,31 @@ pub(crate) fn numbers(probe: &Probe, step: &Step) -> Vec<(&'static str, String)>
         StepKind::Integral => {
             out.push(("diffuse", rgb(rec.diffuse)));
             out.push(("specular", rgb(rec.specular)));
+        }
+        StepKind::Derivative => {
+            let moving: Vec<_> = rec
+                .moving_edges
+                .iter()
+                .filter(|e| crate::views::stages::moves(e))
+                .collect();
+            out.push((
+                "motion",
+                probe
+                    .derivative
+                    .as_ref()
+                    .map_or_else(|| "the motion".into(), |d| d.label()),
+            ));
+            out.push(("moving", moving.len().to_string()));
+            out.push(("edges", rec.moving_edges.len().to_string()));
+            out.push((
+                "diffuse_rate",
+                format!("{:+.5e}", moving.iter().map(|e| e.diffuse).sum::<f64>()),
+            ));
+            out.push((
+                "lobe_rate",
+                format!("{:+.5e}", moving.iter().map(|e| e.lobe).sum::<f64>()),
+            ));
+            out.push(("rate", rgb(rec.rate)));
         }
     }
     out

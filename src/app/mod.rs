@@ -35,7 +35,7 @@ pub mod viewport;
 pub mod viewport_web;
 
 use crate::bench::table::BenchReport;
-use crate::inspect::{MonteCarloEstimate, monte_carlo, probe_corrected, probe_method};
+use crate::inspect::{MonteCarloEstimate, monte_carlo, probe_full, probe_method};
 use crate::render::request::RenderRequest;
 use crate::render::{Image, RenderContext, RenderMethod, RenderSettings};
 use crate::scene::scene_file;
@@ -219,6 +219,10 @@ pub struct AppState {
     pub use_trees: bool,
     /// How scenes are prepared (the tree cache): the launch's choice.
     prepare: crate::shading::PrepareConfig,
+    /// The derivative the picked point was probed with (`Some(None)`: none), to probe it again
+    /// when the derivative AOV's motion changes; `None` when the point was not picked here
+    /// (a debug dump replayed).
+    picked_motion: Option<Option<crate::shading::derivative::Motion>>,
     /// An error from the last load of the environment's map (the environment pane shows it).
     env_error: Option<String>,
     env_maps: environment_panel::MapCache,
@@ -293,6 +297,7 @@ impl AppState {
             viewport_rect: None,
             use_trees: true,
             prepare,
+            picked_motion: None,
             env_error: None,
             env_maps: Default::default(),
             settings: state,
@@ -580,19 +585,72 @@ impl AppState {
         }
         let settings = self.settings();
         let camera = self.orbit.camera();
+        // The derivative AOV renders the derivative (only then: the plain image's levels are
+        // the same as without it); what keeps it from being computed, the viewport says.
+        let derivative = self.derivative_motion().ok().flatten();
         let key = format!(
-            "{}|{:?}|{:?}|{}",
-            self.scene_generation, camera, settings, self.settings.passes
+            "{}|{:?}|{:?}|{}|{:?}",
+            self.scene_generation, camera, settings, self.settings.passes, derivative
         );
         if self.requested.as_ref().is_some_and(|(_, k)| *k == key) {
             return;
         }
-        let generation = self
-            .worker
-            .request(ctx, camera, settings, self.settings.passes.max(1));
+        let generation = self.worker.request(
+            ctx,
+            camera,
+            settings,
+            self.settings.passes.max(1),
+            derivative,
+        );
         self.requested = Some((generation, key));
         self.trace.points.clear();
         self.trace.generation = generation;
+    }
+
+    /// The motion the derivative AOV differentiates along: the selected object along the
+    /// gizmo's active axis. `Ok(None)` when the AOV is another; `Err` says, for the viewport,
+    /// why there is no derivative to show (no object selected, a method or an environment the
+    /// derivative does not cover).
+    pub fn derivative_motion(&self) -> Result<Option<crate::shading::derivative::Motion>, String> {
+        if self.settings.aov != Aov::Derivative {
+            return Ok(None);
+        }
+        let Some(ctx) = &self.ctx else {
+            return Err("no scene".into());
+        };
+        let Some(object) = self.editor.selected else {
+            return Err(
+                "derivative: select an object (in the Scene pane, or double-click it here) to \
+                 see the image's derivative along its active axis"
+                    .into(),
+            );
+        };
+        if self.settings.method != RenderMethod::Analytic {
+            return Err(format!(
+                "derivative: computed for the analytic method only, not {}",
+                self.settings.method.name()
+            ));
+        }
+        if ctx.environment.is_some() {
+            return Err(
+                "derivative: the environment light's term is not differentiated; choose no \
+                 environment to see it"
+                    .into(),
+            );
+        }
+        ctx.motion(object, self.editor.axis())
+            .map(Some)
+            .map_err(|e| format!("derivative: {e}"))
+    }
+
+    /// "d/dtx of NAME" for the derivative AOV's motion.
+    pub fn derivative_label(&self, motion: &crate::shading::derivative::Motion) -> String {
+        let name = self
+            .ctx
+            .as_ref()
+            .and_then(|c| c.scene.objects.get(motion.object as usize))
+            .map_or_else(|| format!("#{}", motion.object), |o| o.name.clone());
+        format!("d/d{} of {name}", motion.axis.name())
     }
 
     /// Opens a file of any kind the workbench knows.
@@ -607,6 +665,7 @@ impl AppState {
             Ok(Opened::Dump(p)) => {
                 self.status = format!("replaying the dump {file}");
                 self.inspector = Some(Inspector::new(*p));
+                self.picked_motion = None;
                 self.monte_carlo = None;
             }
             Ok(Opened::Bench(r)) => {

@@ -8,6 +8,7 @@ use super::gizmo::{Gizmo, Handle, Motion};
 use crate::render::RenderContext;
 use crate::scene::Camera;
 use crate::scene::edit::{EditHistory, Rigid};
+use crate::shading::derivative::Axis;
 use egui::{Painter, Pos2, Rect, Response, Ui};
 use glam::DVec3;
 use std::sync::Arc;
@@ -44,6 +45,9 @@ pub struct SceneEditor {
     pub last_timing: Option<EditTiming>,
     /// A drag driven by a program (`--measure-drag`): the context it began with.
     scripted: Option<Arc<RenderContext>>,
+    /// The gizmo's active axis: the handle dragged last (or the one chosen in the scene
+    /// pane), along which the derivative AOV differentiates. `None`: tx.
+    axis: Option<Axis>,
 }
 
 /// What a frame of input did to the scene.
@@ -58,6 +62,16 @@ impl SceneEditor {
     /// Forgets the selection and the history (a new scene was loaded).
     pub(crate) fn reset(&mut self) {
         *self = SceneEditor::default();
+    }
+
+    /// The gizmo's active axis (the handle dragged last, or chosen): the derivative AOV's.
+    pub fn axis(&self) -> Axis {
+        self.axis.unwrap_or(Axis::Tx)
+    }
+
+    /// Makes `axis` the active one.
+    pub fn set_axis(&mut self, axis: Axis) {
+        self.axis = Some(axis);
     }
 
     fn history(&mut self, ctx: &RenderContext) -> &mut EditHistory {
@@ -135,6 +149,12 @@ impl SceneEditor {
             && let Some(object) = self.selected
             && self.history(ctx).begin_drag(object).is_ok()
         {
+            self.axis = Some(match handle {
+                Handle::Axis(0) => Axis::Tx,
+                Handle::Axis(1) => Axis::Ty,
+                Handle::Axis(_) => Axis::Tz,
+                Handle::RotateY => Axis::Ry,
+            });
             self.drag = Some(HandleDrag {
                 handle,
                 gizmo,

@@ -1,6 +1,7 @@
 //! What the viewport shows of a render: the AOV (an image or a per-pixel quantity) and how
 //! it is mapped to display colours. Pure functions, tested without a window.
 
+use crate::render::derivative::{MASKED_GREY, derivative_scale, diverging_colour};
 use crate::render::image_io::srgb_oetf;
 use crate::render::{Image, RenderOutput};
 use egui::Color32;
@@ -27,10 +28,13 @@ pub enum Aov {
     SilhouetteEdges,
     /// Time per pixel (analytic methods).
     Cost,
+    /// The image's derivative along the gizmo's active axis of the selected object (the
+    /// analytic method; diverging colours, masked pixels grey).
+    Derivative,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 9] = [
+    pub const ALL: [Aov; 10] = [
         Aov::Final,
         Aov::U,
         Aov::SN,
@@ -40,6 +44,7 @@ impl Aov {
         Aov::OccludersKept,
         Aov::SilhouetteEdges,
         Aov::Cost,
+        Aov::Derivative,
     ];
 
     pub(crate) fn label(self) -> &'static str {
@@ -53,6 +58,7 @@ impl Aov {
             Aov::OccludersKept => "occluders after culling",
             Aov::SilhouetteEdges => "light polygon edges",
             Aov::Cost => "cost per pixel (time)",
+            Aov::Derivative => "derivative (selected object, active axis)",
         }
     }
 
@@ -75,6 +81,11 @@ pub enum ToneMap {
 pub(crate) enum AovValues {
     Radiance(Vec<DVec3>),
     Scalar(Vec<f64>),
+    /// A derivative and its mask (`render::derivative`), in diverging colours.
+    Signed {
+        derivative: Image,
+        mask: Image,
+    },
 }
 
 /// Extracts `aov` from a render; `None` when the method did not compute it.
@@ -109,6 +120,10 @@ pub(crate) fn aov_values(out: &RenderOutput, aov: Aov) -> Option<AovValues> {
             .pixel_stats
             .as_ref()
             .map(|s| AovValues::Scalar(s.iter().map(|p| p.nanos as f64 * 1e-3).collect())),
+        Aov::Derivative => out.derivative.as_ref().map(|d| AovValues::Signed {
+            derivative: d.derivative.clone(),
+            mask: d.mask.clone(),
+        }),
     }
 }
 
@@ -154,7 +169,8 @@ pub(crate) fn false_colour(t: f64) -> Color32 {
     Color32::from_rgb(c(0), c(1), c(2))
 }
 
-/// Display colours of an AOV, and for scalars the value range the ramp spans.
+/// Display colours of an AOV, and for scalars the value range the ramp spans (for a
+/// derivative ±its scale, the 99th percentile of its magnitude: `render::derivative`'s map).
 pub(crate) fn display(
     values: &AovValues,
     exposure: f64,
@@ -179,6 +195,23 @@ pub(crate) fn display(
                 v.iter().map(|&x| false_colour((x - lo) / span)).collect(),
                 Some((lo, hi)),
             )
+        }
+        AovValues::Signed { derivative, mask } => {
+            let top = derivative_scale(derivative, mask);
+            let colours = derivative
+                .pixels
+                .iter()
+                .zip(&mask.pixels)
+                .map(|(&d, m)| {
+                    let [r, g, b] = if m.x != 0.0 {
+                        MASKED_GREY
+                    } else {
+                        diverging_colour(crate::raster::luminance(d), top)
+                    };
+                    Color32::from_rgb(r, g, b)
+                })
+                .collect();
+            (colours, Some((-top, top)))
         }
     }
 }

@@ -6,9 +6,10 @@
 use super::tonemap::{Aov, ToneMap, aov_values, display};
 use crate::render::progressive::ProgressiveFrame;
 #[cfg(not(target_arch = "wasm32"))]
-use crate::render::progressive::render_progressive_with;
+use crate::render::progressive::{render_progressive_derivative, render_progressive_with};
 use crate::render::{RenderContext, RenderSettings};
 use crate::scene::Camera;
+use crate::shading::derivative::Motion;
 use egui::{Color32, ColorImage};
 use std::sync::Arc;
 #[cfg(not(target_arch = "wasm32"))]
@@ -29,6 +30,8 @@ pub struct RenderJob {
     pub camera: Camera,
     pub settings: RenderSettings,
     pub max_passes: u32,
+    /// The derivative along this motion instead of the plain image (the derivative AOV).
+    pub derivative: Option<Motion>,
     pub cancel: Arc<AtomicBool>,
 }
 
@@ -205,6 +208,28 @@ impl RenderWorker {
                     }
                     w2.store(job.generation, Ordering::Relaxed);
                     let result = pool.install(|| {
+                        let publish = |f: &ProgressiveFrame| {
+                            if !job.cancel.load(Ordering::Relaxed) {
+                                publisher.publish(
+                                    job.generation,
+                                    job.camera,
+                                    job.settings,
+                                    f.clone(),
+                                );
+                            }
+                        };
+                        // The derivative only when it is shown: the plain image's levels
+                        // stay as they are.
+                        if let Some(motion) = &job.derivative {
+                            return render_progressive_derivative(
+                                &job.ctx,
+                                &job.camera,
+                                &job.settings,
+                                motion,
+                                &job.cancel,
+                                publish,
+                            );
+                        }
                         render_progressive_with(
                             &job.ctx,
                             &job.camera,
@@ -256,13 +281,15 @@ impl RenderWorker {
         }
     }
 
-    /// Cancels the running render and starts a new one; returns its generation.
+    /// Cancels the running render and starts a new one (of the image's derivative along
+    /// `derivative`, when given); returns its generation.
     pub fn request(
         &mut self,
         ctx: Arc<RenderContext>,
         camera: Camera,
         settings: RenderSettings,
         max_passes: u32,
+        derivative: Option<Motion>,
     ) -> u64 {
         self.cancel.store(true, Ordering::Relaxed);
         self.cancel = Arc::new(AtomicBool::new(false));
@@ -273,6 +300,7 @@ impl RenderWorker {
             camera,
             settings,
             max_passes,
+            derivative,
             cancel: self.cancel.clone(),
         };
         if let Some(tx) = &self.tx {

@@ -6,10 +6,13 @@
 
 use super::tonemap::{Aov, ToneMap};
 use super::viewport::{Display, ViewFrame, frame_image};
-use crate::render::progressive::{ProgressiveFrame, render_progressive_with};
+use crate::render::progressive::{
+    ProgressiveFrame, render_progressive_derivative, render_progressive_with,
+};
 use crate::render::slicing::Slicer;
 use crate::render::{RenderContext, RenderSettings};
 use crate::scene::Camera;
+use crate::shading::derivative::Motion;
 use std::sync::{Arc, Mutex};
 use web_time::Duration;
 
@@ -24,6 +27,8 @@ struct Running {
     camera: Camera,
     settings: RenderSettings,
     max_passes: u32,
+    /// The derivative along this motion instead of the plain image.
+    derivative: Option<Motion>,
     slicer: Slicer,
     /// The newest frame published (coarsest level first, then passes): a slice replays
     /// the frames of finished levels and passes it still holds.
@@ -67,6 +72,7 @@ impl RenderWorker {
         camera: Camera,
         settings: RenderSettings,
         max_passes: u32,
+        derivative: Option<Motion>,
     ) -> u64 {
         self.generation += 1;
         self.running = Some(Running {
@@ -75,6 +81,7 @@ impl RenderWorker {
             camera,
             settings,
             max_passes,
+            derivative,
             slicer: Slicer::new(),
             published: None,
             started: web_time::Instant::now(),
@@ -94,21 +101,32 @@ impl RenderWorker {
         run.slices += 1;
         let slice_start = web_time::Instant::now();
         let (result, finished) = run.slicer.run(SLICE, |cancel| {
-            render_progressive_with(
-                &run.ctx,
-                &run.camera,
-                &run.settings,
-                run.max_passes,
-                cancel,
-                false,
-                |f| {
-                    let key = Some((std::cmp::Reverse(f.scale), f.passes));
-                    if key > run.published {
-                        run.published = key;
-                        newest = Some(f.clone());
-                    }
-                },
-            )
+            let mut keep = |f: &ProgressiveFrame| {
+                let key = Some((std::cmp::Reverse(f.scale), f.passes));
+                if key > run.published {
+                    run.published = key;
+                    newest = Some(f.clone());
+                }
+            };
+            match &run.derivative {
+                Some(motion) => render_progressive_derivative(
+                    &run.ctx,
+                    &run.camera,
+                    &run.settings,
+                    motion,
+                    cancel,
+                    &mut keep,
+                ),
+                None => render_progressive_with(
+                    &run.ctx,
+                    &run.camera,
+                    &run.settings,
+                    run.max_passes,
+                    cancel,
+                    false,
+                    &mut keep,
+                ),
+            }
         });
         run.busy += slice_start.elapsed();
         let d = *self.display.lock().unwrap_or_else(|e| e.into_inner());

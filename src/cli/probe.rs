@@ -47,8 +47,24 @@ pub(crate) fn probe_dump(
             ),
         },
     };
-    penumbra::inspect::debug_dump(&ctx, &args.scene, &cam, &request.settings, pixel, gh_steps)
-        .map_err(anyhow::Error::msg)
+    // `--derivative OBJECT:AXIS`: the point shaded with its rate, as the derivative's render
+    // shades it (the recording then holds the moving edges the sphere's figure draws).
+    let motion = match &args.derivative {
+        Some(spec) => Some(
+            penumbra::render::derivative::parse_motion(&ctx, spec).map_err(anyhow::Error::msg)?,
+        ),
+        None => None,
+    };
+    penumbra::inspect::debug_dump_with(
+        &ctx,
+        &args.scene,
+        &cam,
+        &request.settings,
+        pixel,
+        gh_steps,
+        motion.as_ref(),
+    )
+    .map_err(anyhow::Error::msg)
 }
 
 /// The dump's numbers on standard output.
@@ -63,6 +79,25 @@ fn report(dump: &penumbra::inspect::Probe, pixel: (f64, f64)) {
             l.unshadowed,
             100.0 * l.visible_fraction(),
             l.solid_angle
+        );
+    }
+    if let Some(d) = &dump.derivative {
+        let moving = dump
+            .recording
+            .lights
+            .iter()
+            .flat_map(|l| &l.moving_edges)
+            .filter(|e| penumbra::views::stages::moves(e))
+            .count();
+        say!(
+            "  derivative {}: rate {} per {}, {moving} moving edges",
+            d.label(),
+            d.rate,
+            if d.axis == penumbra::shading::derivative::Axis::Ry {
+                "radian"
+            } else {
+                "scene unit"
+            }
         );
     }
     if let Some(mc) = dump.monte_carlo {

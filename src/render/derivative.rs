@@ -11,7 +11,7 @@
 //! an edge of a visible polygon had no support though it may move, or the point's rates are
 //! degenerate. Masked pixels keep their computed value and are counted by reason.
 
-use super::{Image, RenderContext, RenderSettings, RenderStats, render_tiles};
+use super::{Image, RenderContext, RenderSettings, RenderStats, SampleGrid, render_tiles};
 use crate::Choice;
 use crate::figure::font::{Align, TextStyle, draw_text};
 use crate::scene::Camera;
@@ -93,6 +93,18 @@ impl RenderContext {
         motion: &Motion,
         cancel: Option<&AtomicBool>,
     ) -> crate::Result<DerivativeOutput> {
+        let setup = self.derivative_setup(settings, motion)?;
+        self.render_derivative_level(camera, settings, &setup, 1, cancel)
+    }
+
+    /// What every level of a derivative along `motion` shares: the checks of
+    /// [`RenderContext::render_derivative`] (an error names what is refused) and the scene
+    /// moved by ±[`FD_STEP`], which the masks cast the samples' rays into.
+    pub fn derivative_setup(
+        &self,
+        settings: &RenderSettings,
+        motion: &Motion,
+    ) -> crate::Result<DerivativeSetup> {
         if settings.method.analytic() != Some(Method::Analytic) {
             return Err(format!(
                 "a derivative is computed with --method analytic only, not {}",
@@ -110,101 +122,63 @@ impl RenderContext {
         if motion.object as usize >= self.scene.objects.len() {
             return Err(format!("no object {} in the scene", motion.object).into());
         }
+        Ok(DerivativeSetup {
+            motion: *motion,
+            plus: Arc::new(self.moved_by(motion, FD_STEP)?),
+            minus: Arc::new(self.moved_by(motion, -FD_STEP)?),
+            reach: self.moving_reach(motion),
+        })
+    }
+
+    /// One level of a progressive derivative (`render::sample_grid`): at `stride` 1 every
+    /// sample of every pixel ([`RenderContext::render_derivative`]), at a stride s > 1 sample
+    /// 0 of every s-th pixel each way, an image ⌈w/s⌉ × ⌈h/s⌉ whose pixels are the full
+    /// image's samples, shaded and masked by the same per-sample work. `Err("cancelled")`
+    /// once `cancel` is set.
+    pub fn render_derivative_level(
+        &self,
+        camera: &Camera,
+        settings: &RenderSettings,
+        setup: &DerivativeSetup,
+        stride: u32,
+        cancel: Option<&AtomicBool>,
+    ) -> crate::Result<DerivativeOutput> {
         let basis = camera.basis()?;
         let (w, h, aa) = (settings.width, settings.height, settings.aa);
-        if w == 0 || h == 0 || aa == 0 {
+        if w == 0 || h == 0 || aa == 0 || stride == 0 {
             return Err("image size and --aa must be positive".into());
         }
         let start = Instant::now();
-        let plus = self.moved_by(motion, FD_STEP)?;
-        let minus = self.moved_by(motion, -FD_STEP)?;
-        // A ray can change face within the step only where it passes the moving object's
-        // bounding sphere grown by the step's largest displacement.
-        let reach = self.moving_reach(motion);
-        let samples = aa * aa;
-        let inv = 1.0 / samples as f64;
-        let pixels = render_tiles(w, h, cancel, ShadingScratch::default, |scratch, x, y| {
+        let grid = SampleGrid {
+            stride,
+            ..SampleGrid::full(w, h, aa)
+        };
+        let (gw, gh) = grid.size();
+        let inv = 1.0 / grid.samples() as f64;
+        let pixels = render_tiles(gw, gh, cancel, ShadingScratch::default, |scratch, x, y| {
             let mut out = PixelRate::default();
             let mut first: Option<(u32, DVec3, f64)> = None;
-            let mut reason = 0u8;
-            let mut flag = |r: u8| {
-                if reason == 0 || r < reason {
-                    reason = r;
-                }
-            };
-            for ray in super::subpixel_rays(&basis, x, y, aa, w, h) {
-                let hit = self.primary_hit(&ray);
-                let key =
-                    |c: &RenderContext| c.primary_hit(&ray).map(|h| (h.point.object, h.point.face));
-                let here = hit.as_ref().map(|h| (h.point.object, h.point.face));
-                if reach.is_none_or(|(c, r)| ray_meets_ball(&ray, c, r))
-                    && (key(&plus) != here || key(&minus) != here)
-                {
-                    flag(2);
-                }
-                let Some(hit) = hit else {
-                    if first.is_some() {
-                        flag(1);
-                    }
-                    first.get_or_insert((u32::MAX, DVec3::ZERO, 0.0));
-                    continue;
-                };
-                let p = &hit.point;
-                let face = (
-                    p.object.unwrap_or(u32::MAX),
-                    p.normal,
-                    p.normal.dot(p.position),
-                );
-                match first {
-                    None => first = Some(face),
-                    Some(f) => {
-                        let scale = p.position.abs().max_element().max(1.0);
-                        if f.0 != face.0
-                            || f.1.dot(face.1) < 1.0 - 1e-12
-                            || (f.2 - face.2).abs() > 1e-9 * scale
-                        {
-                            flag(1);
-                        }
-                    }
-                }
-                out.value += hit.emitted;
-                if hit.receiver {
-                    let pm = PointMotion::at(motion, p, ray.dir);
-                    if pm.degenerate {
-                        flag(3);
-                    }
-                    let material = &self.prepared.materials[p.object.unwrap_or(0) as usize];
-                    let (l, r) = shade_with_rate(
-                        &self.prepared,
-                        p,
-                        material,
-                        Method::Analytic,
-                        &pm,
-                        scratch,
-                        &mut NoRecorder,
-                    );
-                    let notes = scratch.rate_notes();
-                    if notes.unsupported > 0 {
-                        flag(4);
-                    }
-                    if notes.near_table_node {
-                        flag(5);
-                    }
-                    out.value += l;
-                    out.rate += r;
+            for ray in grid.rays(&basis, x, y) {
+                let sample = self.sample_rate(setup, &ray, &mut first, scratch);
+                let (emitted, shaded, rate, reason) = sample;
+                // In the order the one-shot derivative always summed them.
+                out.value += emitted;
+                out.value += shaded;
+                out.rate += rate;
+                if reason != 0 && (out.reason == 0 || reason < out.reason) {
+                    out.reason = reason;
                 }
             }
             out.value *= inv;
             out.rate *= inv;
-            out.reason = reason;
             out
         });
         let Some(pixels) = pixels else {
             return Err("cancelled".into());
         };
         let image = |f: &dyn Fn(&PixelRate) -> DVec3| Image {
-            width: w,
-            height: h,
+            width: gw,
+            height: gh,
             pixels: pixels.iter().map(f).collect(),
         };
         let mut masked = MaskCounts::default();
@@ -228,11 +202,113 @@ impl RenderContext {
             masked,
             stats: RenderStats {
                 seconds,
-                pixels_per_second: (w * h) as f64 / seconds.max(1e-12),
+                pixels_per_second: (gw * gh) as f64 / seconds.max(1e-12),
                 ..RenderStats::default()
             },
         })
     }
+
+    /// One camera sample of a derivative: the radiance it sees emitted and shaded, its rate,
+    /// and the first reason (in
+    /// [`MaskCounts`]' order, 1-based; 0 for none) that masks its pixel. `first` is the face
+    /// the pixel's first sample saw (the samples after it compare theirs with it).
+    fn sample_rate(
+        &self,
+        setup: &DerivativeSetup,
+        ray: &crate::accel::Ray,
+        first: &mut Option<(u32, DVec3, f64)>,
+        scratch: &mut ShadingScratch,
+    ) -> (DVec3, DVec3, DVec3, u8) {
+        let mut reason = 0u8;
+        let mut flag = |r: u8| {
+            if reason == 0 || r < reason {
+                reason = r;
+            }
+        };
+        let hit = self.primary_hit(ray);
+        let key = |c: &RenderContext| c.primary_hit(ray).map(|h| (h.point.object, h.point.face));
+        let here = hit.as_ref().map(|h| (h.point.object, h.point.face));
+        // A ray can change face within the step only where it passes the moving object's
+        // bounding sphere grown by the step's largest displacement.
+        if setup.reach.is_none_or(|(c, r)| ray_meets_ball(ray, c, r))
+            && (key(&setup.plus) != here || key(&setup.minus) != here)
+        {
+            flag(2);
+        }
+        let Some(hit) = hit else {
+            if first.is_some() {
+                flag(1);
+            }
+            first.get_or_insert((u32::MAX, DVec3::ZERO, 0.0));
+            return (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO, reason);
+        };
+        let p = &hit.point;
+        let face = (
+            p.object.unwrap_or(u32::MAX),
+            p.normal,
+            p.normal.dot(p.position),
+        );
+        match *first {
+            None => *first = Some(face),
+            Some(f) => {
+                let scale = p.position.abs().max_element().max(1.0);
+                if f.0 != face.0
+                    || f.1.dot(face.1) < 1.0 - 1e-12
+                    || (f.2 - face.2).abs() > 1e-9 * scale
+                {
+                    flag(1);
+                }
+            }
+        }
+        let (mut shaded, mut rate) = (DVec3::ZERO, DVec3::ZERO);
+        if hit.receiver {
+            let pm = PointMotion::at(&setup.motion, p, ray.dir);
+            if pm.degenerate {
+                flag(3);
+            }
+            let material = &self.prepared.materials[p.object.unwrap_or(0) as usize];
+            let (l, r) = shade_with_rate(
+                &self.prepared,
+                p,
+                material,
+                Method::Analytic,
+                &pm,
+                scratch,
+                &mut NoRecorder,
+            );
+            let notes = scratch.rate_notes();
+            if notes.unsupported > 0 {
+                flag(4);
+            }
+            if notes.near_table_node {
+                flag(5);
+            }
+            shaded = l;
+            rate = r;
+        }
+        (hit.emitted, shaded, rate, reason)
+    }
+}
+
+/// What the levels of one derivative share ([`RenderContext::derivative_setup`]): the motion,
+/// and the scene moved by ±[`FD_STEP`] along it.
+#[derive(Clone)]
+pub struct DerivativeSetup {
+    pub motion: Motion,
+    plus: Arc<RenderContext>,
+    minus: Arc<RenderContext>,
+    /// A ball holding the moving object within the step (`moving_reach`).
+    reach: Option<(DVec3, f64)>,
+}
+
+/// A derivative as a progressive frame carries it (`RenderOutput::derivative`): the motion,
+/// the rate image and the mask at the frame's resolution, and the masked pixels by reason.
+#[derive(Clone, Debug)]
+pub struct DerivativeImages {
+    pub motion: Motion,
+    pub derivative: Image,
+    pub mask: Image,
+    pub masked: MaskCounts,
 }
 
 impl RenderContext {
@@ -308,29 +384,8 @@ pub fn write_derivative_png(
         .iter()
         .map(|&c| crate::raster::luminance(c))
         .collect();
-    let mut mags: Vec<f64> = lum
-        .iter()
-        .zip(&mask.pixels)
-        .filter(|(v, m)| m.x == 0.0 && v.is_finite())
-        .map(|(v, _)| v.abs())
-        .collect();
-    mags.sort_by(f64::total_cmp);
-    let top = mags
-        .get((mags.len() as f64 * 0.99) as usize)
-        .or(mags.last())
-        .copied()
-        .filter(|&t| t > 0.0)
-        .unwrap_or(1.0);
-    let colour = |v: f64| -> [u8; 3] {
-        let t = (v / top).clamp(-1.0, 1.0);
-        let (r, g, b) = if t >= 0.0 {
-            (1.0, 1.0 - t, 1.0 - t)
-        } else {
-            (1.0 + t, 1.0 + t, 1.0)
-        };
-        let q = |x: f64| (x * 255.0).round() as u8;
-        [q(r * 0.98 + 0.02 * g), q(g), q(b)]
-    };
+    let top = derivative_scale(derivative, mask);
+    let colour = |v: f64| diverging_colour(v, top);
     let bar = 110u32;
     let mut pm = Pixmap::new(w + bar, h.max(120)).ok_or_else(|| crate::Error::from("pixmap"))?;
     pm.fill(Color::WHITE);
@@ -341,7 +396,7 @@ pub fn write_derivative_png(
             for x in 0..w as usize {
                 let i = y * w as usize + x;
                 let c = if mask.pixels[i].x != 0.0 {
-                    [128, 128, 128]
+                    MASKED_GREY
                 } else {
                     colour(lum[i])
                 };
@@ -376,4 +431,45 @@ pub fn write_derivative_png(
     draw_text(&mut pm, &format!("per {unit}"), bx, by + bh + 18.0, &style);
     let bytes = crate::figure::plot::pixmap_png_bytes(&pm)?;
     std::fs::write(path, bytes).map_err(|e| crate::Error::from(format!("{}: {e}", path.display())))
+}
+
+/// The colour of a masked pixel in a derivative's picture.
+pub const MASKED_GREY: [u8; 3] = [128, 128, 128];
+
+/// The scale of a derivative's diverging colour map: the 99th percentile of the magnitude of
+/// its luminance over the unmasked pixels (1 when there is none), so that a few pixels of
+/// extreme rate (along a shadow's edge) do not wash the rest out.
+pub fn derivative_scale(derivative: &Image, mask: &Image) -> f64 {
+    let mut mags: Vec<f64> = derivative
+        .pixels
+        .iter()
+        .zip(&mask.pixels)
+        .map(|(&c, m)| (crate::raster::luminance(c), m))
+        .filter(|(v, m)| m.x == 0.0 && v.is_finite())
+        .map(|(v, _)| v.abs())
+        .collect();
+    mags.sort_by(f64::total_cmp);
+    mags.get((mags.len() as f64 * 0.99) as usize)
+        .or(mags.last())
+        .copied()
+        .filter(|&t| t > 0.0)
+        .unwrap_or(1.0)
+}
+
+/// The diverging colour map of a derivative: blue below zero, white at zero, red above,
+/// saturated at ±`top` (the PNG of `penumbra render --derivative` and the workbench's
+/// derivative AOV).
+pub fn diverging_colour(v: f64, top: f64) -> [u8; 3] {
+    let t = if v.is_finite() {
+        (v / top).clamp(-1.0, 1.0)
+    } else {
+        0.0
+    };
+    let (r, g, b) = if t >= 0.0 {
+        (1.0, 1.0 - t, 1.0 - t)
+    } else {
+        (1.0 + t, 1.0 + t, 1.0)
+    };
+    let q = |x: f64| (x * 255.0).round() as u8;
+    [q(r * 0.98 + 0.02 * g), q(g), q(b)]
 }

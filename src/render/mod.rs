@@ -675,6 +675,9 @@ pub struct RenderOutput {
     pub pixel_stats: Option<Vec<PixelStats>>,
     /// The environment's term and its passes (when the scene has an environment light).
     pub environment: Option<environment_passes::EnvironmentOutput>,
+    /// The image's derivative along a rigid motion, with its mask (a progressive render of a
+    /// derivative: `progressive::render_progressive_derivative`).
+    pub derivative: Option<derivative::DerivativeImages>,
     /// Light pieces whose visible polygon was not inside the light's (`shading::invariant`).
     pub violations: u64,
     /// The pixels where that happened: x, y (row 0 at the top) and how many pieces.

@@ -279,6 +279,68 @@ pub fn render_progressive_with(
     Ok(last)
 }
 
+/// A progressive render of the analytic image's derivative along `motion`
+/// ([`RenderContext::render_derivative`]): the levels of [`render_progressive`] at strides 8,
+/// 4, 2 and 1 (`RenderContext::render_derivative_level`), each frame's output holding the
+/// image and, in `derivative`, the rate and its mask. What the derivative refuses (a method
+/// other than `analytic`, an environment light) is an error before any frame.
+pub fn render_progressive_derivative(
+    ctx: &RenderContext,
+    camera: &Camera,
+    settings: &RenderSettings,
+    motion: &crate::shading::derivative::Motion,
+    cancel: &AtomicBool,
+    mut emit: impl FnMut(&ProgressiveFrame),
+) -> crate::Result<Option<ProgressiveFrame>> {
+    let start = Instant::now();
+    let stop = || cancel.load(Ordering::Relaxed);
+    // The scene moved by ±FD_STEP, once for every level (a sliced render keeps it).
+    let Some(setup) = slicing::step(|| ctx.derivative_setup(settings, motion)) else {
+        return Ok(None);
+    };
+    let setup = setup?;
+    let mut last = None;
+    let all = scales(settings.width, settings.height);
+    for (k, &scale) in all.iter().enumerate() {
+        if stop() {
+            return Ok(last);
+        }
+        let Some(level) = slicing::step(|| {
+            ctx.render_derivative_level(camera, settings, &setup, scale, Some(cancel))
+        }) else {
+            continue;
+        };
+        if stop() {
+            return Ok(last);
+        }
+        let out = level?;
+        let full = k + 1 == all.len();
+        let frame = ProgressiveFrame {
+            scale,
+            passes: 1,
+            spp: settings.spp,
+            camera_samples: if full { settings.aa * settings.aa } else { 1 },
+            output: RenderOutput {
+                image: out.image,
+                derivative: Some(super::derivative::DerivativeImages {
+                    motion: *motion,
+                    derivative: out.derivative,
+                    mask: out.mask,
+                    masked: out.masked,
+                }),
+                stats: out.stats,
+                ..RenderOutput::default()
+            },
+            elapsed: start.elapsed().as_secs_f64(),
+            finished: full,
+            composed: true,
+        };
+        emit(&frame);
+        last = Some(frame);
+    }
+    Ok(last)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -367,6 +429,79 @@ mod tests {
             assert_eq!(last.output.violations, direct.violations);
             assert_eq!(last.output.fallbacks, direct.fallbacks);
         }
+    }
+
+    /// The derivative's levels are samples of the full derivative: each preview pixel is
+    /// sample 0 of a full pixel at `--aa 1`, the same per-sample work on the same camera ray
+    /// (rate, value and mask), and the last level is `render_derivative` bit for bit.
+    #[test]
+    fn derivative_levels_are_samples_of_the_full_derivative() {
+        use crate::shading::derivative::Axis;
+        let scene = scene_file::load_embedded("default").unwrap();
+        let ctx = RenderContext::new(&scene);
+        let cam = scene.camera.unwrap();
+        let sphere = scene
+            .objects
+            .iter()
+            .position(|o| o.name == "sphere")
+            .unwrap();
+        let motion = ctx.motion(sphere, Axis::Tx).unwrap();
+        let settings = RenderSettings {
+            width: 136,
+            height: 130,
+            ..RenderSettings::default()
+        };
+        let cancel = AtomicBool::new(false);
+        let mut levels = Vec::new();
+        let last = render_progressive_derivative(&ctx, &cam, &settings, &motion, &cancel, |f| {
+            levels.push((f.scale, f.output.clone()))
+        })
+        .unwrap()
+        .unwrap();
+        assert_eq!(
+            levels.iter().map(|l| l.0).collect::<Vec<_>>(),
+            vec![4, 2, 1]
+        );
+        let direct = ctx
+            .render_derivative(&cam, &settings, &motion, None)
+            .unwrap();
+        let d = last.output.derivative.as_ref().expect("a derivative");
+        assert_eq!(d.derivative.pixels, direct.derivative.pixels);
+        assert_eq!(d.mask.pixels, direct.mask.pixels);
+        assert_eq!(last.output.image.pixels, direct.image.pixels);
+        assert!(d.derivative.pixels.iter().any(|p| p.x > 0.0));
+        assert!(d.derivative.pixels.iter().any(|p| p.x < 0.0));
+        for (scale, out) in &levels[..2] {
+            let preview = out.derivative.as_ref().unwrap();
+            let (w, h) = (
+                settings.width.div_ceil(*scale),
+                settings.height.div_ceil(*scale),
+            );
+            assert_eq!(
+                (preview.derivative.width, preview.derivative.height),
+                (w, h)
+            );
+            for j in 0..h {
+                for i in 0..w {
+                    let full = ((j * scale) * settings.width + i * scale) as usize;
+                    let here = (j * w + i) as usize;
+                    let (a, b) = (
+                        preview.derivative.pixels[here],
+                        direct.derivative.pixels[full],
+                    );
+                    assert!(
+                        (a - b).abs().max_element() <= 1e-12 * b.abs().max_element().max(1e-300),
+                        "({i}, {j}) at 1/{scale}: {a} against {b}"
+                    );
+                    assert_eq!(preview.mask.pixels[here], direct.mask.pixels[full]);
+                }
+            }
+        }
+        // The plain image's progressive render carries no derivative.
+        let plain = render_progressive(&ctx, &cam, &settings, 1, &cancel, |_| {})
+            .unwrap()
+            .unwrap();
+        assert!(plain.output.derivative.is_none());
     }
 
     /// Deferring the denoiser changes nothing but who runs it: composing a deferred frame gives

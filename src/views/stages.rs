@@ -44,6 +44,9 @@ pub enum StepKind {
     },
     /// Line 16: the light's contribution.
     Integral,
+    /// The derivative along a rigid motion (`shading::shade_with_rate`): the visible
+    /// polygon's edges that move, their shares of the rate and the light's rate.
+    Derivative,
 }
 
 /// One step: which light record of the recording, what it shows, and a label.
@@ -194,8 +197,30 @@ pub(crate) fn steps(
             );
         }
         push(StepKind::Integral, "integral (line 16)".into());
+        if !lr.moving_edges.is_empty() {
+            let moving = lr.moving_edges.iter().filter(|e| moves(e)).count();
+            push(
+                StepKind::Derivative,
+                format!(
+                    "derivative: moving edges ({moving} of {} edges move)",
+                    lr.moving_edges.len()
+                ),
+            );
+        }
     }
     out
+}
+
+/// Whether an edge of a visible polygon moves with the derivative's motion: it has a share of
+/// the rate, or it lies on a moving mesh edge's plane (the edges the sphere draws with their
+/// velocity and the numbers list).
+pub fn moves(e: &crate::shading::MovingEdge) -> bool {
+    e.diffuse != 0.0
+        || e.lobe != 0.0
+        || matches!(
+            e.support,
+            crate::shading::EdgeSupport::MeshEdge { moving: true, .. }
+        )
 }
 
 /// Steps the stepper shows as one: the run of an occluder the renderer took face by face (its
@@ -369,7 +394,7 @@ pub fn step_polygon(probe: &Probe, step: &Step) -> Vec<Vec<glam::DVec3>> {
     match step.kind {
         StepKind::LightSilhouette => of_stage(Stage::Silhouette),
         StepKind::LightClipped => of_stage(Stage::HorizonClipped),
-        StepKind::Visible => of_stage(Stage::Visible),
+        StepKind::Visible | StepKind::Derivative => of_stage(Stage::Visible),
         StepKind::OccluderSilhouette { k } | StepKind::OccluderClipped { k } => rec
             .occluder_polygons
             .get(k)

@@ -74,6 +74,7 @@ impl WorkbenchApp {
             ctx.copy_text(text);
         }
         self.maybe_request();
+        self.maybe_repick_for_derivative();
         self.worker.tick();
         self.maybe_auto_pick();
         self.take_pending_screenshot(&ctx);

@@ -17,6 +17,7 @@ impl PaneView for NumbersPane {
             return;
         };
         point_numbers_ui(ui, &ins.probe, app.monte_carlo.as_ref());
+        derivative_ui(ui, &ins.probe);
         environment_ui(ui, &ins.probe);
         if ui.button("Monte Carlo check (65536 samples)").clicked() {
             app.run_command(Command::MonteCarloCheck);
@@ -115,6 +116,99 @@ fn point_numbers_ui(ui: &mut Ui, p: &Probe, monte_carlo: Option<&MonteCarloEstim
                 ui.end_row();
             }
         });
+}
+
+/// The derivative at the point (`Probe::derivative`): the point's rate, and per light record
+/// its rate and each moving edge (`views::stages::moves`) with its support, its outward
+/// normal speed at the midpoint and its shares of the rates of the diffuse form factor and of
+/// the LTC lobe; the still edges are counted.
+fn derivative_ui(ui: &mut Ui, p: &Probe) {
+    use crate::shading::EdgeSupport;
+    let Some(d) = &p.derivative else {
+        return;
+    };
+    ui.add_space(4.0);
+    ui.strong(format!("derivative {}", d.label()));
+    let mut notes = Vec::new();
+    if d.unsupported > 0 {
+        notes.push(format!("{} edges without support (masked)", d.unsupported));
+    }
+    if d.near_table_node {
+        notes.push("near an LTC table node (masked)".into());
+    }
+    if d.degenerate {
+        notes.push("degenerate rates (masked)".into());
+    }
+    ui.label(format!(
+        "rate d radiance/dθ = {}{}",
+        fmt3(d.rate),
+        if notes.is_empty() {
+            String::new()
+        } else {
+            format!("; {}", notes.join(", "))
+        }
+    ));
+    let light_name = |l: usize| {
+        p.lights
+            .iter()
+            .find(|s| s.light == l)
+            .map_or_else(|| l.to_string(), |s| s.name.clone())
+    };
+    if p.recording.lights.iter().all(|l| l.moving_edges.is_empty()) {
+        ui.label(format!(
+            "Nothing seen from this point moves with {}: no edge has a rate.",
+            d.object_name
+        ));
+    }
+    for (r, rec) in p.recording.lights.iter().enumerate() {
+        if rec.moving_edges.is_empty() {
+            continue;
+        }
+        let who = match rec.piece {
+            Some(f) => format!("{} face {f}", light_name(rec.light)),
+            None => light_name(rec.light),
+        };
+        let moving: Vec<_> = rec
+            .moving_edges
+            .iter()
+            .filter(|e| crate::views::stages::moves(e))
+            .collect();
+        ui.label(format!(
+            "light {who}: rate {}; {} of {} edges move",
+            fmt3(rec.rate),
+            moving.len(),
+            rec.moving_edges.len()
+        ));
+        if moving.is_empty() {
+            continue;
+        }
+        egui::Grid::new(("moving_edges", r))
+            .num_columns(5)
+            .striped(true)
+            .show(ui, |ui| {
+                ui.strong("edge");
+                ui.strong("support");
+                ui.strong("v_n at midpoint");
+                ui.strong("diffuse share");
+                ui.strong("lobe share");
+                ui.end_row();
+                for (k, e) in moving.iter().enumerate() {
+                    ui.label(format!("{k}{}", if e.in_hole { " (hole)" } else { "" }));
+                    ui.label(match e.support {
+                        EdgeSupport::Horizon => "horizon",
+                        EdgeSupport::MeshEdge { moving: true, .. } => "edge of the moving mesh",
+                        EdgeSupport::MeshEdge { .. } => "edge of a still mesh",
+                        EdgeSupport::Still => "still",
+                        EdgeSupport::NotFound => "not found",
+                    });
+                    let m = (e.a.normalize_or_zero() + e.b.normalize_or_zero()).normalize_or_zero();
+                    ui.label(format!("{:+.4e}", m.dot(e.normal_rate)));
+                    ui.label(format!("{:+.4e}", e.diffuse));
+                    ui.label(format!("{:+.4e}", e.lobe));
+                    ui.end_row();
+                }
+            });
+    }
 }
 
 /// The environment's numbers at the point (paper 002): E_unshadowed (Eq. 7), E_static,

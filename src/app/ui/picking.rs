@@ -24,7 +24,10 @@ impl AppState {
             Err(why) => (Method::Analytic, None, Some(why)),
         };
         let cam = self.orbit.camera();
-        match probe_corrected(
+        // With the derivative AOV shown, the point is shaded as its renderer shades it: the
+        // same stages with each edge's rate (`inspect::probe_full`).
+        let motion = self.derivative_motion().ok().flatten();
+        match probe_full(
             &ctx,
             &self.settings.scene,
             &cam,
@@ -33,6 +36,7 @@ impl AppState {
             method,
             correction,
             true,
+            motion.as_ref(),
         ) {
             Ok(p) => {
                 self.status = format!(
@@ -43,11 +47,42 @@ impl AppState {
                     self.status = format!("{}; {why}: the analytic stages are shown", self.status);
                 }
                 self.inspector = Some(Inspector::new(p));
+                self.picked_motion = Some(motion);
                 // A new point: the sphere frames its lights again.
                 self.settings.sphere.camera = None;
                 self.monte_carlo = None;
             }
             Err(e) => self.status = format!("pick failed: {e}"),
+        }
+    }
+
+    /// Probes the picked point again when the derivative AOV's motion changed since it was
+    /// picked (the AOV shown or hidden, another object selected, another axis): its recording
+    /// then holds the moving edges of the motion shown. The stage shown stays where the new
+    /// recording has it.
+    pub(in crate::app) fn maybe_repick_for_derivative(&mut self) {
+        let Some(picked) = self.picked_motion else {
+            return;
+        };
+        let want = self.derivative_motion().ok().flatten();
+        if want == picked {
+            return;
+        }
+        // Once, whatever the new probe does (a failed one is not tried again every frame).
+        self.picked_motion = Some(want);
+        let Some(ins) = &self.inspector else {
+            return;
+        };
+        if ins.probe.scene != self.settings.scene || ins.probe.size != self.render_size {
+            return;
+        }
+        let (x, y) = ins.probe.pixel;
+        let step = ins.step;
+        let status = self.status.clone();
+        self.pick(x, y);
+        self.status = status;
+        if let Some(ins) = &mut self.inspector {
+            ins.step = step.filter(|&s| s < ins.steps.len());
         }
     }
 

@@ -59,6 +59,7 @@ impl PaneView for ScenePane {
             .id_salt("objects")
             .max_height(260.0)
             .show(ui, |ui| app.editor.list_ui(ui, &ctx));
+        derivative_axis_ui(ui, app);
         for w in ctx
             .scene
             .warnings
@@ -69,4 +70,32 @@ impl PaneView for ScenePane {
             ui.small(w);
         }
     }
+}
+
+/// The gizmo's active axis, which the derivative AOV differentiates along (dragging a handle
+/// makes its axis the active one), and a switch to the derivative AOV.
+pub(super) fn derivative_axis_ui(ui: &mut Ui, app: &mut AppState) {
+    use crate::Choice;
+    use crate::shading::derivative::Axis;
+    ui.horizontal(|ui| {
+        ui.label("derivative along");
+        let now = app.editor.axis();
+        for axis in [Axis::Tx, Axis::Ty, Axis::Tz, Axis::Ry] {
+            if ui
+                .selectable_label(now == axis, axis.name())
+                .on_hover_text(axis.summary())
+                .clicked()
+            {
+                app.editor.set_axis(axis);
+            }
+        }
+        let mut on = app.settings.aov == Aov::Derivative;
+        if ui
+            .checkbox(&mut on, "show")
+            .on_hover_text("The derivative AOV: the image's derivative in the viewport")
+            .changed()
+        {
+            app.settings.aov = if on { Aov::Derivative } else { Aov::Final };
+        }
+    });
 }

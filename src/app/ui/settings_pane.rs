@@ -47,7 +47,21 @@ impl PaneView for SettingsPane {
             ui.selectable_value(&mut app.settings.tonemap, ToneMap::Clamp, "clamp");
             ui.selectable_value(&mut app.settings.tonemap, ToneMap::Reinhard, "Reinhard");
         });
-        if let Some((lo, hi)) = app.scalar_range
+        if app.settings.aov == Aov::Derivative {
+            super::scene_pane::derivative_axis_ui(ui, app);
+            match (app.derivative_motion(), app.scalar_range) {
+                (Ok(Some(m)), Some((_, top))) => {
+                    ui.label(format!(
+                        "{}: blue −{top:.3e} … white 0 … red +{top:.3e}, masked grey",
+                        app.derivative_label(&m)
+                    ));
+                }
+                (Err(why), _) => {
+                    ui.label(why);
+                }
+                _ => {}
+            }
+        } else if let Some((lo, hi)) = app.scalar_range
             && !app.settings.aov.is_radiance()
         {
             ui.label(format!("false colour: {lo:.3} … {hi:.3}"));

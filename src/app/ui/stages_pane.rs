@@ -207,6 +207,19 @@ fn step_details_ui(ui: &mut Ui, probe: &Probe, step: Option<&Step>) {
     if let Some(text) = exact_silhouette_text(rec, s) {
         ui.add(egui::Label::new(egui::RichText::new(text).small()).wrap());
     }
+    if s.kind == StepKind::Derivative {
+        ui.add(
+            egui::Label::new(
+                RichText::new(
+                    "On the sphere: each moving edge of the visible polygon (pink) with an arrow \
+                     at its midpoint, v_n times the outward normal, the fastest longest. The \
+                     Numbers pane lists each edge's support and shares.",
+                )
+                .small(),
+            )
+            .wrap(),
+        );
+    }
     if s.kind == StepKind::Integral {
         for ((lobe, _, _, integral), (_, terms)) in rec.lobes.iter().zip(&rec.lobe_edge_terms) {
             ui.label(format!("{lobe:?} lobe: ∫ = {integral:.6}; per edge:"));

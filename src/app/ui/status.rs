@@ -23,6 +23,18 @@ impl AppState {
                             n => format!("{n} camera rays per pixel"),
                         }
                     };
+                    // The derivative AOV's frames: what they differentiate, the colour map's
+                    // scale and the pixels masked.
+                    let env = match (&fr.output.derivative, self.scalar_range) {
+                        (Some(d), Some((_, top))) if self.settings.aov == Aov::Derivative => {
+                            format!(
+                                "{env}, {} ±{top:.2e} ({} masked)",
+                                self.derivative_label(&d.motion),
+                                d.masked.pixels
+                            )
+                        }
+                        _ => env,
+                    };
                     ui.label(format!(
                         "{}{env} {}×{} (1/{}), pass {}, {samples}, {:.2} s, {:.0} kpixels/s{}",
                         f.settings.method.name(),

@@ -13,6 +13,9 @@ use crate::views::Style;
 use crate::views::labels::{LabelPlacer, Placement};
 use glam::DVec3;
 
+/// The legend's entry of the moving edges' velocity arrows.
+pub const VELOCITY_LEGEND: &str = "edge velocity (v_n along the outward normal)";
+
 /// An orthographic camera around the unit sphere.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SphereCamera {
@@ -409,6 +412,7 @@ fn draw(
             }
         }
     }
+    velocities(fig, d, proj, &ink);
     // The legend first, in the corner that hides least of the regions and labelled corners;
     // labels keep out of it.
     let size = label_size(s);
@@ -525,6 +529,50 @@ fn draw(
     }
 }
 
+/// The moving edges' velocities as arrows from their midpoints along the outward normal
+/// speed times the outward normal, the fastest a fixed share of the figure long (the arrows
+/// compare the edges' speeds at one point; their unit, per scene unit or per radian of θ, is
+/// the motion's). On the 3-D sphere they are foreshortened as the sphere is; behind it faint.
+fn velocities(fig: &mut Figure, d: &Drawing, proj: &Projection, ink: &dyn Fn(Rgb) -> Rgb) {
+    let fastest = d
+        .velocities
+        .iter()
+        .map(|v| v.speed.abs())
+        .fold(0.0, f64::max);
+    if fastest <= 0.0 {
+        return;
+    }
+    let colour = ink(super::colours::VELOCITY);
+    // The fastest arrow 0.14 of the figure's side (in sphere units at the figure's scale).
+    let longest = 0.14 * fig.width as f64 / proj.scale;
+    for v in &d.velocities {
+        let from = proj.project(v.at);
+        let tip = proj.project(v.at + v.outward * (longest * v.speed / fastest));
+        let (dx, dy) = (tip.0 - from.0, tip.1 - from.1);
+        let len = dx.hypot(dy);
+        if len < 1e-3 {
+            continue;
+        }
+        let o = if proj.front(v.at) { 1.0 } else { 0.3 };
+        fig.faded_stroke(Shape::segment(from, tip), colour, 2.5, o);
+        let (ux, uy) = (dx / len, dy / len);
+        let head = 9.0f32.min(0.6 * len + 4.0);
+        let wing = 0.5 * head;
+        fig.translucent(
+            Shape::Path(vec![Subpath {
+                points: vec![
+                    tip,
+                    (tip.0 - head * ux - wing * uy, tip.1 - head * uy + wing * ux),
+                    (tip.0 - head * ux + wing * uy, tip.1 - head * uy - wing * ux),
+                ],
+                closed: true,
+            }]),
+            colour,
+            o,
+        );
+    }
+}
+
 /// The legend in the top left corner: one entry per kind drawn (regions by their fill, curves
 /// by their stroke), over a veil so that curves behind do not garble it. Returns its box.
 fn legend(fig: &mut Figure, d: &Drawing, style: Style, size: f32, busy: &[Rect]) -> Option<Rect> {
@@ -550,6 +598,9 @@ fn legend(fig: &mut Figure, d: &Drawing, style: Style, size: f32, busy: &[Rect])
             CurveKind::Dot => Swatch::Dot,
         };
         entries.push((c.legend, c.colour, sw));
+    }
+    if !d.velocities.is_empty() {
+        entries.push((VELOCITY_LEGEND, super::colours::VELOCITY, Swatch::Line(2.5)));
     }
     if entries.is_empty() {
         return None;

@@ -7,10 +7,12 @@
 
 pub(crate) mod figure;
 
+pub use figure::VELOCITY_LEGEND;
+
 use super::stages::{Step, StepKind};
 use crate::figure::Rgb;
 use crate::inspect::{Probe, sky_grid_direction};
-use crate::shading::{EnvironmentSide, LightRecord, RayOutcome, Stage};
+use crate::shading::{EdgeSupport, EnvironmentSide, LightRecord, RayOutcome, Stage};
 use glam::DVec3;
 
 /// Which recorded polygons are drawn.
@@ -39,6 +41,9 @@ pub struct Layers {
     pub cones: bool,
     #[serde(default = "yes")]
     pub rays: bool,
+    /// With a derivative: the visible polygon's moving edges and their velocities.
+    #[serde(default = "yes")]
+    pub velocities: bool,
 }
 
 fn yes() -> bool {
@@ -60,6 +65,7 @@ impl Default for Layers {
             env_terms: true,
             cones: true,
             rays: true,
+            velocities: true,
         }
     }
 }
@@ -76,6 +82,7 @@ impl Layers {
             visible: false,
             ltc: false,
             vertex_labels: false,
+            velocities: false,
             ..Layers::default()
         }
     }
@@ -106,6 +113,10 @@ pub mod colours {
     pub(crate) const RAY_ESCAPED: Rgb = [235, 235, 235];
     pub(crate) const RAY_STATIC: Rgb = [60, 110, 255];
     pub(crate) const RAY_DYNAMIC: Rgb = [255, 30, 30];
+    /// A moving edge of the visible polygon (the derivative's).
+    pub const MOVING_EDGE: Rgb = [255, 120, 200];
+    /// The arrows of the edges' outward normal speed.
+    pub const VELOCITY: Rgb = [255, 60, 160];
 }
 
 /// How a curve is drawn.
@@ -185,6 +196,20 @@ impl Sky {
     }
 }
 
+/// How fast an edge of the visible polygon moves with the derivative's motion, drawn as an
+/// arrow at its midpoint: the boundary there moves by `speed · outward` per unit of θ (the
+/// Reynolds transport theorem's `v_n`, docs/derivatives.md), `outward` the unit tangent of
+/// the sphere normal to the edge, away from the polygon's side of its circle (−ν).
+#[derive(Clone, Debug)]
+pub struct Velocity {
+    /// The edge's midpoint (a unit vector).
+    pub at: DVec3,
+    pub outward: DVec3,
+    /// `v_n = m · ν̇`: positive where the edge moves outward (the polygon grows there).
+    pub speed: f64,
+    pub label: String,
+}
+
 /// Everything the sphere shows at one step (or at every step, without one).
 #[derive(Clone, Debug, Default)]
 pub struct Drawing {
@@ -192,6 +217,8 @@ pub struct Drawing {
     pub curves: Vec<Curve>,
     pub arrows: Vec<Arrow>,
     pub sky: Option<Sky>,
+    /// With a derivative: the moving edges' velocities.
+    pub velocities: Vec<Velocity>,
 }
 
 /// Points along the great-circle arc from `a` to `b` (unit vectors), `a` included, `b` not:
@@ -365,6 +392,7 @@ fn rank(k: &StepKind) -> u8 {
         StepKind::Visible => 5,
         StepKind::LtcTransformed { .. } | StepKind::LtcClipped { .. } => 6,
         StepKind::Integral => 7,
+        StepKind::Derivative => 8,
     }
 }
 
@@ -379,7 +407,7 @@ fn light_record(
     occluder_name: &dyn Fn(usize) -> String,
     out: &mut Drawing,
 ) {
-    let upto = step.map_or(7, |s| rank(&s.kind));
+    let upto = step.map_or(8, |s| rank(&s.kind));
     if layers.contours {
         // The light's contour with its silhouette; an occluder's from its first step on. They
         // are drawn edge by edge, as the stage sees them, before they are chained into loops.
@@ -579,6 +607,9 @@ fn light_record(
             }
         }
     }
+    if layers.velocities && upto >= 8 {
+        moving_edges(rec, out);
+    }
     if layers.ltc && upto >= 6 {
         for (lobe, transformed, clipped, integral) in &rec.lobes {
             let name = format!("{lobe:?} lobe, LTC space (integral {integral:.5})");
@@ -600,6 +631,48 @@ fn light_record(
                 tag: "t",
             };
             push_outlines(&unit_loops(clipped), o, &mut out.curves);
+        }
+    }
+}
+
+/// The visible polygon's edges that move with the derivative's motion
+/// ([`super::stages::moves`]), each drawn over the polygon with its velocity at the midpoint:
+/// `v_n = m · ν̇` along the outward normal −ν, ν = a × b / |a × b| (the normal on the polygon's
+/// side of an edge a → b of a positively oriented loop; a hole's edges move the same way, the
+/// region's outside being the hole).
+fn moving_edges(rec: &LightRecord, out: &mut Drawing) {
+    for e in rec.moving_edges.iter().filter(|e| super::stages::moves(e)) {
+        let (a, b) = (e.a.normalize_or_zero(), e.b.normalize_or_zero());
+        let support = match e.support {
+            EdgeSupport::Horizon => "on the horizon".to_string(),
+            EdgeSupport::MeshEdge { moving: true, .. } => "on an edge of the moving object".into(),
+            EdgeSupport::MeshEdge { object, .. } => {
+                format!("on an edge of prepared object {object}, which stays")
+            }
+            EdgeSupport::Still => "still".to_string(),
+            EdgeSupport::NotFound => "support not found".to_string(),
+        };
+        let nu = a.cross(b);
+        let m = (a + b).normalize_or_zero();
+        let speed = m.dot(e.normal_rate);
+        let label = format!(
+            "moving edge{} ({support}): v_n = {speed:+.4e} at its midpoint; share of dE/dθ \
+             {:+.4e} (diffuse), {:+.4e} (lobe)",
+            if e.in_hole { " of the hole" } else { "" },
+            e.diffuse,
+            e.lobe
+        );
+        let mut c = edge_curve(a, b, colours::MOVING_EDGE, 1.0, 3.5);
+        c.label = label.clone();
+        c.legend = "moving edge";
+        out.curves.push(c);
+        if nu.length() > 1e-12 && m != DVec3::ZERO && speed != 0.0 && speed.is_finite() {
+            out.velocities.push(Velocity {
+                at: m,
+                outward: -nu.normalize(),
+                speed,
+                label,
+            });
         }
     }
 }
