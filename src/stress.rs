@@ -167,6 +167,23 @@ pub struct StressReport {
     /// The first cases (by index, at most `MAX_LISTED`) that broke the invariant, gave an
     /// invalid value or lay beyond 6σ: each reruns alone with `--only INDEX`.
     pub failing_cases: Vec<u64>,
+    /// Cases whose diffuse value's derivative along a rigid motion of one object was checked
+    /// against central differences (every generated kind but the environment and exporter
+    /// meshes; `derivative_check`).
+    pub derivative_cases: u64,
+    /// Of those, disagreeing at the step and agreeing at a tenth of it (a topology change
+    /// within the step).
+    pub derivative_topology: u64,
+    /// Of those, where the one-sided differences part: the value has a kink at θ = 0 (the
+    /// adversarial families build contacts there), so there is no derivative to check.
+    pub derivative_kinks: u64,
+    /// Of those, with an edge on no support found that may move (masked by the renderer, not
+    /// checked).
+    pub derivative_unsupported: u64,
+    /// Of those, none of these: a failure.
+    pub derivative_disagreements: u64,
+    /// The largest relative disagreement at the step among cases that agree at one of them.
+    pub derivative_worst: f64,
     /// The real-mesh family's own counts.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub real_meshes: Option<RealMeshCounts>,
@@ -903,6 +920,8 @@ impl Recorder for RawIntegrals {
 
 /// Result of one case.
 pub(crate) struct Outcome {
+    /// The diffuse value's derivative against central differences (`derivative_check`).
+    derivative: Option<DerivativeCheck>,
     trees_built: u32,
     /// Light pieces that broke the invariant (`shading::invariant`).
     violations: u32,
@@ -998,7 +1017,142 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         return run_environment_case(case, &prepared, rays, rng, scratch);
     }
     let bvh = Bvh::build(&case.scene);
-    evaluate(&prepared, &bvh, &case.point, case.alpha, rays, rng, scratch)
+    let mut o = evaluate(&prepared, &bvh, &case.point, case.alpha, rays, rng, scratch);
+    if case.kind != CaseKind::ExporterMeshes {
+        o.derivative = derivative_check(case, &prepared, options, scratch);
+    }
+    o
+}
+
+/// A derivative checked at a case's point ([`derivative_check`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct DerivativeCheck {
+    /// `dE/dθ` of the diffuse value (`shading::shade_with_rate`).
+    rate: f64,
+    /// The central difference at [`FD_STEP`](crate::shading::derivative::FD_STEP).
+    difference: f64,
+    /// Relative disagreement at the step.
+    relative: f64,
+    /// They disagree at the step and agree at a tenth of it: the visible region changes its
+    /// topology within the step.
+    topology: bool,
+    /// The one-sided differences part: the value has a kink at θ = 0, no derivative.
+    kink: bool,
+    /// An edge had no support though it may move: the renderer masks it; not checked.
+    unsupported: bool,
+    /// None of the above.
+    disagrees: bool,
+}
+
+/// The derivative of the diffuse value at the case's point along a rigid motion of one object
+/// the point does not lie on (which, and the axis, drawn from the point's coordinates),
+/// against central differences of `shade` on the scene moved by ±h and, where they
+/// disagree, by ±h/10: `|d − d_FD| ≤ 1e-6 · max(|d|, |d_FD|)` plus the differences' rounding;
+/// where the one-sided differences part, the value has a kink at θ = 0 and no derivative.
+fn derivative_check(
+    case: &Case,
+    prepared: &PreparedScene,
+    options: PrepareOptions,
+    scratch: &mut ShadingScratch,
+) -> Option<DerivativeCheck> {
+    use crate::shading::derivative::{Axis, FD_STEP, Motion, PointMotion};
+    use crate::shading::{NoRecorder, shade_with_rate};
+    let candidates: Vec<usize> = (0..case.scene.objects.len())
+        .filter(|&i| case.point.object != Some(i as u32))
+        .collect();
+    if candidates.is_empty() {
+        return None;
+    }
+    let p = case.point.position;
+    let pick = p.x.to_bits() ^ p.y.to_bits().rotate_left(21) ^ p.z.to_bits().rotate_left(42);
+    let mut rng = Pcg32::new(pick, 3);
+    let object = candidates[rng.below(candidates.len() as u32) as usize];
+    let axis = Axis::ALL[rng.below(Axis::ALL.len() as u32) as usize];
+    let history = crate::scene::edit::EditHistory::new(&case.scene);
+    let motion = Motion {
+        object: object as u32,
+        axis,
+        pivot: history.pivot(object).ok()?,
+    };
+    let diffuse = Material {
+        kd: DVec3::ONE,
+        ks: DVec3::ZERO,
+        ..Material::default()
+    };
+    let pm = PointMotion::at(&motion, &case.point, -case.point.view);
+    let (e, rate) = shade_with_rate(
+        prepared,
+        &case.point,
+        &diffuse,
+        Method::Analytic,
+        &pm,
+        scratch,
+        &mut NoRecorder,
+    );
+    if scratch.rate_notes().unsupported > 0 {
+        // An edge of the visible polygon on no mesh edge (a light's own faces cut at a face's
+        // plane): the renderer masks such a pixel; nothing to check.
+        return Some(DerivativeCheck {
+            unsupported: true,
+            ..DerivativeCheck::default()
+        });
+    }
+    let (e, rate) = (e.x, rate.x);
+    let mut value_at = |theta: f64| -> Option<f64> {
+        let mut scene = case.scene.clone();
+        let mut h = crate::scene::edit::EditHistory::new(&scene);
+        h.edit(&mut scene, object, motion.at(theta)).ok()?;
+        let moved = PreparedScene::prepare(&scene, options);
+        let v = shade(
+            &moved,
+            &case.point,
+            &diffuse,
+            Method::Analytic,
+            scratch,
+            &mut NoRecorder,
+        );
+        Some(v.x)
+    };
+    // The differences' own rounding: the value is a sum of edge terms of order one (form
+    // factors are at most 1), rounded to a few tens of ulps, over 2h.
+    let noise = |h: f64| 64.0 * f64::EPSILON * e.abs().max(1.0) / h;
+    let relative = |d: f64, h: f64| {
+        ((rate - d).abs() - noise(h)).max(0.0) / rate.abs().max(d.abs()).max(1e-300)
+    };
+    let h = FD_STEP;
+    let (plus, minus) = (value_at(h)?, value_at(-h)?);
+    let difference = (plus - minus) / (2.0 * h);
+    let mut check = DerivativeCheck {
+        rate,
+        difference,
+        relative: relative(difference, h),
+        ..DerivativeCheck::default()
+    };
+    if check.relative > 1e-6 {
+        // The one-sided differences: where they part, the value has a kink at θ = 0 (the
+        // adversarial families build contacts there: an occluder edge on a light edge, a point
+        // in a light face's plane) and no derivative to check.
+        let (forward, backward) = ((plus - e) / h, (e - minus) / h);
+        let scale = forward.abs().max(backward.abs()).max(1e-300);
+        if (forward - backward).abs() - 2.0 * noise(h) > 1e-4 * scale {
+            check.kink = true;
+            return Some(check);
+        }
+        let small = (value_at(h / 10.0)? - value_at(-h / 10.0)?) / (2.0 * h / 10.0);
+        let again = relative(small, h / 10.0);
+        // Agreeing at a tenth of the step, or converging to the rate as the step shrinks
+        // (first order: a kink next to θ = 0), the derivative is there and the difference
+        // straddles a change of the region's topology.
+        check.topology = again <= 1e-6 || again <= 0.2 * check.relative;
+        check.disagrees = !check.topology;
+        if check.disagrees && std::env::var_os("STRESS_DERIVATIVE_DEBUG").is_some() {
+            eprintln!(
+                "{:?} object {object} {axis:?} on {:?}: e {e} d {rate} fd {difference} rel {} again {again}",
+                case.kind, case.point.object, check.relative
+            );
+        }
+    }
+    Some(check)
 }
 
 /// The analytic diffuse and specular values at `point` (light 0 of unit radiance), checked
@@ -1073,6 +1227,7 @@ fn evaluate(
     // Stratification only lowers the variance: the binomial σ is a conservative bound.
     let sigma = (p * (1.0 - p) / total as f64).sqrt();
     Outcome {
+        derivative: None,
         trees_built: prepared.trees_built,
         violations,
         fallbacks,
@@ -1184,6 +1339,7 @@ fn run_environment_case(
     // "sigmas" (error over σ + 1/rays) compare alike.
     let unit = unshadowed.max(f64::MIN_POSITIVE);
     Outcome {
+        derivative: None,
         trees_built: prepared.trees_built,
         // The environment's union of occluders has no light polygon to stay inside.
         violations: 0,
@@ -1326,7 +1482,22 @@ impl StressReport {
                 cases.push(index);
             }
         };
-        if o.violations > 0 || o.nan || o.inf || o.negative {
+        if let Some(d) = o.derivative {
+            self.derivative_cases += 1;
+            self.derivative_topology += d.topology as u64;
+            self.derivative_disagreements += d.disagrees as u64;
+            self.derivative_kinks += d.kink as u64;
+            self.derivative_unsupported += d.unsupported as u64;
+            if !d.topology && !d.disagrees && !d.kink && !d.unsupported {
+                self.derivative_worst = self.derivative_worst.max(d.relative);
+            }
+        }
+        if o.violations > 0
+            || o.nan
+            || o.inf
+            || o.negative
+            || o.derivative.is_some_and(|d| d.disagrees)
+        {
             list(&mut self.failing_cases);
         }
         if !o.analytic.is_finite() {
@@ -1372,6 +1543,12 @@ impl StressReport {
         self.trees_built += r.trees_built;
         self.beyond_6_sigma += r.beyond_6_sigma;
         self.invariant_violations += r.invariant_violations;
+        self.derivative_cases += r.derivative_cases;
+        self.derivative_topology += r.derivative_topology;
+        self.derivative_disagreements += r.derivative_disagreements;
+        self.derivative_kinks += r.derivative_kinks;
+        self.derivative_unsupported += r.derivative_unsupported;
+        self.derivative_worst = self.derivative_worst.max(r.derivative_worst);
         self.fallbacks.degenerate += r.fallbacks.degenerate;
         self.fallbacks.bounds_crossed += r.fallbacks.bounds_crossed;
         self.failing_cases.extend(r.failing_cases);

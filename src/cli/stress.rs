@@ -87,8 +87,24 @@ pub(crate) fn stress(
             .peak_mb
             .map_or("unknown".into(), |m| format!("{m:.0} MB"))
     );
+    if rep.derivative_cases > 0 {
+        say!(
+            "derivatives: {} cases against central differences, {} at a topology change within \
+             the step, {} with a kink at θ = 0 (no derivative), {} with an unsupported edge (masked), \
+             {} disagreeing; worst agreeing {:.1e}",
+            rep.derivative_cases,
+            rep.derivative_topology,
+            rep.derivative_kinks,
+            rep.derivative_unsupported,
+            rep.derivative_disagreements,
+            rep.derivative_worst
+        );
+    }
     if rep.nan + rep.inf + rep.negative + rep.panics + rep.invariant_violations > 0 {
         bail!("stress found invalid results");
+    }
+    if rep.derivative_disagreements > 0 {
+        bail!("stress found derivatives that disagree with central differences");
     }
     Ok(())
 }

@@ -65,6 +65,9 @@ pub struct DerivativeScratch {
     /// The supports of the light piece's own face (a light taken face by face).
     face_supports: Vec<Support>,
     relevant: Vec<u32>,
+    /// Every mesh the light piece met moves (the light alone, moving): an edge on no support
+    /// found cannot be taken to stay.
+    only_moving: bool,
     stamp: u32,
     /// The point's derivative, summed over its lights.
     pub sum: DVec3,
@@ -163,7 +166,8 @@ impl DerivativeScratch {
             }
         }
         let Some((_, s)) = best else {
-            return if pm.on_moving {
+            // Unfound, the edge stays only if something it could lie on stays.
+            return if pm.on_moving || self.only_moving {
                 (None, EdgeSupport::NotFound)
             } else {
                 (Some(DVec3::ZERO), EdgeSupport::Still)
@@ -257,10 +261,11 @@ pub(crate) fn begin_piece(
 ) -> bool {
     d.relevant.clear();
     d.face_supports.clear();
-    let mut any_moving = false;
+    let (mut any_moving, mut all_moving) = (false, true);
     for o in objects {
         let moving = scene.objects[o as usize].object == pm.motion.object;
         any_moving |= moving;
+        all_moving &= moving;
         if (pm.on_moving || moving) && !d.relevant.contains(&o) {
             d.object_supports(scene, o, x, moving);
             d.relevant.push(o);
@@ -280,6 +285,7 @@ pub(crate) fn begin_piece(
             }
         }
     }
+    d.only_moving = all_moving;
     pm.on_moving || any_moving
 }
 
