@@ -198,3 +198,72 @@ fn every_embedded_object_and_axis_matches_central_differences() {
     );
     assert!(cases > 200 && moving > 150, "{cases} {moving}");
 }
+
+/// Oracle: central differences of the ray-cast reference (an independent renderer: light
+/// sampling and rays, no polygons) at a coarse step, with common random numbers (one seed for
+/// both sides). Noise allows no per-pixel bound; the check is of sign and size over the image:
+/// the least-squares slope of the reference's differences against the exact derivative, and
+/// their correlation, over the pixels whose camera ray stays on its face within the step (the
+/// secant of a sharp penumbra is a little flatter than its tangent: slope 0.93 for the sphere).
+#[test]
+fn the_reference_renderer_agrees_in_sign_and_size() {
+    let scene = penumbra::scene::scene_file::load_scene_by_name("default").unwrap();
+    let camera = scene.camera.unwrap();
+    let settings = RenderSettings {
+        width: 48,
+        height: 36,
+        aa: 1,
+        method: RenderMethod::Analytic,
+        ..RenderSettings::default()
+    };
+    let ctx = RenderContext::for_render(&scene, &RenderRequest::with_settings(settings));
+    for (object, axis) in [("sphere", Axis::Tx), ("panel_light", Axis::Ty)] {
+        let index = penumbra::scene::edit::resolve_object(&scene, object).unwrap();
+        let motion = ctx.motion(index, axis).unwrap();
+        let out = ctx
+            .render_derivative(&camera, &settings, &motion, None)
+            .unwrap();
+        let step = 0.01;
+        let reference = |theta: f64| {
+            let moved = ctx.moved_by(&motion, theta).unwrap();
+            penumbra::reference::render_reference(&moved, &camera, &settings, 2048, 7)
+                .unwrap()
+                .0
+        };
+        let (plus, minus) = (reference(step), reference(-step));
+        // Pixels whose camera ray meets another face within the coarse step are steps, not
+        // slopes, at that step: left out (the exact derivative's own mask is for its step).
+        let basis = camera.basis().unwrap();
+        let (c_plus, c_minus) = (
+            ctx.moved_by(&motion, step).unwrap(),
+            ctx.moved_by(&motion, -step).unwrap(),
+        );
+        let (mut dd, mut dr, mut rr) = (0.0, 0.0, 0.0);
+        for i in 0..out.derivative.pixels.len() {
+            let (x, y) = (i as u32 % settings.width, i as u32 / settings.width);
+            let ray =
+                penumbra::render::subpixel_rays(&basis, x, y, 1, settings.width, settings.height)
+                    .next()
+                    .unwrap();
+            let face =
+                |c: &RenderContext| c.primary_hit(&ray).map(|h| (h.point.object, h.point.face));
+            let here = face(&ctx);
+            if out.mask.pixels[i].x != 0.0 || face(&c_plus) != here || face(&c_minus) != here {
+                continue;
+            }
+            let d = out.derivative.pixels[i].x;
+            let r = (plus.pixels[i].x - minus.pixels[i].x) / (2.0 * step);
+            dd += d * d;
+            dr += d * r;
+            rr += r * r;
+        }
+        let slope = dr / dd;
+        let correlation = dr / (dd * rr).sqrt();
+        println!(
+            "{object}:{}: slope {slope:.3}, correlation {correlation:.3}",
+            axis.name()
+        );
+        assert!((slope - 1.0).abs() < 0.1, "{object}: slope {slope}");
+        assert!(correlation > 0.9, "{object}: correlation {correlation}");
+    }
+}
