@@ -18,6 +18,9 @@ use glam::DVec3;
 /// of `[0, Φ]` where `z ≥ 0` (one interval: an arc shorter than π crosses the horizon at most
 /// once).
 pub fn arc_rate(a: DVec3, b: DVec3, u: DVec3) -> f64 {
+    if u == DVec3::ZERO {
+        return 0.0;
+    }
     let w = a.cross(b);
     let s = w.length();
     if s <= 0.0 || s.is_nan() {
@@ -25,27 +28,38 @@ pub fn arc_rate(a: DVec3, b: DVec3, u: DVec3) -> f64 {
     }
     let n = w / s;
     let t = n.cross(a);
-    let phi = s.atan2(a.dot(b));
     let (za, zb) = (a.z, b.z);
+    // The ends of the part above the horizon, as points of the arc: their angles from `a`
+    // (one atan2 each) and their sines and cosines (dot products, no trigonometry).
+    let angle = |p: DVec3| {
+        let (sin, cos) = (p.dot(t), p.dot(a));
+        (sin.atan2(cos), sin, cos)
+    };
+    let start = (0.0, 0.0, 1.0);
     let (lo, hi) = if za >= 0.0 && zb >= 0.0 {
-        (0.0, phi)
+        (start, (s.atan2(a.dot(b)), s, a.dot(b)))
     } else if za <= 0.0 && zb <= 0.0 {
         return 0.0;
     } else {
-        // The crossing: z(φ) = a_z cos φ + t_z sin φ = 0 inside (0, Φ).
-        let mut c = (-za).atan2(t.z);
-        if c < 0.0 {
-            c += std::f64::consts::PI;
+        // The crossing of z(φ) = a_z cos φ + t_z sin φ = 0 inside the arc: the point of the
+        // arc's circle on the horizon, on the arc's side.
+        let mut c = n.cross(DVec3::Z).normalize_or_zero();
+        if c.dot(a + b) < 0.0 {
+            c = -c;
         }
-        let c = c.clamp(0.0, phi);
-        if za > 0.0 { (0.0, c) } else { (c, phi) }
+        let crossing = angle(c);
+        if za > 0.0 {
+            (start, crossing)
+        } else {
+            (crossing, angle(b))
+        }
     };
     let (ua, ut) = (u.dot(a), u.dot(t));
     let (cc, cs, ss) = (za * ua, za * ut + t.z * ua, t.z * ut);
-    // Antiderivatives of cos², sin cos and sin².
-    let f = |x: f64| {
-        let (s2, sx) = ((2.0 * x).sin(), x.sin());
-        cc * (0.5 * x + 0.25 * s2) + cs * 0.5 * sx * sx + ss * (0.5 * x - 0.25 * s2)
+    // Antiderivatives of cos², sin cos and sin² at (φ, sin φ, cos φ).
+    let f = |(x, sin, cos): (f64, f64, f64)| {
+        let sc = 0.5 * sin * cos;
+        cc * (0.5 * x + sc) + cs * 0.5 * sin * sin + ss * (0.5 * x - sc)
     };
     f(hi) - f(lo)
 }
