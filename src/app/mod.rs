@@ -609,8 +609,8 @@ impl AppState {
 
     /// The motion the derivative AOV differentiates along: the selected object along the
     /// gizmo's active axis. `Ok(None)` when the AOV is another; `Err` says, for the viewport,
-    /// why there is no derivative to show (no object selected, a method or an environment the
-    /// derivative does not cover).
+    /// why there is no derivative to show (no object selected, or what
+    /// `RenderContext::derivative_refusal` refuses).
     pub fn derivative_motion(&self) -> Result<Option<crate::shading::derivative::Motion>, String> {
         if self.settings.aov != Aov::Derivative {
             return Ok(None);
@@ -625,19 +625,8 @@ impl AppState {
                     .into(),
             );
         };
-        if self.settings.method != RenderMethod::Analytic {
-            return Err(format!(
-                "derivative: computed for the analytic method only, not {}",
-                self.settings.method.name()
-            ));
-        }
-        if ctx.environment.is_some() {
-            return Err(
-                "derivative: the environment light's term is not differentiated; choose no \
-                 environment to see it"
-                    .into(),
-            );
-        }
+        ctx.derivative_refusal(self.settings.method)
+            .map_err(|e| format!("derivative: {e}"))?;
         ctx.motion(object, self.editor.axis())
             .map(Some)
             .map_err(|e| format!("derivative: {e}"))

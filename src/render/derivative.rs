@@ -97,6 +97,30 @@ impl RenderContext {
         self.render_derivative_level(camera, settings, &setup, 1, cancel)
     }
 
+    /// Why this context has no derivative for `method`, if it has none: the one place that
+    /// says what the derivative covers (`--method analytic`, and an environment only with
+    /// `--env-method analytic`).
+    pub fn derivative_refusal(&self, method: super::RenderMethod) -> crate::Result<()> {
+        if method.analytic() != Some(Method::Analytic) {
+            return Err(format!(
+                "a derivative is computed with --method analytic only, not {}",
+                method.name()
+            )
+            .into());
+        }
+        if let Some(env) = &self.environment
+            && env.settings.method != crate::environment::EnvMethod::Analytic
+        {
+            return Err(format!(
+                "a derivative of the environment light's term is computed with --env-method \
+                 analytic only, not {}",
+                env.settings.method.name()
+            )
+            .into());
+        }
+        Ok(())
+    }
+
     /// What every level of a derivative along `motion` shares: the checks of
     /// [`RenderContext::render_derivative`] (an error names what is refused) and the scene
     /// moved by ±[`FD_STEP`], which the masks cast the samples' rays into.
@@ -105,20 +129,7 @@ impl RenderContext {
         settings: &RenderSettings,
         motion: &Motion,
     ) -> crate::Result<DerivativeSetup> {
-        if settings.method.analytic() != Some(Method::Analytic) {
-            return Err(format!(
-                "a derivative is computed with --method analytic only, not {}",
-                settings.method.name()
-            )
-            .into());
-        }
-        if self.environment.is_some() {
-            return Err(
-                "a derivative of the environment light's term is not computed: \
-                        render the scene without its environment (--env none)"
-                    .into(),
-            );
-        }
+        self.derivative_refusal(settings.method)?;
         if motion.object as usize >= self.scene.objects.len() {
             return Err(format!("no object {} in the scene", motion.object).into());
         }
@@ -240,7 +251,12 @@ impl RenderContext {
                 flag(1);
             }
             first.get_or_insert((u32::MAX, DVec3::ZERO, 0.0));
-            return (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO, reason);
+            // The environment seen past the scene does not move.
+            let sky = self
+                .environment
+                .as_ref()
+                .map_or(DVec3::ZERO, |env| env.light.radiance(ray.dir.normalize()));
+            return (sky, DVec3::ZERO, DVec3::ZERO, reason);
         };
         let p = &hit.point;
         let face = (
@@ -285,8 +301,63 @@ impl RenderContext {
             }
             shaded = l;
             rate = r;
+            if let Some(env) = &self.environment {
+                let (e, de) = self.environment_rate(env, p, &pm, scratch);
+                if pm.on_moving && setup.motion.axis == Axis::Ry {
+                    // The frame turns: the environment's area term is not computed.
+                    flag(3);
+                }
+                if scratch.rate_notes().unsupported > 0 {
+                    flag(4);
+                }
+                let rho_pi = material.kd / std::f64::consts::PI;
+                shaded += rho_pi * e;
+                rate += rho_pi * de;
+            }
         }
         (hit.emitted, shaded, rate, reason)
+    }
+}
+
+impl RenderContext {
+    /// The environment's irradiance at `p` as `--env-method analytic` shades it
+    /// (`E = E_static − E_occluded`, 002 Eq. 6) and its rate along the motion.
+    fn environment_rate(
+        &self,
+        env: &super::environment_passes::SceneEnvironment,
+        p: &crate::shading::ShadingPoint,
+        pm: &PointMotion,
+        scratch: &mut ShadingScratch,
+    ) -> (DVec3, DVec3) {
+        use crate::shading::{
+            EnvironmentPass, EnvironmentRates, environment_integrals_with_rates,
+            shadowed_irradiance,
+        };
+        let frame = crate::math::Frame::from_normal_and_view(p.normal, p.view);
+        let radiance = |local: DVec3| env.light.sh.eval(frame.to_world(local));
+        let rates = EnvironmentRates {
+            point: pm,
+            radiance: &radiance,
+        };
+        let r = environment_integrals_with_rates(
+            &self.prepared,
+            &env.occluders,
+            p,
+            EnvironmentPass::Occluded,
+            &|frame: &crate::math::Frame, poly| env.light.integrate(frame, poly),
+            Some(&rates),
+            scratch,
+            &mut NoRecorder,
+        );
+        let (e_static, static_rate) = match r.static_visible {
+            Some(v) => (v, r.static_rate),
+            // The unshadowed irradiance, which moves only with the normal.
+            None => (env.light.irradiance(p.normal), DVec3::ZERO),
+        };
+        (
+            shadowed_irradiance(e_static, r.occluded),
+            static_rate - r.occluded_rate,
+        )
     }
 }
 

@@ -68,6 +68,18 @@ pub struct EnvironmentIntegrals {
     pub occluded: DVec3,
     /// Set differences performed.
     pub set_differences: u32,
+    /// With rates ([`environment_integrals_with_rates`]): `dI_s/dθ` (zero when no static
+    /// object reaches the hemisphere) and `d(I_s − I_a)/dθ`.
+    pub static_rate: DVec3,
+    pub occluded_rate: DVec3,
+}
+
+/// What the environment's derivative needs at a point: the motion there, and the radiance
+/// `L(ω)` of the integrand at a direction of the shading frame (the environment's SH, which
+/// the shading layer does not know).
+pub struct EnvironmentRates<'a> {
+    pub point: &'a super::derivative::PointMotion,
+    pub radiance: &'a dyn Fn(DVec3) -> DVec3,
 }
 
 /// The shadowed irradiance `E = E_static − E_occluded` (002 Eq. 6), the value every caller
@@ -108,10 +120,44 @@ pub fn environment_integrals<R: Recorder>(
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> EnvironmentIntegrals {
+    environment_integrals_with_rates(scene, occluders, sp, pass, integrate, None, scratch, rec)
+}
+
+/// [`environment_integrals`] and, with `rates`, their derivatives along the motion
+/// (docs/derivatives.md, "The environment"): each term's region changes by the Reynolds
+/// transport theorem with the integrand `L(ω) cos θ`, along the same polygons the values
+/// integrate. The point's frame must not turn (`ry` of the object the point lies on is the
+/// caller's to refuse).
+#[allow(clippy::too_many_arguments)]
+pub fn environment_integrals_with_rates<R: Recorder>(
+    scene: &PreparedScene,
+    occluders: &EnvironmentOccluders,
+    sp: &ShadingPoint,
+    pass: EnvironmentPass,
+    integrate: &impl Fn(&Frame, &SphericalPolygon) -> DVec3,
+    rates: Option<&EnvironmentRates>,
+    scratch: &mut ShadingScratch,
+    rec: &mut R,
+) -> EnvironmentIntegrals {
     scratch.begin_point(scene);
     let ctx = PointContext::for_environment(scene, sp);
     let before = scratch.stats.set_differences;
-    let mut out = union_integrals(&ctx, occluders, pass, integrate, scratch, rec);
+    if let Some(r) = rates {
+        let all = occluders
+            .statics
+            .iter()
+            .chain(&occluders.dynamics)
+            .map(|&oi| scene.occluders[oi as usize]);
+        super::derivative::begin_piece(
+            &mut scratch.derivative,
+            scene,
+            r.point,
+            sp.position,
+            all,
+            None,
+        );
+    }
+    let mut out = union_integrals(&ctx, occluders, pass, integrate, rates, scratch, rec);
     scratch.end_point();
     out.set_differences = scratch.stats.set_differences - before;
     out
@@ -141,17 +187,35 @@ fn union_integrals<R: Recorder>(
     occluders: &EnvironmentOccluders,
     pass: EnvironmentPass,
     integrate: &impl Fn(&Frame, &SphericalPolygon) -> DVec3,
+    rates: Option<&EnvironmentRates>,
     scratch: &mut ShadingScratch,
     rec: &mut R,
 ) -> EnvironmentIntegrals {
     let mut out = EnvironmentIntegrals::default();
+    // The rate of the region in `visible_sph`, by the same edges the value integrates.
+    let rate_of = |scratch: &mut ShadingScratch| -> DVec3 {
+        let Some(r) = rates else {
+            return DVec3::ZERO;
+        };
+        let region = std::mem::take(&mut scratch.visible_sph);
+        let rate = super::derivative::region_rate_with(
+            &mut scratch.derivative,
+            r.point,
+            ctx.sp.position,
+            &ctx.frame,
+            &region,
+            r.radiance,
+        );
+        scratch.visible_sph = region;
+        rate
+    };
     // Subtracts `before` (whole occluders: statics first, then earlier dynamics) and the
     // faces `own_before` of occluder `own` from the loaded region and integrates the rest.
     let finish = |before: [&[u32]; 2],
                   own: Option<(usize, usize)>,
                   scratch: &mut ShadingScratch,
                   rec: &mut R|
-     -> Option<DVec3> {
+     -> Option<(DVec3, DVec3)> {
         'subtract: for group in before {
             for &oj in group {
                 if scratch.visible.is_empty() {
@@ -175,7 +239,8 @@ fn union_integrals<R: Recorder>(
             return None;
         }
         ProjectionPlane::NORMAL.reproject(&scratch.visible, &mut scratch.visible_sph);
-        Some(integrate(&ctx.frame, &scratch.visible_sph))
+        let value = integrate(&ctx.frame, &scratch.visible_sph);
+        Some((value, rate_of(scratch)))
     };
     // ∫ (occluder oi ∖ before): its outline as one term, or, taken face by face, one term per
     // face minus the faces before it. Each term goes to the recorder as it is integrated.
@@ -183,14 +248,14 @@ fn union_integrals<R: Recorder>(
                      oi: u32,
                      before: [&[u32]; 2],
                      scratch: &mut ShadingScratch|
-     -> Option<DVec3> {
-        let mut sum: Option<DVec3> = None;
+     -> Option<(DVec3, DVec3)> {
+        let mut sum: Option<(DVec3, DVec3)> = None;
         if load_occluder(ctx, oi as usize, scratch, rec) {
             if !scratch.visible.is_empty()
-                && let Some(i) = finish(before, None, scratch, rec)
+                && let Some((i, r)) = finish(before, None, scratch, rec)
             {
                 rec.environment_term(side, oi as usize, &scratch.visible_sph, i);
-                sum = Some(i);
+                sum = Some((i, r));
             }
             return sum;
         }
@@ -202,20 +267,24 @@ fn union_integrals<R: Recorder>(
                 continue;
             }
             std::mem::swap(&mut scratch.visible, &mut scratch.occ_plane);
-            if let Some(i) = finish(before, Some((oi as usize, k)), scratch, rec) {
+            if let Some((i, r)) = finish(before, Some((oi as usize, k)), scratch, rec) {
                 rec.environment_term(side, oi as usize, &scratch.visible_sph, i);
-                *sum.get_or_insert(DVec3::ZERO) += i;
+                let s = sum.get_or_insert((DVec3::ZERO, DVec3::ZERO));
+                s.0 += i;
+                s.1 += r;
             }
         }
         sum
     };
     let statics = &occluders.statics;
     let mut static_union: Option<DVec3> = None;
+    let mut static_rate = DVec3::ZERO;
     for (k, &oi) in statics.iter().enumerate() {
         if reaches_hemisphere(ctx, oi)
-            && let Some(i) = terms(EnvironmentSide::Static, oi, [&statics[..k], &[]], scratch)
+            && let Some((i, r)) = terms(EnvironmentSide::Static, oi, [&statics[..k], &[]], scratch)
         {
             *static_union.get_or_insert(DVec3::ZERO) += i;
+            static_rate += r;
         }
     }
     let hemisphere = |scratch: &mut ShadingScratch| {
@@ -224,12 +293,14 @@ fn union_integrals<R: Recorder>(
     };
     if let Some(u) = static_union {
         out.static_visible = Some(hemisphere(scratch) - u);
+        // The hemisphere does not move in the shading frame (its frame does not turn).
+        out.static_rate = -static_rate;
     }
     if pass == EnvironmentPass::Occluded {
         let dynamics = &occluders.dynamics;
         for (k, &oi) in dynamics.iter().enumerate() {
             if reaches_hemisphere(ctx, oi)
-                && let Some(i) = terms(
+                && let Some((i, r)) = terms(
                     EnvironmentSide::Dynamic,
                     oi,
                     [statics, &dynamics[..k]],
@@ -237,6 +308,7 @@ fn union_integrals<R: Recorder>(
                 )
             {
                 out.occluded += i;
+                out.occluded_rate += r;
             }
         }
     }

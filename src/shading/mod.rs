@@ -20,8 +20,8 @@ pub use analytic::{
     shade, shade_corrected, shade_with_rate,
 };
 pub use environment_occlusion::{
-    EnvironmentIntegrals, EnvironmentOccluders, EnvironmentPass, environment_integrals,
-    shadowed_irradiance,
+    EnvironmentIntegrals, EnvironmentOccluders, EnvironmentPass, EnvironmentRates,
+    environment_integrals, environment_integrals_with_rates, shadowed_irradiance,
 };
 pub use invariant::visible_within_light;
 pub use ltc_correction::CorrectionSampling;

@@ -16,7 +16,7 @@ mod motion;
 mod reynolds;
 
 pub use motion::{Axis, Motion, PointMotion};
-pub use reynolds::arc_rate;
+pub use reynolds::{arc_rate, arc_rate_quadrature};
 
 use crate::geometry::PolygonLoops;
 use crate::ltc::LtcEntry;
@@ -364,4 +364,37 @@ fn lobe_arc_rate(l: &LobeMap, a: DVec3, b: DVec3, nu: DVec3, nu_rate: DVec3) -> 
         (l.m_inv * b).normalize_or_zero(),
     );
     arc_rate(a2, b2, u)
+}
+
+/// The rate of `∫_P L(ω) z dω` over the region `P` (shading frame, above the horizon) for a
+/// radiance `L` of the shading frame's directions that does not depend on θ: the sum over
+/// P's edges of `∫ L z (ν̇ · ω) dl` (Gauss–Legendre, [`arc_rate_quadrature`]), each edge's ν̇
+/// from its support. The environment's terms (docs/derivatives.md, "The environment").
+pub(crate) fn region_rate_with(
+    d: &mut DerivativeScratch,
+    pm: &PointMotion,
+    x: DVec3,
+    frame: &Frame,
+    region: &PolygonLoops,
+    radiance: &dyn Fn(DVec3) -> DVec3,
+) -> DVec3 {
+    let mut sum = DVec3::ZERO;
+    for lp in region.loops() {
+        if lp.len() < 3 {
+            continue;
+        }
+        let mut a = lp[lp.len() - 1];
+        for &b in lp {
+            let w = a.cross(b);
+            let s = w.length();
+            if s > 0.0 {
+                match d.normal_rate(pm, x, frame, a, b, w / s).0 {
+                    Some(rate) => sum += arc_rate_quadrature(a, b, rate, radiance),
+                    None => d.unsupported += 1,
+                }
+            }
+            a = b;
+        }
+    }
+    sum
 }
