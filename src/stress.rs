@@ -1145,12 +1145,6 @@ fn derivative_check(
         // straddles a change of the region's topology.
         check.topology = again <= 1e-6 || again <= 0.2 * check.relative;
         check.disagrees = !check.topology;
-        if check.disagrees && std::env::var_os("STRESS_DERIVATIVE_DEBUG").is_some() {
-            eprintln!(
-                "{:?} object {object} {axis:?} on {:?}: e {e} d {rate} fd {difference} rel {} again {again}",
-                case.kind, case.point.object, check.relative
-            );
-        }
     }
     Some(check)
 }
