@@ -211,7 +211,6 @@ impl ShadingScratch {
         self.outline.fallbacks = Fallbacks::default();
         self.correction_sum = CorrectionEstimate::default();
         self.occluders.begin_point(scene.occluders.len());
-        self.derivative.begin_point(scene.objects.len());
     }
 
     /// Caps the set difference's walks at `steps` when the polygon subtracted has more than
@@ -411,13 +410,14 @@ fn shade_point<R: Recorder>(
             GlossyLobe::new(entry, *scale, v, material.alpha, material.ks)
         });
     let rates = motion.map(|point| {
-        let cos = sp.normal.dot(sp.view).clamp(0.0, 1.0);
-        let ltc = (point.cos_rate != 0.0 && specular.is_some()).then(|| {
-            let (rate, node) = scene.ltc.lookup_rate(cos, material.alpha);
-            scratch.derivative.near_table_node = node <= 2.0 * FD_STEP * point.cos_rate.abs();
-            rate.scaled(point.cos_rate)
-        });
-        PointRates { point, ltc }
+        point_rates(
+            scene,
+            sp,
+            material,
+            point,
+            specular.is_some(),
+            &mut scratch.derivative,
+        )
     });
     let lobes = Lobes {
         kd: material.kd,
@@ -439,6 +439,27 @@ fn shade_point<R: Recorder>(
     }
     scratch.end_point();
     total
+}
+
+/// The rates of a point with a derivative (its buffers begun: only such a point pays for
+/// them), and the LTC entry's rate where the normal turns. Out of line, as `lobe_rates`.
+#[inline(never)]
+fn point_rates<'a>(
+    scene: &PreparedScene,
+    sp: &ShadingPoint,
+    material: &Material,
+    point: &'a PointMotion,
+    specular: bool,
+    d: &mut DerivativeScratch,
+) -> PointRates<'a> {
+    d.begin_point(scene.objects.len());
+    let cos = sp.normal.dot(sp.view).clamp(0.0, 1.0);
+    let ltc = (point.cos_rate != 0.0 && specular).then(|| {
+        let (rate, node) = scene.ltc.lookup_rate(cos, material.alpha);
+        d.near_table_node = node <= 2.0 * FD_STEP * point.cos_rate.abs();
+        rate.scaled(point.cos_rate)
+    });
+    PointRates { point, ltc }
 }
 
 /// Alg. 1 lines 2–16 for light `l` (index into `scene.lights`).
@@ -1819,6 +1840,8 @@ fn integrate_lobes<R: Recorder>(
 /// visible region's form factors (`derivative::region_rates`) and, where the point's normal
 /// turns, of the LTC entry: `e_spec = (1 − c) f_lobe + c e_diffuse` and the specular scale
 /// `s (f0 (norm − fresnel) + fresnel)` change with it.
+// Kept out of line: the image alone (no derivative) runs the lobes' code as it was.
+#[inline(never)]
 fn lobe_rates<R: Recorder>(
     ctx: &PointContext,
     rates: &PointRates,

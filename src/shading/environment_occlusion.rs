@@ -143,6 +143,7 @@ pub fn environment_integrals_with_rates<R: Recorder>(
     let ctx = PointContext::for_environment(scene, sp);
     let before = scratch.stats.set_differences;
     if let Some(r) = rates {
+        scratch.derivative.begin_point(scene.objects.len());
         let all = occluders
             .statics
             .iter()
