@@ -247,10 +247,13 @@ impl RenderContext {
             flag(2);
         }
         let Some(hit) = hit else {
-            if first.is_some() {
+            // A sample that sees nothing steps against one that sees a face, not against
+            // another that sees nothing.
+            let nothing = (u32::MAX, DVec3::ZERO, 0.0);
+            if first.is_some_and(|f| f != nothing) {
                 flag(1);
             }
-            first.get_or_insert((u32::MAX, DVec3::ZERO, 0.0));
+            first.get_or_insert(nothing);
             // The environment seen past the scene does not move.
             let sky = self
                 .environment
