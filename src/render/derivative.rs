@@ -332,35 +332,22 @@ impl RenderContext {
         pm: &PointMotion,
         scratch: &mut ShadingScratch,
     ) -> (DVec3, DVec3) {
-        use crate::shading::{
-            EnvironmentPass, EnvironmentRates, environment_integrals_with_rates,
-            shadowed_irradiance,
-        };
+        use crate::shading::{EnvironmentRates, shadowed_irradiance};
         let frame = crate::math::Frame::from_normal_and_view(p.normal, p.view);
         let radiance = |local: DVec3| env.light.sh.eval(frame.to_world(local));
         let rates = EnvironmentRates {
             point: pm,
             radiance: &radiance,
         };
-        let r = environment_integrals_with_rates(
-            &self.prepared,
-            &env.occluders,
+        let t = super::environment_passes::analytic_terms(
+            self,
+            env,
             p,
-            EnvironmentPass::Occluded,
-            &|frame: &crate::math::Frame, poly| env.light.integrate(frame, poly),
             Some(&rates),
             scratch,
             &mut NoRecorder,
         );
-        let (e_static, static_rate) = match r.static_visible {
-            Some(v) => (v, r.static_rate),
-            // The unshadowed irradiance, which moves only with the normal.
-            None => (env.light.irradiance(p.normal), DVec3::ZERO),
-        };
-        (
-            shadowed_irradiance(e_static, r.occluded),
-            static_rate - r.occluded_rate,
-        )
+        (shadowed_irradiance(t.e_static, t.occluded), t.rate)
     }
 }
 

@@ -430,20 +430,9 @@ fn shade_pixel<R: Recorder>(
         let (e_static, e_occluded) = match env.settings.method {
             EnvMethod::Unshadowed => (e_static, DVec3::ZERO),
             EnvMethod::Analytic => {
-                let r = environment_integrals(
-                    &ctx.prepared,
-                    &env.occluders,
-                    &sp,
-                    EnvironmentPass::Occluded,
-                    &|frame: &Frame, poly| env.light.integrate(frame, poly),
-                    &mut s.shading,
-                    rec,
-                );
-                px.set_differences += r.set_differences;
-                let e_static = r
-                    .static_visible
-                    .unwrap_or_else(|| env.light.irradiance(sp.normal));
-                (e_static, r.occluded)
+                let t = analytic_terms(ctx, env, &sp, None, &mut s.shading, rec);
+                px.set_differences += t.set_differences;
+                (t.e_static, t.occluded)
             }
             EnvMethod::Rt | EnvMethod::RtUnculled => (
                 e_static,
@@ -494,6 +483,49 @@ fn shade_pixel<R: Recorder>(
     }
     px.background /= k;
     px
+}
+
+/// What `--env-method analytic` finds at a point: `E_static` and `E_occluded` (002 Eq. 6,
+/// computed exactly), with `rates` the rate of `E = E_static − E_occluded`, and the set
+/// differences it took. The one composition of the renderer's pass and of the derivative's.
+pub(crate) struct AnalyticTerms {
+    pub e_static: DVec3,
+    pub occluded: DVec3,
+    pub rate: DVec3,
+    pub set_differences: u32,
+}
+
+/// [`AnalyticTerms`] at `sp`.
+pub(crate) fn analytic_terms<R: Recorder>(
+    ctx: &RenderContext,
+    env: &SceneEnvironment,
+    sp: &ShadingPoint,
+    rates: Option<&crate::shading::EnvironmentRates>,
+    scratch: &mut crate::shading::ShadingScratch,
+    rec: &mut R,
+) -> AnalyticTerms {
+    let r = crate::shading::environment_integrals_with_rates(
+        &ctx.prepared,
+        &env.occluders,
+        sp,
+        EnvironmentPass::Occluded,
+        &|frame: &Frame, poly| env.light.integrate(frame, poly),
+        rates,
+        scratch,
+        rec,
+    );
+    // Without a static object over the hemisphere, E_static is the unshadowed irradiance,
+    // which moves only with the normal.
+    let (e_static, static_rate) = match r.static_visible {
+        Some(v) => (v, r.static_rate),
+        None => (env.light.irradiance(sp.normal), DVec3::ZERO),
+    };
+    AnalyticTerms {
+        e_static,
+        occluded: r.occluded,
+        rate: static_rate - r.occluded_rate,
+        set_differences: r.set_differences,
+    }
 }
 
 /// E_static at `sp`: the irradiance the static objects leave (Eq. 6): from the precomputed
