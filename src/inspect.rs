@@ -469,6 +469,17 @@ pub fn probe_full(
                 &mut recording,
             );
             let notes = scratch.rate_notes();
+            let (mut rate, mut degenerate) = (rate, pm.degenerate);
+            let mut unsupported = notes.unsupported;
+            // The environment's rate, as the renderer's sample adds it (its value is in the
+            // environment's term below), on buffers of its own so that the point's counters
+            // stay the area lights'.
+            let mut env_scratch = ShadingScratch::default();
+            if let Some(env) = ctx.environment_term_rate(&sp, &pm, &mut env_scratch) {
+                rate += env.rate;
+                degenerate |= env.degenerate;
+                unsupported += env.unsupported as u32;
+            }
             probe.derivative = Some(DerivativeProbe {
                 object: motion.object,
                 object_name: ctx
@@ -479,9 +490,9 @@ pub fn probe_full(
                 axis: motion.axis,
                 pivot: motion.pivot,
                 rate,
-                unsupported: notes.unsupported,
+                unsupported,
                 near_table_node: notes.near_table_node,
-                degenerate: pm.degenerate,
+                degenerate,
             });
             hit.emitted + l
         }
@@ -622,19 +633,9 @@ pub fn debug_dump_with(
     let size = (settings.width, settings.height);
     let (method, correction) =
         probe_method(settings.method, settings.spp, settings.seed, pixel, size.0)?;
-    if derivative.is_some() && settings.method.analytic() != Some(Method::Analytic) {
-        return Err(format!(
-            "a derivative is computed with --method analytic only, not {}",
-            settings.method.name()
-        )
-        .into());
-    }
-    if derivative.is_some() && ctx.environment.is_some() {
-        return Err(
-            "a derivative of the environment light's term is not computed: \
-                    probe the scene without its environment (--env none)"
-                .into(),
-        );
+    // What the derivative covers is the renderer's to say.
+    if derivative.is_some() {
+        ctx.derivative_refusal(settings.method)?;
     }
     let mut dump = probe_full(
         ctx, scene_name, camera, size, pixel, method, correction, gh_steps, derivative,

@@ -304,25 +304,53 @@ impl RenderContext {
             }
             shaded = l;
             rate = r;
-            if let Some(env) = &self.environment {
-                let (e, de) = self.environment_rate(env, p, &pm, scratch);
-                if pm.on_moving && setup.motion.axis == Axis::Ry {
-                    // The frame turns: the environment's area term is not computed.
+            if let Some(env) = self.environment_term_rate(p, &pm, scratch) {
+                if env.degenerate {
                     flag(3);
                 }
-                if scratch.rate_notes().unsupported > 0 {
+                if env.unsupported {
                     flag(4);
                 }
-                let rho_pi = material.kd / std::f64::consts::PI;
-                shaded += rho_pi * e;
-                rate += rho_pi * de;
+                shaded += env.radiance;
+                rate += env.rate;
             }
         }
         (hit.emitted, shaded, rate, reason)
     }
 }
 
+/// The environment's term at a camera sample with a derivative: its radiance `ρ/π · E`, its
+/// rate, and what masks it.
+pub(crate) struct EnvironmentTermRate {
+    pub radiance: DVec3,
+    pub rate: DVec3,
+    /// `ry` of the object the point lies on: the frame turns, and the environment's area term
+    /// is not computed.
+    pub degenerate: bool,
+    pub unsupported: bool,
+}
+
 impl RenderContext {
+    /// The environment's term at `p` and its rate ([`EnvironmentTermRate`]), `None` without an
+    /// environment: what the derivative's sample and the probe add to the area lights'.
+    pub(crate) fn environment_term_rate(
+        &self,
+        p: &crate::shading::ShadingPoint,
+        pm: &PointMotion,
+        scratch: &mut ShadingScratch,
+    ) -> Option<EnvironmentTermRate> {
+        let env = self.environment.as_ref()?;
+        let (e, de) = self.environment_rate(env, p, pm, scratch);
+        let kd = self.prepared.materials[p.object.unwrap_or(0) as usize].kd;
+        let rho_pi = kd / std::f64::consts::PI;
+        Some(EnvironmentTermRate {
+            radiance: rho_pi * e,
+            rate: rho_pi * de,
+            degenerate: pm.on_moving && pm.motion.axis == Axis::Ry,
+            unsupported: scratch.rate_notes().unsupported > 0,
+        })
+    }
+
     /// The environment's irradiance at `p` as `--env-method analytic` shades it
     /// (`E = E_static − E_occluded`, 002 Eq. 6) and its rate along the motion.
     fn environment_rate(

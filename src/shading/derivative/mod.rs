@@ -305,46 +305,48 @@ pub(crate) fn region_rates<R: Recorder>(
 ) -> (f64, f64) {
     let (mut diffuse, mut specular) = (0.0, 0.0);
     for (poly, sign) in [(region, 1.0), (hole, -1.0)] {
-        for lp in poly.loops() {
-            if lp.len() < 3 {
-                continue;
-            }
-            let mut a = lp[lp.len() - 1];
-            for &b in lp {
-                let w = a.cross(b);
-                let s = w.length();
-                if s > 0.0 {
-                    let nu = w / s;
-                    let (rate, support) = d.normal_rate(pm, x, frame, a, b, nu);
-                    let (mut e_d, mut e_s) = (0.0, 0.0);
-                    match rate {
-                        Some(rate) => {
-                            e_d = sign * arc_rate(a, b, rate) / PI;
-                            if let Some(l) = lobe {
-                                e_s = sign * lobe_arc_rate(l, a, b, nu, rate) / PI;
-                            }
-                        }
-                        None => d.unsupported += 1,
-                    }
-                    diffuse += e_d;
-                    specular += e_s;
-                    if R::ENABLED {
-                        rec.moving_edge(&MovingEdge {
-                            a,
-                            b,
-                            in_hole: sign < 0.0,
-                            support,
-                            normal_rate: rate.unwrap_or(DVec3::ZERO),
-                            diffuse: e_d,
-                            lobe: e_s,
-                        });
+        for (a, b, nu) in oriented_edges(poly) {
+            let (rate, support) = d.normal_rate(pm, x, frame, a, b, nu);
+            let (mut e_d, mut e_s) = (0.0, 0.0);
+            match rate {
+                Some(rate) => {
+                    e_d = sign * arc_rate(a, b, rate) / PI;
+                    if let Some(l) = lobe {
+                        e_s = sign * lobe_arc_rate(l, a, b, nu, rate) / PI;
                     }
                 }
-                a = b;
+                None => d.unsupported += 1,
+            }
+            diffuse += e_d;
+            specular += e_s;
+            if R::ENABLED {
+                rec.moving_edge(&MovingEdge {
+                    a,
+                    b,
+                    in_hole: sign < 0.0,
+                    support,
+                    normal_rate: rate.unwrap_or(DVec3::ZERO),
+                    diffuse: e_d,
+                    lobe: e_s,
+                });
             }
         }
     }
     (diffuse, specular)
+}
+
+/// The edges `a → b` of `poly`'s loops (as the form factor takes them: loops of three vertices
+/// or more, zero-length edges left out) with the unit normal `ν = a × b / |a × b|` on the
+/// region's side.
+fn oriented_edges(poly: &PolygonLoops) -> impl Iterator<Item = (DVec3, DVec3, DVec3)> + '_ {
+    poly.loops().filter(|lp| lp.len() >= 3).flat_map(|lp| {
+        (0..lp.len()).filter_map(move |k| {
+            let (a, b) = (lp[(k + lp.len() - 1) % lp.len()], lp[k]);
+            let w = a.cross(b);
+            let s = w.length();
+            (s > 0.0).then(|| (a, b, w / s))
+        })
+    })
 }
 
 /// [`arc_rate`] of the edge `a → b` in the LTC lobe's space: the edge maps to the arc between
@@ -379,21 +381,10 @@ pub(crate) fn region_rate_with(
     radiance: &dyn Fn(DVec3) -> DVec3,
 ) -> DVec3 {
     let mut sum = DVec3::ZERO;
-    for lp in region.loops() {
-        if lp.len() < 3 {
-            continue;
-        }
-        let mut a = lp[lp.len() - 1];
-        for &b in lp {
-            let w = a.cross(b);
-            let s = w.length();
-            if s > 0.0 {
-                match d.normal_rate(pm, x, frame, a, b, w / s).0 {
-                    Some(rate) => sum += arc_rate_quadrature(a, b, rate, radiance),
-                    None => d.unsupported += 1,
-                }
-            }
-            a = b;
+    for (a, b, nu) in oriented_edges(region) {
+        match d.normal_rate(pm, x, frame, a, b, nu).0 {
+            Some(rate) => sum += arc_rate_quadrature(a, b, rate, radiance),
+            None => d.unsupported += 1,
         }
     }
     sum
