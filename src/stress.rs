@@ -31,6 +31,7 @@ use rayon::prelude::*;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use web_time::Instant;
 
+pub mod boundary_agreement;
 pub mod real_meshes;
 
 /// The families of configurations.
@@ -184,6 +185,9 @@ pub struct StressReport {
     pub derivative_disagreements: u64,
     /// The largest relative disagreement at the step among cases that agree at one of them.
     pub derivative_worst: f64,
+    /// The boundary formulation (`geometry::boundary_pieces`) against the renderer's
+    /// Greiner–Hormann integrals, at every case's point, every light piece, both lobes.
+    pub boundary: BoundaryCounts,
     /// The real-mesh family's own counts.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub real_meshes: Option<RealMeshCounts>,
@@ -920,6 +924,9 @@ impl Recorder for RawIntegrals {
 
 /// Result of one case.
 pub(crate) struct Outcome {
+    /// The boundary formulation against the recorded Greiner–Hormann integrals, per light piece
+    /// (`boundary_agreement`).
+    boundary: BoundaryCounts,
     /// The diffuse value's derivative against central differences (`derivative_check`).
     derivative: Option<DerivativeCheck>,
     trees_built: u32,
@@ -1002,8 +1009,9 @@ pub fn tree_library() -> &'static TreeLibrary {
     })
 }
 
-fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratch) -> Outcome {
-    let options = PrepareOptions {
+/// How a generated case's scene is prepared.
+fn case_options(rays: u32) -> PrepareOptions<'static> {
+    PrepareOptions {
         share_instances: true,
         library: Some(tree_library()),
         // Shaded at one point: a tree of its own could never pay for itself.
@@ -1011,7 +1019,11 @@ fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratc
         expected_rays: rays as u64,
         // Generated and thrown away: nothing is read from or written to a disk cache.
         ..PrepareOptions::default()
-    };
+    }
+}
+
+fn run_case(case: &Case, rays: u32, rng: &mut Pcg32, scratch: &mut ShadingScratch) -> Outcome {
+    let options = case_options(rays);
     let prepared = PreparedScene::prepare(&case.scene, options);
     if case.kind == CaseKind::Environment {
         return run_environment_case(case, &prepared, rays, rng, scratch);
@@ -1221,6 +1233,7 @@ fn evaluate(
     // Stratification only lowers the variance: the binomial σ is a conservative bound.
     let sigma = (p * (1.0 - p) / total as f64).sqrt();
     Outcome {
+        boundary: boundary_counts(prepared, point, alpha, scratch),
         derivative: None,
         trees_built: prepared.trees_built,
         violations,
@@ -1232,6 +1245,123 @@ fn evaluate(
         inf,
         negative,
     }
+}
+
+/// The boundary formulation's agreement with Greiner–Hormann over a run's light pieces.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct BoundaryCounts {
+    /// Light pieces compared (both lobes).
+    pub pieces: u64,
+    /// Of those, with occluders subtracted.
+    pub shadowed: u64,
+    /// Of those, where Alg. 1's projection at the horizon was off and Greiner–Hormann in a frame
+    /// about the light agreed with the boundary.
+    pub second_frame: u64,
+    /// Of those, that agreed only with near-copies of a vertex welded into one
+    /// (`boundary_agreement::WELD`): slivers between the renderer's two copies of a mesh edge.
+    pub welded: u64,
+    /// Of those, off by more than `boundary_agreement::BOUND` of the light's form factor.
+    pub disagreements: u64,
+    /// The largest disagreement, relative to the light's form factor.
+    pub worst: f64,
+}
+
+impl BoundaryCounts {
+    fn add(&mut self, o: &BoundaryCounts) {
+        self.pieces += o.pieces;
+        self.shadowed += o.shadowed;
+        self.second_frame += o.second_frame;
+        self.welded += o.welded;
+        self.disagreements += o.disagreements;
+        self.worst = self.worst.max(o.worst);
+    }
+}
+
+/// Shades the point once more with both lobes, recording, and compares every light piece's
+/// integrals with the boundary formulation's (`boundary_agreement::compare_light_piece`).
+fn boundary_counts(
+    prepared: &PreparedScene,
+    point: &ShadingPoint,
+    alpha: f64,
+    scratch: &mut ShadingScratch,
+) -> BoundaryCounts {
+    boundary_comparison(prepared, point, alpha, scratch, |_| {})
+}
+
+/// The boundary formulation's disagreements at case `index` of the mixed family, described
+/// (for `--only`).
+pub fn boundary_failures(seed: u64, index: u64) -> Vec<String> {
+    let case = generate(seed, index);
+    if case.kind == CaseKind::Environment {
+        return Vec::new();
+    }
+    let prepared = PreparedScene::prepare(&case.scene, case_options(256));
+    let mut failures = Vec::new();
+    boundary_comparison(
+        &prepared,
+        &case.point,
+        case.alpha,
+        &mut ShadingScratch::default(),
+        |f| failures.push(f),
+    );
+    failures
+}
+
+fn boundary_comparison(
+    prepared: &PreparedScene,
+    point: &ShadingPoint,
+    alpha: f64,
+    scratch: &mut ShadingScratch,
+    mut failed: impl FnMut(String),
+) -> BoundaryCounts {
+    use boundary_agreement::{
+        AgreementScratch, PieceComparison, compare_light_piece, light_scales,
+    };
+    let both = Material {
+        kd: DVec3::ONE,
+        ks: DVec3::ONE,
+        alpha,
+        ..Material::default()
+    };
+    let mut recording = crate::shading::StageRecording::new(false);
+    shade(
+        prepared,
+        point,
+        &both,
+        Method::Analytic,
+        scratch,
+        &mut recording,
+    );
+    let entry = prepared
+        .ltc
+        .lookup(point.normal.dot(point.view).clamp(0.0, 1.0), alpha);
+    let mut counts = BoundaryCounts::default();
+    let mut agreement = AgreementScratch::default();
+    for record in &recording.lights {
+        let scales = light_scales(&recording.lights, record.light, &entry, &mut agreement);
+        if let PieceComparison::Compared {
+            shadowed,
+            second_frame,
+            welded,
+            worst,
+            failure,
+        } = compare_light_piece(record, &entry, scales, &mut agreement)
+        {
+            counts.pieces += 1;
+            counts.shadowed += shadowed as u64;
+            counts.second_frame += second_frame as u64;
+            counts.welded += welded as u64;
+            counts.disagreements += failure.is_some() as u64;
+            counts.worst = counts.worst.max(worst);
+            if let Some(f) = failure {
+                failed(format!(
+                    "light {} piece {:?}: {f}",
+                    record.light, record.piece
+                ));
+            }
+        }
+    }
+    counts
 }
 
 /// The oracle's rays: `rays` (rounded up to a square k×k) cosine-weighted directions about
@@ -1333,6 +1463,8 @@ fn run_environment_case(
     // "sigmas" (error over σ + 1/rays) compare alike.
     let unit = unshadowed.max(f64::MIN_POSITIVE);
     Outcome {
+        // No light polygon: the environment's occluders are a union, not a set difference.
+        boundary: BoundaryCounts::default(),
         derivative: None,
         trees_built: prepared.trees_built,
         // The environment's union of occluders has no light polygon to stay inside.
@@ -1476,6 +1608,7 @@ impl StressReport {
                 cases.push(index);
             }
         };
+        self.boundary.add(&o.boundary);
         if let Some(d) = o.derivative {
             self.derivative_cases += 1;
             self.derivative_topology += d.topology as u64;
@@ -1491,6 +1624,7 @@ impl StressReport {
             || o.inf
             || o.negative
             || o.derivative.is_some_and(|d| d.disagrees)
+            || o.boundary.disagreements > 0
         {
             list(&mut self.failing_cases);
         }
@@ -1537,6 +1671,7 @@ impl StressReport {
         self.trees_built += r.trees_built;
         self.beyond_6_sigma += r.beyond_6_sigma;
         self.invariant_violations += r.invariant_violations;
+        self.boundary.add(&r.boundary);
         self.derivative_cases += r.derivative_cases;
         self.derivative_topology += r.derivative_topology;
         self.derivative_disagreements += r.derivative_disagreements;

@@ -5,15 +5,12 @@
 //! go through the boundary formulation, and both lobes must agree with the recorded integrals
 //! to 1e-10 of the light's own form factor (docs/boundary-integral.md).
 
-use glam::DVec3;
-use penumbra::geometry::{
-    BoundaryScratch, SphericalPolygon, boundary_pieces, clamped_integral_of_boundary,
-};
-use penumbra::ltc::{edge_integral, form_factor};
 use penumbra::render::request::RenderRequest;
 use penumbra::render::{RenderContext, RenderMethod, RenderSettings};
-use penumbra::shading::{Lobe, Method, ShadingScratch, Stage, StageRecording};
-use std::f64::consts::TAU;
+use penumbra::shading::{Method, ShadingScratch, StageRecording};
+use penumbra::stress::boundary_agreement::{
+    AgreementScratch, PieceComparison, compare_light_piece, light_scales,
+};
 
 /// What one scene gave.
 #[derive(Debug, Default)]
@@ -28,6 +25,8 @@ pub struct Agreement {
     /// Pieces where the renderer's value was off by more than the bound and Greiner–Hormann
     /// in a frame about the light agreed with the boundary.
     pub projection: usize,
+    /// Pieces that agreed only with near-copies of a vertex welded into one.
+    pub welded: usize,
     pub worst: f64,
     pub failures: Vec<String>,
 }
@@ -44,8 +43,7 @@ pub fn agreement(scene_name: &str, w: u32, h: u32) -> Agreement {
     let ctx = RenderContext::for_render(&scene, &RenderRequest::with_settings(settings));
     let basis = camera.basis().unwrap();
     let mut scratch = ShadingScratch::default();
-    let mut bscratch = BoundaryScratch::new();
-    let mut crossings = Vec::new();
+    let mut agreement_scratch = AgreementScratch::default();
     let mut out = Agreement::default();
     for y in 0..h {
         for x in 0..w {
@@ -67,168 +65,34 @@ pub fn agreement(scene_name: &str, w: u32, h: u32) -> Agreement {
                 .ltc
                 .lookup(sp.normal.dot(sp.view).clamp(0.0, 1.0), material.alpha);
             for l in &rec.lights {
-                let Some((_, light)) = l.polygons.iter().find(|(s, _)| *s == Stage::HorizonClipped)
-                else {
-                    continue;
-                };
-                let diffuse: Vec<f64> = l
-                    .lobes
-                    .iter()
-                    .filter(|x| x.0 == Lobe::Diffuse)
-                    .map(|x| x.3)
-                    .collect();
-                match diffuse.len() {
-                    1 => {}
-                    0 => {
-                        out.empty += 1;
-                        continue;
-                    }
-                    _ => {
-                        out.skipped += 1;
-                        continue;
-                    }
-                }
-                let occluders: Vec<&SphericalPolygon> = l
-                    .occluder_polygons
-                    .iter()
-                    .filter(|o| o.2 == Stage::HorizonClipped)
-                    .map(|o| &o.3)
-                    .collect();
-                let mut arcs: Vec<(DVec3, DVec3)> = Vec::new();
-                boundary_pieces(light, occluders.iter().copied(), &mut bscratch, |p| {
-                    arcs.push((p.start, p.end))
-                });
-                let e_diffuse = arcs.iter().map(|&(a, b)| edge_integral(a, b)).sum::<f64>() / TAU;
-                // The rounding of the two sums: near the horizon the edge terms are far
-                // larger than the integral, whose value they give by cancelling (the
-                // renderer's `HOLE_COVERS` says the same): 64 ulps of their magnitudes.
-                let magnitude = light
-                    .loops()
-                    .flat_map(|lp| (0..lp.len()).map(move |k| (lp[k], lp[(k + 1) % lp.len()])))
-                    .chain(arcs.iter().copied())
-                    .map(|(a, b)| edge_integral(a, b).abs())
-                    .sum::<f64>()
-                    / TAU;
-                let rounding = 64.0 * f64::EPSILON * magnitude;
-                let scale = form_factor(light.loops()).abs().max(1e-300);
-                out.pieces += 1;
-                out.shadowed += (!occluders.is_empty()) as usize;
-                let second = || greiner_hormann_about_the_light(light, &occluders);
-                let mut check = |what: &str, ours: f64, theirs: f64| {
-                    let off =
-                        |theirs: f64| ((ours - theirs.max(0.0)).abs() - rounding).max(0.0) / scale;
-                    let mut err = off(theirs);
-                    if err > 1e-10
-                        && what == "diffuse"
-                        && let Some(again) = second()
-                        && off(again) <= 1e-10
-                    {
-                        // Alg. 1's projection at the horizon, not the boundary: counted.
-                        out.projection += 1;
-                        err = off(again);
-                    }
-                    out.worst = out.worst.max(err);
-                    if err > 1e-10 {
-                        if let Ok(path) = std::env::var("BOUNDARY_DUMP") {
-                            let dump = (light, &occluders);
-                            std::fs::write(path, serde_json::to_string(&dump).unwrap()).unwrap();
+                let scales = light_scales(&rec.lights, l.light, &entry, &mut agreement_scratch);
+                match compare_light_piece(l, &entry, scales, &mut agreement_scratch) {
+                    PieceComparison::Empty => out.empty += 1,
+                    PieceComparison::Skipped => out.skipped += 1,
+                    PieceComparison::Compared {
+                        shadowed,
+                        second_frame,
+                        welded,
+                        worst,
+                        failure,
+                    } => {
+                        out.pieces += 1;
+                        out.shadowed += shadowed as usize;
+                        out.projection += second_frame as usize;
+                        out.welded += welded as usize;
+                        out.worst = out.worst.max(worst);
+                        if let Some(f) = failure {
+                            out.failures.push(format!(
+                                "{scene_name} pixel ({x}, {y}) light {}: {f}",
+                                l.light
+                            ));
                         }
-                        let lowest = light
-                            .vertices()
-                            .iter()
-                            .map(|v| v.z)
-                            .fold(f64::INFINITY, f64::min);
-                        out.failures.push(format!(
-                            "{scene_name} pixel ({x}, {y}) light {}: {what} boundary {ours} vs \
-                             Greiner–Hormann {theirs} ({err:.1e} of the light's, lowest vertex \
-                             z = {lowest:.1e}, {} occluders; in a frame about the light {:?})",
-                            l.light,
-                            occluders.len(),
-                            second()
-                        ));
                     }
-                };
-                check("diffuse", e_diffuse.max(0.0), diffuse[0]);
-                if let Some(spec) = l.lobes.iter().find(|x| x.0 == Lobe::Specular) {
-                    let mapped = arcs
-                        .iter()
-                        .map(|&(a, b)| (entry.transform(a), entry.transform(b)));
-                    let Some(lobe) =
-                        clamped_integral_of_boundary(mapped, &mut crossings, edge_integral)
-                    else {
-                        out.failures.push(format!(
-                            "{scene_name} pixel ({x}, {y}): the lobe's crossings do not alternate"
-                        ));
-                        continue;
-                    };
-                    let e_spec = entry.mix((lobe / TAU).max(0.0), e_diffuse.max(0.0));
-                    check("specular", e_spec, spec.3);
                 }
             }
         }
     }
     out
-}
-
-/// A second opinion where the two disagree: Greiner–Hormann again, in a frame whose z axis
-/// is the light's mean direction, so that no vertex lies on the projection's horizon (Alg. 1
-/// projects from the normal, where a light reaching the horizon has vertices at infinity).
-/// Every polygon is turned into that frame and clipped to its upper hemisphere (V lies inside
-/// the light, which lies inside it); the integral of `z` over V is that of `ω · R z`.
-fn greiner_hormann_about_the_light(
-    light: &SphericalPolygon,
-    occluders: &[&SphericalPolygon],
-) -> Option<f64> {
-    use penumbra::geometry::{
-        HorizonScratch, PlanarPolygon, ProjectionPlane, SetDifference, clip_to_horizon,
-    };
-    use penumbra::math::Frame;
-    let centre = light
-        .vertices()
-        .iter()
-        .copied()
-        .sum::<DVec3>()
-        .try_normalize()?;
-    let frame = Frame::from_z(centre);
-    let turn = |p: &SphericalPolygon| {
-        let mut t = p.clone();
-        t.map_vertices(|v| frame.to_local(v));
-        let mut c = SphericalPolygon::new();
-        clip_to_horizon(&t, &mut c, &mut HorizonScratch::default());
-        c
-    };
-    let plane = ProjectionPlane::NORMAL;
-    let mut v = PlanarPolygon::new();
-    plane.project(&turn(light), &mut v);
-    let (mut clip, mut out) = (PlanarPolygon::new(), PlanarPolygon::new());
-    let mut sd = SetDifference::new();
-    for o in occluders {
-        if v.is_empty() {
-            break;
-        }
-        plane.project(&turn(o), &mut clip);
-        sd.subtract(&v, &clip, &mut out, None);
-        if sd.last_bound_crossed() || !sd.last_traversal_consistent() {
-            return None;
-        }
-        std::mem::swap(&mut v, &mut out);
-    }
-    let mut sph = SphericalPolygon::new();
-    plane.reproject(&v, &mut sph);
-    // ∫_V z dω = (1/2π) Σ θ_ab (a × b)/|a × b| · n with n the old z axis in the new frame.
-    let n = frame.to_local(DVec3::Z);
-    let mut sum = 0.0;
-    for lp in sph.loops() {
-        for k in 0..lp.len() {
-            let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
-            let w = a.cross(b);
-            let len = w.length();
-            if len > 0.0 {
-                sum += len.atan2(a.dot(b)) * w.dot(n) / len;
-            }
-        }
-    }
-    Some(sum / TAU)
 }
 
 /// Oracle: the renderer's Greiner–Hormann set difference, at every pixel of every embedded
@@ -238,9 +102,14 @@ fn the_boundary_agrees_with_greiner_hormann_on_the_embedded_scenes() {
     let mut total = (0, 0, 0);
     let mut worst = 0.0f64;
     let mut failures = Vec::new();
-    // Blender's torus as a light is left to `the_torus_light_survey` (see there).
-    let blender = ["penumbra_text", "primitives", "suzanne", "text"]
-        .map(|n| format!("{}/tests/data/blender/{n}.toml", env!("CARGO_MANIFEST_DIR")));
+    let blender = [
+        "penumbra_text",
+        "primitives",
+        "suzanne",
+        "text",
+        "torus_light",
+    ]
+    .map(|n| format!("{}/tests/data/blender/{n}.toml", env!("CARGO_MANIFEST_DIR")));
     let names = penumbra::scene::scene_file::embedded_scene_names()
         .iter()
         .map(|n| n.to_string())
@@ -250,8 +119,8 @@ fn the_boundary_agrees_with_greiner_hormann_on_the_embedded_scenes() {
         let a = agreement(name, 40, 30);
         println!(
             "{name}: {} light pieces ({} with occluders), {} empty, {} skipped, {} settled by \
-             the second frame, worst {:.1e}",
-            a.pieces, a.shadowed, a.empty, a.skipped, a.projection, a.worst
+             the second frame, {} by welding, worst {:.1e}",
+            a.pieces, a.shadowed, a.empty, a.skipped, a.projection, a.welded, a.worst
         );
         total.0 += a.pieces;
         total.1 += a.shadowed;
@@ -267,24 +136,61 @@ fn the_boundary_agrees_with_greiner_hormann_on_the_embedded_scenes() {
     assert!(total.1 > 1000, "{total:?}");
 }
 
-/// Blender's torus as a light (1,152 triangles, shaded face by face with its own faces cut at
-/// each face's plane as occluders): 4 of 1,715 shadowed pieces at 40×30 differ from the
-/// set difference by up to 4e-17 absolute, 1.4e-7 of their light face's form factor, where
-/// the faces' values are of order 1e-15 (Greiner–Hormann in a second frame sides with
-/// Greiner–Hormann). Not yet explained: a survey, run by hand.
+/// Oracle: Greiner–Hormann (in a frame about the light) on a configuration from `penumbra
+/// stress --seed 11 --only 6938` (three faces of a Blender mesh meeting at one vertex, which
+/// lies inside the light): the edge leaving that vertex meets no other face's boundary, and
+/// its side of each face must be taken away from the shared vertex, where the winding number
+/// is rounding (it once made the whole edge covered, and V empty; Monte Carlo over the light
+/// gives 26 % of it visible).
 #[test]
-#[ignore = "a survey of a known disagreement at the rounding of tiny light faces"]
-fn the_torus_light_survey() {
-    let name = format!(
-        "{}/tests/data/blender/torus_light.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let a = agreement(&name, 40, 30);
-    println!(
-        "{} pieces, {} shadowed, {} skipped, worst {:.1e}",
-        a.pieces, a.shadowed, a.skipped, a.worst
-    );
-    for f in &a.failures {
-        println!("{f}");
+fn three_faces_at_a_vertex_inside_the_light() {
+    use penumbra::geometry::{BoundaryScratch, SphericalPolygon, visible_integral_from_boundary};
+    use penumbra::ltc::edge_integral;
+    use penumbra::stress::boundary_agreement::greiner_hormann_about_the_light;
+    let poly = |vs: &[[f64; 3]]| {
+        let mut p = SphericalPolygon::new();
+        p.push_loop(vs.iter().map(|v| glam::DVec3::from_array(*v)));
+        p
+    };
+    let light = poly(&[
+        [-0.7578988694930932, 0.6508305641402021, 0.04482053549476766],
+        [-0.7802728867046946, 0.6188492355007251, 0.09055300101979495],
+        [-0.7811458950598259, 0.6078060878776722, 0.14276851953432446],
+    ]);
+    let faces = [
+        poly(&[
+            [-0.7987049123679794, 0.5797970333745865, 0.16095298397136668],
+            [-0.7727229253642062, 0.6277773963705321, 0.09378070815908406],
+            [-0.7651717495658619, 0.6435963242510424, 0.01720363557114984],
+        ]),
+        poly(&[
+            [-0.7512897475619643, 0.6599725109489636, 0.0],
+            [-0.7727229253642062, 0.6277773963705321, 0.09378070815908406],
+            [-0.7420511400855673, 0.670258834971012, 0.010639531992132809],
+            [-0.7408972700560864, 0.6716183702248165, 0.0],
+        ]),
+        poly(&[
+            [-0.7587675343536661, 0.6513615192892948, 0.0],
+            [-0.7651717495658619, 0.6435963242510424, 0.01720363557114984],
+            [-0.7727229253642062, 0.6277773963705321, 0.09378070815908406],
+            [-0.7512897475619643, 0.6599725109489636, 0.0],
+        ]),
+    ];
+    let order = [[0, 1, 2], [2, 1, 0], [1, 0, 2]];
+    for o in order {
+        let occ: Vec<&SphericalPolygon> = o.iter().map(|&i| &faces[i]).collect();
+        let boundary = visible_integral_from_boundary(
+            &light,
+            occ.iter().copied(),
+            &mut BoundaryScratch::new(),
+            edge_integral,
+        ) / std::f64::consts::TAU;
+        let gh = greiner_hormann_about_the_light(&light, &occ).unwrap();
+        let whole = penumbra::ltc::form_factor(light.loops());
+        assert!(gh > 0.2 * whole, "{gh} of {whole}");
+        assert!(
+            (boundary - gh).abs() <= 1e-10 * whole,
+            "{o:?}: {boundary} vs {gh}"
+        );
     }
 }

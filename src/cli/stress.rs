@@ -46,6 +46,9 @@ pub(crate) fn describe_case(family: Family, seed: u64, index: u64, rays: u32) ->
         "analytic {analytic}, ray cast {estimate} ± {sigma}; {violations} invariant \
          violations"
     );
+    for f in penumbra::stress::boundary_failures(seed, index) {
+        say!("boundary formulation against Greiner–Hormann: {f}");
+    }
     Ok(())
 }
 
@@ -100,8 +103,27 @@ pub(crate) fn stress(
             rep.derivative_worst
         );
     }
+    if rep.boundary.pieces > 0 {
+        say!(
+            "boundary formulation: {} light pieces against Greiner–Hormann ({} with occluders), \
+             both lobes; {} settled by Greiner–Hormann in a frame about the light, {} by welding \
+             near-copies of a vertex ({:.0e}), {} beyond \
+             {:.0e} of the light's form factor; worst {:.1e}",
+            rep.boundary.pieces,
+            rep.boundary.shadowed,
+            rep.boundary.second_frame,
+            rep.boundary.welded,
+            penumbra::stress::boundary_agreement::WELD,
+            rep.boundary.disagreements,
+            penumbra::stress::boundary_agreement::BOUND,
+            rep.boundary.worst
+        );
+    }
     if rep.nan + rep.inf + rep.negative + rep.panics + rep.invariant_violations > 0 {
         bail!("stress found invalid results");
+    }
+    if rep.boundary.disagreements > 0 {
+        bail!("stress found boundary integrals that disagree with Greiner–Hormann");
     }
     if rep.derivative_disagreements > 0 {
         bail!("stress found derivatives that disagree with central differences");

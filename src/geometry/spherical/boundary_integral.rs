@@ -272,11 +272,14 @@ impl BoundaryScratch {
     /// inside), from the winding number in which the collinear edges count half a turn.
     fn sides(&mut self, e: &Edge, pi: usize, m: DVec3) -> (bool, bool) {
         if !self.touches[pi] {
-            // No boundary of the polygon meets the edge: one side, the same along all of it.
+            // No boundary of the polygon meets the edge: one side, the same along all of it,
+            // taken at the edge's middle, away from its ends (a vertex of the polygon may
+            // coincide with one, where the winding is rounding; the first sub-arc can be a
+            // sliver at such an end).
             if let Some(s) = self.constant[pi] {
                 return s;
             }
-            let s = self.winding_sides(e, pi, m);
+            let s = self.winding_sides(e, pi, e.point(0.5 * e.theta));
             self.constant[pi] = Some(s);
             return s;
         }
