@@ -469,7 +469,7 @@ pub fn probe_full(
                 &mut recording,
             );
             let notes = scratch.rate_notes();
-            let (mut rate, mut degenerate) = (rate, pm.degenerate);
+            let (mut rate, degenerate) = (rate, pm.degenerate);
             let mut unsupported = notes.unsupported;
             // The environment's rate, as the renderer's sample adds it (its value is in the
             // environment's term below), on buffers of its own so that the point's counters
@@ -477,7 +477,6 @@ pub fn probe_full(
             let mut env_scratch = ShadingScratch::default();
             if let Some(env) = ctx.environment_term_rate(&sp, &pm, &mut env_scratch) {
                 rate += env.rate;
-                degenerate |= env.degenerate;
                 unsupported += env.unsupported as u32;
             }
             probe.derivative = Some(DerivativeProbe {

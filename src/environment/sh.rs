@@ -166,6 +166,24 @@ impl Quadratic {
         self.c + self.b.dot(w) + w.dot(self.m * w)
     }
 
+    /// `d/dt q(R_t ω)` at t = 0, for the rotation `R_t` of angular velocity `omega`: the rate
+    /// of the radiance seen at a fixed direction of a frame that turns with `−omega` relative
+    /// to the radiance. With `K ω = omega × ω` (`Kᵀ = −K`), `∇q · Kω = (b + 2Mω) · Kω` gives
+    /// `b' = Kᵀb = b × omega` and the symmetric `M' = MK − KM`; `c' = 0`. Exact on the sphere
+    /// (`Kω` is tangent, so the extension off the sphere does not matter).
+    pub fn rotation_rate(&self, omega: DVec3) -> Quadratic {
+        let k = DMat3::from_cols(
+            omega.cross(DVec3::X),
+            omega.cross(DVec3::Y),
+            omega.cross(DVec3::Z),
+        );
+        Quadratic {
+            c: 0.0,
+            b: self.b.cross(omega),
+            m: self.m * k - k * self.m,
+        }
+    }
+
     /// The same function in a rotated frame, ω' = R ω: b' = R b, M' = R M Rᵀ.
     pub(crate) fn in_frame(&self, world_to_local: DMat3) -> Quadratic {
         let r = world_to_local;
@@ -190,10 +208,50 @@ impl ShQuadratic {
         DVec3::new(r.eval(w), g.eval(w), b.eval(w))
     }
 
+    /// All three channels' [`Quadratic::rotation_rate`].
+    pub fn rotation_rate(&self, omega: DVec3) -> ShQuadratic {
+        ShQuadratic {
+            channels: self.channels.map(|q| q.rotation_rate(omega)),
+        }
+    }
+
     /// All three channels in a rotated frame (see [`Quadratic::in_frame`]).
     pub fn in_frame(&self, world_to_local: DMat3) -> ShQuadratic {
         ShQuadratic {
             channels: self.channels.map(|q| q.in_frame(world_to_local)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Pcg32;
+
+    /// Oracle: central differences of `q(R_t ω)` (Rodrigues' rotation), whose error is
+    /// O(h²) of a smooth function.
+    #[test]
+    fn rotation_rate_is_the_derivative_of_the_rotated_radiance() {
+        let mut rng = Pcg32::new(7, 1);
+        let mut u = || 2.0 * rng.next_f64() - 1.0;
+        for _ in 0..50 {
+            let sh = Sh9 {
+                coeffs: std::array::from_fn(|_| DVec3::new(u(), u(), u())),
+            };
+            let q = sh.quadratic().channels[1];
+            let omega = DVec3::new(u(), u(), u());
+            let w = DVec3::new(u(), u(), u()).normalize();
+            let turned = |t: f64| {
+                let r = glam::DQuat::from_scaled_axis(omega * t);
+                q.eval(r * w)
+            };
+            let h = 1e-5;
+            let fd = (turned(h) - turned(-h)) / (2.0 * h);
+            let exact = q.rotation_rate(omega).eval(w);
+            assert!(
+                (exact - fd).abs() <= 1e-8 * (1.0 + fd.abs()),
+                "{exact} vs {fd}"
+            );
         }
     }
 }

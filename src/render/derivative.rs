@@ -305,9 +305,6 @@ impl RenderContext {
             shaded = l;
             rate = r;
             if let Some(env) = self.environment_term_rate(p, &pm, scratch) {
-                if env.degenerate {
-                    flag(3);
-                }
                 if env.unsupported {
                     flag(4);
                 }
@@ -324,9 +321,6 @@ impl RenderContext {
 pub(crate) struct EnvironmentTermRate {
     pub radiance: DVec3,
     pub rate: DVec3,
-    /// `ry` of the object the point lies on: the frame turns, and the environment's area term
-    /// is not computed.
-    pub degenerate: bool,
     pub unsupported: bool,
 }
 
@@ -346,7 +340,6 @@ impl RenderContext {
         Some(EnvironmentTermRate {
             radiance: rho_pi * e,
             rate: rho_pi * de,
-            degenerate: pm.on_moving && pm.motion.axis == Axis::Ry,
             unsupported: scratch.rate_notes().unsupported > 0,
         })
     }
@@ -363,9 +356,23 @@ impl RenderContext {
         use crate::shading::{EnvironmentRates, shadowed_irradiance};
         let frame = crate::math::Frame::from_normal_and_view(p.normal, p.view);
         let radiance = |local: DVec3| env.light.sh.eval(frame.to_world(local));
+        // The frame's angular velocity, ½ Σ eᵢ × ėᵢ (ėᵢ = Ω × eᵢ), in its own coordinates:
+        // the radiance at a fixed local direction turns with it (`Quadratic::rotation_rate`).
+        let f = &pm.frame_rate;
+        let omega = 0.5 * (frame.x.cross(f.x) + frame.y.cross(f.y) + frame.z.cross(f.z));
+        let rate_of_radiance = env
+            .light
+            .sh
+            .local_quadratic(frame.world_to_local())
+            .rotation_rate(frame.to_local(omega));
+        let turning = |poly: &crate::geometry::SphericalPolygon| {
+            let m = crate::environment::PolygonMoments::of_loops(poly.loops(), DVec3::Z);
+            crate::environment::cosine_weighted_integral_local(&rate_of_radiance, &m)
+        };
         let rates = EnvironmentRates {
             point: pm,
             radiance: &radiance,
+            turning: (omega != DVec3::ZERO).then_some(&turning as _),
         };
         let t = super::environment_passes::analytic_terms(
             self,

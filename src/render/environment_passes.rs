@@ -518,7 +518,7 @@ pub(crate) fn analytic_terms<R: Recorder>(
     // which moves only with the normal.
     let (e_static, static_rate) = match r.static_visible {
         Some(v) => (v, r.static_rate),
-        None => (env.light.irradiance(sp.normal), DVec3::ZERO),
+        None => (env.light.irradiance(sp.normal), r.unshadowed_rate),
     };
     AnalyticTerms {
         e_static,

@@ -72,6 +72,9 @@ pub struct EnvironmentIntegrals {
     /// object reaches the hemisphere) and `d(I_s − I_a)/dθ`.
     pub static_rate: DVec3,
     pub occluded_rate: DVec3,
+    /// With rates, the rate of the unshadowed irradiance (002 Eq. 7): not zero only where the
+    /// frame turns.
+    pub unshadowed_rate: DVec3,
 }
 
 /// What the environment's derivative needs at a point: the motion there, and the radiance
@@ -80,6 +83,10 @@ pub struct EnvironmentIntegrals {
 pub struct EnvironmentRates<'a> {
     pub point: &'a super::derivative::PointMotion,
     pub radiance: &'a dyn Fn(DVec3) -> DVec3,
+    /// `∫_P (d/dθ L(F ω)) cos θ dω` over a region `P` of the shading frame F: the area term
+    /// where the frame turns (`ry` of the object the point lies on), since the radiance seen at
+    /// a fixed direction of a turning frame changes; `None` where the frame does not turn.
+    pub turning: Option<&'a dyn Fn(&SphericalPolygon) -> DVec3>,
 }
 
 /// The shadowed irradiance `E = E_static − E_occluded` (002 Eq. 6), the value every caller
@@ -199,7 +206,7 @@ fn union_integrals<R: Recorder>(
             return DVec3::ZERO;
         };
         let region = std::mem::take(&mut scratch.visible_sph);
-        let rate = super::derivative::region_rate_with(
+        let mut rate = super::derivative::region_rate_with(
             &mut scratch.derivative,
             r.point,
             ctx.sp.position,
@@ -207,6 +214,9 @@ fn union_integrals<R: Recorder>(
             &region,
             r.radiance,
         );
+        if let Some(turning) = r.turning {
+            rate += turning(&region);
+        }
         scratch.visible_sph = region;
         rate
     };
@@ -292,10 +302,15 @@ fn union_integrals<R: Recorder>(
         hemisphere_polygon(&mut scratch.visible_sph);
         integrate(&ctx.frame, &scratch.visible_sph)
     };
+    // The hemisphere does not move in the shading frame; where the frame turns, the radiance
+    // over it changes.
+    if let Some(turning) = rates.and_then(|r| r.turning) {
+        hemisphere_polygon(&mut scratch.visible_sph);
+        out.unshadowed_rate = turning(&scratch.visible_sph);
+    }
     if let Some(u) = static_union {
         out.static_visible = Some(hemisphere(scratch) - u);
-        // The hemisphere does not move in the shading frame (its frame does not turn).
-        out.static_rate = -static_rate;
+        out.static_rate = out.unshadowed_rate - static_rate;
     }
     if pass == EnvironmentPass::Occluded {
         let dynamics = &occluders.dynamics;
