@@ -58,6 +58,8 @@ mod error;
 pub mod figure;
 #[doc(hidden)]
 pub mod geometry;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod inspect;
 #[doc(hidden)]
 pub mod ltc;
