@@ -181,6 +181,11 @@ pub struct StressReport {
     /// Of those, with an edge on no support found that may move (masked by the renderer, not
     /// checked).
     pub derivative_unsupported: u64,
+    /// Of those, disagreeing at the step and a tenth of it where the value jumps by a tiny
+    /// amount within the step (`DerivativeCheck::jumps`).
+    pub derivative_jumps: u64,
+    /// The largest of those jumps.
+    pub derivative_largest_jump: f64,
     /// Of those, none of these: a failure.
     pub derivative_disagreements: u64,
     /// The largest relative disagreement at the step among cases that agree at one of them.
@@ -1050,11 +1055,21 @@ pub(crate) struct DerivativeCheck {
     topology: bool,
     /// The one-sided differences part: the value has a kink at θ = 0, no derivative.
     kink: bool,
+    /// They disagree at the step and at a tenth of it, and agree at ten times it or differ by
+    /// one jump of the value seen over both steps: the value jumps by tiny amounts within the
+    /// step.
+    jumps: bool,
+    /// The jump, `(d_FD − d) · 2h`, where `jumps`.
+    jump: f64,
     /// An edge had no support though it may move: the renderer masks it; not checked.
     unsupported: bool,
     /// None of the above.
     disagrees: bool,
 }
+
+/// The largest jump of a form factor within the step that [`derivative_check`] tells from a
+/// wrong derivative (`DerivativeCheck::jumps`): far below what a pixel can show.
+const MAX_JUMP: f64 = 1e-9;
 
 /// The derivative of the diffuse value at the case's point along a rigid motion of one object
 /// the point does not lie on (which, and the axis, drawn from the point's coordinates),
@@ -1156,7 +1171,24 @@ fn derivative_check(
         // (first order: a kink next to θ = 0), the derivative is there and the difference
         // straddles a change of the region's topology.
         check.topology = again <= 1e-6 || again <= 0.2 * check.relative;
-        check.disagrees = !check.topology;
+        if !check.topology {
+            // The value jumps by a tiny amount within the step (the face-by-face path's
+            // slivers at its coplanarity offset, 1e-8 to 1e-7 wide, appear and vanish): either
+            // the differences agree at ten times the step (truncation O(h²), a few 1e-9
+            // relative), or their errors are changes of the value within the step: the change
+            // `(d_FD − d) · 2h` is at most `MAX_JUMP` at h and at h/10 and does not shrink with
+            // the step (a wrong slope's would shrink tenfold).
+            let large = (value_at(10.0 * h)? - value_at(-10.0 * h)?) / (20.0 * h);
+            let (at_h, at_tenth) = ((difference - rate) * 2.0 * h, (small - rate) * 0.2 * h);
+            let jumps_within = at_h.abs() <= MAX_JUMP
+                && at_tenth.abs() <= MAX_JUMP
+                && at_tenth.abs() >= 0.5 * at_h.abs();
+            check.jumps = relative(large, 10.0 * h) <= 1e-6 || jumps_within;
+            if check.jumps {
+                check.jump = at_h.abs().max(at_tenth.abs());
+            }
+        }
+        check.disagrees = !check.topology && !check.jumps;
     }
     Some(check)
 }
@@ -1286,6 +1318,18 @@ fn boundary_counts(
     scratch: &mut ShadingScratch,
 ) -> BoundaryCounts {
     boundary_comparison(prepared, point, alpha, scratch, |_| {})
+}
+
+/// The derivative check at case `index` of the mixed family, described (for `--only`).
+pub fn derivative_description(seed: u64, index: u64) -> Option<String> {
+    let case = generate(seed, index);
+    if matches!(case.kind, CaseKind::Environment | CaseKind::ExporterMeshes) {
+        return None;
+    }
+    let options = case_options(256);
+    let prepared = PreparedScene::prepare(&case.scene, options);
+    let check = derivative_check(&case, &prepared, options, &mut ShadingScratch::default())?;
+    Some(format!("{check:?}"))
 }
 
 /// The boundary formulation's disagreements at case `index` of the mixed family, described
@@ -1615,7 +1659,9 @@ impl StressReport {
             self.derivative_disagreements += d.disagrees as u64;
             self.derivative_kinks += d.kink as u64;
             self.derivative_unsupported += d.unsupported as u64;
-            if !d.topology && !d.disagrees && !d.kink && !d.unsupported {
+            self.derivative_jumps += d.jumps as u64;
+            self.derivative_largest_jump = self.derivative_largest_jump.max(d.jump);
+            if !d.topology && !d.disagrees && !d.kink && !d.unsupported && !d.jumps {
                 self.derivative_worst = self.derivative_worst.max(d.relative);
             }
         }
@@ -1677,6 +1723,8 @@ impl StressReport {
         self.derivative_disagreements += r.derivative_disagreements;
         self.derivative_kinks += r.derivative_kinks;
         self.derivative_unsupported += r.derivative_unsupported;
+        self.derivative_jumps += r.derivative_jumps;
+        self.derivative_largest_jump = self.derivative_largest_jump.max(r.derivative_largest_jump);
         self.derivative_worst = self.derivative_worst.max(r.derivative_worst);
         self.fallbacks.degenerate += r.fallbacks.degenerate;
         self.fallbacks.bounds_crossed += r.fallbacks.bounds_crossed;

@@ -46,6 +46,9 @@ pub(crate) fn describe_case(family: Family, seed: u64, index: u64, rays: u32) ->
         "analytic {analytic}, ray cast {estimate} ± {sigma}; {violations} invariant \
          violations"
     );
+    if let Some(d) = penumbra::stress::derivative_description(seed, index) {
+        say!("derivative against central differences: {d}");
+    }
     for f in penumbra::stress::boundary_failures(seed, index) {
         say!("boundary formulation against Greiner–Hormann: {f}");
     }
@@ -94,11 +97,14 @@ pub(crate) fn stress(
         say!(
             "derivatives: {} cases against central differences, {} at a topology change within \
              the step, {} with a kink at θ = 0 (no derivative), {} with an unsupported edge (masked), \
-             {} disagreeing; worst agreeing {:.1e}",
+             {} where the value jumps within the step (largest jump {:.1e}), {} disagreeing; worst \
+             agreeing {:.1e}",
             rep.derivative_cases,
             rep.derivative_topology,
             rep.derivative_kinks,
             rep.derivative_unsupported,
+            rep.derivative_jumps,
+            rep.derivative_largest_jump,
             rep.derivative_disagreements,
             rep.derivative_worst
         );

@@ -179,12 +179,29 @@ pub fn compare_light_piece(
         |p| arcs.push((p.start, p.end)),
     );
     let welded = recorded.errors(arcs, &mut scratch.crossings);
-    if welded.worst() <= BOUND {
+    // Or both algorithms on the same welded input, where the renderer's slivers are closed
+    // for both: Greiner–Hormann in a frame about the light, for each lobe.
+    let welded_refs: Vec<&SphericalPolygon> = welded_occluders.iter().collect();
+    let agree_on_welded = || {
+        let gh = greiner_hormann_about_the_light(&welded_light, &welded_refs)?;
+        let mut worst = welded.off(welded.boundary_diffuse, gh, scales.diffuse);
+        if let Some(b) = welded.boundary_specular {
+            let lobe = lobe_by_greiner_hormann(&welded_light, &welded_refs, entry)?;
+            let g = entry.mix(lobe, gh.max(0.0));
+            worst = worst.max(((b - g).abs() - welded.rounding).max(0.0) / scales.specular);
+        }
+        Some(worst)
+    };
+    let welded_worst = match agree_on_welded() {
+        Some(w) if welded.worst() > BOUND => w,
+        _ => welded.worst(),
+    };
+    if welded_worst <= BOUND {
         return PieceComparison::Compared {
             shadowed,
             second_frame: false,
             welded: true,
-            worst: welded.worst(),
+            worst: welded_worst,
             failure: None,
         };
     }
@@ -308,6 +325,30 @@ impl Recorded<'_> {
         };
         errors
     }
+}
+
+/// The LTC lobe's integral `E(clip(M⁻¹V))` by Greiner–Hormann: every polygon mapped by M⁻¹
+/// and clipped to the lobe's horizon, then [`greiner_hormann_about_the_light`] (V ∩ H is the
+/// light's part above it less the occluders' parts above it).
+fn lobe_by_greiner_hormann(
+    light: &SphericalPolygon,
+    occluders: &[&SphericalPolygon],
+    entry: &LtcEntry,
+) -> Option<f64> {
+    let mapped = |p: &SphericalPolygon| {
+        let mut m = p.clone();
+        m.map_vertices(|v| entry.transform(v).normalize());
+        let mut c = SphericalPolygon::new();
+        clip_to_horizon(&m, &mut c, &mut HorizonScratch::default());
+        c
+    };
+    let light = mapped(light);
+    if light.is_empty() {
+        return Some(0.0);
+    }
+    let occluders: Vec<SphericalPolygon> = occluders.iter().map(|p| mapped(p)).collect();
+    let refs: Vec<&SphericalPolygon> = occluders.iter().filter(|p| !p.is_empty()).collect();
+    greiner_hormann_about_the_light(&light, &refs).map(|e| e.max(0.0))
 }
 
 /// The distance (chord) within which [`welded_copies`] makes vertices one.
