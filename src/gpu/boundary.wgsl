@@ -19,6 +19,7 @@ alias vec3r = vec3<REAL>;
 
 const MAX_EDGES: u32 = 64u;
 const MAX_CUTS: u32 = 64u;
+const MAX_CROSSINGS: u32 = 64u;
 const PI: real = 3.14159265358979323846;
 const TAU: real = 6.28318530717958647692;
 // Collinearity and "on the circle" (EPS_LINE of the CPU, scaled to the precision).
@@ -27,6 +28,8 @@ const EPS_LINE: real = EPS_LINE_VALUE;
 struct Config {
     first_poly: u32,
     poly_count: u32,
+    // 1 when the configuration has an LTC lobe (its M⁻¹ in `lobes`), 0 otherwise.
+    has_lobe: u32,
 }
 
 struct Poly {
@@ -37,8 +40,11 @@ struct Poly {
 @group(0) @binding(0) var<storage, read> vertices: array<vec4<real>>;
 @group(0) @binding(1) var<storage, read> polys: array<Poly>;
 @group(0) @binding(2) var<storage, read> configs: array<Config>;
-// Per configuration: the visible form factor, and a status (0 done, 1 overflow).
-@group(0) @binding(3) var<storage, read_write> results: array<vec2<real>>;
+// Per configuration: the visible form factor, the lobe's clamped integral E(clip(M⁻¹V)), and
+// a status (0 done, 1 an array overflowed, 2 the lobe's horizon crossings do not alternate).
+@group(0) @binding(3) var<storage, read_write> results: array<vec4<real>>;
+// Per configuration, M⁻¹ of its lobe as three columns (w unused).
+@group(0) @binding(4) var<storage, read> lobes: array<vec4<real>>;
 
 struct Edge {
     a: vec3r,
@@ -56,6 +62,14 @@ var<private> poly_end: array<u32, MAX_EDGES>;
 var<private> cuts: array<real, MAX_CUTS>;
 var<private> collinear_edges: array<u32, MAX_EDGES>;
 var<private> collinear_count: u32;
+// The lobe's horizon crossings: azimuth, and 1 for an entry (the boundary comes up), 0 for an
+// exit.
+var<private> crossing_azimuth: array<real, MAX_CROSSINGS>;
+var<private> crossing_entry: array<u32, MAX_CROSSINGS>;
+var<private> crossing_count: u32;
+var<private> lobe_matrix: mat3x3<real>;
+var<private> lobe_sum: real;
+var<private> lobe_overflow: bool;
 
 ATAN2_DEFINITION
 
@@ -199,6 +213,86 @@ fn edge_integral(a: vec3r, b: vec3r) -> real {
     return atan2r(s, dot(a, b)) * w.z / s;
 }
 
+// Where the arc a → b (one end above, one below) meets the horizon.
+fn on_horizon(a: vec3r, b: vec3r) -> vec3r {
+    let c = a * abs(b.z) + b * abs(a.z);
+    return normalize(vec3r(c.x, c.y, 0.0));
+}
+
+fn push_crossing(c: vec3r, entry: u32) {
+    if crossing_count >= MAX_CROSSINGS {
+        lobe_overflow = true;
+        return;
+    }
+    crossing_azimuth[crossing_count] = atan2r(c.y, c.x);
+    crossing_entry[crossing_count] = entry;
+    crossing_count += 1u;
+}
+
+// A piece of V's boundary, start → end, mapped by M⁻¹ and kept where z ≥ 0 in the lobe's space
+// (`geometry::clamped_integral_of_boundary`); its horizon crossings are kept for the closure.
+fn lobe_piece(start: vec3r, end: vec3r) {
+    let a = normalize(lobe_matrix * start);
+    let b = normalize(lobe_matrix * end);
+    let up_a = a.z >= 0.0;
+    let up_b = b.z >= 0.0;
+    if up_a && up_b {
+        lobe_sum += edge_integral(a, b);
+    } else if up_a {
+        let c = on_horizon(a, b);
+        lobe_sum += edge_integral(a, c);
+        push_crossing(c, 0u);
+    } else if up_b {
+        let c = on_horizon(a, b);
+        lobe_sum += edge_integral(c, b);
+        push_crossing(c, 1u);
+    }
+}
+
+// The horizon closes the clipped boundary: crossings by azimuth, each exit joined to the next
+// entry counter-clockwise, whose edge integral is the azimuthal angle between them. False when
+// the crossings do not alternate.
+fn close_lobe() -> bool {
+    let n = crossing_count;
+    if n == 0u {
+        return true;
+    }
+    for (var i = 1u; i < n; i++) {
+        let phi = crossing_azimuth[i];
+        let entry = crossing_entry[i];
+        var j = i;
+        while j > 0u && crossing_azimuth[j - 1u] > phi {
+            crossing_azimuth[j] = crossing_azimuth[j - 1u];
+            crossing_entry[j] = crossing_entry[j - 1u];
+            j -= 1u;
+        }
+        crossing_azimuth[j] = phi;
+        crossing_entry[j] = entry;
+    }
+    var entries = 0u;
+    for (var i = 0u; i < n; i++) {
+        entries += crossing_entry[i];
+    }
+    if 2u * entries != n {
+        return false;
+    }
+    for (var i = 0u; i < n; i++) {
+        if crossing_entry[i] == 1u {
+            continue;
+        }
+        let next = (i + 1u) % n;
+        if crossing_entry[next] != 1u {
+            return false;
+        }
+        var span = crossing_azimuth[next] - crossing_azimuth[i];
+        if span < 0.0 || (span == 0.0 && n == 2u && i + 1u == n) {
+            span += TAU;
+        }
+        lobe_sum += span;
+    }
+    return true;
+}
+
 fn add_cut(count: ptr<function, u32>, t: real, theta: real) -> bool {
     if t > 0.0 && t < theta {
         if *count >= MAX_CUTS {
@@ -217,6 +311,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let config = configs[ci];
+    crossing_count = 0u;
+    lobe_sum = 0.0;
+    lobe_overflow = false;
+    if config.has_lobe != 0u {
+        lobe_matrix = mat3x3<real>(
+            lobes[3u * ci].xyz,
+            lobes[3u * ci + 1u].xyz,
+            lobes[3u * ci + 2u].xyz,
+        );
+    }
     // The edges, polygon by polygon.
     var edge_count = 0u;
     for (var p = 0u; p < config.poly_count; p++) {
@@ -272,7 +376,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
         if !ok {
-            results[ci] = vec2<real>(0.0, 1.0);
+            results[ci] = vec4<real>(0.0, 0.0, 1.0, 0.0);
             return;
         }
         for (var i = 1u; i < count; i++) {
@@ -293,15 +397,27 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
             let dir = decide(e, point_at(e, 0.5 * (t0 + t1)), config.poly_count);
             if dir != 0 {
-                let p0 = point_at(e, t0);
-                let p1 = point_at(e, t1);
-                if dir > 0 {
-                    sum += edge_integral(p0, p1);
-                } else {
-                    sum += edge_integral(p1, p0);
+                var start = point_at(e, t0);
+                var end = point_at(e, t1);
+                if dir < 0 {
+                    let s = start;
+                    start = end;
+                    end = s;
+                }
+                sum += edge_integral(start, end);
+                if config.has_lobe != 0u {
+                    lobe_piece(start, end);
                 }
             }
         }
     }
-    results[ci] = vec2<real>(sum / TAU, 0.0);
+    var status: real = 0.0;
+    if config.has_lobe != 0u {
+        if lobe_overflow {
+            status = 1.0;
+        } else if !close_lobe() {
+            status = 2.0;
+        }
+    }
+    results[ci] = vec4<real>(sum / TAU, lobe_sum / TAU, status, 0.0);
 }

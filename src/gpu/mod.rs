@@ -4,17 +4,24 @@
 //! the same rule as [`geometry::boundary_pieces`](crate::geometry::boundary_pieces) in bounded
 //! loops.
 //!
+//! Besides the form factor, a configuration may carry an LTC lobe's `M⁻¹`: its pieces are mapped
+//! and clipped to the lobe's horizon, the crossings closed by horizon arcs in azimuth order
+//! ([`geometry::clamped_integral_of_boundary`](crate::geometry::clamped_integral_of_boundary)).
+//!
 //! Work per configuration is bounded by fixed-size arrays in the shader
-//! ([`MAX_EDGES`] edges, [`MAX_CUTS`] cuts per edge). A configuration beyond them, or with a
+//! ([`MAX_EDGES`] edges, [`MAX_CUTS`] cuts per edge, 64 horizon crossings). A configuration beyond them, or with a
 //! polygon of several loops, is finished on the CPU by the same formulation and counted in
 //! [`GpuFormFactors::fallbacks`]; none is dropped.
 //!
 //! Precision: f64 where the adapter has `SHADER_F64` and it is asked for, with the
 //! trigonometric functions written in the shader (WGSL's built-ins are 32-bit); f32 otherwise.
 
-use crate::geometry::{BoundaryScratch, SphericalPolygon, visible_integral_from_boundary};
+use crate::geometry::{
+    BoundaryScratch, SphericalPolygon, boundary_pieces, clamped_integral_of_boundary,
+};
 use crate::ltc::edge_integral;
 use crate::{Error, Result};
+use glam::{DMat3, DVec3};
 use std::f64::consts::TAU;
 
 /// Edges per configuration the shader holds (all polygons together).
@@ -38,19 +45,25 @@ pub struct BoundaryKernel {
     adapter: String,
 }
 
-/// What [`BoundaryKernel::form_factors`] gives: the visible form factor of every
-/// configuration, in order.
+/// What [`BoundaryKernel::integrals`] gives for every configuration, in order.
 #[derive(Clone, Debug, Default)]
-pub struct GpuFormFactors {
-    pub values: Vec<f64>,
-    /// Configurations finished on the CPU: beyond the shader's arrays, or of several loops.
+pub struct GpuIntegrals {
+    /// The visible form factor `E(V)` (000 Eq. 9 over V's boundary, over 2π).
+    pub diffuse: Vec<f64>,
+    /// The lobe's clamped integral `E(clip(M⁻¹V))` where the configuration has a lobe: the
+    /// LTC part before `LtcEntry::mix`.
+    pub lobe: Vec<Option<f64>>,
+    /// Configurations finished on the CPU: beyond the shader's arrays, of several loops, or
+    /// whose lobe's horizon crossings did not alternate in the shader's precision.
     pub fallbacks: usize,
 }
 
-/// A light and its occluders, as the boundary formulation takes them.
+/// A light and its occluders, as the boundary formulation takes them, and the inverse LTC
+/// matrix `M⁻¹` of the lobe to integrate besides the form factor.
 pub struct Configuration<'a> {
     pub light: &'a SphericalPolygon,
     pub occluders: &'a [SphericalPolygon],
+    pub lobe: Option<DMat3>,
 }
 
 const WORKGROUP: u32 = 64;
@@ -124,60 +137,81 @@ impl BoundaryKernel {
         &self.adapter
     }
 
-    /// The visible form factor `(1/2π) Σ` of the boundary pieces' edge integrals of every
-    /// configuration.
-    pub fn form_factors(&self, configs: &[Configuration]) -> Result<GpuFormFactors> {
+    /// The visible form factor of every configuration, and its lobe's clamped integral where
+    /// it has one.
+    pub fn integrals(&self, configs: &[Configuration]) -> Result<GpuIntegrals> {
         // Which configurations the shader takes, and their buffers.
         let mut on_gpu = Vec::new();
-        let (mut vertices, mut polys, mut descs) = (Vec::<[f64; 4]>::new(), Vec::new(), Vec::new());
+        let mut buffers = Buffers::default();
         for (i, c) in configs.iter().enumerate() {
             let all = std::iter::once(c.light).chain(c.occluders.iter());
             let edges: usize = all.clone().map(|p| p.vertex_count()).sum();
             if edges > MAX_EDGES || all.clone().any(|p| p.loop_count() > 1) {
                 continue;
             }
-            descs.push([polys.len() as u32, 1 + c.occluders.len() as u32]);
+            buffers.configs.push([
+                buffers.polys.len() as u32,
+                1 + c.occluders.len() as u32,
+                c.lobe.is_some() as u32,
+            ]);
+            let m = c.lobe.unwrap_or(DMat3::IDENTITY);
+            for col in [m.x_axis, m.y_axis, m.z_axis] {
+                buffers.lobes.push([col.x, col.y, col.z, 0.0]);
+            }
             for p in all {
-                polys.push([vertices.len() as u32, p.vertex_count() as u32]);
-                vertices.extend(p.vertices().iter().map(|v| [v.x, v.y, v.z, 0.0]));
+                buffers
+                    .polys
+                    .push([buffers.vertices.len() as u32, p.vertex_count() as u32]);
+                buffers
+                    .vertices
+                    .extend(p.vertices().iter().map(|v| [v.x, v.y, v.z, 0.0]));
             }
             on_gpu.push(i);
         }
-        let mut out = GpuFormFactors {
-            values: vec![f64::NAN; configs.len()],
+        let mut out = GpuIntegrals {
+            diffuse: vec![f64::NAN; configs.len()],
+            lobe: vec![None; configs.len()],
             fallbacks: 0,
         };
         if !on_gpu.is_empty() {
-            let results = self.run(&vertices, &polys, &descs)?;
+            let results = self.run(&buffers)?;
             for (k, &i) in on_gpu.iter().enumerate() {
-                let (value, status) = results[k];
+                let [diffuse, lobe, status, _] = results[k];
                 if status == 0.0 {
-                    out.values[i] = value;
+                    out.diffuse[i] = diffuse;
+                    out.lobe[i] = configs[i].lobe.map(|_| lobe);
                 }
             }
         }
         let mut scratch = BoundaryScratch::new();
+        let (mut arcs, mut crossings) = (Vec::new(), Vec::new());
         for (i, c) in configs.iter().enumerate() {
-            if out.values[i].is_nan() {
-                out.fallbacks += 1;
-                out.values[i] = visible_integral_from_boundary(
-                    c.light,
-                    c.occluders,
-                    &mut scratch,
-                    edge_integral,
-                ) / TAU;
+            if !out.diffuse[i].is_nan() {
+                continue;
             }
+            out.fallbacks += 1;
+            arcs.clear();
+            boundary_pieces(c.light, c.occluders, &mut scratch, |p| {
+                arcs.push((p.start, p.end))
+            });
+            out.diffuse[i] = arcs.iter().map(|&(a, b)| edge_integral(a, b)).sum::<f64>() / TAU;
+            out.lobe[i] = c.lobe.and_then(|m| {
+                let map = |v: DVec3| (m * v).normalize();
+                let mapped = arcs.iter().map(|&(a, b)| (map(a), map(b)));
+                clamped_integral_of_boundary(mapped, &mut crossings, edge_integral).map(|e| e / TAU)
+            });
         }
         Ok(out)
     }
 
-    /// One dispatch: (value, status) per configuration.
-    fn run(
-        &self,
-        vertices: &[[f64; 4]],
-        polys: &[[u32; 2]],
-        configs: &[[u32; 2]],
-    ) -> Result<Vec<(f64, f64)>> {
+    /// One dispatch: (form factor, lobe, status, 0) per configuration.
+    fn run(&self, buffers: &Buffers) -> Result<Vec<[f64; 4]>> {
+        let Buffers {
+            vertices,
+            polys,
+            configs,
+            lobes,
+        } = buffers;
         use wgpu::util::DeviceExt;
         let bytes_of_reals = |values: &mut dyn Iterator<Item = f64>| -> Vec<u8> {
             match self.precision {
@@ -185,11 +219,8 @@ impl BoundaryKernel {
                 Precision::F64 => values.flat_map(|v| v.to_le_bytes()).collect(),
             }
         };
-        let u32_bytes = |pairs: &[[u32; 2]]| -> Vec<u8> {
-            pairs
-                .iter()
-                .flat_map(|p| p.iter().flat_map(|x| x.to_le_bytes()))
-                .collect()
+        let u32_bytes = |words: &mut dyn Iterator<Item = u32>| -> Vec<u8> {
+            words.flat_map(|x| x.to_le_bytes()).collect()
         };
         let real_size = match self.precision {
             Precision::F32 => 4,
@@ -207,9 +238,16 @@ impl BoundaryKernel {
             "vertices",
             &bytes_of_reals(&mut vertices.iter().flat_map(|v| v.iter().copied())),
         );
-        let poly_buffer = storage("polys", &u32_bytes(polys));
-        let config_buffer = storage("configs", &u32_bytes(configs));
-        let result_size = (configs.len() * 2 * real_size) as u64;
+        let poly_buffer = storage("polys", &u32_bytes(&mut polys.iter().flatten().copied()));
+        let config_buffer = storage(
+            "configs",
+            &u32_bytes(&mut configs.iter().flatten().copied()),
+        );
+        let lobe_buffer = storage(
+            "lobes",
+            &bytes_of_reals(&mut lobes.iter().flat_map(|v| v.iter().copied())),
+        );
+        let result_size = (configs.len() * 4 * real_size) as u64;
         let results = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("results"),
             size: result_size,
@@ -242,6 +280,10 @@ impl BoundaryKernel {
                 wgpu::BindGroupEntry {
                     binding: 3,
                     resource: results.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: lobe_buffer.as_entire_binding(),
                 },
             ],
         });
@@ -282,8 +324,22 @@ impl BoundaryKernel {
         };
         drop(data);
         readback.unmap();
-        Ok(reals.chunks_exact(2).map(|r| (r[0], r[1])).collect())
+        Ok(reals
+            .chunks_exact(4)
+            .map(|r| [r[0], r[1], r[2], r[3]])
+            .collect())
     }
+}
+
+/// What one dispatch uploads: vertices (xyz, 0), polygons (first vertex, count),
+/// configurations (first polygon, count, has a lobe), and three columns of M⁻¹ per
+/// configuration.
+#[derive(Default)]
+struct Buffers {
+    vertices: Vec<[f64; 4]>,
+    polys: Vec<[u32; 2]>,
+    configs: Vec<[u32; 3]>,
+    lobes: Vec<[f64; 4]>,
 }
 
 /// The shader for `precision`: `real` and its trigonometric functions.
