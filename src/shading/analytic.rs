@@ -243,9 +243,14 @@ impl ShadingScratch {
 /// before the set difference (`clip_to_window`).
 const WINDOW_CLIP_MIN_VERTICES: usize = 12;
 
-/// Relative distance below which a face is taken to contain the shading point (its spherical
-/// polygon is a sliver of zero area on the horizon).
-pub(super) const COPLANAR: f64 = 1e-9;
+/// Relative distance (of the mesh's radius) below which a face is taken to contain the shading
+/// point (its spherical polygon is a sliver of zero area on the horizon), and by which a light
+/// face's cut plane is moved toward its front (`face_sides::light_face_cut`). Four orders above
+/// the rounding of a plane's evaluation at a vertex on it, and no more: the moved plane trims a
+/// neighbouring face's shared edge by the offset over the sine of their dihedral angle (up to
+/// 1e-7 on Blender's nearly flat neighbours at 1e-9), slivers that the boundary formulation
+/// keeps and the derivative's supports miss (docs/boundary-integral.md, "Under stress").
+pub(super) const COPLANAR: f64 = 1e-12;
 
 /// The BRDF lobes of a material at one shading point.
 pub(super) struct Lobes {
