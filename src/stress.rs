@@ -977,6 +977,13 @@ pub fn run_one_real(
     Ok((name, group.perturbation, group.mesh_is_light, shaded))
 }
 
+/// The boundary formulation's disagreements at case `index` of the real-mesh family,
+/// described (for `--only`).
+pub fn real_boundary_failures(seed: u64, index: u64) -> crate::Result<Vec<String>> {
+    let group = real_meshes::group(seed, index / real_meshes::GROUP)?;
+    Ok(group.boundary_failures(seed, index))
+}
+
 /// Runs one case alone: (analytic, estimate, sigma, invariant violations), for debugging a
 /// reported index and for tests.
 pub fn run_one(seed: u64, index: u64, rays: u32) -> (Case, f64, f64, f64, u32) {

@@ -24,6 +24,11 @@ pub(crate) fn describe_case(family: Family, seed: u64, index: u64, rays: u32) ->
                 );
             }
         }
+        for f in
+            penumbra::stress::real_boundary_failures(seed, index).map_err(anyhow::Error::msg)?
+        {
+            say!("boundary formulation against Greiner–Hormann: {f}");
+        }
         say!(
             "{:.3} s (the group's preparation included)",
             t.elapsed().as_secs_f64()

@@ -284,6 +284,24 @@ impl Group {
         None
     }
 
+    /// The boundary formulation's disagreements at case `index` of this group, described.
+    pub(crate) fn boundary_failures(&self, seed: u64, index: u64) -> Vec<String> {
+        let Some(point) = self.point(seed, index) else {
+            return Vec::new();
+        };
+        let mut rng = Pcg32::new(seed ^ 0x5eed, index);
+        let alpha = rng.range(0.01, 1.0);
+        let mut failures = Vec::new();
+        super::boundary_comparison(
+            &self.ctx.prepared,
+            &point,
+            alpha,
+            &mut ShadingScratch::default(),
+            |f| failures.push(f),
+        );
+        failures
+    }
+
     /// Runs case `index` of this group; `None` when its camera found no surface.
     pub fn run(
         &self,
