@@ -122,6 +122,7 @@ fn compare(kernel: &BoundaryKernel, cases: &[Case]) -> Comparison {
             light: &c.light,
             occluders: &c.occluders,
             lobe: c.lobe.map(|e| e.m_inv),
+            clip_here: false,
         })
         .collect();
     let gpu = kernel.integrals(&views).unwrap();
@@ -217,6 +218,90 @@ fn f64_kernel_matches_the_cpu() {
         c.worst,
         c.worst_lobe
     );
+}
+
+/// Oracle: the CPU's path, every polygon clipped to the horizon (`clip_to_horizon`) and then
+/// the boundary formulation, against the kernel given the unclipped polygons (`clip_here`):
+/// 2,048 lights and occluders crossing the horizon, in f64 where the adapter has it.
+#[test]
+fn the_horizon_clip_from_the_boundary_matches_clipping_first() {
+    let Some(k) = kernel(Precision::F64) else {
+        return;
+    };
+    let mut rng = Pcg32::new(5, 9);
+    let mut cases = Vec::new();
+    while cases.len() < 2048 {
+        // Centres from 0.3 below the horizon to the zenith; polygons within a hemisphere.
+        let c = loop {
+            let v = direction(&mut rng, 0.0);
+            let z = -0.3 + 1.3 * rng.next_f64();
+            let t = DVec3::new(v.x, v.y, 0.0).normalize_or(DVec3::X);
+            break (t * (1.0 - z * z).max(0.0).sqrt() + DVec3::Z * z).normalize();
+        };
+        let n = 3 + rng.below(6) as usize;
+        let r = 0.1 + 0.4 * rng.next_f64();
+        let light = polygon(&mut rng, c, r, n);
+        let occluders: Vec<SphericalPolygon> = (0..rng.below(4))
+            .map(|_| {
+                let o = (c + 0.4 * (direction(&mut rng, -1.0) - c)).normalize();
+                let m = 3 + rng.below(6) as usize;
+                let r = 0.05 + 0.3 * rng.next_f64();
+                polygon(&mut rng, o, r, m)
+            })
+            .collect();
+        cases.push((light, occluders));
+    }
+    let views: Vec<Configuration> = cases
+        .iter()
+        .map(|(l, o)| Configuration {
+            light: l,
+            occluders: o,
+            lobe: None,
+            clip_here: true,
+        })
+        .collect();
+    let gpu = k.integrals(&views).unwrap();
+    let clip = |p: &SphericalPolygon| {
+        let mut c = SphericalPolygon::new();
+        clip_to_horizon(p, &mut c, &mut HorizonScratch::default());
+        c
+    };
+    let mut scratch = BoundaryScratch::new();
+    let (mut worst, mut crossing) = (0.0f64, 0);
+    for (i, (l, o)) in cases.iter().enumerate() {
+        let light = clip(l);
+        let occluders: Vec<SphericalPolygon> = o.iter().map(clip).collect();
+        let cpu = if light.is_empty() {
+            0.0
+        } else {
+            let mut sum = 0.0;
+            boundary_pieces(&light, &occluders, &mut scratch, |p| {
+                sum += edge_integral(p.start, p.end)
+            });
+            sum / TAU
+        };
+        crossing += l.vertices().iter().any(|v| v.z < 0.0) as usize;
+        // The light's form factor above the horizon, or its whole one where none is above.
+        let scale = form_factor(light.loops())
+            .abs()
+            .max(1e-3 * form_factor(l.loops()).abs());
+        worst = worst.max((gpu.diffuse[i] - cpu).abs() / scale);
+    }
+    println!(
+        "{}: {:?}, {crossing} lights crossing the horizon, worst {worst:.1e} of the light's, {} \
+         fallbacks",
+        k.adapter(),
+        k.precision(),
+        gpu.fallbacks
+    );
+    assert!(crossing > 500, "{crossing}");
+    let bound = if k.precision() == Precision::F64 {
+        1e-10
+    } else {
+        1e-3
+    };
+    assert!(worst <= bound, "{worst}");
+    assert!(gpu.fallbacks * 100 <= cases.len(), "{}", gpu.fallbacks);
 }
 
 /// A configuration beyond the shader's arrays is finished on the CPU and counted.

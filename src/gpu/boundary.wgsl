@@ -1,7 +1,8 @@
 // The visible integral from its boundary (docs/boundary-integral.md, docs/gpu.md), one
 // configuration per invocation: polygon 0 of a configuration is the light, the others its
-// occluders, all single loops on the unit sphere in the shading frame, already clipped to the
-// horizon. Every edge of every polygon is cut where another polygon's boundary meets its great
+// occluders, all single loops on the unit sphere in the shading frame, each within a
+// hemisphere; clipped to the horizon already, or (`clip_here`) clipped here from V's boundary
+// as the lobe is: pieces kept where z ≥ 0, crossings closed by horizon arcs. Every edge of every polygon is cut where another polygon's boundary meets its great
 // circle; each sub-arc is a piece of V's boundary in the edge's direction when V lies on its
 // left only, against it when V lies on its right only (V = light less the occluders, sides by
 // winding numbers, collinear edges counting half a turn), and the pieces' edge integrals
@@ -30,6 +31,9 @@ struct Config {
     poly_count: u32,
     // 1 when the configuration has an LTC lobe (its M⁻¹ in `lobes`), 0 otherwise.
     has_lobe: u32,
+    // 1 when the polygons are not clipped to the horizon: V ∩ {z ≥ 0} is taken from V's
+    // boundary here, as the lobe's is.
+    clip_here: u32,
 }
 
 struct Poly {
@@ -64,12 +68,14 @@ var<private> collinear_edges: array<u32, MAX_EDGES>;
 var<private> collinear_count: u32;
 // The lobe's horizon crossings: azimuth, and 1 for an entry (the boundary comes up), 0 for an
 // exit.
-var<private> crossing_azimuth: array<real, MAX_CROSSINGS>;
-var<private> crossing_entry: array<u32, MAX_CROSSINGS>;
-var<private> crossing_count: u32;
+// Two clamped sums: 0 the form factor (where the configuration asks for its horizon clip
+// here), 1 the lobe.
+var<private> crossing_azimuth: array<array<real, MAX_CROSSINGS>, 2>;
+var<private> crossing_entry: array<array<u32, MAX_CROSSINGS>, 2>;
+var<private> crossing_count: array<u32, 2>;
+var<private> clamped_sum: array<real, 2>;
+var<private> clamp_overflow: bool;
 var<private> lobe_matrix: mat3x3<real>;
-var<private> lobe_sum: real;
-var<private> lobe_overflow: bool;
 
 ATAN2_DEFINITION
 
@@ -219,76 +225,75 @@ fn on_horizon(a: vec3r, b: vec3r) -> vec3r {
     return normalize(vec3r(c.x, c.y, 0.0));
 }
 
-fn push_crossing(c: vec3r, entry: u32) {
-    if crossing_count >= MAX_CROSSINGS {
-        lobe_overflow = true;
+fn push_crossing(k: u32, c: vec3r, entry: u32) {
+    let n = crossing_count[k];
+    if n >= MAX_CROSSINGS {
+        clamp_overflow = true;
         return;
     }
-    crossing_azimuth[crossing_count] = atan2r(c.y, c.x);
-    crossing_entry[crossing_count] = entry;
-    crossing_count += 1u;
+    crossing_azimuth[k][n] = atan2r(c.y, c.x);
+    crossing_entry[k][n] = entry;
+    crossing_count[k] = n + 1u;
 }
 
-// A piece of V's boundary, start → end, mapped by M⁻¹ and kept where z ≥ 0 in the lobe's space
-// (`geometry::clamped_integral_of_boundary`); its horizon crossings are kept for the closure.
-fn lobe_piece(start: vec3r, end: vec3r) {
-    let a = normalize(lobe_matrix * start);
-    let b = normalize(lobe_matrix * end);
+// A piece a → b of a boundary, kept where z ≥ 0 (`geometry::clamped_integral_of_boundary`);
+// its horizon crossings are kept for the closure of sum k.
+fn clamped_piece(k: u32, a: vec3r, b: vec3r) {
     let up_a = a.z >= 0.0;
     let up_b = b.z >= 0.0;
     if up_a && up_b {
-        lobe_sum += edge_integral(a, b);
+        clamped_sum[k] += edge_integral(a, b);
     } else if up_a {
         let c = on_horizon(a, b);
-        lobe_sum += edge_integral(a, c);
-        push_crossing(c, 0u);
+        clamped_sum[k] += edge_integral(a, c);
+        push_crossing(k, c, 0u);
     } else if up_b {
         let c = on_horizon(a, b);
-        lobe_sum += edge_integral(c, b);
-        push_crossing(c, 1u);
+        clamped_sum[k] += edge_integral(c, b);
+        push_crossing(k, c, 1u);
     }
 }
 
-// The horizon closes the clipped boundary: crossings by azimuth, each exit joined to the next
-// entry counter-clockwise, whose edge integral is the azimuthal angle between them. False when
-// the crossings do not alternate.
-fn close_lobe() -> bool {
-    let n = crossing_count;
+// The horizon closes the clipped boundary of sum k: crossings by azimuth, each exit joined to
+// the next entry counter-clockwise, whose edge integral is the azimuthal angle between them.
+// False when the crossings do not alternate.
+fn close_clamped(k: u32) -> bool {
+    let n = crossing_count[k];
     if n == 0u {
         return true;
     }
     for (var i = 1u; i < n; i++) {
-        let phi = crossing_azimuth[i];
-        let entry = crossing_entry[i];
+        let phi = crossing_azimuth[k][i];
+        let entry = crossing_entry[k][i];
         var j = i;
-        while j > 0u && crossing_azimuth[j - 1u] > phi {
-            crossing_azimuth[j] = crossing_azimuth[j - 1u];
-            crossing_entry[j] = crossing_entry[j - 1u];
+        while j > 0u && crossing_azimuth[k][j - 1u] > phi {
+            crossing_azimuth[k][j] = crossing_azimuth[k][j - 1u];
+            crossing_entry[k][j] = crossing_entry[k][j - 1u];
             j -= 1u;
         }
-        crossing_azimuth[j] = phi;
-        crossing_entry[j] = entry;
+        crossing_azimuth[k][j] = phi;
+        crossing_entry[k][j] = entry;
     }
     var entries = 0u;
     for (var i = 0u; i < n; i++) {
-        entries += crossing_entry[i];
+        entries += crossing_entry[k][i];
     }
     if 2u * entries != n {
         return false;
     }
     for (var i = 0u; i < n; i++) {
-        if crossing_entry[i] == 1u {
+        if crossing_entry[k][i] == 1u {
             continue;
         }
         let next = (i + 1u) % n;
-        if crossing_entry[next] != 1u {
+        if crossing_entry[k][next] != 1u {
             return false;
         }
-        var span = crossing_azimuth[next] - crossing_azimuth[i];
+        var span = crossing_azimuth[k][next] - crossing_azimuth[k][i];
         if span < 0.0 || (span == 0.0 && n == 2u && i + 1u == n) {
             span += TAU;
         }
-        lobe_sum += span;
+        clamped_sum[k] += span;
     }
     return true;
 }
@@ -311,9 +316,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let config = configs[ci];
-    crossing_count = 0u;
-    lobe_sum = 0.0;
-    lobe_overflow = false;
+    crossing_count[0] = 0u;
+    crossing_count[1] = 0u;
+    clamped_sum[0] = 0.0;
+    clamped_sum[1] = 0.0;
+    clamp_overflow = false;
     if config.has_lobe != 0u {
         lobe_matrix = mat3x3<real>(
             lobes[3u * ci].xyz,
@@ -404,20 +411,29 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                     start = end;
                     end = s;
                 }
-                sum += edge_integral(start, end);
+                if config.clip_here != 0u {
+                    clamped_piece(0u, start, end);
+                } else {
+                    sum += edge_integral(start, end);
+                }
                 if config.has_lobe != 0u {
-                    lobe_piece(start, end);
+                    clamped_piece(1u, normalize(lobe_matrix * start), normalize(lobe_matrix * end));
                 }
             }
         }
     }
     var status: real = 0.0;
-    if config.has_lobe != 0u {
-        if lobe_overflow {
-            status = 1.0;
-        } else if !close_lobe() {
+    if clamp_overflow {
+        status = 1.0;
+    }
+    if config.clip_here != 0u {
+        if !close_clamped(0u) {
             status = 2.0;
         }
+        sum = clamped_sum[0];
     }
-    results[ci] = vec4<real>(sum / TAU, lobe_sum / TAU, status, 0.0);
+    if config.has_lobe != 0u && !close_clamped(1u) {
+        status = 2.0;
+    }
+    results[ci] = vec4<real>(sum / TAU, clamped_sum[1] / TAU, status, 0.0);
 }

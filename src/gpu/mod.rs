@@ -64,6 +64,10 @@ pub struct Configuration<'a> {
     pub light: &'a SphericalPolygon,
     pub occluders: &'a [SphericalPolygon],
     pub lobe: Option<DMat3>,
+    /// The polygons are not clipped to the horizon (each lies within a hemisphere): the
+    /// kernel takes `V ∩ {z ≥ 0}` from V's boundary, cut at the horizon and closed by horizon
+    /// arcs, as it takes the lobe's.
+    pub clip_here: bool,
 }
 
 const WORKGROUP: u32 = 64;
@@ -153,6 +157,7 @@ impl BoundaryKernel {
                 buffers.polys.len() as u32,
                 1 + c.occluders.len() as u32,
                 c.lobe.is_some() as u32,
+                c.clip_here as u32,
             ]);
             let m = c.lobe.unwrap_or(DMat3::IDENTITY);
             for col in [m.x_axis, m.y_axis, m.z_axis] {
@@ -194,7 +199,12 @@ impl BoundaryKernel {
             boundary_pieces(c.light, c.occluders, &mut scratch, |p| {
                 arcs.push((p.start, p.end))
             });
-            out.diffuse[i] = arcs.iter().map(|&(a, b)| edge_integral(a, b)).sum::<f64>() / TAU;
+            out.diffuse[i] = if c.clip_here {
+                clamped_integral_of_boundary(arcs.iter().copied(), &mut crossings, edge_integral)
+                    .map_or(f64::NAN, |e| e / TAU)
+            } else {
+                arcs.iter().map(|&(a, b)| edge_integral(a, b)).sum::<f64>() / TAU
+            };
             out.lobe[i] = c.lobe.and_then(|m| {
                 let map = |v: DVec3| (m * v).normalize();
                 let mapped = arcs.iter().map(|&(a, b)| (map(a), map(b)));
@@ -332,13 +342,13 @@ impl BoundaryKernel {
 }
 
 /// What one dispatch uploads: vertices (xyz, 0), polygons (first vertex, count),
-/// configurations (first polygon, count, has a lobe), and three columns of M⁻¹ per
-/// configuration.
+/// configurations (first polygon, count, has a lobe, clipped here), and three columns of M⁻¹
+/// per configuration.
 #[derive(Default)]
 struct Buffers {
     vertices: Vec<[f64; 4]>,
     polys: Vec<[u32; 2]>,
-    configs: Vec<[u32; 3]>,
+    configs: Vec<[u32; 4]>,
     lobes: Vec<[f64; 4]>,
 }
 
