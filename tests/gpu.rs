@@ -232,11 +232,11 @@ fn the_horizon_clip_from_the_boundary_matches_clipping_first() {
     let mut cases = Vec::new();
     while cases.len() < 2048 {
         // Centres from 0.3 below the horizon to the zenith; polygons within a hemisphere.
-        let c = loop {
+        let c = {
             let v = direction(&mut rng, 0.0);
             let z = -0.3 + 1.3 * rng.next_f64();
             let t = DVec3::new(v.x, v.y, 0.0).normalize_or(DVec3::X);
-            break (t * (1.0 - z * z).max(0.0).sqrt() + DVec3::Z * z).normalize();
+            (t * (1.0 - z * z).max(0.0).sqrt() + DVec3::Z * z).normalize()
         };
         let n = 3 + rng.below(6) as usize;
         let r = 0.1 + 0.4 * rng.next_f64();
