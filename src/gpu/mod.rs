@@ -1,17 +1,18 @@
 //! The boundary formulation of the visible integral on a GPU (wgpu compute, behind the `gpu`
 //! feature; docs/gpu.md): the kernel of the compute path, one configuration of a light and its
-//! occluders (spherical polygons in the shading frame, clipped to the horizon) per invocation,
-//! the same rule as [`geometry::boundary_pieces`](crate::geometry::boundary_pieces) in bounded
-//! loops.
+//! occluders (spherical polygons in the shading frame, clipped to the horizon already or by the
+//! kernel from V's boundary) per invocation, the same rule as
+//! [`geometry::boundary_pieces`](crate::geometry::boundary_pieces) in bounded loops.
 //!
 //! Besides the form factor, a configuration may carry an LTC lobe's `M⁻¹`: its pieces are mapped
 //! and clipped to the lobe's horizon, the crossings closed by horizon arcs in azimuth order
 //! ([`geometry::clamped_integral_of_boundary`](crate::geometry::clamped_integral_of_boundary)).
 //!
 //! Work per configuration is bounded by fixed-size arrays in the shader
-//! ([`MAX_EDGES`] edges, [`MAX_CUTS`] cuts per edge, 64 horizon crossings). A configuration beyond them, or with a
-//! polygon of several loops, is finished on the CPU by the same formulation and counted in
-//! [`GpuFormFactors::fallbacks`]; none is dropped.
+//! ([`MAX_EDGES`] edges, [`MAX_CUTS`] cuts per edge, 64 horizon crossings). A configuration
+//! beyond them, with a polygon of several loops, or whose horizon crossings do not alternate
+//! in the shader's precision, is finished on the CPU by the same formulation and counted in
+//! [`GpuIntegrals::fallbacks`]; none is dropped.
 //!
 //! Precision: f64 where the adapter has `SHADER_F64` and it is asked for, with the
 //! trigonometric functions written in the shader (WGSL's built-ins are 32-bit); f32 otherwise.
