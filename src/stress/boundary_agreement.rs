@@ -351,7 +351,7 @@ fn lobe_by_greiner_hormann(
     greiner_hormann_about_the_light(&light, &refs).map(|e| e.max(0.0))
 }
 
-/// The distance (chord) within which [`welded_copies`] makes vertices one.
+/// The distance (chord) within which `welded_copies` makes vertices one.
 pub const WELD: f64 = 1e-8;
 
 /// Copies of the polygons in which each vertex within [`WELD`] of an earlier one (the light's

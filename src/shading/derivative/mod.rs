@@ -1,7 +1,7 @@
 //! Exact derivatives of the analytic image with respect to the rigid motion of one object
 //! (docs/derivatives.md): the visible region's integral changes by the Reynolds transport
 //! theorem, a line integral along its boundary of the integrand times the boundary's normal
-//! speed ([`reynolds`]).
+//! speed (`reynolds`).
 //!
 //! The boundary is the visible polygon the renderer computed, so the derivative is taken of
 //! the very region the image integrates. Each of its edges lies on one great circle: the
