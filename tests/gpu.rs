@@ -165,6 +165,15 @@ fn compare(kernel: &BoundaryKernel, cases: &[Case]) -> Comparison {
     c
 }
 
+impl Comparison {
+    fn summary(&self) -> String {
+        format!(
+            "worst {:.1e} of the light's (rms {:.1e}), {} lobes worst {:.1e}, {} fallbacks",
+            self.worst, self.rms, self.lobes, self.worst_lobe, self.fallbacks
+        )
+    }
+}
+
 /// Oracle: the CPU's boundary formulation, 4,096 configurations (half with a lobe of the
 /// embedded table), in f32, relative to the light's value: the form factor's root mean square
 /// within 1e-4 and every one within 1e-3 (the bound on an f32 image's relative RMSE),
@@ -176,15 +185,7 @@ fn f32_kernel_matches_the_cpu() {
         return;
     };
     let c = compare(&k, &configurations(4096));
-    println!(
-        "{}: f32 worst {:.1e} of the light's (rms {:.1e}), {} lobes worst {:.1e}, {} fallbacks",
-        k.adapter(),
-        c.worst,
-        c.rms,
-        c.lobes,
-        c.worst_lobe,
-        c.fallbacks
-    );
+    println!("{}: f32 {}", k.adapter(), c.summary());
     assert!(c.fallbacks * 100 <= 4096, "{}", c.fallbacks);
     assert!(c.rms <= 1e-4 && c.worst <= 1e-3, "{} {}", c.rms, c.worst);
     assert!(c.worst_lobe <= 1e-3, "{}", c.worst_lobe);
@@ -202,15 +203,7 @@ fn f64_kernel_matches_the_cpu() {
         return;
     }
     let c = compare(&k, &configurations(4096));
-    println!(
-        "{}: f64 worst {:.1e} of the light's (rms {:.1e}), {} lobes worst {:.1e}, {} fallbacks",
-        k.adapter(),
-        c.worst,
-        c.rms,
-        c.lobes,
-        c.worst_lobe,
-        c.fallbacks
-    );
+    println!("{}: f64 {}", k.adapter(), c.summary());
     assert_eq!(c.fallbacks, 0);
     assert!(
         c.worst < 1e-10 && c.worst_lobe < 1e-10,
