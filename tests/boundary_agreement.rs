@@ -194,3 +194,38 @@ fn three_faces_at_a_vertex_inside_the_light() {
         );
     }
 }
+
+/// A light face's corner shared to the bit by the faces around it (`penumbra stress --seed 1
+/// --only 62381`, a sliver face of a Blender-like light whose own faces shade it, with the
+/// renderer's copies of each corner now the corner itself): an occluder edge leaving the shared
+/// corner lies on the light edge's circle at that end by rounding (−5.6e-17), and a crossing
+/// computed from it as well would cut the light edge 3.4e-14 before the corner, a sub-arc whose
+/// side is rounding and whose edge term (4e-9 of the piece) no other piece cancels. Oracle:
+/// Greiner–Hormann in a frame about the light.
+#[test]
+fn an_occluder_edge_leaving_a_shared_corner_cuts_the_light_edge_once() {
+    use penumbra::geometry::{BoundaryScratch, SphericalPolygon, visible_integral_from_boundary};
+    use penumbra::ltc::edge_integral;
+    use penumbra::stress::boundary_agreement::greiner_hormann_about_the_light;
+    #[derive(serde::Deserialize)]
+    struct Case {
+        light: SphericalPolygon,
+        occluders: Vec<SphericalPolygon>,
+    }
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/boundary/corner_shared_to_the_bit.json"
+    );
+    let case: Case = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let occ: Vec<&SphericalPolygon> = case.occluders.iter().collect();
+    let boundary = visible_integral_from_boundary(
+        &case.light,
+        occ.iter().copied(),
+        &mut BoundaryScratch::new(),
+        edge_integral,
+    ) / std::f64::consts::TAU;
+    let gh = greiner_hormann_about_the_light(&case.light, &occ).unwrap();
+    // Most of the face is covered by its neighbours: what is left is 9.6e-7 of the sphere.
+    assert!(gh > 9e-7 && gh < 1e-6, "{gh}");
+    assert!((boundary - gh).abs() <= 1e-10 * gh, "{boundary} vs {gh}");
+}

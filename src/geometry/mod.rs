@@ -26,7 +26,7 @@ pub use silhouettes::exact_silhouette::{
 };
 pub use silhouettes::quantitative_invisibility::{QiScratch, QiStats, VertexStars};
 pub use silhouettes::silhouette::{
-    PlanarOutline, Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette,
+    FrontCut, PlanarOutline, Sidedness, SilhouetteScratch, contour_edges, face_polygon, silhouette,
 };
 pub use silhouettes::silhouette_walk::ContourWalk;
 pub use silhouettes::tile_candidates::{TileCandidates, TileQuery, TileRegion};

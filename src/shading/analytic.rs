@@ -42,7 +42,7 @@ use super::{Method, PreparedObject, PreparedScene, ShadingPoint};
 use crate::geometry::spherical::horizon_split::HorizonSplit;
 use crate::geometry::spherical::spherical_polygon::clip_loop_to_half_spaces;
 use crate::geometry::{
-    ExactSilhouetteScratch, HoleScratch, HorizonScratch, Overlap, PlanarPolygon, Plane,
+    ExactSilhouetteScratch, FrontCut, HoleScratch, HorizonScratch, Overlap, PlanarPolygon,
     PolygonLoops, ProjectionPlane, SetDifference, Sidedness, SilhouettePoint, SphericalPolygon,
     TileQuery, TileRegion, classify_overlap, clip_to_horizon, clip_to_window, contour_edges,
     face_polygon, part_inside_convex, window_cone,
@@ -717,7 +717,7 @@ fn skip_own_face(obj: &PreparedObject, f: usize, sp: &ShadingPoint) -> bool {
 pub(super) struct LightPiece {
     light: usize,
     radiance: DVec3,
-    face: Option<(usize, Plane)>,
+    face: Option<(usize, FrontCut)>,
     /// A window of the sky at a point on the light itself (`sky_windows`): what lights the
     /// point there is the part of the window the light's own mesh (this occluder) covers.
     sky_window: Option<usize>,
@@ -939,7 +939,7 @@ enum DepthCut {
     /// In front wherever it overlaps the light: no cut.
     InFront,
     /// On both sides: only its part in front of this plane counts.
-    Across(Plane),
+    Across(FrontCut),
 }
 
 /// How occluder `oi` must be cut for depth against the light piece. An occluder separated from
@@ -952,7 +952,7 @@ fn depth_cut(
     own_mesh: bool,
     piece: Option<&LightPiece>,
 ) -> DepthCut {
-    let Some((l, (f, plane))) = piece.and_then(|p| p.face.map(|face| (p.light, face))) else {
+    let Some((l, (f, cut))) = piece.and_then(|p| p.face.map(|face| (p.light, face))) else {
         return DepthCut::InFront;
     };
     if !own_mesh && ctx.scene.separation(l, oi).is_some() {
@@ -962,12 +962,12 @@ fn depth_cut(
     // The light's own mesh against its own face: decided when the scene was prepared.
     let side = match (own_mesh, &occ.face_sides) {
         (true, Some(sides)) => sides.get(f),
-        _ => in_front(occ.face_pieces(), &plane),
+        _ => in_front(occ.face_pieces(), &cut.front_plane()),
     };
     match side {
         InFront::Nothing => DepthCut::Behind,
         InFront::All => DepthCut::InFront,
-        InFront::Part => DepthCut::Across(plane),
+        InFront::Part => DepthCut::Across(cut),
     }
 }
 
@@ -1143,7 +1143,7 @@ fn subtract_faces<R: Recorder>(
     ctx: &PointContext,
     oi: usize,
     piece: Option<&LightPiece>,
-    cut: Option<&Plane>,
+    cut: Option<&FrontCut>,
     skip_face: Option<usize>,
     lower: bool,
     scratch: &mut ShadingScratch,
@@ -1165,7 +1165,10 @@ fn subtract_faces<R: Recorder>(
         (Some((axis, cos, sin)), Some(bvh)) => {
             let list = &mut scratch.face_list;
             // A face wholly behind the cut would be clipped away whole.
-            bvh.for_each_in_cone(sp.position, axis, cos, sin, cut, |f| list.push(f));
+            let front = cut.map(FrontCut::front_plane);
+            bvh.for_each_in_cone(sp.position, axis, cos, sin, front.as_ref(), |f| {
+                list.push(f)
+            });
             list.sort_unstable();
         }
         _ => scratch.face_list.extend(0..faces.face_count() as u32),

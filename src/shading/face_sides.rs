@@ -10,17 +10,16 @@
 //!   computed once, when the scene is prepared ([`FaceSides`]), by the same count.
 
 use super::analytic::COPLANAR;
-use crate::geometry::{IndexedPolyhedron, Plane};
+use crate::geometry::{FrontCut, IndexedPolyhedron, Plane};
 
-/// The plane light face `f` of `faces` cuts its occluders at: the face's own plane, moved by
-/// the coplanarity tolerance toward its front, since what lies within rounding of the face's
-/// plane is not in front of it.
+/// Where light face `f` of `faces` cuts its occluders: at the face's own plane, with the
+/// coplanarity tolerance, since what lies within rounding of the face's plane is not in front
+/// of it (its `front_plane` is what the counts below test against).
 #[inline]
-pub(crate) fn light_face_cut(faces: &IndexedPolyhedron, f: usize) -> Plane {
-    let plane = faces.face_planes[f];
-    Plane {
-        n: plane.n,
-        d: plane.d + COPLANAR * faces.radius,
+pub(crate) fn light_face_cut(faces: &IndexedPolyhedron, f: usize) -> FrontCut {
+    FrontCut {
+        plane: faces.face_planes[f],
+        tol: COPLANAR * faces.radius,
     }
 }
 

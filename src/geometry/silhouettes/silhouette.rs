@@ -282,13 +282,40 @@ pub(crate) fn emit_loops(
     }
 }
 
+/// The part of a face in front of a plane, with a tolerance: a corner within `tol` of the plane
+/// lies on it. The pipeline cuts an occluder face at a light face's plane so that only what is
+/// in front of that light face (seen from `x`, on the plane's positive side) is subtracted:
+/// exact depth order for planar light pieces.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrontCut {
+    pub plane: Plane,
+    /// Distance (in the plane's units, `eval`) within which a corner lies on the plane.
+    pub tol: f64,
+}
+
+impl FrontCut {
+    /// The plane moved by the tolerance toward its front: what lies strictly in front of it is
+    /// in front of the cut.
+    #[inline]
+    pub fn front_plane(&self) -> Plane {
+        Plane {
+            n: self.plane.n,
+            d: self.plane.d + self.tol,
+        }
+    }
+}
+
 /// One face of a mesh as a spherical polygon from `x` (the per-triangle method, 000 Sect. 4.4):
 /// positively oriented; empty when `x` lies in the face plane, or behind a light's face.
 ///
-/// With `keep_front_of = Some(plane)` the face is first cut to the part strictly on the positive
-/// side of `plane` (Sutherland–Hodgman in 3D). The pipeline passes the plane of a light face so
-/// that only the part of an occluder face in front of that light face (seen from `x`, which lies
-/// on the plane's positive side) is subtracted: exact depth order for planar light pieces.
+/// With `keep_front_of = Some(cut)` the face is first cut to its part in front of the cut
+/// (Sutherland–Hodgman in 3D), empty when no corner lies in front. A corner on the plane (within
+/// the tolerance) is kept as itself, not replaced by a point computed on an edge beside it: the
+/// faces of a mesh that share a corner of the light face then give that corner to the bit, as
+/// the light face does, where a computed point would lie up to tol / sin(angle) away and leave
+/// a sliver between the copies (the boundary formulation's pieces, docs/boundary-integral.md).
+/// A point where an edge crosses is computed from the edge's lower-indexed end, so that the two
+/// faces sharing the edge get the same point.
 #[allow(clippy::too_many_arguments)]
 pub fn face_polygon(
     poly: &Polyhedron,
@@ -296,7 +323,7 @@ pub fn face_polygon(
     x: DVec3,
     frame: &Frame,
     sidedness: Sidedness,
-    keep_front_of: Option<&Plane>,
+    keep_front_of: Option<&FrontCut>,
     out: &mut SphericalPolygon,
     buf: &mut Vec<DVec3>,
 ) {
@@ -313,20 +340,43 @@ pub fn face_polygon(
     let idx = poly.face(f);
     match keep_front_of {
         None => buf.extend(idx.iter().map(|&i| poly.vertices[i as usize])),
-        Some(pl) => {
+        Some(cut) => {
+            let front = cut.front_plane();
+            // Above `tol` in front of the cut plane; at or below −tol behind it; on it between.
+            let side = |d: f64| {
+                if d > 0.0 {
+                    1
+                } else if d < -2.0 * cut.tol {
+                    -1
+                } else {
+                    0
+                }
+            };
             let n = idx.len();
+            let mut any_front = false;
             for k in 0..n {
-                let a = poly.vertices[idx[k] as usize];
-                let b = poly.vertices[idx[(k + 1) % n] as usize];
-                let (da, db) = (pl.eval(a), pl.eval(b));
-                if da > 0.0 {
+                let (ia, ib) = (idx[k], idx[(k + 1) % n]);
+                let (a, b) = (poly.vertices[ia as usize], poly.vertices[ib as usize]);
+                let (da, db) = (front.eval(a), front.eval(b));
+                let (sa, sb) = (side(da), side(db));
+                any_front |= sa > 0;
+                if sa >= 0 {
                     buf.push(a);
                 }
-                if (da > 0.0) != (db > 0.0) {
-                    // Convex combination with non-negative weights: stays on the segment.
-                    let t = da / (da - db);
-                    buf.push(a + (b - a) * t);
+                if sa * sb < 0 {
+                    // A convex combination with non-negative weights stays on the segment;
+                    // taken from the lower-indexed end, both faces of the edge get one point.
+                    let (p, q, dp, dq) = if ia < ib {
+                        (a, b, da, db)
+                    } else {
+                        (b, a, db, da)
+                    };
+                    buf.push(p + (q - p) * (dp / (dp - dq)));
                 }
+            }
+            if !any_front {
+                // Nothing in front: at most a polygon in the plane, which hides nothing.
+                return;
             }
         }
     }
@@ -500,5 +550,70 @@ mod tests {
             &mut scratch,
         );
         assert!(out.is_empty());
+    }
+
+    /// A light face's corners reach its neighbours' cut polygons to the bit, and an edge
+    /// crossing the cut plane gives its two faces one point: the copies the boundary
+    /// formulation must not see as two (oracle: the light face's own polygon, and each other).
+    #[test]
+    fn a_cut_keeps_shared_corners_and_shares_crossings() {
+        let positions = [
+            DVec3::ZERO,                  // c: a corner of the light face
+            DVec3::new(1.0, 0.0, 0.0),    // p1
+            DVec3::new(0.0, 0.0, 1.0),    // p2: a corner of the light face
+            DVec3::new(-1.0, -1e-3, 0.2), // q: just in front (front is −y)
+            DVec3::new(-0.5, -0.5, -1.0), // r: in front
+            DVec3::new(0.5, 0.5, -1.0),   // s: behind
+            DVec3::new(0.0, 0.2, -2.0),   // t: behind
+        ];
+        let faces = vec![
+            vec![0, 1, 2], // the light face, normal −y
+            vec![0, 2, 3], // shares the edge c p2, nearly coplanar
+            vec![0, 4, 5], // shares c, crosses the plane along r s
+            vec![4, 6, 5], // shares r s, the other way round
+        ];
+        let poly = Polyhedron::new(&positions, &faces);
+        let x = DVec3::new(0.3, -1.0, 0.3);
+        let frame = Frame::from_z(DVec3::new(0.1, -1.0, 0.2).normalize());
+        let cut = FrontCut {
+            plane: poly.face_planes[0],
+            tol: 1e-12 * 3.0,
+        };
+        let polygon = |f: usize, cut: Option<&FrontCut>| {
+            let mut out = SphericalPolygon::new();
+            face_polygon(
+                &poly,
+                f,
+                x,
+                &frame,
+                Sidedness::TwoSided,
+                cut,
+                &mut out,
+                &mut Vec::new(),
+            );
+            out.vertices().to_vec()
+        };
+        let light = polygon(0, None);
+        let (c, p2) = (light[2], light[0]);
+        let direction = |p: DVec3| frame.to_local(p - x).normalize();
+        assert_eq!(c, direction(positions[0]));
+        assert_eq!(p2, direction(positions[2]));
+        let near = polygon(1, Some(&cut));
+        assert_eq!(near.len(), 3, "{near:?}");
+        assert!(near.contains(&c) && near.contains(&p2), "{near:?} {c} {p2}");
+        let a = polygon(2, Some(&cut));
+        let b = polygon(3, Some(&cut));
+        assert_eq!(a.len(), 3, "{a:?}");
+        assert!(a.contains(&c), "{a:?}");
+        let shared: Vec<&DVec3> = a.iter().filter(|v| b.contains(v)).collect();
+        // r and the crossing of r s.
+        assert_eq!(shared.len(), 2, "{a:?} {b:?}");
+        // The crossing lies on the light face's plane (to rounding).
+        let crossing = shared
+            .iter()
+            .find(|v| ***v != direction(positions[4]))
+            .unwrap();
+        let along = positions[4] + (positions[5] - positions[4]) * 0.5;
+        assert!((**crossing - direction(along)).length() < 1e-9);
     }
 }

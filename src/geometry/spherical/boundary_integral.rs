@@ -132,6 +132,9 @@ impl Edge {
 /// The edges of one polygon and its bounding cap.
 #[derive(Clone, Copy, Debug)]
 struct Poly {
+    /// Where its pieces come from (occluders of no area are not pushed: the index is the one
+    /// the caller gave).
+    source: PieceSource,
     first: u32,
     end: u32,
     centre: DVec3,
@@ -146,7 +149,11 @@ struct Poly {
 pub struct BoundaryScratch {
     edges: Vec<Edge>,
     polys: Vec<Poly>,
-    cuts: Vec<f64>,
+    /// Cut parameters along the edge being cut, with the point there: the edge's own ends, the
+    /// other polygon's vertex that lies on its circle, or the crossing of the two circles
+    /// computed once for both edges ([`crossing`]), so that the pieces meeting there share the
+    /// point to the bit and the boundary closes.
+    cuts: Vec<(f64, DVec3)>,
     /// Edges collinear with the edge being cut.
     collinear: Vec<u32>,
     /// Per polygon, for the edge being cut: whether it cut the edge (or has an edge on its
@@ -155,16 +162,51 @@ pub struct BoundaryScratch {
     constant: Vec<Option<(bool, bool)>>,
 }
 
-/// Whether edges `e` and `f` lie on one great circle: every endpoint of each within
-/// [`EPS_LINE`] of the other's circle (symmetric, so that both edges agree).
+/// Whether edges `e` and `f` lie on one great circle: both ends of the shorter within
+/// [`EPS_LINE`] of the longer's circle, and so all of it (symmetric, so that both edges agree).
+/// The shorter edge's own circle is not a reference: its normal is known to rounding over its
+/// length (a window's clip of a light edge 1e-6 long tilts it by 1e-10), and the longer edge's
+/// far end would miss it.
 #[inline]
 fn collinear(e: &Edge, f: &Edge) -> bool {
+    let key = |x: &Edge| (x.theta, x.poly, x.loop_index, x.index);
+    let (short, long) = if key(f) < key(e) { (f, e) } else { (e, f) };
     e.proper
         && f.proper
-        && e.n.dot(f.a).abs() <= EPS_LINE
-        && e.n.dot(f.b).abs() <= EPS_LINE
-        && f.n.dot(e.a).abs() <= EPS_LINE
-        && f.n.dot(e.b).abs() <= EPS_LINE
+        && long.n.dot(short.a).abs() <= EPS_LINE
+        && long.n.dot(short.b).abs() <= EPS_LINE
+}
+
+/// The point where the circles of edges `e` (index `ei`) and `f` (index `fi`) cross, on the side
+/// of the two arcs: `±(n_lo × n_hi)` with the edges taken in the order of their indices, so that
+/// both edges get the same point to the bit (computed from each edge's ends, the two points
+/// differ by rounding over the sine of the angle between the circles, and the sliver between
+/// them leaves the boundary open by an edge term of that length).
+#[inline]
+fn crossing(e: &Edge, ei: usize, f: &Edge, fi: usize) -> Option<DVec3> {
+    let (lo, hi) = if ei < fi { (e, f) } else { (f, e) };
+    let x = lo.n.cross(hi.n).try_normalize()?;
+    // The sum of the two arcs' middles, the same in either order.
+    Some(if x.dot(lo.centre + hi.centre) >= 0.0 {
+        x
+    } else {
+        -x
+    })
+}
+
+/// `v` on the horizon where it lies within [`EPS_LINE`] of it. The horizon is the one circle
+/// all the polygons share: the clip puts the light's and the occluders' crossings on it, and a
+/// face in the shading point's tangent plane lies on it to rounding (z of 1e-17). Left apart,
+/// the two circles are collinear by the tolerance but not to a third edge that crosses them at a
+/// grazing angle: its two cuts fall 1e-10 apart, and the sub-arc between them, decided by
+/// rounding, has the edge term of an arc on the horizon (docs/boundary-integral.md).
+#[inline]
+fn on_horizon(v: DVec3) -> DVec3 {
+    if v.z != 0.0 && v.z.abs() <= EPS_LINE * v.length() {
+        DVec3::new(v.x, v.y, 0.0)
+    } else {
+        v
+    }
 }
 
 /// Whether the caps of `e` and of polygon `p` may meet (with slack for rounding).
@@ -182,7 +224,7 @@ impl BoundaryScratch {
         Self::default()
     }
 
-    fn push_polygon(&mut self, poly: &SphericalPolygon) {
+    fn push_polygon(&mut self, poly: &SphericalPolygon, source: PieceSource) {
         let pi = self.polys.len() as u32;
         let first = self.edges.len() as u32;
         let mut sum = DVec3::ZERO;
@@ -192,7 +234,7 @@ impl BoundaryScratch {
                 continue;
             }
             for k in 0..n {
-                let (a, b) = (lp[k], lp[(k + 1) % n]);
+                let (a, b) = (on_horizon(lp[k]), on_horizon(lp[(k + 1) % n]));
                 sum += a.try_normalize().unwrap_or(DVec3::ZERO);
                 self.edges.push(Edge::new(a, b, pi, li as u32, k as u32));
             }
@@ -206,6 +248,7 @@ impl BoundaryScratch {
         // Arcs between points of a cap narrower than a hemisphere stay in it.
         let bounded = sum.length() > 1e-6 && radius < FRAC_PI_2 - 1e-6;
         self.polys.push(Poly {
+            source,
             first,
             end,
             centre,
@@ -214,21 +257,22 @@ impl BoundaryScratch {
         });
     }
 
-    /// The cut parameters of edge `ei` into `self.cuts` (sorted, with 0 and θ), and its collinear
-    /// partners into `self.collinear`.
+    /// The cuts of edge `ei` into `self.cuts` (sorted by parameter, with 0 and θ), and its
+    /// collinear partners into `self.collinear`.
     fn cut(&mut self, ei: usize) {
         let e = self.edges[ei];
         self.cuts.clear();
         self.collinear.clear();
-        self.cuts.push(0.0);
-        self.cuts.push(e.theta);
+        self.cuts.push((0.0, e.a));
+        self.cuts.push((e.theta, e.b));
         self.touches.clear();
         self.touches.resize(self.polys.len(), false);
         self.constant.clear();
         self.constant.resize(self.polys.len(), None);
-        let add = |cuts: &mut Vec<f64>, t: f64| {
+        let add = |cuts: &mut Vec<(f64, DVec3)>, p: DVec3| {
+            let t = e.param(p);
             if t > 0.0 && t < e.theta {
-                cuts.push(t);
+                cuts.push((t, p));
             }
         };
         for (pi, p) in self.polys.iter().enumerate() {
@@ -240,32 +284,37 @@ impl BoundaryScratch {
                 let f = &self.edges[fi as usize];
                 if collinear(&e, f) {
                     self.collinear.push(fi);
-                    add(&mut self.cuts, e.param(f.a));
-                    add(&mut self.cuts, e.param(f.b));
+                    add(&mut self.cuts, f.a);
+                    add(&mut self.cuts, f.b);
                     continue;
                 }
                 let (da, db) = (e.n.dot(f.a), e.n.dot(f.b));
-                // Endpoints on (or near) the circle: their feet are cuts (extra cuts are
-                // harmless, a missing one is not).
+                // Endpoints on (or near) the circle are cuts, at their feet, and the pieces end
+                // at the vertex itself (extra cuts are harmless, a missing one is not).
                 if da.abs() <= EPS_LINE {
-                    add(&mut self.cuts, e.param(f.a));
+                    add(&mut self.cuts, f.a);
                 }
                 if db.abs() <= EPS_LINE {
-                    add(&mut self.cuts, e.param(f.b));
+                    add(&mut self.cuts, f.b);
                 }
-                if f.proper && ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) {
-                    // The one point of f on e's circle, as a positive combination of its ends.
-                    let x = f.a * db.abs() + f.b * da.abs();
-                    if let Some(x) = x.try_normalize() {
-                        add(&mut self.cuts, e.param(x));
-                    }
+                // An arc shorter than π meets another circle at most once: at an end within
+                // the tolerance, that end is the point (a crossing computed from an end off
+                // the circle by rounding would be a second cut beside it, and the sub-arc
+                // between the two would be decided by rounding).
+                if f.proper
+                    && da.abs() > EPS_LINE
+                    && db.abs() > EPS_LINE
+                    && (da > 0.0) != (db > 0.0)
+                    && let Some(x) = crossing(&e, ei, f, fi as usize)
+                {
+                    add(&mut self.cuts, x);
                 }
             }
             self.touches[pi] =
                 self.cuts.len() > cuts_before || self.collinear.len() > collinear_before;
         }
-        self.cuts.sort_unstable_by(f64::total_cmp);
-        self.cuts.dedup();
+        self.cuts.sort_unstable_by(|x, y| x.0.total_cmp(&y.0));
+        self.cuts.dedup_by(|x, y| x.0 == y.0);
     }
 
     /// The sides of polygon `pi` at the point `m` of edge `e`'s circle: (left inside, right
@@ -371,13 +420,13 @@ pub fn boundary_pieces<'a>(
 ) {
     scratch.edges.clear();
     scratch.polys.clear();
-    scratch.push_polygon(light);
-    for o in occluders {
+    scratch.push_polygon(light, PieceSource::Light);
+    for (i, o) in occluders.into_iter().enumerate() {
         // An occluder of no area (a face seen edge-on: every vertex within `EPS_LINE` of one
         // great circle) hides nothing; its edges, on top of each other, would leave their
         // pairing to rounding.
         if !lies_on_one_circle(o) {
-            scratch.push_polygon(o);
+            scratch.push_polygon(o, PieceSource::Occluder(i));
         }
     }
     let light_poly = scratch.polys[0];
@@ -391,28 +440,23 @@ pub fn boundary_pieces<'a>(
             continue;
         }
         scratch.cut(ei);
-        let mut run: Option<(f64, i8)> = None;
+        let mut run: Option<(f64, DVec3, i8)> = None;
         let k = scratch.cuts.len();
         for j in 0..k {
             let dir = if j + 1 < k {
-                let (t0, t1) = (scratch.cuts[j], scratch.cuts[j + 1]);
+                let (t0, t1) = (scratch.cuts[j].0, scratch.cuts[j + 1].0);
                 scratch.decide(&e, e.point(0.5 * (t0 + t1)))
             } else {
                 0
             };
-            let t = scratch.cuts[j];
+            let (t, p1) = scratch.cuts[j];
             match run {
-                Some((_, d)) if d == dir => {}
+                Some((_, _, d)) if d == dir => {}
                 _ => {
-                    if let Some((t0, d)) = run.take()
+                    if let Some((t0, p0, d)) = run.take()
                         && d != 0
                     {
-                        let (p0, p1) = (e.point(t0), e.point(t));
-                        let source = if e.poly == 0 {
-                            PieceSource::Light
-                        } else {
-                            PieceSource::Occluder(e.poly as usize - 1)
-                        };
+                        let source = scratch.polys[e.poly as usize].source;
                         let (start, end) = if d > 0 { (p0, p1) } else { (p1, p0) };
                         visit(&BoundaryPiece {
                             source,
@@ -425,7 +469,7 @@ pub fn boundary_pieces<'a>(
                             end,
                         });
                     }
-                    run = Some((t, dir));
+                    run = Some((t, p1, dir));
                 }
             }
         }

@@ -192,7 +192,7 @@ impl PreparedObject {
             return None;
         }
         let pieces = self.face_pieces();
-        FaceSides::of(pieces, |f| light_face_cut(pieces, f))
+        FaceSides::of(pieces, |f| light_face_cut(pieces, f).front_plane())
     }
 
     /// The mesh's own faces, also when a hull stands in for it on the silhouette path.
