@@ -1299,6 +1299,12 @@ pub struct BoundaryCounts {
     /// Of those, that agreed only with near-copies of a vertex welded into one
     /// (`boundary_agreement::WELD`): slivers between the renderer's two copies of a mesh edge.
     pub welded: u64,
+    /// Of those, where Greiner–Hormann disagreed and points beside every piece of the boundary
+    /// witness it (`boundary_agreement::witnessed`): slivers of V Greiner–Hormann dropped.
+    pub witnessed: u64,
+    /// The largest disagreement with Greiner–Hormann among the witnessed pieces (not in
+    /// `worst`), relative to the light's value.
+    pub witnessed_worst: f64,
     /// Of those, off by more than `boundary_agreement::BOUND` of the light's form factor.
     pub disagreements: u64,
     /// The largest disagreement, relative to the light's form factor.
@@ -1311,6 +1317,8 @@ impl BoundaryCounts {
         self.shadowed += o.shadowed;
         self.second_frame += o.second_frame;
         self.welded += o.welded;
+        self.witnessed += o.witnessed;
+        self.witnessed_worst = self.witnessed_worst.max(o.witnessed_worst);
         self.disagreements += o.disagreements;
         self.worst = self.worst.max(o.worst);
     }
@@ -1394,6 +1402,7 @@ fn boundary_comparison(
             shadowed,
             second_frame,
             welded,
+            witnessed,
             worst,
             failure,
         } = compare_light_piece(record, &entry, scales, &mut agreement)
@@ -1402,8 +1411,13 @@ fn boundary_comparison(
             counts.shadowed += shadowed as u64;
             counts.second_frame += second_frame as u64;
             counts.welded += welded as u64;
+            counts.witnessed += witnessed as u64;
             counts.disagreements += failure.is_some() as u64;
-            counts.worst = counts.worst.max(worst);
+            if witnessed {
+                counts.witnessed_worst = counts.witnessed_worst.max(worst);
+            } else {
+                counts.worst = counts.worst.max(worst);
+            }
             if let Some(f) = failure {
                 failed(format!(
                     "light {} piece {:?}: {f}",

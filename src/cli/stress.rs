@@ -118,13 +118,16 @@ pub(crate) fn stress(
         say!(
             "boundary formulation: {} light pieces against Greiner–Hormann ({} with occluders), \
              both lobes; {} settled by Greiner–Hormann in a frame about the light, {} by welding \
-             near-copies of a vertex ({:.0e}), {} beyond \
-             {:.0e} of the light's form factor; worst {:.1e}",
+             near-copies of a vertex ({:.0e}), {} by points beside every piece of the boundary \
+             (slivers Greiner–Hormann dropped, up to {:.1e}), {} beyond {:.0e} of the light's form factor; \
+             worst {:.1e}",
             rep.boundary.pieces,
             rep.boundary.shadowed,
             rep.boundary.second_frame,
             rep.boundary.welded,
             penumbra::stress::boundary_agreement::WELD,
+            rep.boundary.witnessed,
+            rep.boundary.witnessed_worst,
             rep.boundary.disagreements,
             penumbra::stress::boundary_agreement::BOUND,
             rep.boundary.worst

@@ -50,6 +50,10 @@ pub enum PieceComparison {
         /// plane) differ by up to 1e-9, and the sliver between the two copies of their edge
         /// is kept by the boundary's tolerance and dropped by Greiner–Hormann's.
         welded: bool,
+        /// Greiner–Hormann disagreed and the boundary's own pieces are witnessed by points
+        /// ([`witnessed`]): V has what the boundary found, a sliver narrower than Greiner–
+        /// Hormann's tolerances (which drop those under about 1e-9).
+        witnessed: bool,
         /// The largest disagreement of the two lobes, relative to the light's form factor,
         /// beyond the rounding of the two sums.
         worst: f64,
@@ -164,6 +168,7 @@ pub fn compare_light_piece(
             shadowed,
             second_frame: false,
             welded: false,
+            witnessed: false,
             worst: first.worst(),
             failure: None,
         };
@@ -201,6 +206,7 @@ pub fn compare_light_piece(
             shadowed,
             second_frame: false,
             welded: true,
+            witnessed: false,
             worst: welded_worst,
             failure: None,
         };
@@ -217,7 +223,26 @@ pub fn compare_light_piece(
             shadowed,
             second_frame: true,
             welded: false,
+            witnessed: false,
             worst: first.specular,
+            failure: None,
+        };
+    }
+    // A third opinion, from the definition of V: points beside each of the boundary's pieces.
+    arcs.clear();
+    boundary_pieces(
+        light,
+        occluders.iter().copied(),
+        &mut scratch.boundary,
+        |p| arcs.push((p.start, p.end)),
+    );
+    if witnessed(light, &occluders, arcs) {
+        return PieceComparison::Compared {
+            shadowed,
+            second_frame: false,
+            welded: false,
+            witnessed: true,
+            worst: first.worst(),
             failure: None,
         };
     }
@@ -241,9 +266,60 @@ pub fn compare_light_piece(
         shadowed,
         second_frame: false,
         welded: false,
+        witnessed: false,
         worst: first.worst(),
         failure: Some(failure),
     }
+}
+
+/// Offsets (radians) at which [`witnessed`] looks beside a piece: from ten thousand times the
+/// rounding of a unit vector's coordinates to well above Greiner–Hormann's tolerances.
+const WITNESS_OFFSETS: [f64; 7] = [1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6];
+
+/// Whether the oriented pieces `arcs` are witnessed as V's boundary by points, V's definition
+/// (in the light, in no occluder; winding numbers at points far from every edge by rounding's
+/// measure): the pieces close (every end is a piece's start, to 1e-14), and beside the middle of
+/// every piece, at some offset [`WITNESS_OFFSETS`] of at most a tenth of its length, the point on
+/// its left lies in V and the point on its right does not. A piece too short to look beside
+/// (under 1e-11) leaves the boundary unwitnessed. Closed and locally right everywhere, the
+/// pieces bound V, whatever Greiner–Hormann's tolerances dropped (a component of V's boundary
+/// missing altogether is not seen: the witness is of what was found).
+pub fn witnessed(
+    light: &SphericalPolygon,
+    occluders: &[&SphericalPolygon],
+    arcs: &[(DVec3, DVec3)],
+) -> bool {
+    if arcs.is_empty() {
+        return false;
+    }
+    let closes = arcs.iter().all(|&(_, end)| {
+        arcs.iter()
+            .any(|&(start, _)| (start - end).length() <= 1e-14)
+    });
+    if !closes {
+        return false;
+    }
+    let in_v = |p: DVec3| {
+        light.contains_within(p, 0.0) && !occluders.iter().any(|o| o.contains_within(p, 0.0))
+    };
+    arcs.iter().all(|&(a, b)| {
+        let length = angle(a, b);
+        let (Some(mid), Some(left)) = ((a + b).try_normalize(), a.cross(b).try_normalize()) else {
+            return false;
+        };
+        WITNESS_OFFSETS
+            .iter()
+            .filter(|&&d| d <= 0.1 * length)
+            .any(|&d| {
+                let (l, r) = ((mid + left * d).normalize(), (mid - left * d).normalize());
+                in_v(l) && !in_v(r)
+            })
+    })
+}
+
+/// The angle between unit vectors, from their chord.
+fn angle(a: DVec3, b: DVec3) -> f64 {
+    2.0 * (0.5 * (a - b).length()).min(1.0).asin()
 }
 
 /// What the renderer recorded for one light piece, and the scales of the bound.

@@ -209,13 +209,25 @@ fn on_horizon(v: DVec3) -> DVec3 {
     }
 }
 
+/// Cut parameters (radians) closer than this are one cut: a few ulps of the unit vectors'
+/// coordinates, the resolution of a point's parameter on an edge.
+const CUT_RESOLUTION: f64 = 8.0 * f64::EPSILON;
+
+/// The angle between unit vectors `a` and `b`, from their chord: `acos(a · b)` cannot tell
+/// angles below 1.5e-8 apart (the cosine's resolution at 1), and the caps of a face that
+/// small (a perturbed mesh's sliver) would miss the points on its own edges.
+#[inline]
+fn angle_between(a: DVec3, b: DVec3) -> f64 {
+    2.0 * (0.5 * (a - b).length()).min(1.0).asin()
+}
+
 /// Whether the caps of `e` and of polygon `p` may meet (with slack for rounding).
 #[inline]
 fn may_meet(e: &Edge, p: &Poly) -> bool {
     if !p.bounded {
         return true;
     }
-    let d = e.centre.dot(p.centre).clamp(-1.0, 1.0).acos();
+    let d = angle_between(e.centre, p.centre);
     d <= e.radius + p.radius + 1e-9
 }
 
@@ -243,7 +255,7 @@ impl BoundaryScratch {
         let centre = sum.try_normalize().unwrap_or(DVec3::Z);
         let mut radius: f64 = 0.0;
         for e in &self.edges[first as usize..end as usize] {
-            radius = radius.max(centre.dot(e.a).clamp(-1.0, 1.0).acos());
+            radius = radius.max(angle_between(centre, e.a));
         }
         // Arcs between points of a cap narrower than a hemisphere stay in it.
         let bounded = sum.length() > 1e-6 && radius < FRAC_PI_2 - 1e-6;
@@ -314,7 +326,23 @@ impl BoundaryScratch {
                 self.cuts.len() > cuts_before || self.collinear.len() > collinear_before;
         }
         self.cuts.sort_unstable_by(|x, y| x.0.total_cmp(&y.0));
-        self.cuts.dedup_by(|x, y| x.0 == y.0);
+        // Cuts closer than rounding are one (the first; an end of the edge over a cut beside
+        // it): a sub-arc of a few ulps is two copies of one point, and its side, taken at a
+        // point on a vertex, is rounding.
+        let n = self.cuts.len();
+        let mut kept = 0;
+        for i in 1..n {
+            let c = self.cuts[i];
+            let last = i == n - 1;
+            if c.0 - self.cuts[kept].0 > CUT_RESOLUTION || (last && kept == 0) {
+                kept += 1;
+            } else if !last {
+                continue;
+            }
+            // (θ, the last, takes the place of a cut just before it.)
+            self.cuts[kept] = c;
+        }
+        self.cuts.truncate(kept + 1);
     }
 
     /// The sides of polygon `pi` at the point `m` of edge `e`'s circle: (left inside, right
@@ -337,7 +365,7 @@ impl BoundaryScratch {
 
     fn winding_sides(&self, e: &Edge, pi: usize, m: DVec3) -> (bool, bool) {
         let p = &self.polys[pi];
-        if !may_meet(e, p) || (p.bounded && m.dot(p.centre) < (p.radius + 1e-9).cos()) {
+        if !may_meet(e, p) || (p.bounded && angle_between(m, p.centre) > p.radius + 1e-9) {
             return (false, false);
         }
         let mut w = 0.0;
