@@ -25,6 +25,8 @@ const PI: real = 3.14159265358979323846;
 const TAU: real = 6.28318530717958647692;
 // Collinearity and "on the circle" (EPS_LINE of the CPU, scaled to the precision).
 const EPS_LINE: real = EPS_LINE_VALUE;
+// Cut parameters closer than this are one cut (a few ulps of the precision).
+const CUT_RESOLUTION: real = CUT_RESOLUTION_VALUE;
 
 struct Config {
     first_poly: u32,
@@ -58,12 +60,20 @@ struct Edge {
     theta: real,
     proper: bool,
     poly: u32,
+    // The middle of the arc (which side of two circles their crossing lies on).
+    centre: vec3r,
 }
 
 var<private> edges: array<Edge, MAX_EDGES>;
 var<private> poly_first: array<u32, MAX_EDGES>;
 var<private> poly_end: array<u32, MAX_EDGES>;
 var<private> cuts: array<real, MAX_CUTS>;
+// Where each cut's point comes from (`cut_point`): the edge's ends, the other polygon's vertex
+// on its circle, or the crossing computed the same way for both edges (`crossing`), so that
+// V's boundary closes to the bit. A code, not the point: cheap to sort.
+var<private> cut_codes: array<u32, MAX_CUTS>;
+const CUT_START: u32 = 0xfffffffeu;
+const CUT_END: u32 = 0xffffffffu;
 var<private> collinear_edges: array<u32, MAX_EDGES>;
 var<private> collinear_count: u32;
 // The lobe's horizon crossings: azimuth, and 1 for an entry (the boundary comes up), 0 for an
@@ -79,9 +89,17 @@ var<private> lobe_matrix: mat3x3<real>;
 
 ATAN2_DEFINITION
 
+// `v` on the horizon where it lies within EPS_LINE of it: the circle every polygon shares.
+fn on_the_horizon(v: vec3r) -> vec3r {
+    if v.z != 0.0 && abs(v.z) <= EPS_LINE * length(v) {
+        return vec3r(v.x, v.y, 0.0);
+    }
+    return v;
+}
+
 fn make_edge(a0: vec3r, b0: vec3r, poly: u32) -> Edge {
-    let a = normalize(a0);
-    let b = normalize(b0);
+    let a = normalize(on_the_horizon(a0));
+    let b = normalize(on_the_horizon(b0));
     // a × b as ½ (a + b) × (b − a): relative precision for short edges.
     let w = cross(a + b, b - a) * 0.5;
     let s = length(w);
@@ -99,6 +117,13 @@ fn make_edge(a0: vec3r, b0: vec3r, poly: u32) -> Edge {
     }
     e.u = cross(e.n, a);
     e.poly = poly;
+    let m = a + b;
+    let lm = length(m);
+    if lm > 0.0 {
+        e.centre = m / lm;
+    } else {
+        e.centre = a;
+    }
     return e;
 }
 
@@ -116,9 +141,39 @@ fn point_at(e: Edge, t: real) -> vec3r {
     return e.a * cosr(t) + e.u * sinr(t);
 }
 
-fn is_collinear(e: Edge, f: Edge) -> bool {
-    return e.proper && f.proper && abs(dot(e.n, f.a)) <= EPS_LINE && abs(dot(e.n, f.b)) <= EPS_LINE
-        && abs(dot(f.n, e.a)) <= EPS_LINE && abs(dot(f.n, e.b)) <= EPS_LINE;
+// Both ends of the shorter edge (`ei`, `fi` their indices break ties) within EPS_LINE of the
+// longer's circle: the shorter's own circle is known only to rounding over its length.
+fn is_collinear(e: Edge, ei: u32, f: Edge, fi: u32) -> bool {
+    if !(e.proper && f.proper) {
+        return false;
+    }
+    var shorter = e;
+    var longer = f;
+    if f.theta < e.theta || (f.theta == e.theta && fi < ei) {
+        shorter = f;
+        longer = e;
+    }
+    return abs(dot(longer.n, shorter.a)) <= EPS_LINE && abs(dot(longer.n, shorter.b)) <= EPS_LINE;
+}
+
+// Where the circles of edges `ei` and `fi` cross, on the arcs' side: ±(n_lo × n_hi) in index
+// order, the same point to the bit for both edges (length 0 when the circles coincide).
+fn crossing(e: Edge, ei: u32, f: Edge, fi: u32) -> vec3r {
+    var lo = e;
+    var hi = f;
+    if fi < ei {
+        lo = f;
+        hi = e;
+    }
+    let x = cross(lo.n, hi.n);
+    let l = length(x);
+    if l == 0.0 {
+        return x;
+    }
+    if dot(x, lo.centre + hi.centre) >= 0.0 {
+        return x / l;
+    }
+    return -x / l;
 }
 
 fn contains_on_circle(e: Edge, p: vec3r) -> bool {
@@ -298,12 +353,38 @@ fn close_clamped(k: u32) -> bool {
     return true;
 }
 
-fn add_cut(count: ptr<function, u32>, t: real, theta: real) -> bool {
-    if t > 0.0 && t < theta {
+// The point of cut `code` on edge `ei`: its own end, vertex a (code 4 fi) or b (4 fi + 1) of
+// edge fi, or the crossing with edge fi's circle (4 fi + 2).
+fn cut_point(e: Edge, ei: u32, code: u32) -> vec3r {
+    if code == CUT_START {
+        return e.a;
+    }
+    if code == CUT_END {
+        return e.b;
+    }
+    let fi = code / 4u;
+    let f = edges[fi];
+    switch code % 4u {
+        case 0u: {
+            return f.a;
+        }
+        case 1u: {
+            return f.b;
+        }
+        default: {
+            return crossing(e, ei, f, fi);
+        }
+    }
+}
+
+fn add_cut(count: ptr<function, u32>, e: Edge, p: vec3r, code: u32) -> bool {
+    let t = param(e, p);
+    if t > 0.0 && t < e.theta {
         if *count >= MAX_CUTS {
             return false;
         }
         cuts[*count] = t;
+        cut_codes[*count] = code;
         *count += 1u;
     }
     return true;
@@ -351,7 +432,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         var count = 0u;
         collinear_count = 0u;
         cuts[0] = 0.0;
+        cut_codes[0] = CUT_START;
         cuts[1] = e.theta;
+        cut_codes[1] = CUT_END;
         count = 2u;
         var ok = true;
         for (var fi = 0u; fi < edge_count; fi++) {
@@ -359,26 +442,27 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if f.poly == e.poly {
                 continue;
             }
-            if is_collinear(e, f) {
+            if is_collinear(e, ei, f, fi) {
                 collinear_edges[collinear_count] = fi;
                 collinear_count += 1u;
-                ok = ok && add_cut(&count, param(e, f.a), e.theta);
-                ok = ok && add_cut(&count, param(e, f.b), e.theta);
+                ok = ok && add_cut(&count, e, f.a, 4u * fi);
+                ok = ok && add_cut(&count, e, f.b, 4u * fi + 1u);
                 continue;
             }
             let da = dot(e.n, f.a);
             let db = dot(e.n, f.b);
             if abs(da) <= EPS_LINE {
-                ok = ok && add_cut(&count, param(e, f.a), e.theta);
+                ok = ok && add_cut(&count, e, f.a, 4u * fi);
             }
             if abs(db) <= EPS_LINE {
-                ok = ok && add_cut(&count, param(e, f.b), e.theta);
+                ok = ok && add_cut(&count, e, f.b, 4u * fi + 1u);
             }
-            if f.proper && ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) {
-                let x = f.a * abs(db) + f.b * abs(da);
-                let l = length(x);
-                if l > 0.0 {
-                    ok = ok && add_cut(&count, param(e, x / l), e.theta);
+            // An end on the circle is the one point where the arc meets it.
+            if f.proper && abs(da) > EPS_LINE && abs(db) > EPS_LINE
+                && ((da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0)) {
+                let x = crossing(e, ei, f, fi);
+                if length(x) > 0.0 {
+                    ok = ok && add_cut(&count, e, x, 4u * fi + 2u);
                 }
             }
         }
@@ -388,13 +472,29 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         for (var i = 1u; i < count; i++) {
             let t = cuts[i];
+            let c = cut_codes[i];
             var j = i;
             while j > 0u && cuts[j - 1u] > t {
                 cuts[j] = cuts[j - 1u];
+                cut_codes[j] = cut_codes[j - 1u];
                 j -= 1u;
             }
             cuts[j] = t;
+            cut_codes[j] = c;
         }
+        // Cuts closer than the resolution are one (θ, the last, over a cut just before it).
+        var kept = 0u;
+        for (var i = 1u; i < count; i++) {
+            let last = i + 1u == count;
+            if cuts[i] - cuts[kept] > CUT_RESOLUTION || (last && kept == 0u) {
+                kept += 1u;
+            } else if !last {
+                continue;
+            }
+            cuts[kept] = cuts[i];
+            cut_codes[kept] = cut_codes[i];
+        }
+        count = kept + 1u;
         // Each sub-arc's own term: sub-arcs of one great circle add.
         for (var j = 0u; j + 1u < count; j++) {
             let t0 = cuts[j];
@@ -404,8 +504,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
             let dir = decide(e, point_at(e, 0.5 * (t0 + t1)), config.poly_count);
             if dir != 0 {
-                var start = point_at(e, t0);
-                var end = point_at(e, t1);
+                var start = cut_point(e, ei, cut_codes[j]);
+                var end = cut_point(e, ei, cut_codes[j + 1u]);
                 if dir < 0 {
                     let s = start;
                     start = end;

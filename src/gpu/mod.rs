@@ -356,20 +356,28 @@ struct Buffers {
 /// The shader for `precision`: `real` and its trigonometric functions.
 fn shader_source(precision: Precision) -> String {
     let source = include_str!("boundary.wgsl");
-    let (real, eps, trig) = match precision {
+    let (real, eps, resolution, trig) = match precision {
         Precision::F32 => (
             "f32",
             // Cross products of unit vectors round at a few 1e-8 in f32.
             "1e-6",
+            "9.5e-7",
             "fn atan2r(y: real, x: real) -> real { return atan2(y, x); }\n\
              fn sinr(t: real) -> real { return sin(t); }\n\
              fn cosr(t: real) -> real { return cos(t); }\n",
         ),
-        Precision::F64 => ("f64", "1e-12", include_str!("trig_f64.wgsl")),
+        // 8 ulps, as the CPU's `CUT_RESOLUTION`.
+        Precision::F64 => (
+            "f64",
+            "1e-12",
+            "1.7763568394002505e-15",
+            include_str!("trig_f64.wgsl"),
+        ),
     };
     source
         .replace("ENABLE_DIRECTIVES", "")
         .replace("REAL", real)
         .replace("EPS_LINE_VALUE", eps)
+        .replace("CUT_RESOLUTION_VALUE", resolution)
         .replace("ATAN2_DEFINITION", trig)
 }
