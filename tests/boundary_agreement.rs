@@ -196,6 +196,19 @@ fn three_faces_at_a_vertex_inside_the_light() {
     }
 }
 
+/// A light piece's polygons as stress recorded them, kept in `tests/data/boundary/`.
+#[derive(serde::Deserialize)]
+struct DumpedCase {
+    light: penumbra::geometry::SphericalPolygon,
+    occluders: Vec<penumbra::geometry::SphericalPolygon>,
+}
+
+fn dumped_case(name: &str) -> DumpedCase {
+    let path = format!("{}/tests/data/boundary/{name}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
 /// A light face's corner shared to the bit by the faces around it (`penumbra stress --seed 1
 /// --only 62381`, a sliver face of a Blender-like light whose own faces shade it, with the
 /// renderer's copies of each corner now the corner itself): an occluder edge leaving the shared
@@ -208,16 +221,7 @@ fn an_occluder_edge_leaving_a_shared_corner_cuts_the_light_edge_once() {
     use penumbra::geometry::{BoundaryScratch, SphericalPolygon, visible_integral_from_boundary};
     use penumbra::ltc::edge_integral;
     use penumbra::stress::boundary_agreement::greiner_hormann_about_the_light;
-    #[derive(serde::Deserialize)]
-    struct Case {
-        light: SphericalPolygon,
-        occluders: Vec<SphericalPolygon>,
-    }
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/boundary/corner_shared_to_the_bit.json"
-    );
-    let case: Case = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let case = dumped_case("corner_shared_to_the_bit.json");
     let occ: Vec<&SphericalPolygon> = case.occluders.iter().collect();
     let boundary = visible_integral_from_boundary(
         &case.light,
@@ -242,16 +246,7 @@ fn an_occluder_edge_leaving_a_shared_corner_cuts_the_light_edge_once() {
 fn a_sliver_greiner_hormann_drops_is_witnessed_and_a_wrong_boundary_is_not() {
     use penumbra::geometry::{BoundaryScratch, SphericalPolygon, boundary_pieces};
     use penumbra::stress::boundary_agreement::{greiner_hormann_about_the_light, witnessed};
-    #[derive(serde::Deserialize)]
-    struct Case {
-        light: SphericalPolygon,
-        occluders: Vec<SphericalPolygon>,
-    }
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/boundary/sliver_dropped_by_greiner_hormann.json"
-    );
-    let case: Case = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let case = dumped_case("sliver_dropped_by_greiner_hormann.json");
     let occ: Vec<&SphericalPolygon> = case.occluders.iter().collect();
     let mut arcs = Vec::new();
     boundary_pieces(

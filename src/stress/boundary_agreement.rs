@@ -28,6 +28,7 @@ pub const BOUND: f64 = 1e-10;
 pub struct AgreementScratch {
     boundary: BoundaryScratch,
     arcs: Vec<(DVec3, DVec3)>,
+    welded_arcs: Vec<(DVec3, DVec3)>,
     crossings: Vec<(f64, bool, DVec3)>,
 }
 
@@ -176,14 +177,15 @@ pub fn compare_light_piece(
     // The renderer's copies of one mesh vertex may differ by rounding: welded, the sliver
     // between the two copies of their edge is gone.
     let (welded_light, welded_occluders) = welded_copies(light, &occluders);
-    arcs.clear();
+    let welded_arcs = &mut scratch.welded_arcs;
+    welded_arcs.clear();
     boundary_pieces(
         &welded_light,
         welded_occluders.iter(),
         &mut scratch.boundary,
-        |p| arcs.push((p.start, p.end)),
+        |p| welded_arcs.push((p.start, p.end)),
     );
-    let welded = recorded.errors(arcs, &mut scratch.crossings);
+    let welded = recorded.errors(welded_arcs, &mut scratch.crossings);
     // Or both algorithms on the same welded input, where the renderer's slivers are closed
     // for both: Greiner–Hormann in a frame about the light, for each lobe.
     let welded_refs: Vec<&SphericalPolygon> = welded_occluders.iter().collect();
@@ -229,14 +231,7 @@ pub fn compare_light_piece(
         };
     }
     // A third opinion, from the definition of V: points beside each of the boundary's pieces.
-    arcs.clear();
-    boundary_pieces(
-        light,
-        occluders.iter().copied(),
-        &mut scratch.boundary,
-        |p| arcs.push((p.start, p.end)),
-    );
-    if witnessed(light, &occluders, arcs) {
+    if witnessed(light, &occluders, &scratch.arcs) {
         return PieceComparison::Compared {
             shadowed,
             second_frame: false,
