@@ -300,3 +300,98 @@ fn the_stress_cases_that_once_disagreed_agree() {
         );
     }
 }
+
+/// A closed non-convex mesh as its contour arcs at the point, unchained and in any order
+/// (`OccluderRegion::Arcs`), hides what its faces hide: where its arms overlap, the arcs of two
+/// layers cross and wind twice. Oracles: the boundary formulation over every face polygon, and
+/// Greiner–Hormann subtracting the faces one by one (in a frame about the light), at points all
+/// around U, L and T shapes, with a light behind each.
+#[test]
+fn a_meshs_contour_arcs_unchained_hide_what_its_faces_hide() {
+    use glam::DVec3;
+    use penumbra::geometry::{
+        BoundaryScratch, OccluderRegion, Polyhedron, Sidedness, SphericalPolygon, contour_edges,
+        face_polygon, visible_integral_from_boundary,
+    };
+    use penumbra::ltc::{edge_integral, form_factor};
+    use penumbra::math::{Frame, Pcg32};
+    use penumbra::scene::shapes;
+    use penumbra::stress::boundary_agreement::greiner_hormann_about_the_light;
+    let meshes = [
+        shapes::u_shape(DVec3::ZERO, 1.2, 1.0, 0.25, 0.4),
+        shapes::l_shape(DVec3::ZERO, 1.0, 1.2, 0.3, 0.5),
+        shapes::t_shape(DVec3::ZERO, 1.2, 1.0, 0.3, 0.4),
+    ];
+    let mut rng = Pcg32::new(41, 7);
+    let (mut cases, mut shadowed, mut layered) = (0, 0, 0);
+    let mut scratch = BoundaryScratch::new();
+    for mesh in &meshes {
+        let poly = Polyhedron::new(&mesh.positions, &mesh.faces);
+        for _ in 0..150 {
+            let dir = rng.unit_vector();
+            let x = dir * rng.range(2.5, 4.0);
+            // A quad light beyond the mesh, facing the point, offset a little.
+            let centre = -dir * rng.range(1.0, 2.0) + rng.unit_vector() * 0.3;
+            let u = dir.any_orthonormal_vector() * rng.range(0.3, 0.9);
+            let v = dir.cross(u).normalize() * rng.range(0.3, 0.9);
+            let quad = shapes::quad(centre, u, v);
+            let quad = Polyhedron::new(&quad.positions, &quad.faces);
+            let frame = Frame::from_z((centre - x).normalize());
+            let polygon_of = |p: &Polyhedron, f: usize| {
+                let mut out = SphericalPolygon::new();
+                let side = Sidedness::TwoSided;
+                face_polygon(p, f, x, &frame, side, None, &mut out, &mut Vec::new());
+                out
+            };
+            let light = polygon_of(&quad, 0);
+            let faces: Vec<SphericalPolygon> = (0..poly.face_count())
+                .map(|f| polygon_of(&poly, f))
+                .filter(|p| !p.is_empty())
+                .collect();
+            let to_sphere = |i: u32| frame.to_local(poly.vertices[i as usize] - x).normalize();
+            let arcs: Vec<(DVec3, DVec3)> = contour_edges(&poly, x)
+                .map(|[a, b]| (to_sphere(a), to_sphere(b)))
+                .collect();
+            // Everything lies above the horizon of this frame.
+            assert!(
+                light
+                    .vertices()
+                    .iter()
+                    .chain(faces.iter().flat_map(|f| f.vertices()))
+                    .all(|v| v.z > 0.0)
+            );
+            let whole = form_factor(light.loops());
+            let by_faces =
+                visible_integral_from_boundary(&light, faces.iter(), &mut scratch, edge_integral)
+                    / std::f64::consts::TAU;
+            let by_arcs = visible_integral_from_boundary(
+                &light,
+                [OccluderRegion::Arcs(&arcs)],
+                &mut scratch,
+                edge_integral,
+            ) / std::f64::consts::TAU;
+            let refs: Vec<&SphericalPolygon> = faces.iter().collect();
+            let gh = greiner_hormann_about_the_light(&light, &refs).unwrap();
+            assert!(
+                (by_faces - gh).abs() <= 1e-10 * whole,
+                "faces {by_faces} vs GH {gh}"
+            );
+            assert!(
+                (by_arcs - gh).abs() <= 1e-10 * whole,
+                "arcs {by_arcs} vs GH {gh} (faces {by_faces}, whole {whole})"
+            );
+            cases += 1;
+            shadowed += usize::from(gh < whole * (1.0 - 1e-6) && gh > 1e-6 * whole);
+            // Two layers: some arcs cross each other away from their ends.
+            let crosses = arcs.iter().enumerate().any(|(i, &(a, b))| {
+                arcs[i + 1..].iter().any(|&(c, d)| {
+                    let (n1, n2) = (a.cross(b), c.cross(d));
+                    n1.dot(c) * n1.dot(d) < -1e-18 && n2.dot(a) * n2.dot(b) < -1e-18
+                })
+            });
+            layered += usize::from(crosses);
+        }
+    }
+    println!("{cases} cases, {shadowed} partly shadowed, {layered} with crossing contour layers");
+    assert!(shadowed > 100 && layered > 20, "{shadowed} {layered}");
+}

@@ -34,8 +34,8 @@ pub use silhouettes::windowed_silhouette::{
     WindowScratch, WindowStats, clip_to_window, exact_silhouette_in_window, window_cone,
 };
 pub use spherical::boundary_integral::{
-    BoundaryPiece, BoundaryScratch, PieceSource, boundary_pieces, clamped_integral_of_boundary,
-    visible_integral_from_boundary,
+    BoundaryPiece, BoundaryScratch, OccluderRegion, PieceSource, boundary_pieces,
+    clamped_integral_of_boundary, visible_integral_from_boundary,
 };
 pub use spherical::cone::Cone;
 pub use spherical::hole_difference::{HoleScratch, part_inside_convex};

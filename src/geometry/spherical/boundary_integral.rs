@@ -72,6 +72,8 @@ struct Edge {
     poly: u32,
     loop_index: u32,
     index: u32,
+    /// Its place among all the edges.
+    id: u32,
 }
 
 impl Edge {
@@ -102,6 +104,7 @@ impl Edge {
             poly,
             loop_index,
             index,
+            id: 0,
         }
     }
 
@@ -141,6 +144,25 @@ struct Poly {
     radius: f64,
     /// The cap holds the whole region (radius below π/2): outside it, the winding number is 0.
     bounded: bool,
+    /// Given as a set of arcs ([`OccluderRegion::Arcs`]), not loops: its own edges may cross and
+    /// cover each other, so they cut each other and its own sides are winding numbers too.
+    layered: bool,
+}
+
+/// An occluder of [`boundary_pieces`]: a polygon, or a set of oriented arcs in any order — a
+/// mesh's contour edges at the point, unchained — whose region is where they wind once or more
+/// (a closed mesh's front faces wind once per layer). Sides are winding numbers and cuts are per
+/// edge, so no loop is needed: what a GPU wants (docs/gpu.md).
+#[derive(Clone, Copy, Debug)]
+pub enum OccluderRegion<'a> {
+    Polygon(&'a SphericalPolygon),
+    Arcs(&'a [(DVec3, DVec3)]),
+}
+
+impl<'a> From<&'a SphericalPolygon> for OccluderRegion<'a> {
+    fn from(p: &'a SphericalPolygon) -> Self {
+        OccluderRegion::Polygon(p)
+    }
 }
 
 /// Reusable buffers for [`boundary_pieces`]: once grown, the functions of this module do not
@@ -239,19 +261,40 @@ impl BoundaryScratch {
     fn push_polygon(&mut self, poly: &SphericalPolygon, source: PieceSource) {
         let pi = self.polys.len() as u32;
         let first = self.edges.len() as u32;
-        let mut sum = DVec3::ZERO;
         for (li, lp) in poly.loops().enumerate() {
             let n = lp.len();
             if n < 2 {
                 continue;
             }
             for k in 0..n {
-                let (a, b) = (on_horizon(lp[k]), on_horizon(lp[(k + 1) % n]));
-                sum += a.try_normalize().unwrap_or(DVec3::ZERO);
-                self.edges.push(Edge::new(a, b, pi, li as u32, k as u32));
+                self.push_edge(lp[k], lp[(k + 1) % n], pi, li as u32, k as u32);
             }
         }
+        self.close_polygon(source, first, false);
+    }
+
+    fn push_arcs(&mut self, arcs: &[(DVec3, DVec3)], source: PieceSource) {
+        let pi = self.polys.len() as u32;
+        let first = self.edges.len() as u32;
+        for (k, &(a, b)) in arcs.iter().enumerate() {
+            self.push_edge(a, b, pi, 0, k as u32);
+        }
+        self.close_polygon(source, first, true);
+    }
+
+    fn push_edge(&mut self, a: DVec3, b: DVec3, poly: u32, loop_index: u32, index: u32) {
+        let mut e = Edge::new(on_horizon(a), on_horizon(b), poly, loop_index, index);
+        e.id = self.edges.len() as u32;
+        self.edges.push(e);
+    }
+
+    /// The polygon of the edges from `first` on: its bounding cap.
+    fn close_polygon(&mut self, source: PieceSource, first: u32, layered: bool) {
         let end = self.edges.len() as u32;
+        let sum: DVec3 = self.edges[first as usize..end as usize]
+            .iter()
+            .map(|e| e.a)
+            .sum();
         let centre = sum.try_normalize().unwrap_or(DVec3::Z);
         let mut radius: f64 = 0.0;
         for e in &self.edges[first as usize..end as usize] {
@@ -266,6 +309,7 @@ impl BoundaryScratch {
             centre,
             radius,
             bounded,
+            layered,
         });
     }
 
@@ -288,11 +332,14 @@ impl BoundaryScratch {
             }
         };
         for (pi, p) in self.polys.iter().enumerate() {
-            if pi == e.poly as usize || !may_meet(&e, p) {
+            if (pi == e.poly as usize && !p.layered) || !may_meet(&e, p) {
                 continue;
             }
             let (cuts_before, collinear_before) = (self.cuts.len(), self.collinear.len());
             for fi in p.first..p.end {
+                if fi as usize == ei {
+                    continue;
+                }
                 let f = &self.edges[fi as usize];
                 if collinear(&e, f) {
                     self.collinear.push(fi);
@@ -369,9 +416,13 @@ impl BoundaryScratch {
             return (false, false);
         }
         let mut w = 0.0;
-        let mut half_turns = 0i32;
+        // A layered polygon's sides at its own edge: the edge is half a turn to its left.
+        let mut half_turns = i32::from(pi == e.poly as usize);
         for fi in p.first..p.end {
             let f = &self.edges[fi as usize];
+            if fi == e.id {
+                continue;
+            }
             if self.collinear.contains(&fi) {
                 if f.contains_on_circle(m) {
                     half_turns += if f.n.dot(e.n) > 0.0 { 1 } else { -1 };
@@ -408,8 +459,15 @@ impl BoundaryScratch {
             self.sides(e, 0, m)
         };
         if own != 0 {
-            // Inside its own occluder on the left.
-            left = false;
+            if self.polys[own].layered {
+                // Other layers of its own may cover either side.
+                let (l, r) = self.sides(e, own, m);
+                left &= !l;
+                right &= !r;
+            } else {
+                // Inside its own occluder on the left.
+                left = false;
+            }
         }
         for pi in 1..self.polys.len() {
             if !left && !right {
@@ -440,9 +498,9 @@ impl BoundaryScratch {
 /// collinear contact in the same direction and is dropped (docs/boundary-integral.md). Pieces
 /// of one edge are visited in the order of their parameter; light edges first, then each
 /// occluder's. Degenerate edges (zero length, antipodal ends) give no piece.
-pub fn boundary_pieces<'a>(
+pub fn boundary_pieces<'a, O: Into<OccluderRegion<'a>>>(
     light: &SphericalPolygon,
-    occluders: impl IntoIterator<Item = &'a SphericalPolygon>,
+    occluders: impl IntoIterator<Item = O>,
     scratch: &mut BoundaryScratch,
     mut visit: impl FnMut(&BoundaryPiece),
 ) {
@@ -450,11 +508,16 @@ pub fn boundary_pieces<'a>(
     scratch.polys.clear();
     scratch.push_polygon(light, PieceSource::Light);
     for (i, o) in occluders.into_iter().enumerate() {
-        // An occluder of no area (a face seen edge-on: every vertex within `EPS_LINE` of one
-        // great circle) hides nothing; its edges, on top of each other, would leave their
-        // pairing to rounding.
-        if !lies_on_one_circle(o) {
-            scratch.push_polygon(o, PieceSource::Occluder(i));
+        match o.into() {
+            // An occluder of no area (a face seen edge-on: every vertex within `EPS_LINE` of
+            // one great circle) hides nothing; its edges, on top of each other, would leave
+            // their pairing to rounding.
+            OccluderRegion::Polygon(o) => {
+                if !lies_on_one_circle(o) {
+                    scratch.push_polygon(o, PieceSource::Occluder(i));
+                }
+            }
+            OccluderRegion::Arcs(arcs) => scratch.push_arcs(arcs, PieceSource::Occluder(i)),
         }
     }
     let light_poly = scratch.polys[0];
@@ -529,9 +592,9 @@ fn lies_on_one_circle(poly: &SphericalPolygon) -> bool {
 /// ltc::edge_integral` it is `2π` times `ltc::form_factor` of V in the frame given; for a lobe,
 /// `|a, b| edge_integral(M⁻¹a, M⁻¹b)` gives the integral of the *unclamped* cosine over M⁻¹V
 /// (the shader clips M⁻¹V to the horizon again; this sum does not).
-pub fn visible_integral_from_boundary<'a>(
+pub fn visible_integral_from_boundary<'a, O: Into<OccluderRegion<'a>>>(
     light: &SphericalPolygon,
-    occluders: impl IntoIterator<Item = &'a SphericalPolygon>,
+    occluders: impl IntoIterator<Item = O>,
     scratch: &mut BoundaryScratch,
     mut term: impl FnMut(DVec3, DVec3) -> f64,
 ) -> f64 {
@@ -949,7 +1012,12 @@ mod tests {
         let away = regular(dir(0.3, 2.0), 0.2, 5, 0.0);
         assert_eq!(boundary_ff(&light, std::slice::from_ref(&away)), {
             let mut s = BoundaryScratch::new();
-            visible_integral_from_boundary(&light, [], &mut s, edge_integral) / TAU
+            visible_integral_from_boundary(
+                &light,
+                [] as [&SphericalPolygon; 0],
+                &mut s,
+                edge_integral,
+            ) / TAU
         });
         assert!(rel_err(boundary_ff(&light, &[]), full) < 1e-15);
         let small = regular(DVec3::Z, 0.1, 7, 0.3);
