@@ -342,7 +342,8 @@ pub fn face_polygon(
         None => buf.extend(idx.iter().map(|&i| poly.vertices[i as usize])),
         Some(cut) => {
             let front = cut.front_plane();
-            // Above `tol` in front of the cut plane; at or below −tol behind it; on it between.
+            // More than `tol` in front of the cut's plane (1), more than `tol` behind it (−1),
+            // on it within `tol` (0); `d` is measured from the plane moved by `tol`.
             let side = |d: f64| {
                 if d > 0.0 {
                     1
