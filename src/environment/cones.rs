@@ -11,6 +11,7 @@
 //!   grazing the sphere (and a mesh vertex on it) is inside its cone despite rounding in
 //!   `cos ψ` and in the ray–triangle test.
 
+use crate::math::angle_between;
 use glam::DVec3;
 
 /// Relative widening of a bounding sphere before its cone is built (see the module doc).
@@ -52,12 +53,6 @@ pub(crate) fn cone_of_sphere(p: DVec3, n: DVec3, s: &BoundingSphere) -> Option<C
         half_angle: sin.asin(),
         cos_half_angle: (1.0 - sin * sin).max(0.0).sqrt(),
     })
-}
-
-/// The angle between two unit vectors, accurate for small angles too.
-#[inline]
-fn angle_between(a: DVec3, b: DVec3) -> f64 {
-    a.cross(b).length().atan2(a.dot(b))
 }
 
 /// 002 Alg. 1: constructs the cones of `spheres` at `p` and merges each new cone into an

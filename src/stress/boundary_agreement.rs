@@ -15,7 +15,7 @@ use crate::geometry::{
     SphericalPolygon, boundary_pieces, clamped_integral_of_boundary, clip_to_horizon,
 };
 use crate::ltc::{LtcEntry, edge_integral, form_factor};
-use crate::math::Frame;
+use crate::math::{Frame, angle_between};
 use crate::shading::{LightRecord, Lobe, Stage};
 use glam::DVec3;
 use std::f64::consts::TAU;
@@ -298,7 +298,7 @@ pub fn witnessed(
         light.contains_within(p, 0.0) && !occluders.iter().any(|o| o.contains_within(p, 0.0))
     };
     arcs.iter().all(|&(a, b)| {
-        let length = angle(a, b);
+        let length = angle_between(a, b);
         let (Some(mid), Some(left)) = ((a + b).try_normalize(), a.cross(b).try_normalize()) else {
             return false;
         };
@@ -310,11 +310,6 @@ pub fn witnessed(
                 in_v(l) && !in_v(r)
             })
     })
-}
-
-/// The angle between unit vectors, from their chord.
-fn angle(a: DVec3, b: DVec3) -> f64 {
-    2.0 * (0.5 * (a - b).length()).min(1.0).asin()
 }
 
 /// What the renderer recorded for one light piece, and the scales of the bound.

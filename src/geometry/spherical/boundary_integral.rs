@@ -26,6 +26,7 @@
 //! polygons whose bounding cap misses the edge's are skipped.
 
 use crate::geometry::{EPS_LINE, SphericalPolygon};
+use crate::math::angle_between;
 use glam::DVec3;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -234,14 +235,6 @@ fn on_horizon(v: DVec3) -> DVec3 {
 /// Cut parameters (radians) closer than this are one cut: a few ulps of the unit vectors'
 /// coordinates, the resolution of a point's parameter on an edge.
 const CUT_RESOLUTION: f64 = 8.0 * f64::EPSILON;
-
-/// The angle between unit vectors `a` and `b`, from their chord: `acos(a · b)` cannot tell
-/// angles below 1.5e-8 apart (the cosine's resolution at 1), and the caps of a face that
-/// small (a perturbed mesh's sliver) would miss the points on its own edges.
-#[inline]
-fn angle_between(a: DVec3, b: DVec3) -> f64 {
-    2.0 * (0.5 * (a - b).length()).min(1.0).asin()
-}
 
 /// Whether the caps of `e` and of polygon `p` may meet (with slack for rounding).
 #[inline]
